@@ -1,0 +1,137 @@
+//! The headless wgpu context.
+
+use crate::error::{Result, ShadowError};
+use wgpu::util::DeviceExt;
+
+/// A headless wgpu device and queue.
+///
+/// The adapter is chosen by the environment: `WGPU_BACKEND` (e.g. `vulkan`) restricts the backends,
+/// `WGPU_ADAPTER_NAME` picks the first adapter whose name contains it (case-insensitive), and
+/// `WGPU_POWER_PREF` (`low`/`high`) steers the default choice. Without any of them the first adapter
+/// wgpu offers is used. No adapter gives [`ShadowError::NoAdapter`].
+pub struct GpuContext {
+    /// The wgpu instance.
+    pub instance: wgpu::Instance,
+    /// The chosen adapter.
+    pub adapter: wgpu::Adapter,
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// Adapter name, backend and driver.
+    pub info: wgpu::AdapterInfo,
+}
+
+impl GpuContext {
+    /// Creates a context from the environment (see the type's docs).
+    pub fn new() -> Result<Self> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> Result<Self> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
+            Ok(wanted) if !wanted.is_empty() => {
+                let wanted_lc = wanted.to_lowercase();
+                let adapters = instance.enumerate_adapters(wgpu::Backends::all()).await;
+                let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+                adapters.into_iter().find(|a| a.get_info().name.to_lowercase().contains(&wanted_lc)).ok_or_else(|| {
+                    ShadowError::NoAdapter(format!("no adapter name contains WGPU_ADAPTER_NAME={wanted:?}; found {names:?}"))
+                })?
+            }
+            _ => instance
+                .request_adapter(&wgpu::RequestAdapterOptions {
+                    power_preference: wgpu::PowerPreference::from_env().unwrap_or(wgpu::PowerPreference::HighPerformance),
+                    force_fallback_adapter: false,
+                    compatible_surface: None,
+                    apply_limit_buckets: false,
+                })
+                .await
+                .map_err(|e| {
+                    ShadowError::NoAdapter(format!(
+                        "{e}; install a Vulkan driver (e.g. `apt-get install mesa-vulkan-drivers` for lavapipe)"
+                    ))
+                })?,
+        };
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("shadow-core"),
+                required_features: wgpu::Features::empty(),
+                required_limits: limits,
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| ShadowError::Gpu(format!("request_device on {}: {e}", info.name)))?;
+        Ok(Self { instance, adapter, device, queue, info })
+    }
+
+    /// One line naming the adapter, e.g. `"llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, Cpu)"`.
+    pub fn describe(&self) -> String {
+        format!("{} ({:?}, {:?})", self.info.name, self.info.backend, self.info.device_type)
+    }
+
+    /// Largest 2D texture side of this device.
+    pub fn max_texture_size(&self) -> u32 {
+        self.device.limits().max_texture_dimension_2d
+    }
+
+    /// Blocks until all submitted work has finished.
+    pub fn wait(&self) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::Wait { submission_index: None, timeout: None })
+            .map(|_| ())
+            .map_err(|e| ShadowError::Gpu(format!("poll: {e}")))
+    }
+
+    /// A storage buffer initialised with `data`.
+    pub fn storage_buffer(&self, label: &str, data: &[u8]) -> wgpu::Buffer {
+        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: data,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        })
+    }
+
+    /// A uniform buffer initialised with `data`.
+    pub fn uniform_buffer(&self, label: &str, data: &[u8]) -> wgpu::Buffer {
+        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: data,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        })
+    }
+
+    /// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) back to the CPU.
+    pub fn read_buffer(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+        self.queue.submit([enc.finish()]);
+        self.map_read(&staging, size)
+    }
+
+    /// Maps a `MAP_READ` buffer after the queue has finished and copies it out.
+    pub fn map_read(&self, staging: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, 0..size, move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        rx.recv()
+            .map_err(|e| ShadowError::Gpu(format!("map callback lost: {e}")))?
+            .map_err(|e| ShadowError::Gpu(format!("map_async: {e}")))?;
+        let bytes = staging
+            .get_mapped_range(0..size)
+            .map_err(|e| ShadowError::Gpu(format!("get_mapped_range: {e}")))?
+            .to_vec();
+        staging.unmap();
+        Ok(bytes)
+    }
+}

@@ -1,0 +1,30 @@
+//! Shared foundation of the soft-shadow workspace.
+//!
+//! - [`scene`]: the `bevy_ecs` scene (meshes, transforms, casters, receivers, lights, camera) and
+//!   its flattening into plain [`SceneGeometry`] for technique kernels.
+//! - [`light`]: the light kinds, their validation and sampling; [`view`]: camera and light frusta.
+//! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers).
+//! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
+//! - [`gltf_import`]: glTF/GLB meshes.
+//!
+//! Conventions: right-handed, +Y up, metres; visibility `V` in `[0, 1]` (1 lit, 0 umbra).
+
+pub mod error;
+pub mod gltf_import;
+pub mod gpu;
+pub mod light;
+pub mod map2d;
+pub mod mesh;
+pub mod raster;
+pub mod scene;
+pub mod technique;
+pub mod view;
+
+pub use error::{Result, ShadowError};
+pub use gpu::GpuContext;
+pub use light::{DistantProfile, Light, LightKind, LightPoint};
+pub use map2d::Map2D;
+pub use mesh::{Aabb, TriangleMesh};
+pub use scene::{Scene, SceneGeometry};
+pub use technique::{AnyMaps, Backend, DynTechnique, Receivers, ShadowTechnique};
+pub use view::{Camera, View};

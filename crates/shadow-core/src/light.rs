@@ -1,0 +1,343 @@
+//! The light kinds of the guide, their validation and their sampling.
+//!
+//! Visibility `V` is the fraction of the light's extent a point sees, weighted by the emission
+//! profile: length for a segment, area for a rectangle or a disk, the visible disc for a sphere and
+//! solid angle for a distant light.
+
+use crate::error::{Result, ShadowError};
+use glam::{Vec2, Vec3};
+
+/// Linear limb-darkening coefficient of the built-in sun profile: `I(mu) = 1 - u (1 - mu)`.
+///
+/// `u = 0.6` is the usual value for the Sun in the visible band (Allen's *Astrophysical Quantities*).
+pub const SUN_LIMB_DARKENING_U: f32 = 0.6;
+
+/// Emission profile of a distant light across its disc.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DistantProfile {
+    /// Every direction inside the cone emits equally.
+    UniformDisk,
+    /// The linear limb-darkening law `I(mu) = 1 - u (1 - mu)` with `u` =
+    /// [`SUN_LIMB_DARKENING_U`], `mu` the cosine of the angle on the solar sphere.
+    LimbDarkenedSun,
+}
+
+/// A light source. All positions are in world space, metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// A point light (hard shadows).
+    Point {
+        /// Position.
+        position: Vec3,
+    },
+    /// A segment light from `a` to `b`.
+    Linear {
+        /// One end.
+        a: Vec3,
+        /// The other end.
+        b: Vec3,
+    },
+    /// A rectangle `center + s u_half + t v_half`, `s, t in [-1, 1]`, emitting towards `u x v`.
+    Rect {
+        /// Centre.
+        center: Vec3,
+        /// Half of one side, as a vector.
+        u_half: Vec3,
+        /// Half of the other side, as a vector (orthogonal to `u_half`).
+        v_half: Vec3,
+    },
+    /// A disk emitting towards `normal`.
+    Disk {
+        /// Centre.
+        center: Vec3,
+        /// Unit emission direction.
+        normal: Vec3,
+        /// Radius.
+        radius: f32,
+    },
+    /// A sphere; a receiver sees its silhouette disc.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+    },
+    /// A light at infinity seen under a cone.
+    Distant {
+        /// Unit vector from the scene towards the light's centre.
+        direction: Vec3,
+        /// Full apparent diameter in radians (the Sun: about 0.0093).
+        angular_diameter: f32,
+        /// How the disc emits.
+        profile: DistantProfile,
+    },
+}
+
+/// The kind of a [`Light`], without parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum LightKind {
+    /// [`Light::Point`].
+    Point,
+    /// [`Light::Linear`].
+    Linear,
+    /// [`Light::Rect`].
+    Rect,
+    /// [`Light::Disk`].
+    Disk,
+    /// [`Light::Sphere`].
+    Sphere,
+    /// [`Light::Distant`].
+    Distant,
+}
+
+impl LightKind {
+    /// Every kind.
+    pub const ALL: [LightKind; 6] =
+        [LightKind::Point, LightKind::Linear, LightKind::Rect, LightKind::Disk, LightKind::Sphere, LightKind::Distant];
+
+    /// Lower-case name used in errors and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            LightKind::Point => "point",
+            LightKind::Linear => "linear",
+            LightKind::Rect => "rect",
+            LightKind::Disk => "disk",
+            LightKind::Sphere => "sphere",
+            LightKind::Distant => "distant",
+        }
+    }
+}
+
+/// One sample of a light: a position (local lights) or a direction towards the light (distant).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightPoint {
+    /// A point on a local light.
+    Position(Vec3),
+    /// A unit direction from the scene towards a distant light.
+    Direction(Vec3),
+}
+
+/// An orthonormal basis `(t, b)` perpendicular to unit `n`.
+pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
+    let helper = if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
+    let t = n.cross(helper).normalize();
+    (t, n.cross(t))
+}
+
+/// Shirley-Chiu concentric map from the unit square to the unit disk (area preserving).
+pub fn concentric_disk(u: Vec2) -> Vec2 {
+    let a = 2.0 * u - Vec2::ONE;
+    if a == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (r, phi) = if a.x.abs() > a.y.abs() {
+        (a.x, std::f32::consts::FRAC_PI_4 * (a.y / a.x))
+    } else {
+        (a.y, std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (a.x / a.y))
+    };
+    Vec2::new(r * phi.cos(), r * phi.sin())
+}
+
+fn check_finite(what: &str, v: Vec3) -> Result<()> {
+    if v.is_finite() { Ok(()) } else { Err(ShadowError::InvalidLight(format!("{what} is not finite: {v:?}"))) }
+}
+
+fn check_size(what: &str, s: f32) -> Result<()> {
+    if s.is_finite() && s > 0.0 {
+        Ok(())
+    } else {
+        Err(ShadowError::InvalidLight(format!("{what} must be positive and finite, got {s}")))
+    }
+}
+
+impl Light {
+    /// The kind of this light.
+    pub fn kind(&self) -> LightKind {
+        match self {
+            Light::Point { .. } => LightKind::Point,
+            Light::Linear { .. } => LightKind::Linear,
+            Light::Rect { .. } => LightKind::Rect,
+            Light::Disk { .. } => LightKind::Disk,
+            Light::Sphere { .. } => LightKind::Sphere,
+            Light::Distant { .. } => LightKind::Distant,
+        }
+    }
+
+    /// Checks every parameter: finite, positive sizes, non-degenerate directions.
+    pub fn validate(&self) -> Result<()> {
+        match *self {
+            Light::Point { position } => check_finite("point position", position),
+            Light::Linear { a, b } => {
+                check_finite("segment end a", a)?;
+                check_finite("segment end b", b)?;
+                check_size("segment length", (b - a).length())
+            }
+            Light::Rect { center, u_half, v_half } => {
+                check_finite("rect centre", center)?;
+                check_finite("rect u_half", u_half)?;
+                check_finite("rect v_half", v_half)?;
+                check_size("rect |u_half|", u_half.length())?;
+                check_size("rect |v_half|", v_half.length())?;
+                let cos = u_half.normalize().dot(v_half.normalize()).abs();
+                if cos > 1e-3 {
+                    return Err(ShadowError::InvalidLight(format!(
+                        "rect sides must be orthogonal, cos(angle) = {cos}"
+                    )));
+                }
+                Ok(())
+            }
+            Light::Disk { center, normal, radius } => {
+                check_finite("disk centre", center)?;
+                check_finite("disk normal", normal)?;
+                check_size("disk normal length", normal.length())?;
+                check_size("disk radius", radius)
+            }
+            Light::Sphere { center, radius } => {
+                check_finite("sphere centre", center)?;
+                check_size("sphere radius", radius)
+            }
+            Light::Distant { direction, angular_diameter, .. } => {
+                check_finite("distant direction", direction)?;
+                check_size("distant direction length", direction.length())?;
+                check_size("distant angular diameter", angular_diameter)?;
+                if angular_diameter >= std::f32::consts::PI {
+                    return Err(ShadowError::InvalidLight(format!(
+                        "distant angular diameter must be below pi, got {angular_diameter}"
+                    )));
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The centre of the light: a position, or the direction towards a distant light.
+    pub fn center(&self) -> LightPoint {
+        match *self {
+            Light::Point { position } => LightPoint::Position(position),
+            Light::Linear { a, b } => LightPoint::Position((a + b) * 0.5),
+            Light::Rect { center, .. } | Light::Disk { center, .. } | Light::Sphere { center, .. } => {
+                LightPoint::Position(center)
+            }
+            Light::Distant { direction, .. } => LightPoint::Direction(direction.normalize()),
+        }
+    }
+
+    /// The light's size as one number, for filters that need one (PCSS):
+    /// the diameter of the disk of equal area (rect), the length (segment), the diameter (disk, sphere),
+    /// `2 tan(angular_diameter / 2)` for a distant light (a width per unit distance), 0 for a point.
+    pub fn size(&self) -> f32 {
+        match *self {
+            Light::Point { .. } => 0.0,
+            Light::Linear { a, b } => (b - a).length(),
+            Light::Rect { u_half, v_half, .. } => {
+                let area = 4.0 * u_half.length() * v_half.length();
+                2.0 * (area / std::f32::consts::PI).sqrt()
+            }
+            Light::Disk { radius, .. } | Light::Sphere { radius, .. } => 2.0 * radius,
+            Light::Distant { angular_diameter, .. } => 2.0 * (0.5 * angular_diameter).tan(),
+        }
+    }
+
+    /// The direction a shadow-map frustum for this light looks along, given the scene's centre:
+    /// the emission normal for rect and disk lights, the reverse light direction for distant lights,
+    /// and from the light's centre to the scene otherwise.
+    pub fn axis(&self, scene_center: Vec3) -> Vec3 {
+        let towards_scene = |p: Vec3| {
+            let d = scene_center - p;
+            if d.length_squared() > 0.0 { d.normalize() } else { Vec3::NEG_Y }
+        };
+        match *self {
+            Light::Rect { u_half, v_half, .. } => u_half.cross(v_half).normalize(),
+            Light::Disk { normal, .. } => normal.normalize(),
+            Light::Distant { direction, .. } => -direction.normalize(),
+            Light::Point { position } => towards_scene(position),
+            Light::Linear { a, b } => towards_scene((a + b) * 0.5),
+            Light::Sphere { center, .. } => towards_scene(center),
+        }
+    }
+
+    /// Dimension of the light's sample domain: 0 (point), 1 (segment) or 2.
+    pub fn sample_dimension(&self) -> u32 {
+        match self {
+            Light::Point { .. } => 0,
+            Light::Linear { .. } => 1,
+            _ => 2,
+        }
+    }
+
+    /// Maps `u` in the unit square to a point of the light seen from `receiver`, with its weight
+    /// under the emission profile. Uniform in the measure of the guide's visibility definition, so
+    /// an average of `weight * visible` over stratified `u` divided by the average weight is `V`.
+    ///
+    /// For a sphere the sample lies on the silhouette disc seen from `receiver`; a receiver inside
+    /// the sphere gets its centre. For a segment only `u.x` is used.
+    pub fn sample(&self, u: Vec2, receiver: Vec3) -> (LightPoint, f32) {
+        match *self {
+            Light::Point { position } => (LightPoint::Position(position), 1.0),
+            Light::Linear { a, b } => (LightPoint::Position(a + (b - a) * u.x), 1.0),
+            Light::Rect { center, u_half, v_half } => {
+                let s = 2.0 * u - Vec2::ONE;
+                (LightPoint::Position(center + s.x * u_half + s.y * v_half), 1.0)
+            }
+            Light::Disk { center, normal, radius } => {
+                let (t, b) = orthonormal_basis(normal.normalize());
+                let d = concentric_disk(u) * radius;
+                (LightPoint::Position(center + d.x * t + d.y * b), 1.0)
+            }
+            Light::Sphere { center, radius } => {
+                let to_center = center - receiver;
+                let dist = to_center.length();
+                if dist <= radius * 1.0001 {
+                    return (LightPoint::Position(center), 1.0);
+                }
+                let w = to_center / dist;
+                let disc_center = center - w * (radius * radius / dist);
+                let disc_radius = radius * (1.0 - (radius / dist).powi(2)).max(0.0).sqrt();
+                let (t, b) = orthonormal_basis(w);
+                let d = concentric_disk(u) * disc_radius;
+                (LightPoint::Position(disc_center + d.x * t + d.y * b), 1.0)
+            }
+            Light::Distant { direction, angular_diameter, profile } => {
+                let axis = direction.normalize();
+                let half = 0.5 * angular_diameter;
+                let cos_max = half.cos();
+                // Uniform in solid angle: cos(theta) uniform in [cos_max, 1].
+                let cos_theta = 1.0 - u.x * (1.0 - cos_max);
+                let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+                let phi = std::f32::consts::TAU * u.y;
+                let (t, b) = orthonormal_basis(axis);
+                let dir = (axis * cos_theta + (t * phi.cos() + b * phi.sin()) * sin_theta).normalize();
+                let weight = match profile {
+                    DistantProfile::UniformDisk => 1.0,
+                    DistantProfile::LimbDarkenedSun => {
+                        let r = (sin_theta / half.sin()).min(1.0);
+                        let mu = (1.0 - r * r).max(0.0).sqrt();
+                        1.0 - SUN_LIMB_DARKENING_U * (1.0 - mu)
+                    }
+                };
+                (LightPoint::Direction(dir), weight)
+            }
+        }
+    }
+
+    /// `n` deterministic, stratified samples of the light seen from `receiver` (a jittered grid
+    /// for 2D lights, evenly spaced for a segment), for techniques that accumulate point lights.
+    pub fn stratified_samples(&self, n: u32, receiver: Vec3) -> Vec<(LightPoint, f32)> {
+        let n = n.max(1);
+        match self.sample_dimension() {
+            0 => vec![self.sample(Vec2::ZERO, receiver)],
+            1 => (0..n).map(|i| self.sample(Vec2::new((i as f32 + 0.5) / n as f32, 0.5), receiver)).collect(),
+            _ => {
+                let cols = (n as f32).sqrt().ceil() as u32;
+                let rows = n.div_ceil(cols);
+                (0..n)
+                    .map(|i| {
+                        let (c, r) = (i % cols, i / cols);
+                        let u = Vec2::new((c as f32 + 0.5) / cols as f32, (r as f32 + 0.5) / rows as f32);
+                        self.sample(u, receiver)
+                    })
+                    .collect()
+            }
+        }
+    }
+}

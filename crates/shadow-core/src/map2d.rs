@@ -1,0 +1,95 @@
+//! Row-major 2D maps with clamp-to-edge sampling and texel centres at +0.5.
+
+use glam::Vec2;
+
+/// A row-major `width x height` grid of `T`; row 0 is the top row (v = 0).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Map2D<T> {
+    width: u32,
+    height: u32,
+    data: Vec<T>,
+}
+
+impl<T: Clone> Map2D<T> {
+    /// A map filled with `value`.
+    pub fn new(width: u32, height: u32, value: T) -> Self {
+        Self { width, height, data: vec![value; width as usize * height as usize] }
+    }
+}
+
+impl<T> Map2D<T> {
+    /// A map over existing row-major data; `None` when the length is not `width * height`.
+    pub fn from_vec(width: u32, height: u32, data: Vec<T>) -> Option<Self> {
+        (data.len() == width as usize * height as usize).then_some(Self { width, height, data })
+    }
+
+    /// Width in texels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in texels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The texels, row-major.
+    pub fn data(&self) -> &[T] {
+        &self.data
+    }
+
+    /// The texels, row-major, mutable.
+    pub fn data_mut(&mut self) -> &mut [T] {
+        &mut self.data
+    }
+
+    /// Consumes the map, returning its texels.
+    pub fn into_vec(self) -> Vec<T> {
+        self.data
+    }
+
+    /// The texel at `(x, y)`, clamped to the edge.
+    pub fn get_clamped(&self, x: i64, y: i64) -> &T {
+        let x = x.clamp(0, self.width as i64 - 1) as usize;
+        let y = y.clamp(0, self.height as i64 - 1) as usize;
+        &self.data[y * self.width as usize + x]
+    }
+
+    /// The texel at `(x, y)`; panics when out of range (internal indexing).
+    pub fn get(&self, x: u32, y: u32) -> &T {
+        &self.data[y as usize * self.width as usize + x as usize]
+    }
+
+    /// Sets the texel at `(x, y)`.
+    pub fn set(&mut self, x: u32, y: u32, value: T) {
+        let w = self.width as usize;
+        self.data[y as usize * w + x as usize] = value;
+    }
+
+    /// The texel containing map coordinate `uv` (in [0,1]², clamp-to-edge).
+    pub fn sample_nearest(&self, uv: Vec2) -> &T {
+        let x = (uv.x * self.width as f32).floor() as i64;
+        let y = (uv.y * self.height as f32).floor() as i64;
+        self.get_clamped(x, y)
+    }
+
+    /// Maps every texel.
+    pub fn map<U>(&self, f: impl Fn(&T) -> U) -> Map2D<U> {
+        Map2D { width: self.width, height: self.height, data: self.data.iter().map(f).collect() }
+    }
+}
+
+impl Map2D<f32> {
+    /// Bilinear sample at `uv` with texel centres at +0.5 and clamp-to-edge.
+    pub fn sample_bilinear(&self, uv: Vec2) -> f32 {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = uv.y * self.height as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let t = |dx, dy| *self.get_clamped(x0 + dx, y0 + dy);
+        let top = t(0, 0) * (1.0 - fx) + t(1, 0) * fx;
+        let bottom = t(0, 1) * (1.0 - fx) + t(1, 1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+}

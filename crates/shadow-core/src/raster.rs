@@ -1,0 +1,252 @@
+//! CPU triangle rasterizer: the reference that the GPU render passes are checked against.
+//!
+//! It follows the rules a GPU applies, so the two agree texel for texel: vertices snapped to a
+//! 1/256-pixel grid, coverage at pixel centres with the top-left fill rule, clipping to the
+//! reversed-Z depth range, a `Greater` depth test on NDC depth in submission order, and
+//! perspective-correct barycentrics. Rows are split into bands rasterized in parallel with rayon.
+
+use crate::map2d::Map2D;
+use crate::view::View;
+use glam::{Vec3, Vec4};
+use rayon::prelude::*;
+
+/// Sub-pixel precision of vertex snapping (8 bits, as GPUs use).
+pub const SUBPIXEL_BITS: u32 = 8;
+const SUB: f64 = (1 << SUBPIXEL_BITS) as f64;
+const BAND_ROWS: usize = 16;
+const GUARD_BAND: f32 = 64.0;
+
+/// What the rasterizer keeps per pixel: the nearest fragment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fragment {
+    /// Reversed-Z NDC depth (0 where empty).
+    pub z_ndc: f32,
+    /// Index of the triangle that covers the pixel, `u32::MAX` where empty.
+    pub triangle: u32,
+    /// Perspective-correct barycentric coordinates with respect to that triangle's vertices.
+    pub bary: [f32; 3],
+}
+
+impl Fragment {
+    /// An empty pixel.
+    pub const EMPTY: Fragment = Fragment { z_ndc: 0.0, triangle: u32::MAX, bary: [0.0; 3] };
+
+    /// True when a triangle covers the pixel.
+    pub fn is_covered(&self) -> bool {
+        self.triangle != u32::MAX
+    }
+}
+
+#[derive(Clone, Copy)]
+struct ClipVertex {
+    pos: Vec4,
+    bary: Vec3,
+}
+
+struct ScreenTri {
+    x: [i64; 3],
+    y: [i64; 3],
+    z: [f64; 3],
+    inv_w: [f64; 3],
+    bary: [Vec3; 3],
+    area: i64,
+    y_min: i64,
+    y_max: i64,
+    x_min: i64,
+    x_max: i64,
+    top_left: [bool; 3],
+    triangle: u32,
+}
+
+fn clip_polygon(poly: Vec<ClipVertex>, dist: impl Fn(Vec4) -> f32) -> Vec<ClipVertex> {
+    let mut out = Vec::with_capacity(poly.len() + 2);
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let (da, db) = (dist(a.pos), dist(b.pos));
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            let t = da / (da - db);
+            out.push(ClipVertex { pos: a.pos.lerp(b.pos, t), bary: a.bary.lerp(b.bary, t) });
+        }
+    }
+    out
+}
+
+fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<ScreenTri> {
+    let vp = view.view_projection();
+    let (w, h) = (width as f64, height as f64);
+    tris.par_iter()
+        .enumerate()
+        .flat_map_iter(|(index, tri)| {
+            let mut poly: Vec<ClipVertex> = tri
+                .iter()
+                .zip([Vec3::X, Vec3::Y, Vec3::Z])
+                .map(|(p, bary)| ClipVertex { pos: vp * p.extend(1.0), bary })
+                .collect();
+            // Reversed Z: 0 <= z <= w; plus a guard band on x and y that keeps fixed point small.
+            poly = clip_polygon(poly, |p| p.w - p.z);
+            poly = clip_polygon(poly, |p| p.z);
+            for (sx, sy) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
+                if poly.len() < 3 {
+                    break;
+                }
+                poly = clip_polygon(poly, |p| GUARD_BAND * p.w - sx * p.x - sy * p.y);
+            }
+            let verts: Vec<(i64, i64, f64, f64, Vec3)> = poly
+                .iter()
+                .filter(|v| v.pos.w > 0.0)
+                .map(|v| {
+                    let inv_w = 1.0 / v.pos.w as f64;
+                    let nx = v.pos.x as f64 * inv_w;
+                    let ny = v.pos.y as f64 * inv_w;
+                    let sx = ((nx * 0.5 + 0.5) * w * SUB).round() as i64;
+                    let sy = ((0.5 - ny * 0.5) * h * SUB).round() as i64;
+                    (sx, sy, v.pos.z as f64 * inv_w, inv_w, v.bary)
+                })
+                .collect();
+            let mut out = Vec::new();
+            if verts.len() == poly.len() && verts.len() >= 3 {
+                for k in 1..verts.len() - 1 {
+                    if let Some(t) = screen_tri([verts[0], verts[k], verts[k + 1]], index as u32) {
+                        out.push(t);
+                    }
+                }
+            }
+            out.into_iter()
+        })
+        .collect()
+}
+
+fn screen_tri(v: [(i64, i64, f64, f64, Vec3); 3], triangle: u32) -> Option<ScreenTri> {
+    let mut v = v;
+    let edge = |a: (i64, i64), b: (i64, i64), p: (i64, i64)| (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0);
+    let mut area = edge((v[0].0, v[0].1), (v[1].0, v[1].1), (v[2].0, v[2].1));
+    if area == 0 {
+        return None;
+    }
+    if area < 0 {
+        v.swap(1, 2);
+        area = -area;
+    }
+    let x = [v[0].0, v[1].0, v[2].0];
+    let y = [v[0].1, v[1].1, v[2].1];
+    // Edge i goes from vertex i+1 to i+2 (opposite vertex i). Top: horizontal, interior below,
+    // going right; left: going up (y decreasing) in y-down screen space.
+    let mut top_left = [false; 3];
+    for (i, tl) in top_left.iter_mut().enumerate() {
+        let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+        *tl = (y[a] == y[b] && x[b] > x[a]) || y[b] < y[a];
+    }
+    Some(ScreenTri {
+        x,
+        y,
+        z: [v[0].2, v[1].2, v[2].2],
+        inv_w: [v[0].3, v[1].3, v[2].3],
+        bary: [v[0].4, v[1].4, v[2].4],
+        area,
+        x_min: *x.iter().min().unwrap_or(&0),
+        x_max: *x.iter().max().unwrap_or(&0),
+        y_min: *y.iter().min().unwrap_or(&0),
+        y_max: *y.iter().max().unwrap_or(&0),
+        top_left,
+        triangle,
+    })
+}
+
+fn raster_band(tris: &[ScreenTri], width: u32, row0: usize, rows: &mut [Fragment]) {
+    let w = width as usize;
+    let n_rows = rows.len() / w;
+    let half = (SUB / 2.0) as i64;
+    let sub = SUB as i64;
+    let band_y0 = row0 as i64 * sub;
+    let band_y1 = (row0 + n_rows) as i64 * sub;
+    for t in tris {
+        if t.y_max < band_y0 || t.y_min >= band_y1 || t.x_max < 0 || t.x_min >= width as i64 * sub {
+            continue;
+        }
+        // Pixel centres (p + 0.5) * SUB inside the bounding box.
+        let px0 = ((t.x_min - half) as f64 / sub as f64).ceil().max(0.0) as i64;
+        let px1 = (((t.x_max - half) as f64 / sub as f64).floor() as i64).min(w as i64 - 1);
+        let py0 = (((t.y_min - half) as f64 / sub as f64).ceil() as i64).max(row0 as i64);
+        let py1 = (((t.y_max - half) as f64 / sub as f64).floor() as i64).min((row0 + n_rows) as i64 - 1);
+        for py in py0..=py1 {
+            let cy = py * sub + half;
+            for px in px0..=px1 {
+                let cx = px * sub + half;
+                let mut e = [0i64; 3];
+                let mut inside = true;
+                for i in 0..3 {
+                    let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+                    e[i] = (t.x[b] - t.x[a]) * (cy - t.y[a]) - (t.y[b] - t.y[a]) * (cx - t.x[a]);
+                    if e[i] < 0 || (e[i] == 0 && !t.top_left[i]) {
+                        inside = false;
+                        break;
+                    }
+                }
+                if !inside {
+                    continue;
+                }
+                let l = e.map(|ei| ei as f64 / t.area as f64);
+                let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
+                let frag = &mut rows[(py as usize - row0) * w + px as usize];
+                if z > frag.z_ndc {
+                    let pw = [l[0] * t.inv_w[0], l[1] * t.inv_w[1], l[2] * t.inv_w[2]];
+                    let s = pw[0] + pw[1] + pw[2];
+                    let b = (t.bary[0] * pw[0] as f32 + t.bary[1] * pw[1] as f32 + t.bary[2] * pw[2] as f32) / s as f32;
+                    *frag = Fragment { z_ndc: z, triangle: t.triangle, bary: b.to_array() };
+                }
+            }
+        }
+    }
+}
+
+/// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
+pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<Fragment> {
+    let screen = setup(view, width, height, tris);
+    let mut out = Map2D::new(width, height, Fragment::EMPTY);
+    let w = width as usize;
+    if w == 0 || height == 0 {
+        return out;
+    }
+    out.data_mut().par_chunks_mut(w * BAND_ROWS).enumerate().for_each(|(band, rows)| {
+        raster_band(&screen, width, band * BAND_ROWS, rows);
+    });
+    out
+}
+
+/// A linear depth map (distance along the view axis; [`crate::view::NO_OCCLUDER`] where empty).
+pub fn depth_map(view: &View, resolution: u32, tris: &[[Vec3; 3]]) -> Map2D<f32> {
+    rasterize(view, resolution, resolution, tris).map(|f| view.linear_depth_from_ndc(f.z_ndc))
+}
+
+/// One G-buffer texel: world position and unit normal facing the camera; `covered` false where empty.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GBufferTexel {
+    /// World-space position.
+    pub position: Vec3,
+    /// Geometric normal, flipped to face the camera.
+    pub normal: Vec3,
+    /// Whether a receiver covers this pixel.
+    pub covered: bool,
+}
+
+/// Face normal of a triangle, flipped to face `eye`; zero for degenerate triangles.
+pub fn facing_normal(tri: &[Vec3; 3], eye: Vec3) -> Vec3 {
+    let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
+    if n.dot(eye - tri[0]) < 0.0 { -n } else { n }
+}
+
+/// The camera G-buffer: per pixel the nearest receiver's world position and normal.
+pub fn gbuffer(view: &View, eye: Vec3, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<GBufferTexel> {
+    let frags = rasterize(view, width, height, tris);
+    frags.map(|f| {
+        if !f.is_covered() {
+            return GBufferTexel { position: Vec3::ZERO, normal: Vec3::ZERO, covered: false };
+        }
+        let t = &tris[f.triangle as usize];
+        let position = t[0] * f.bary[0] + t[1] * f.bary[1] + t[2] * f.bary[2];
+        GBufferTexel { position, normal: facing_normal(t, eye), covered: true }
+    })
+}

@@ -1,0 +1,151 @@
+//! The scene as a `bevy_ecs` world: meshes with transforms, caster/receiver markers, lights, a camera.
+//!
+//! Techniques never see the world: [`Scene::geometry`] flattens it into plain world-space triangles
+//! ([`SceneGeometry`]), the data the kernels take.
+
+use crate::error::{Result, ShadowError};
+use crate::light::Light;
+use crate::mesh::{Aabb, TriangleMesh};
+use crate::view::Camera;
+use bevy_ecs::prelude::*;
+use glam::{Mat4, Vec3};
+use std::sync::Arc;
+
+/// A mesh attached to an entity (shared, so many entities can instance one mesh).
+#[derive(Component, Clone, Debug)]
+pub struct MeshHandle(pub Arc<TriangleMesh>);
+
+/// Object to world transform.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Transform(pub Mat4);
+
+/// Marks a mesh that casts shadows (rendered into shadow maps, traced by the ground truth).
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct ShadowCaster;
+
+/// Marks a mesh that receives shadows (rendered into the camera G-buffer).
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct ShadowReceiver;
+
+/// A light source entity.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct LightSource(pub Light);
+
+/// The camera entity.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct CameraComponent(pub Camera);
+
+/// A scene: an ECS world plus convenience constructors.
+pub struct Scene {
+    /// The ECS world holding every entity.
+    pub world: World,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Plain world-space geometry extracted from a [`Scene`]: what technique kernels consume.
+#[derive(Clone, Debug, Default)]
+pub struct SceneGeometry {
+    /// Shadow-casting triangles, world space.
+    pub casters: Vec<[Vec3; 3]>,
+    /// Receiving triangles, world space.
+    pub receivers: Vec<[Vec3; 3]>,
+    /// Bounds of casters and receivers together.
+    pub bounds: Aabb,
+}
+
+impl Scene {
+    /// An empty scene.
+    pub fn new() -> Self {
+        Self { world: World::new() }
+    }
+
+    /// Adds a mesh instance; it is validated (finite vertices, indices in range).
+    pub fn add_mesh(&mut self, mesh: Arc<TriangleMesh>, transform: Mat4, caster: bool, receiver: bool) -> Result<Entity> {
+        mesh.validate()?;
+        if !transform.is_finite() {
+            return Err(ShadowError::InvalidMesh { mesh: mesh.name.clone(), reason: "transform is not finite".into() });
+        }
+        let mut e = self.world.spawn((MeshHandle(mesh), Transform(transform)));
+        if caster {
+            e.insert(ShadowCaster);
+        }
+        if receiver {
+            e.insert(ShadowReceiver);
+        }
+        Ok(e.id())
+    }
+
+    /// Adds a light after validating it.
+    pub fn add_light(&mut self, light: Light) -> Result<Entity> {
+        light.validate()?;
+        Ok(self.world.spawn(LightSource(light)).id())
+    }
+
+    /// Sets the (single) camera, replacing any previous one.
+    pub fn set_camera(&mut self, camera: Camera) -> Entity {
+        let old: Vec<Entity> = self.world.query_filtered::<Entity, With<CameraComponent>>().iter(&self.world).collect();
+        for e in old {
+            self.world.despawn(e);
+        }
+        self.world.spawn(CameraComponent(camera)).id()
+    }
+
+    /// The camera, if one is set.
+    pub fn camera(&mut self) -> Option<Camera> {
+        self.world.query::<&CameraComponent>().iter(&self.world).next().map(|c| c.0)
+    }
+
+    /// Every light, in spawn order.
+    pub fn lights(&mut self) -> Vec<Light> {
+        let mut v: Vec<(Entity, Light)> = self.world.query::<(Entity, &LightSource)>().iter(&self.world).map(|(e, l)| (e, l.0)).collect();
+        v.sort_by_key(|(e, _)| *e);
+        v.into_iter().map(|(_, l)| l).collect()
+    }
+
+    /// Flattens casters and receivers into world-space triangles, in spawn order.
+    pub fn geometry(&mut self) -> SceneGeometry {
+        let mut items: Vec<(Entity, Arc<TriangleMesh>, Mat4, bool, bool)> = self
+            .world
+            .query::<(Entity, &MeshHandle, &Transform, Has<ShadowCaster>, Has<ShadowReceiver>)>()
+            .iter(&self.world)
+            .map(|(e, m, t, c, r)| (e, m.0.clone(), t.0, c, r))
+            .collect();
+        items.sort_by_key(|i| i.0);
+        let mut g = SceneGeometry::default();
+        for (_, mesh, transform, caster, receiver) in items {
+            let tris: Vec<[Vec3; 3]> = mesh.world_triangles(transform).collect();
+            if caster {
+                g.casters.extend_from_slice(&tris);
+            }
+            if receiver {
+                g.receivers.extend_from_slice(&tris);
+            }
+        }
+        let mut b = Aabb::of_triangles(&g.casters);
+        let r = Aabb::of_triangles(&g.receivers);
+        if !r.is_empty() {
+            b.grow(r.min);
+            b.grow(r.max);
+        }
+        g.bounds = b;
+        g
+    }
+}
+
+impl SceneGeometry {
+    /// Checks that there is something to shadow: non-empty bounds, finite coordinates.
+    pub fn validate(&self) -> Result<()> {
+        if self.bounds.is_empty() {
+            return Err(ShadowError::InvalidScene("the scene holds no triangles".into()));
+        }
+        if !self.bounds.min.is_finite() || !self.bounds.max.is_finite() {
+            return Err(ShadowError::InvalidScene("the scene bounds are not finite".into()));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,225 @@
+//! Views: the camera and the light-space frusta that shadow maps are rendered from.
+//!
+//! Both use a reversed-Z projection (NDC depth 1 at the near plane, 0 at the far plane) so that an
+//! `f32` depth keeps its relative precision over depth ranges such as 1e-3..1e4.
+
+use crate::light::{Light, LightPoint};
+use crate::mesh::Aabb;
+use glam::{Mat4, Vec3, Vec4};
+
+/// Sentinel stored in a linear depth map where no surface was rasterized.
+pub const NO_OCCLUDER: f32 = f32::MAX;
+
+/// Kind of projection of a [`View`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ProjectionKind {
+    /// Perspective with the full vertical and horizontal field of view `fov` (radians, square).
+    Perspective {
+        /// Full field of view.
+        fov: f32,
+    },
+    /// Orthographic with the square half-extent `half_extent` (world units).
+    Orthographic {
+        /// Half of the side of the square window.
+        half_extent: f32,
+    },
+}
+
+/// A view (world to view to reversed-Z clip space) with its depth range.
+///
+/// View space is right-handed and looks along -Z; *linear depth* is the distance along the view axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// World to view space.
+    pub view: Mat4,
+    /// The projection.
+    pub kind: ProjectionKind,
+    /// Near plane distance (> 0 for perspective).
+    pub near: f32,
+    /// Far plane distance.
+    pub far: f32,
+    /// Aspect ratio width / height (1 for light views).
+    pub aspect: f32,
+}
+
+fn look_to(eye: Vec3, axis: Vec3) -> Mat4 {
+    let up = if axis.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    let f = axis.normalize();
+    let s = f.cross(up).normalize();
+    let u = s.cross(f);
+    Mat4::from_cols(
+        Vec4::new(s.x, u.x, -f.x, 0.0),
+        Vec4::new(s.y, u.y, -f.y, 0.0),
+        Vec4::new(s.z, u.z, -f.z, 0.0),
+        Vec4::new(-s.dot(eye), -u.dot(eye), f.dot(eye), 1.0),
+    )
+}
+
+impl View {
+    /// A perspective view from `eye` along unit `axis`.
+    pub fn perspective(eye: Vec3, axis: Vec3, fov: f32, aspect: f32, near: f32, far: f32) -> Self {
+        Self { view: look_to(eye, axis), kind: ProjectionKind::Perspective { fov }, near, far, aspect }
+    }
+
+    /// The reversed-Z projection matrix (view to clip).
+    pub fn projection(&self) -> Mat4 {
+        let (n, f) = (self.near, self.far);
+        match self.kind {
+            ProjectionKind::Perspective { fov } => {
+                let sy = 1.0 / (0.5 * fov).tan();
+                let sx = sy / self.aspect;
+                // z_ndc = n (f - z) / (z (f - n)) with z = -z_view: 1 at near, 0 at far.
+                let a = -n / (f - n);
+                let b = n * f / (f - n);
+                Mat4::from_cols(
+                    Vec4::new(sx, 0.0, 0.0, 0.0),
+                    Vec4::new(0.0, sy, 0.0, 0.0),
+                    Vec4::new(0.0, 0.0, -a, -1.0),
+                    Vec4::new(0.0, 0.0, b, 0.0),
+                )
+            }
+            ProjectionKind::Orthographic { half_extent } => {
+                let s = 1.0 / half_extent;
+                // z_ndc = (f - z) / (f - n) with z = -z_view.
+                Mat4::from_cols(
+                    Vec4::new(s / self.aspect, 0.0, 0.0, 0.0),
+                    Vec4::new(0.0, s, 0.0, 0.0),
+                    Vec4::new(0.0, 0.0, 1.0 / (f - n), 0.0),
+                    Vec4::new(0.0, 0.0, f / (f - n), 1.0),
+                )
+            }
+        }
+    }
+
+    /// World to clip.
+    pub fn view_projection(&self) -> Mat4 {
+        self.projection() * self.view
+    }
+
+    /// Converts a reversed-Z NDC depth to linear depth; `<= 0` (the cleared value) gives [`NO_OCCLUDER`].
+    pub fn linear_depth_from_ndc(&self, z_ndc: f32) -> f32 {
+        if z_ndc <= 0.0 {
+            return NO_OCCLUDER;
+        }
+        let (n, f) = (self.near, self.far);
+        match self.kind {
+            ProjectionKind::Perspective { .. } => n * f / (z_ndc * (f - n) + n),
+            ProjectionKind::Orthographic { .. } => f - z_ndc * (f - n),
+        }
+    }
+
+    /// Linear depth of a world point (distance along the view axis).
+    pub fn linear_depth(&self, p: Vec3) -> f32 {
+        -self.view.transform_point3(p).z
+    }
+
+    /// Map coordinates of a world point: `(u, v)` in [0,1]² (v down) and its linear depth,
+    /// or `None` when it lies behind a perspective eye.
+    pub fn project(&self, p: Vec3) -> Option<(f32, f32, f32)> {
+        let clip = self.view_projection() * p.extend(1.0);
+        if clip.w <= 0.0 {
+            return None;
+        }
+        let ndc = clip.truncate() / clip.w;
+        Some((ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5, self.linear_depth(p)))
+    }
+
+    /// World size of one texel of a `resolution`-wide map at linear depth `z`:
+    /// `a * z + b` with `(a, b)` from [`View::texel_scale`].
+    pub fn texel_world_size(&self, resolution: u32, z: f32) -> f32 {
+        let (a, b) = self.texel_scale(resolution);
+        a * z + b
+    }
+
+    /// `(a, b)` with texel world size `a * z + b`: `(2 tan(fov/2) / res, 0)` for perspective,
+    /// `(0, 2 half_extent / res)` for orthographic views.
+    pub fn texel_scale(&self, resolution: u32) -> (f32, f32) {
+        let r = resolution.max(1) as f32;
+        match self.kind {
+            ProjectionKind::Perspective { fov } => (2.0 * (0.5 * fov).tan() / r, 0.0),
+            ProjectionKind::Orthographic { half_extent } => (0.0, 2.0 * half_extent / r),
+        }
+    }
+
+    /// A light-space view from one light sample that contains `bounds`, looking along `axis`.
+    ///
+    /// Perspective from a position: the field of view covers every corner of `bounds` in front of
+    /// the eye, clamped to 2 x 80 degrees (geometry outside is unshadowed by that sample).
+    /// Orthographic for a direction: the window covers the bounds, the near plane lies just outside them.
+    pub fn fit_light(sample: LightPoint, axis: Vec3, bounds: &Aabb) -> View {
+        let axis = axis.normalize();
+        let diag = bounds.diagonal().max(1e-6);
+        match sample {
+            LightPoint::Position(eye) => {
+                let view = look_to(eye, axis);
+                let mut tan_max: f32 = 0.0;
+                let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
+                for c in bounds.corners() {
+                    let v = view.transform_point3(c);
+                    let z = -v.z;
+                    zmax = zmax.max(z);
+                    if z > 1e-6 * diag {
+                        zmin = zmin.min(z);
+                        tan_max = tan_max.max(v.x.abs().max(v.y.abs()) / z);
+                    } else {
+                        tan_max = f32::INFINITY;
+                    }
+                }
+                let half = tan_max.atan().clamp(1f32.to_radians(), 80f32.to_radians()) * 1.02;
+                let far = (zmax * 1.01).max(1e-3 * diag);
+                let near = if zmin.is_finite() { zmin * 0.95 } else { 0.0 };
+                let near = near.max(far * 1e-5);
+                View { view, kind: ProjectionKind::Perspective { fov: 2.0 * half }, near, far, aspect: 1.0 }
+            }
+            LightPoint::Direction(dir) => {
+                // The eye sits outside the bounds, towards the light.
+                let radius = 0.5 * diag;
+                let eye = bounds.center() + dir.normalize() * (radius * 1.1 + 1e-3);
+                let view = look_to(eye, -dir.normalize());
+                let mut half: f32 = 0.0;
+                let mut zmax: f32 = 0.0;
+                for c in bounds.corners() {
+                    let v = view.transform_point3(c);
+                    half = half.max(v.x.abs().max(v.y.abs()));
+                    zmax = zmax.max(-v.z);
+                }
+                let near = (0.05 * radius).max(1e-6);
+                View {
+                    view,
+                    kind: ProjectionKind::Orthographic { half_extent: half * 1.01 + 1e-6 },
+                    near,
+                    far: zmax * 1.01 + near,
+                    aspect: 1.0,
+                }
+            }
+        }
+    }
+
+    /// The light view of `light`'s centre sample, fitted to `bounds`.
+    pub fn for_light_center(light: &Light, bounds: &Aabb) -> View {
+        View::fit_light(light.center(), light.axis(bounds.center()), bounds)
+    }
+}
+
+/// A perspective camera for the G-buffer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: Vec3,
+    /// Point looked at.
+    pub target: Vec3,
+    /// Vertical field of view in radians.
+    pub fov_y: f32,
+    /// Near plane.
+    pub near: f32,
+    /// Far plane.
+    pub far: f32,
+}
+
+impl Camera {
+    /// The camera's view for a `width` x `height` image.
+    pub fn view(&self, width: u32, height: u32) -> View {
+        let axis = (self.target - self.eye).normalize();
+        View::perspective(self.eye, axis, self.fov_y, width as f32 / height.max(1) as f32, self.near, self.far)
+    }
+}
