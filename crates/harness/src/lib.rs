@@ -1,1 +1,9 @@
-//! placeholder
+//! The soft-shadow harness: ray-traced ground truth, baselines, the scene catalogue, metrics and the
+//! accuracy-vs-time report (`cargo run --release -p harness -- report`).
+
+pub mod baselines;
+pub mod ground_truth;
+pub mod metrics;
+pub mod report;
+pub mod scenes;
+pub mod setup;

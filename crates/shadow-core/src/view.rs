@@ -158,8 +158,8 @@ impl View {
                     let v = view.transform_point3(c);
                     let z = -v.z;
                     zmax = zmax.max(z);
+                    zmin = zmin.min(z);
                     if z > 1e-6 * diag {
-                        zmin = zmin.min(z);
                         tan_max = tan_max.max(v.x.abs().max(v.y.abs()) / z);
                     } else {
                         tan_max = f32::INFINITY;
@@ -167,7 +167,10 @@ impl View {
                 }
                 let half = tan_max.atan().clamp(1f32.to_radians(), 80f32.to_radians()) * 1.02;
                 let far = (zmax * 1.01).max(1e-3 * diag);
-                let near = if zmin.is_finite() { zmin * 0.95 } else { 0.0 };
+                // The box's nearest point is at depth max(zmin, 0): when a corner lies behind the
+                // eye's plane, geometry can come arbitrarily close, so the near plane goes down to
+                // 1e-5 of the far plane (reversed-Z float keeps the precision).
+                let near = if zmin > 0.0 { zmin * 0.95 } else { 0.0 };
                 let near = near.max(far * 1e-5);
                 View { view, kind: ProjectionKind::Perspective { fov: 2.0 * half }, near, far, aspect: 1.0 }
             }

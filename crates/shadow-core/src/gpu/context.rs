@@ -1,7 +1,12 @@
 //! The headless wgpu context.
 
 use crate::error::{Result, ShadowError};
+use std::any::{Any, TypeId};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 use wgpu::util::DeviceExt;
+
+type Cache = Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>;
 
 /// A headless wgpu device and queue.
 ///
@@ -20,6 +25,7 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Adapter name, backend and driver.
     pub info: wgpu::AdapterInfo,
+    cache: Cache,
 }
 
 impl GpuContext {
@@ -64,12 +70,26 @@ impl GpuContext {
             })
             .await
             .map_err(|e| ShadowError::Gpu(format!("request_device on {}: {e}", info.name)))?;
-        Ok(Self { instance, adapter, device, queue, info })
+        Ok(Self { instance, adapter, device, queue, info, cache: Mutex::new(HashMap::new()) })
     }
 
     /// One line naming the adapter, e.g. `"llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, Cpu)"`.
     pub fn describe(&self) -> String {
         format!("{} ({:?}, {:?})", self.info.name, self.info.backend, self.info.device_type)
+    }
+
+    /// Per-device cache of pipelines and other resources, keyed by type: `init` runs once per
+    /// context, later calls return the same value.
+    pub fn cached<T: Any + Send + Sync>(&self, init: impl FnOnce(&GpuContext) -> T) -> Arc<T> {
+        let key = TypeId::of::<T>();
+        if let Some(v) = self.cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+            if let Ok(t) = v.clone().downcast::<T>() {
+                return t;
+            }
+        }
+        let value = Arc::new(init(self));
+        self.cache.lock().unwrap_or_else(|e| e.into_inner()).insert(key, value.clone());
+        value
     }
 
     /// Largest 2D texture side of this device.

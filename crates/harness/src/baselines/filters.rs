@@ -1,0 +1,192 @@
+//! The baselines' filters on the CPU. `shadow_map_eval.wgsl` is the same code in WGSL, line for
+//! line, so that both backends compute the same function.
+
+use super::maps::{CpuShadowMaps, MapParams};
+use super::{Filter, PCSS_FILTER_MAX, PCSS_SEARCH_MAX, ShadowMapBaseline};
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+use shadow_core::{Map2D, Receivers};
+
+/// Filter modes as the shader numbers them.
+pub const MODE_HARD: u32 = 0;
+/// PCF.
+pub const MODE_PCF: u32 = 1;
+/// PCSS.
+pub const MODE_PCSS: u32 = 2;
+/// Accumulation.
+pub const MODE_ACCUMULATE: u32 = 3;
+
+/// Evaluation parameters, laid out as `Params` in `shadow_map_eval.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct EvalParams {
+    /// Map side in texels.
+    pub resolution: u32,
+    /// Number of maps.
+    pub map_count: u32,
+    /// One of the `MODE_*` constants.
+    pub mode: u32,
+    /// Number of receivers.
+    pub receiver_count: u32,
+    /// PCF radius in texels.
+    pub pcf_radius: i32,
+    /// Normal offset in texels.
+    pub normal_offset: f32,
+    /// Depth bias in texels.
+    pub depth_bias: f32,
+    /// [`shadow_core::Light::size`].
+    pub light_size: f32,
+    /// Largest blocker-search radius (texels).
+    pub search_max: f32,
+    /// Largest PCSS filter radius (texels).
+    pub filter_max: f32,
+    /// Slope bias scale.
+    pub slope_bias: f32,
+    /// Padding.
+    pub _pad: f32,
+}
+
+impl EvalParams {
+    /// Parameters of `b` for maps of `resolution` and `map_count` layers.
+    pub fn new(b: &ShadowMapBaseline, resolution: u32, map_count: u32, receiver_count: u32, light_size: f32) -> Self {
+        let (mode, radius) = match b.filter {
+            Filter::Hard => (MODE_HARD, 0),
+            Filter::Pcf { radius } => (MODE_PCF, radius as i32),
+            Filter::Pcss => (MODE_PCSS, 0),
+            Filter::Accumulate { .. } => (MODE_ACCUMULATE, 0),
+        };
+        Self {
+            resolution,
+            map_count,
+            mode,
+            receiver_count,
+            pcf_radius: radius,
+            normal_offset: b.bias.normal_offset,
+            depth_bias: b.bias.depth,
+            light_size,
+            search_max: PCSS_SEARCH_MAX,
+            filter_max: PCSS_FILTER_MAX,
+            slope_bias: b.bias.slope,
+            _pad: 0.0,
+        }
+    }
+}
+
+fn linear_depth(m: &MapParams, p: Vec3) -> f32 {
+    Vec4::from(m.depth_row).dot(p.extend(1.0))
+}
+
+/// A receiver in one map: position in texels, biased comparison depth, slope bias per texel of offset.
+#[derive(Clone, Copy)]
+struct Coord {
+    st: Vec2,
+    z: f32,
+    slope: f32,
+}
+
+/// The receiver in map `m`, or `None` outside the map (lit).
+fn shadow_coord(m: &MapParams, prm: &EvalParams, p: Vec3, n: Vec3) -> Option<Coord> {
+    let z = linear_depth(m, p);
+    let texel = m.texel_a * z + m.texel_b;
+    let l = Vec4::from(m.light);
+    let to_light = if l.w == 1.0 { l.truncate() - p } else { l.truncate() };
+    let c = (n.dot(to_light) / to_light.length().max(1e-30)).abs().max(0.1);
+    let slope = prm.slope_bias * texel * ((1.0 - c * c).max(0.0).sqrt() / c);
+    let p2 = p + n * (prm.normal_offset * texel);
+    let clip = Mat4::from_cols_array(&m.view_proj) * p2.extend(1.0);
+    if clip.w <= 0.0 {
+        return None;
+    }
+    let ndc = Vec2::new(clip.x / clip.w, clip.y / clip.w);
+    if ndc.x.abs() > 1.0 || ndc.y.abs() > 1.0 {
+        return None;
+    }
+    let res = prm.resolution as f32;
+    let st = Vec2::new((ndc.x * 0.5 + 0.5) * res, (0.5 - ndc.y * 0.5) * res);
+    Some(Coord { st, z: linear_depth(m, p2) - prm.depth_bias * texel - slope, slope })
+}
+
+fn tap(map: &Map2D<f32>, st: Vec2, d: Vec2) -> f32 {
+    *map.get_clamped((st.x + d.x).floor() as i64, (st.y + d.y).floor() as i64)
+}
+
+fn lit(map: &Map2D<f32>, c: &Coord, d: Vec2) -> f32 {
+    if c.z - c.slope * d.length() <= tap(map, c.st, d) { 1.0 } else { 0.0 }
+}
+
+/// Penumbra (or search) radius in texels for light size `l` between depths `z_block` and `z_recv`.
+fn cone_radius(m: &MapParams, l: f32, z_block: f32, z_recv: f32) -> f32 {
+    let world = 0.5 * l * (z_recv - z_block);
+    if m.ortho == 1 { world / m.texel_b } else { world / (m.texel_a * z_block * z_recv) }
+}
+
+fn visibility(maps: &CpuShadowMaps, prm: &EvalParams, p: Vec3, n: Vec3) -> f32 {
+    let m0 = maps.views[0].params(prm.resolution);
+    match prm.mode {
+        MODE_ACCUMULATE => {
+            let (mut sum, mut wsum) = (0.0f32, 0.0f32);
+            for (k, sv) in maps.views.iter().enumerate() {
+                let m = sv.params(prm.resolution);
+                let v = match shadow_coord(&m, prm, p, n) {
+                    None => 1.0,
+                    Some(c) => lit(&maps.maps[k], &c, Vec2::ZERO),
+                };
+                sum += m.weight * v;
+                wsum += m.weight;
+            }
+            if wsum > 0.0 { sum / wsum } else { 1.0 }
+        }
+        _ => {
+            let Some(c) = shadow_coord(&m0, prm, p, n) else { return 1.0 };
+            let map = &maps.maps[0];
+            match prm.mode {
+                MODE_HARD => lit(map, &c, Vec2::ZERO),
+                MODE_PCF => {
+                    let r = prm.pcf_radius;
+                    let mut s = 0.0;
+                    for j in -r..=r {
+                        for i in -r..=r {
+                            s += lit(map, &c, Vec2::new(i as f32, j as f32));
+                        }
+                    }
+                    s / ((2 * r + 1) * (2 * r + 1)) as f32
+                }
+                _ => pcss(map, &m0, prm, &c),
+            }
+        }
+    }
+}
+
+fn pcss(map: &Map2D<f32>, m: &MapParams, prm: &EvalParams, c: &Coord) -> f32 {
+    let (st, z) = (c.st, c.z);
+    let search = cone_radius(m, prm.light_size, m.near, z).clamp(1.0, prm.search_max);
+    let (mut sum, mut count) = (0.0f32, 0.0f32);
+    for j in -3..=3 {
+        for i in -3..=3 {
+            let off = Vec2::new(i as f32, j as f32) * (search / 3.0);
+            let d = tap(map, st, off);
+            if d < z - c.slope * off.length() {
+                sum += d;
+                count += 1.0;
+            }
+        }
+    }
+    if count == 0.0 {
+        return 1.0;
+    }
+    let blocker = sum / count;
+    let radius = cone_radius(m, prm.light_size, blocker, z).clamp(0.5, prm.filter_max);
+    let mut s = 0.0;
+    for j in -4..=4 {
+        for i in -4..=4 {
+            s += lit(map, c, Vec2::new(i as f32, j as f32) * (radius / 4.0));
+        }
+    }
+    s / 81.0
+}
+
+/// Visibility of every receiver from CPU maps.
+pub fn evaluate_cpu(prm: &EvalParams, maps: &CpuShadowMaps, r: &Receivers) -> Vec<f32> {
+    r.positions.par_iter().zip(r.normals.par_iter()).map(|(p, n)| visibility(maps, prm, *p, *n)).collect()
+}

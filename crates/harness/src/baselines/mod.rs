@@ -1,0 +1,148 @@
+//! Baselines: what engines ship today, as [`ShadowTechnique`]s on CPU and GPU.
+//!
+//! - hard shadow map (one nearest depth test),
+//! - PCF (Reeves, Salesin & Cook 1987) with a fixed square kernel,
+//! - PCSS (Fernando 2005): blocker search, penumbra estimate, variable-size PCF,
+//! - N-sample accumulation: one hard shadow map per stratified light sample, averaged.
+//!
+//! All share one set of light-space depth maps ([`maps`]), one filter definition evaluated on the
+//! CPU ([`filters`]) and in WGSL (`shadow_map_eval.wgsl`, [`gpu`]), so the two paths compute the
+//! same function.
+
+pub mod filters;
+pub mod gpu;
+pub mod maps;
+
+use maps::{CpuShadowMaps, sample_views};
+use shadow_core::technique::MAX_CPU_RESOLUTION;
+use shadow_core::{GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique};
+
+/// Which baseline filter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Filter {
+    /// One nearest depth test on the light centre's map.
+    Hard,
+    /// Percentage-closer filtering over `(2 radius + 1)²` texels.
+    Pcf {
+        /// Kernel radius in texels.
+        radius: u32,
+    },
+    /// Percentage-closer soft shadows: 7x7 blocker search, 9x9 variable PCF.
+    Pcss,
+    /// Average of `samples` hard shadow maps from stratified light samples.
+    Accumulate {
+        /// Number of light samples (and maps).
+        samples: u32,
+    },
+}
+
+/// Biases shared by every baseline, in texels of the map at the receiver's depth.
+///
+/// The comparison depth of a tap at offset `d` texels is
+/// `z(p + n * normal_offset * texel) - texel * (depth + slope * tan(theta) * (1 + |d|))`, with `theta`
+/// the angle between the normal and the light (tan clamped to 10): a constant, a slope-scaled and a
+/// receiver-plane bias, as engines combine them against acne.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bias {
+    /// Receiver offset along its normal.
+    pub normal_offset: f32,
+    /// Constant depth bias.
+    pub depth: f32,
+    /// Scale of the slope term.
+    pub slope: f32,
+}
+
+impl Default for Bias {
+    fn default() -> Self {
+        Self { normal_offset: 1.0, depth: 1.0, slope: 1.0 }
+    }
+}
+
+/// A shadow-map baseline: a filter plus biases.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowMapBaseline {
+    /// The filter.
+    pub filter: Filter,
+    /// The biases.
+    pub bias: Bias,
+}
+
+/// Largest PCSS blocker-search radius in texels.
+pub const PCSS_SEARCH_MAX: f32 = 16.0;
+/// Largest PCSS filter radius in texels.
+pub const PCSS_FILTER_MAX: f32 = 32.0;
+
+impl ShadowMapBaseline {
+    /// A baseline with default biases.
+    pub fn new(filter: Filter) -> Self {
+        Self { filter, bias: Bias::default() }
+    }
+
+    /// The baselines the report runs by default: hard, PCF r=2, PCSS, and accumulation of
+    /// `accumulation` samples for each entry.
+    pub fn standard_set(accumulation: &[u32]) -> Vec<ShadowMapBaseline> {
+        let mut v = vec![Self::new(Filter::Hard), Self::new(Filter::Pcf { radius: 2 }), Self::new(Filter::Pcss)];
+        v.extend(accumulation.iter().map(|&n| Self::new(Filter::Accumulate { samples: n })));
+        v
+    }
+
+    /// Number of depth maps this baseline renders.
+    pub fn map_count(&self) -> u32 {
+        match self.filter {
+            Filter::Accumulate { samples } => samples.max(1),
+            _ => 1,
+        }
+    }
+}
+
+impl ShadowTechnique for ShadowMapBaseline {
+    type CpuMaps = CpuShadowMaps;
+    type GpuMaps = gpu::GpuShadowMaps;
+
+    fn name(&self) -> &'static str {
+        match self.filter {
+            Filter::Hard => "hard-shadow-map",
+            Filter::Pcf { .. } => "pcf",
+            Filter::Pcss => "pcss",
+            Filter::Accumulate { .. } => "accumulation",
+        }
+    }
+
+    fn variant(&self) -> String {
+        match self.filter {
+            Filter::Hard => "nearest".into(),
+            Filter::Pcf { radius } => format!("r{radius}"),
+            Filter::Pcss => "7x7-9x9".into(),
+            Filter::Accumulate { samples } => format!("n{samples}"),
+        }
+    }
+
+    fn models(&self, _kind: LightKind) -> bool {
+        // Every light has a centre and samples; a point light makes all of them hard shadows.
+        true
+    }
+
+    fn generate_cpu(&self, geometry: &SceneGeometry, light: &Light, resolution: u32) -> Result<CpuShadowMaps> {
+        self.check_inputs(geometry, light, resolution, MAX_CPU_RESOLUTION)?;
+        let views = sample_views(light, &geometry.bounds, self.map_count(), resolution);
+        Ok(CpuShadowMaps::render(&views, &geometry.casters, resolution).with_light_size(light.size()))
+    }
+
+    fn evaluate_cpu(&self, maps: &CpuShadowMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+        receivers.validate()?;
+        let params = filters::EvalParams::new(self, maps.resolution, maps.views.len() as u32, receivers.positions.len() as u32, maps.light_size);
+        Ok(filters::evaluate_cpu(&params, maps, receivers))
+    }
+
+    fn generate_gpu(&self, gpu: &GpuContext, geometry: &SceneGeometry, light: &Light, resolution: u32) -> Result<gpu::GpuShadowMaps> {
+        self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
+        let views = sample_views(light, &geometry.bounds, self.map_count(), resolution);
+        gpu::GpuShadowMaps::render(gpu, &views, &geometry.casters, resolution, light.size())
+    }
+
+    fn evaluate_gpu(&self, gpu: &GpuContext, maps: &gpu::GpuShadowMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+        receivers.validate()?;
+        let params = filters::EvalParams::new(self, maps.resolution, maps.views.len() as u32, receivers.positions.len() as u32, maps.light_size);
+        gpu::evaluate(gpu, &params, maps, receivers)
+    }
+}

@@ -1,0 +1,181 @@
+// Baseline shadow-map filters (hard, PCF, PCSS, accumulation) over reversed-Z depth maps.
+// Mirrors harness::baselines::filters line for line.
+
+struct Params {
+    resolution: u32,
+    map_count: u32,
+    mode: u32,
+    receiver_count: u32,
+    pcf_radius: i32,
+    normal_offset: f32,
+    depth_bias: f32,
+    light_size: f32,
+    search_max: f32,
+    filter_max: f32,
+    slope_bias: f32,
+    _pad0: f32,
+};
+
+struct MapView {
+    view_proj: mat4x4<f32>,
+    depth_row: vec4<f32>,
+    near: f32,
+    far: f32,
+    texel_a: f32,
+    texel_b: f32,
+    ortho: u32,
+    weight: f32,
+    _pad0: f32,
+    _pad1: f32,
+    light: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> prm: Params;
+@group(0) @binding(1) var<storage, read> views: array<MapView>;
+@group(0) @binding(2) var depth_maps: texture_depth_2d_array;
+@group(0) @binding(3) var<storage, read> positions: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read> normals: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read_write> out_v: array<f32>;
+
+const NO_OCCLUDER: f32 = 3.40282347e38;
+
+fn linear_depth(m: MapView, p: vec3<f32>) -> f32 {
+    return dot(m.depth_row, vec4<f32>(p, 1.0));
+}
+
+// Linear depth stored in layer `layer` at texel (x, y), clamped to the edge.
+fn tap(m: MapView, layer: u32, st: vec2<f32>, d: vec2<f32>) -> f32 {
+    let last = i32(prm.resolution) - 1;
+    let xy = clamp(vec2<i32>(floor(st + d)), vec2<i32>(0), vec2<i32>(last));
+    let z_ndc = textureLoad(depth_maps, xy, layer, 0);
+    if z_ndc <= 0.0 {
+        return NO_OCCLUDER;
+    }
+    if m.ortho == 1u {
+        return m.far - z_ndc * (m.far - m.near);
+    }
+    return m.near * m.far / (z_ndc * (m.far - m.near) + m.near);
+}
+
+struct Coord {
+    inside: bool,
+    st: vec2<f32>,
+    z: f32,
+    slope: f32,
+};
+
+fn lit(m: MapView, layer: u32, c: Coord, d: vec2<f32>) -> f32 {
+    return select(0.0, 1.0, c.z - c.slope * length(d) <= tap(m, layer, c.st, d));
+}
+
+fn shadow_coord(m: MapView, p: vec3<f32>, n: vec3<f32>) -> Coord {
+    var c: Coord;
+    c.inside = false;
+    let z = linear_depth(m, p);
+    let texel = m.texel_a * z + m.texel_b;
+    var to_light = m.light.xyz;
+    if m.light.w == 1.0 {
+        to_light = m.light.xyz - p;
+    }
+    let cs = max(abs(dot(n, to_light) / max(length(to_light), 1e-30)), 0.1);
+    let slope = prm.slope_bias * texel * (sqrt(max(1.0 - cs * cs, 0.0)) / cs);
+    let p2 = p + n * (prm.normal_offset * texel);
+    let clip = m.view_proj * vec4<f32>(p2, 1.0);
+    if clip.w <= 0.0 {
+        return c;
+    }
+    let ndc = vec2<f32>(clip.x / clip.w, clip.y / clip.w);
+    if abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 {
+        return c;
+    }
+    let res = f32(prm.resolution);
+    c.inside = true;
+    c.st = vec2<f32>((ndc.x * 0.5 + 0.5) * res, (0.5 - ndc.y * 0.5) * res);
+    c.z = linear_depth(m, p2) - prm.depth_bias * texel - slope;
+    c.slope = slope;
+    return c;
+}
+
+fn cone_radius(m: MapView, l: f32, z_block: f32, z_recv: f32) -> f32 {
+    let world = 0.5 * l * (z_recv - z_block);
+    if m.ortho == 1u {
+        return world / m.texel_b;
+    }
+    return world / (m.texel_a * z_block * z_recv);
+}
+
+fn pcss(m: MapView, c: Coord) -> f32 {
+    let st = c.st;
+    let z = c.z;
+    let search = clamp(cone_radius(m, prm.light_size, m.near, z), 1.0, prm.search_max);
+    var sum = 0.0;
+    var count = 0.0;
+    for (var j = -3; j <= 3; j++) {
+        for (var i = -3; i <= 3; i++) {
+            let off = vec2<f32>(f32(i), f32(j)) * (search / 3.0);
+            let d = tap(m, 0u, st, off);
+            if d < z - c.slope * length(off) {
+                sum += d;
+                count += 1.0;
+            }
+        }
+    }
+    if count == 0.0 {
+        return 1.0;
+    }
+    let blocker = sum / count;
+    let radius = clamp(cone_radius(m, prm.light_size, blocker, z), 0.5, prm.filter_max);
+    var s = 0.0;
+    for (var j = -4; j <= 4; j++) {
+        for (var i = -4; i <= 4; i++) {
+            s += lit(m, 0u, c, vec2<f32>(f32(i), f32(j)) * (radius / 4.0));
+        }
+    }
+    return s / 81.0;
+}
+
+fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    if prm.mode == 3u {
+        var sum = 0.0;
+        var wsum = 0.0;
+        for (var k = 0u; k < prm.map_count; k++) {
+            let m = views[k];
+            let c = shadow_coord(m, p, n);
+            var v = 1.0;
+            if c.inside {
+                v = lit(m, k, c, vec2<f32>(0.0));
+            }
+            sum += m.weight * v;
+            wsum += m.weight;
+        }
+        return select(1.0, sum / wsum, wsum > 0.0);
+    }
+    let m = views[0];
+    let c = shadow_coord(m, p, n);
+    if !c.inside {
+        return 1.0;
+    }
+    if prm.mode == 0u {
+        return lit(m, 0u, c, vec2<f32>(0.0));
+    }
+    if prm.mode == 1u {
+        let r = prm.pcf_radius;
+        var s = 0.0;
+        for (var j = -r; j <= r; j++) {
+            for (var i = -r; i <= r; i++) {
+                s += lit(m, 0u, c, vec2<f32>(f32(i), f32(j)));
+            }
+        }
+        return s / f32((2 * r + 1) * (2 * r + 1));
+    }
+    return pcss(m, c);
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= prm.receiver_count {
+        return;
+    }
+    out_v[i] = visibility(positions[i].xyz, normals[i].xyz);
+}

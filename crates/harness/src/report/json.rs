@@ -1,0 +1,83 @@
+//! `report.json`: field names are the contract of the guide.
+
+use crate::metrics::Errors;
+use serde::Serialize;
+
+/// The whole report.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// Format version (1).
+    pub version: u32,
+    /// Where it ran.
+    pub machine: Machine,
+    /// One entry per scene's reference.
+    pub references: Vec<ReferenceInfo>,
+    /// One entry per technique x variant x backend x resolution x scene.
+    pub runs: Vec<Run>,
+}
+
+/// The machine the report ran on.
+#[derive(Clone, Debug, Serialize)]
+pub struct Machine {
+    /// CPU model.
+    pub cpu: String,
+    /// Worker threads.
+    pub threads: usize,
+    /// GPU adapter, or why there is none.
+    pub gpu_adapter: String,
+}
+
+/// The reference of one scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct ReferenceInfo {
+    /// Scene name.
+    pub scene: String,
+    /// `"monte-carlo"`.
+    pub method: String,
+    /// Samples per receiver in penumbra (the pilot's 64 elsewhere).
+    pub samples_per_pixel: u32,
+    /// RMS over penumbra receivers of the standard error, times 255.
+    pub std_error_255: f64,
+    /// Largest per-receiver standard error, times 255.
+    pub max_std_error_255: f64,
+    /// Receivers (covered G-buffer pixels).
+    pub receivers: usize,
+    /// Receivers whose reference is in the penumbra band.
+    pub penumbra_receivers: usize,
+    /// Wall time of the reference.
+    pub time_ms: f64,
+}
+
+/// One measured configuration.
+#[derive(Clone, Debug, Serialize)]
+pub struct Run {
+    /// Scene name.
+    pub scene: String,
+    /// Technique name.
+    pub technique: String,
+    /// Variant label.
+    pub variant: String,
+    /// `"cpu"` or `"gpu"`.
+    pub backend: String,
+    /// Map side.
+    pub resolution: u32,
+    /// Median generation time.
+    pub generate_ms: f64,
+    /// Median evaluation time.
+    pub evaluate_ms: f64,
+    /// Errors against the reference.
+    #[serde(flatten)]
+    pub errors: Errors,
+}
+
+impl Run {
+    /// Generation plus evaluation.
+    pub fn total_ms(&self) -> f64 {
+        self.generate_ms + self.evaluate_ms
+    }
+
+    /// `technique/variant/backend`, the label of a line in plots.
+    pub fn series(&self) -> String {
+        format!("{}/{}/{}", self.technique, self.variant, self.backend)
+    }
+}

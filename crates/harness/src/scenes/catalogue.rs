@@ -1,0 +1,263 @@
+//! The built-in scenes of the guide's catalogue.
+
+use super::shapes::*;
+use super::{MeshInstance, SceneSpec};
+use glam::{Mat4, Vec2, Vec3};
+use shadow_core::gltf_import::import_gltf_slice;
+use shadow_core::{Aabb, Camera, DistantProfile, Light, Result, ShadowError, TriangleMesh};
+use std::sync::Arc;
+
+/// The Stanford bunny (69,451 triangles), shipped in the repository's assets.
+pub const BUNNY_GLB: &[u8] = include_bytes!("../../../../assets/stanford-bunny.glb");
+
+/// Every built-in scene name, in report order.
+pub const SCENE_NAMES: [&str; 15] = [
+    "plane-occluder",
+    "skewed-triangle",
+    "linear-bar",
+    "torus",
+    "overlap",
+    "foliage",
+    "bunny",
+    "contact",
+    "grazing",
+    "light-plane",
+    "tiny-light",
+    "huge-depth-range",
+    "degenerate",
+    "acne",
+    "thin",
+];
+
+fn inst(mesh: TriangleMesh) -> MeshInstance {
+    MeshInstance { mesh: Arc::new(mesh), transform: Mat4::IDENTITY, caster: true, receiver: true }
+}
+
+fn camera(eye: Vec3, target: Vec3) -> Camera {
+    Camera { eye, target, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 }
+}
+
+fn rect_down(center: Vec3, half: f32) -> Light {
+    Light::Rect { center, u_half: Vec3::X * half, v_half: Vec3::Z * half }
+}
+
+fn spec(name: &str, description: &str, hard_case: bool, meshes: Vec<TriangleMesh>, light: Light, camera: Camera) -> SceneSpec {
+    SceneSpec {
+        name: name.into(),
+        description: description.into(),
+        hard_case,
+        meshes: meshes.into_iter().map(inst).collect(),
+        light,
+        camera,
+    }
+}
+
+fn default_camera() -> Camera {
+    camera(Vec3::new(0.0, 4.5, 3.5), Vec3::new(0.0, 0.0, 0.0))
+}
+
+/// The square occluder parallel to a square light, the closed-form test case.
+pub fn plane_occluder(light_half: f32) -> SceneSpec {
+    spec(
+        "plane-occluder",
+        "square occluder parallel to a square light above the ground",
+        false,
+        vec![ground(8.0, 0.0, 1), horizontal_rect("occluder", Vec2::new(-0.5, 0.5), Vec2::new(-0.5, 0.5), 1.0)],
+        rect_down(Vec3::new(0.0, 2.5, 0.0), light_half),
+        default_camera(),
+    )
+}
+
+/// The bunny, scaled to 1.4 m and standing on the ground at the origin.
+pub fn bunny_mesh() -> Result<TriangleMesh> {
+    let mut m = import_gltf_slice(BUNNY_GLB, "stanford-bunny.glb", None)?;
+    let mut b = Aabb::EMPTY;
+    for p in &m.positions {
+        b.grow(*p);
+    }
+    let s = 1.4 / (b.max.y - b.min.y).max(1e-9);
+    let offset = Vec3::new(-b.center().x, -b.min.y, -b.center().z);
+    for p in &mut m.positions {
+        *p = (*p + offset) * s;
+    }
+    m.name = "bunny".into();
+    Ok(m)
+}
+
+/// Builds a catalogue scene by name.
+pub fn build(name: &str) -> Result<SceneSpec> {
+    let g = || ground(8.0, 0.0, 1);
+    Ok(match name {
+        "plane-occluder" => plane_occluder(0.4),
+        "skewed-triangle" => {
+            let tri = TriangleMesh {
+                name: "skewed-triangle".into(),
+                positions: vec![Vec3::new(-1.0, 0.0, -0.8), Vec3::new(1.1, 0.08, -0.6), Vec3::new(0.1, 1.6, 1.0)],
+                indices: vec![[0, 1, 2]],
+            };
+            spec(
+                name,
+                "one tilted triangle: one corner touching, one slightly raised, one far up; distant disk light",
+                false,
+                vec![g(), tri],
+                Light::Distant { direction: Vec3::new(0.15, 1.0, 0.1).normalize(), angular_diameter: 0.12, profile: DistantProfile::UniformDisk },
+                default_camera(),
+            )
+        }
+        "linear-bar" => spec(
+            name,
+            "a bar under a linear light perpendicular to it",
+            false,
+            vec![g(), cuboid("bar", Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.1, 0.1, 1.5))],
+            Light::Linear { a: Vec3::new(-0.8, 3.0, 0.0), b: Vec3::new(0.8, 3.0, 0.0) },
+            default_camera(),
+        ),
+        "torus" => spec(
+            name,
+            "torus over the ground, sphere light",
+            false,
+            vec![g(), torus(Vec3::new(0.0, 1.2, 0.0), 0.8, 0.25, 48, 16)],
+            Light::Sphere { center: Vec3::new(0.3, 3.5, 0.2), radius: 0.35 },
+            default_camera(),
+        ),
+        "overlap" => spec(
+            name,
+            "three blockers at different heights whose penumbrae overlap",
+            false,
+            vec![
+                g(),
+                horizontal_rect("low", Vec2::new(-0.9, -0.1), Vec2::new(-0.5, 0.5), 0.6),
+                horizontal_rect("mid", Vec2::new(-0.4, 0.5), Vec2::new(-0.8, 0.1), 1.3),
+                horizontal_rect("high", Vec2::new(0.0, 0.9), Vec2::new(-0.2, 0.8), 2.0),
+            ],
+            rect_down(Vec3::new(0.0, 3.2, 0.0), 0.5),
+            default_camera(),
+        ),
+        "foliage" => spec(
+            name,
+            "3000 small random quads over the ground",
+            false,
+            vec![g(), random_quads(3000, Vec3::new(-1.5, 1.0, -1.5), Vec3::new(1.5, 2.0, 1.5), 0.08, 7)],
+            rect_down(Vec3::new(0.0, 4.0, 0.0), 0.6),
+            default_camera(),
+        ),
+        "bunny" => spec(
+            name,
+            "the Stanford bunny (69,451 triangles) under a disk light",
+            false,
+            vec![g(), bunny_mesh()?],
+            Light::Disk { center: Vec3::new(0.5, 3.5, 0.5), normal: Vec3::NEG_Y, radius: 0.4 },
+            camera(Vec3::new(0.0, 3.0, 3.5), Vec3::new(0.0, 0.5, 0.0)),
+        ),
+        "contact" => spec(
+            name,
+            "a box resting on the receiver: the shadow starts at the contact line",
+            true,
+            vec![g(), cuboid("box", Vec3::new(0.0, 0.4, 0.0), Vec3::splat(0.4))],
+            rect_down(Vec3::new(0.8, 3.0, 0.0), 0.4),
+            default_camera(),
+        ),
+        "grazing" => spec(
+            name,
+            "a post lit by a rect light 5.7 degrees above the horizon",
+            true,
+            vec![g(), cuboid("post", Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.1, 0.5, 0.1))],
+            Light::Rect { center: Vec3::new(6.0, 0.6, 0.0), u_half: Vec3::Z * 0.3, v_half: Vec3::Y * 0.3 },
+            default_camera(),
+        ),
+        "light-plane" => spec(
+            name,
+            "a wall that crosses the plane of the light",
+            true,
+            vec![
+                g(),
+                quad_grid("wall", Vec3::new(1.5, 0.0, -2.0), Vec3::Y * 4.0, Vec3::Z * 4.0, 1),
+                horizontal_rect("occluder", Vec2::new(0.3, 1.0), Vec2::new(-0.4, 0.4), 1.2),
+            ],
+            rect_down(Vec3::new(0.0, 2.5, 0.0), 0.4),
+            camera(Vec3::new(-3.0, 3.5, 3.5), Vec3::new(0.8, 1.0, 0.0)),
+        ),
+        "tiny-light" => {
+            let mut s = plane_occluder(1e-4);
+            s.name = name.into();
+            s.description = "plane-occluder with a 0.2 mm light: every technique must give the hard shadow".into();
+            s.hard_case = true;
+            s
+        }
+        "huge-depth-range" => spec(
+            name,
+            "geometry from 1e-3 to 1e4 m from the camera: a 2 cm box near, a 200 m box far",
+            true,
+            vec![
+                graded_strip(400.0, 1.0e4, 0.02, 64),
+                cuboid("near-box", Vec3::new(0.0, 0.01, -0.15), Vec3::splat(0.01)),
+                cuboid("far-box", Vec3::new(0.0, 100.0, -5000.0), Vec3::splat(100.0)),
+            ],
+            Light::Distant { direction: Vec3::new(0.5, 1.0, 0.3).normalize(), angular_diameter: 0.05, profile: DistantProfile::UniformDisk },
+            Camera { eye: Vec3::new(0.0, 0.03, 0.0), target: Vec3::new(0.0, 0.0, -1.0), fov_y: 60f32.to_radians(), near: 1e-3, far: 1e4 },
+        ),
+        "degenerate" => {
+            let junk = TriangleMesh {
+                name: "degenerate".into(),
+                positions: vec![
+                    Vec3::new(-0.5, 1.0, 0.0),
+                    Vec3::new(0.0, 1.0, 0.0),
+                    Vec3::new(0.5, 1.0, 0.0),
+                    Vec3::new(0.2, 0.7, 0.2),
+                    Vec3::new(-0.6, 0.9, -0.6),
+                    Vec3::new(0.1, 0.9, -0.6),
+                    Vec3::new(0.1, 0.9, 0.1),
+                ],
+                // collinear, a point, and a duplicated triangle
+                indices: vec![[0, 1, 2], [3, 3, 3], [4, 5, 6], [4, 5, 6], [6, 5, 4]],
+            };
+            spec(
+                name,
+                "zero-area and duplicate triangles, two coincident blockers",
+                true,
+                vec![
+                    g(),
+                    junk,
+                    horizontal_rect("blocker-a", Vec2::new(0.0, 0.8), Vec2::new(0.0, 0.8), 1.2),
+                    horizontal_rect("blocker-b", Vec2::new(0.0, 0.8), Vec2::new(0.0, 0.8), 1.2),
+                ],
+                rect_down(Vec3::new(0.0, 3.0, 0.0), 0.4),
+                default_camera(),
+            )
+        }
+        "acne" => spec(
+            name,
+            "unoccluded flat and convex curved receivers lit 15 degrees above the horizon: V must stay 1",
+            true,
+            vec![
+                horizontal_rect("flat", Vec2::new(-3.0, 3.0), Vec2::new(0.0, 3.0), 0.0),
+                cylinder_patch(Vec3::new(0.0, -1.0, -1.75), 2.0, -5f32.to_radians(), 60f32.to_radians(), 2.5, 48),
+            ],
+            Light::Distant {
+                direction: Vec3::new(15f32.to_radians().cos(), 15f32.to_radians().sin(), 0.0),
+                angular_diameter: 1f32.to_radians(),
+                profile: DistantProfile::UniformDisk,
+            },
+            camera(Vec3::new(3.0, 4.0, 4.5), Vec3::new(0.0, 0.0, -0.5)),
+        ),
+        "thin" => spec(
+            name,
+            "a zero-thickness sheet and 6 mm wires: thinner than a texel",
+            true,
+            vec![
+                g(),
+                quad_grid("sheet", Vec3::new(0.0, 0.5, -1.0), Vec3::Y, Vec3::Z * 2.0, 1),
+                cuboid("wire-a", Vec3::new(-0.7, 1.0, 0.0), Vec3::new(0.003, 0.003, 1.2)),
+                cuboid("wire-b", Vec3::new(0.7, 1.0, 0.0), Vec3::new(0.003, 0.003, 1.2)),
+            ],
+            rect_down(Vec3::new(0.3, 3.0, 0.0), 0.3),
+            default_camera(),
+        ),
+        other => {
+            return Err(ShadowError::InvalidScene(format!(
+                "unknown scene {other:?}; built-in scenes: {}",
+                SCENE_NAMES.join(", ")
+            )));
+        }
+    })
+}

@@ -1,0 +1,52 @@
+//! The scene catalogue of the guide: built-in, deterministic scenes, plus user scenes from TOML.
+
+pub mod catalogue;
+pub mod scene_file;
+pub mod shapes;
+
+use glam::Mat4;
+use shadow_core::{Camera, Light, Result, Scene, TriangleMesh};
+use std::sync::Arc;
+
+/// One mesh instance of a scene description.
+#[derive(Clone, Debug)]
+pub struct MeshInstance {
+    /// The mesh.
+    pub mesh: Arc<TriangleMesh>,
+    /// Object to world.
+    pub transform: Mat4,
+    /// Casts shadows.
+    pub caster: bool,
+    /// Receives shadows (appears in the G-buffer).
+    pub receiver: bool,
+}
+
+/// A scene description: what the report renders, built-in or from a user's file.
+#[derive(Clone, Debug)]
+pub struct SceneSpec {
+    /// Name used with `--scenes`.
+    pub name: String,
+    /// One line saying what the scene tests.
+    pub description: String,
+    /// Whether it belongs to the stability suite's hard cases.
+    pub hard_case: bool,
+    /// Meshes.
+    pub meshes: Vec<MeshInstance>,
+    /// The light.
+    pub light: Light,
+    /// The camera.
+    pub camera: Camera,
+}
+
+impl SceneSpec {
+    /// Builds the ECS scene (validating meshes and the light).
+    pub fn to_scene(&self) -> Result<Scene> {
+        let mut scene = Scene::new();
+        for m in &self.meshes {
+            scene.add_mesh(m.mesh.clone(), m.transform, m.caster, m.receiver)?;
+        }
+        scene.add_light(self.light)?;
+        scene.set_camera(self.camera);
+        Ok(scene)
+    }
+}

@@ -1,0 +1,161 @@
+//! Procedural meshes for the built-in scenes.
+
+use glam::{Vec2, Vec3};
+use shadow_core::TriangleMesh;
+
+fn mesh(name: &str, positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> TriangleMesh {
+    TriangleMesh { name: name.to_string(), positions, indices }
+}
+
+/// A grid in the plane through `origin` spanned by `u` and `v` (full side vectors), `n x n` cells.
+pub fn quad_grid(name: &str, origin: Vec3, u: Vec3, v: Vec3, n: u32) -> TriangleMesh {
+    let n = n.max(1);
+    let mut p = Vec::new();
+    let mut ix = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            p.push(origin + u * (i as f32 / n as f32) + v * (j as f32 / n as f32));
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            ix.push([a, a + 1, a + n + 2]);
+            ix.push([a, a + n + 2, a + n + 1]);
+        }
+    }
+    mesh(name, p, ix)
+}
+
+/// A horizontal square of side `size` centred at `center`, `n x n` cells.
+pub fn ground(size: f32, y: f32, n: u32) -> TriangleMesh {
+    quad_grid("ground", Vec3::new(-0.5 * size, y, -0.5 * size), Vec3::X * size, Vec3::Z * size, n)
+}
+
+/// A horizontal rectangle `[x0,x1] x [z0,z1]` at height `y`.
+pub fn horizontal_rect(name: &str, x: Vec2, z: Vec2, y: f32) -> TriangleMesh {
+    quad_grid(name, Vec3::new(x.x, y, z.x), Vec3::X * (x.y - x.x), Vec3::Z * (z.y - z.x), 1)
+}
+
+/// An axis-aligned box.
+pub fn cuboid(name: &str, center: Vec3, half: Vec3) -> TriangleMesh {
+    let c = |sx: f32, sy: f32, sz: f32| center + half * Vec3::new(sx, sy, sz);
+    let p = vec![
+        c(-1., -1., -1.),
+        c(1., -1., -1.),
+        c(1., 1., -1.),
+        c(-1., 1., -1.),
+        c(-1., -1., 1.),
+        c(1., -1., 1.),
+        c(1., 1., 1.),
+        c(-1., 1., 1.),
+    ];
+    let ix = vec![
+        [0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+        [3, 6, 2], [3, 7, 6], [0, 4, 7], [0, 7, 3], [1, 2, 6], [1, 6, 5],
+    ];
+    mesh(name, p, ix)
+}
+
+/// A torus around +Y: major radius `r_major`, tube radius `r_minor`.
+pub fn torus(center: Vec3, r_major: f32, r_minor: f32, seg_major: u32, seg_minor: u32) -> TriangleMesh {
+    let mut p = Vec::new();
+    let mut ix = Vec::new();
+    for i in 0..seg_major {
+        let a = i as f32 / seg_major as f32 * std::f32::consts::TAU;
+        for j in 0..seg_minor {
+            let b = j as f32 / seg_minor as f32 * std::f32::consts::TAU;
+            let r = r_major + r_minor * b.cos();
+            p.push(center + Vec3::new(r * a.cos(), r_minor * b.sin(), r * a.sin()));
+        }
+    }
+    for i in 0..seg_major {
+        for j in 0..seg_minor {
+            let i1 = (i + 1) % seg_major;
+            let j1 = (j + 1) % seg_minor;
+            let q = |i: u32, j: u32| i * seg_minor + j;
+            ix.push([q(i, j), q(i1, j), q(i1, j1)]);
+            ix.push([q(i, j), q(i1, j1), q(i, j1)]);
+        }
+    }
+    mesh("torus", p, ix)
+}
+
+/// A patch of a cylinder with axis along Z through `axis_point`, radius `r`, angles (from +Y towards +X)
+/// in `[a0, a1]`, length `len`.
+pub fn cylinder_patch(axis_point: Vec3, r: f32, a0: f32, a1: f32, len: f32, segs: u32) -> TriangleMesh {
+    let mut p = Vec::new();
+    let mut ix = Vec::new();
+    for i in 0..=segs {
+        let a = a0 + (a1 - a0) * i as f32 / segs as f32;
+        let off = Vec3::new(a.sin(), a.cos(), 0.0) * r;
+        p.push(axis_point + off + Vec3::Z * (-0.5 * len));
+        p.push(axis_point + off + Vec3::Z * (0.5 * len));
+    }
+    for i in 0..segs {
+        let a = 2 * i;
+        ix.push([a, a + 2, a + 3]);
+        ix.push([a, a + 3, a + 1]);
+    }
+    mesh("cylinder-patch", p, ix)
+}
+
+/// A ground strip along -Z from `z = 0` to `z = -length`, width `width`, with cells that grow
+/// geometrically (so triangles near the camera stay small), `n` rows.
+pub fn graded_strip(width: f32, length: f32, first: f32, n: u32) -> TriangleMesh {
+    let ratio = (length / first).powf(1.0 / n as f32);
+    let mut zs = vec![0.0f32];
+    let mut z = first;
+    for _ in 0..n {
+        zs.push(-z.min(length));
+        z *= ratio;
+    }
+    let mut p = Vec::new();
+    let mut ix = Vec::new();
+    for (k, &zk) in zs.iter().enumerate() {
+        let w = (0.5 * width).min(0.05 + 0.5 * zk.abs());
+        p.push(Vec3::new(-w, 0.0, zk));
+        p.push(Vec3::new(w, 0.0, zk));
+        if k > 0 {
+            let a = 2 * (k as u32 - 1);
+            ix.push([a, a + 1, a + 3]);
+            ix.push([a, a + 3, a + 2]);
+        }
+    }
+    mesh("graded-strip", p, ix)
+}
+
+/// A small deterministic generator (SplitMix64) for procedural scenes.
+pub struct SplitMix(pub u64);
+
+impl SplitMix {
+    /// Next value in [0, 1).
+    pub fn next_f32(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// `count` small random quads of side about `size` inside the box `[lo, hi]`.
+pub fn random_quads(count: u32, lo: Vec3, hi: Vec3, size: f32, seed: u64) -> TriangleMesh {
+    let mut rng = SplitMix(seed);
+    let mut p = Vec::new();
+    let mut ix = Vec::new();
+    for _ in 0..count {
+        let c = lo + (hi - lo) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let n = Vec3::new(rng.next_f32() - 0.5, rng.next_f32() + 0.2, rng.next_f32() - 0.5).normalize();
+        let (t, b) = shadow_core::light::orthonormal_basis(n);
+        let s = size * (0.5 + rng.next_f32());
+        let base = p.len() as u32;
+        for (x, y) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
+            p.push(c + (t * x + b * y) * s);
+        }
+        ix.push([base, base + 1, base + 2]);
+        ix.push([base, base + 2, base + 3]);
+    }
+    mesh("foliage", p, ix)
+}

@@ -1,0 +1,80 @@
+//! A scene made ready for measurement: geometry, the camera G-buffer, its receivers, the reference.
+
+use crate::ground_truth::{GroundTruthSettings, RayTracer, Reference};
+use crate::scenes::SceneSpec;
+use glam::Vec3;
+use shadow_core::raster::{GBufferTexel, gbuffer};
+use shadow_core::{Map2D, Receivers, Result, SceneGeometry, ShadowError};
+use std::time::Instant;
+
+/// A scene with its G-buffer and reference visibilities.
+pub struct PreparedScene {
+    /// The description.
+    pub spec: SceneSpec,
+    /// Flattened world-space geometry.
+    pub geometry: SceneGeometry,
+    /// The camera G-buffer.
+    pub gbuffer: Map2D<GBufferTexel>,
+    /// Index into the G-buffer of every covered pixel, in row-major order.
+    pub pixels: Vec<usize>,
+    /// Receiver positions (covered pixels).
+    pub positions: Vec<Vec3>,
+    /// Receiver normals (covered pixels).
+    pub normals: Vec<Vec3>,
+    /// Reference per receiver.
+    pub reference: Vec<Reference>,
+    /// Sampling used for the reference.
+    pub settings: GroundTruthSettings,
+    /// Wall time of the reference, milliseconds.
+    pub reference_ms: f64,
+}
+
+impl PreparedScene {
+    /// Builds the ECS scene, renders the G-buffer (`size²` on the CPU rasterizer) and traces the reference.
+    pub fn new(spec: SceneSpec, size: u32, settings: GroundTruthSettings) -> Result<Self> {
+        let mut scene = spec.to_scene()?;
+        let geometry = scene.geometry();
+        geometry.validate()?;
+        let camera = scene.camera().ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
+        let view = camera.view(size, size);
+        let gb = gbuffer(&view, camera.eye, size, size, &geometry.receivers);
+        let pixels: Vec<usize> = gb.data().iter().enumerate().filter(|(_, t)| t.covered && t.normal != Vec3::ZERO).map(|(i, _)| i).collect();
+        if pixels.is_empty() {
+            return Err(ShadowError::InvalidScene(format!("{}: the camera sees no receiver", spec.name)));
+        }
+        let positions: Vec<Vec3> = pixels.iter().map(|&i| gb.data()[i].position).collect();
+        let normals: Vec<Vec3> = pixels.iter().map(|&i| gb.data()[i].normal).collect();
+        let t = Instant::now();
+        let tracer = RayTracer::new(&geometry.casters);
+        let reference = tracer.references(&spec.light, &positions, &normals, &settings);
+        let reference_ms = t.elapsed().as_secs_f64() * 1e3;
+        Ok(Self { spec, geometry, gbuffer: gb, pixels, positions, normals, reference, settings, reference_ms })
+    }
+
+    /// The receivers as the techniques take them.
+    pub fn receivers(&self) -> Receivers<'_> {
+        Receivers { positions: &self.positions, normals: &self.normals }
+    }
+
+    /// Reference visibilities.
+    pub fn reference_v(&self) -> Vec<f32> {
+        self.reference.iter().map(|r| r.visibility).collect()
+    }
+
+    /// RMS over penumbra receivers of the reference's standard error, times 255
+    /// (0 when the scene has no penumbra).
+    pub fn std_error_255(&self) -> f64 {
+        let pen: Vec<f64> = self
+            .reference
+            .iter()
+            .filter(|r| r.visibility > crate::metrics::PENUMBRA_LO && r.visibility < crate::metrics::PENUMBRA_HI)
+            .map(|r| (r.std_error as f64 * 255.0).powi(2))
+            .collect();
+        if pen.is_empty() { 0.0 } else { (pen.iter().sum::<f64>() / pen.len() as f64).sqrt() }
+    }
+
+    /// Largest per-receiver standard error, times 255.
+    pub fn max_std_error_255(&self) -> f64 {
+        self.reference.iter().map(|r| r.std_error as f64 * 255.0).fold(0.0, f64::max)
+    }
+}
