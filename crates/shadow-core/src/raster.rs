@@ -46,6 +46,9 @@ struct ClipVertex {
 struct ScreenTri {
     x: [i64; 3],
     y: [i64; 3],
+    fx: [f64; 3],
+    fy: [f64; 3],
+    farea: f64,
     z: [f64; 3],
     inv_w: [f64; 3],
     bary: [Vec3; 3],
@@ -94,16 +97,16 @@ fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<Screen
                 }
                 poly = clip_polygon(poly, |p| GUARD_BAND * p.w - sx * p.x - sy * p.y);
             }
-            let verts: Vec<(i64, i64, f64, f64, Vec3)> = poly
+            let verts: Vec<Vert> = poly
                 .iter()
                 .filter(|v| v.pos.w > 0.0)
                 .map(|v| {
                     let inv_w = 1.0 / v.pos.w as f64;
                     let nx = v.pos.x as f64 * inv_w;
                     let ny = v.pos.y as f64 * inv_w;
-                    let sx = ((nx * 0.5 + 0.5) * w * SUB).round() as i64;
-                    let sy = ((0.5 - ny * 0.5) * h * SUB).round() as i64;
-                    (sx, sy, v.pos.z as f64 * inv_w, inv_w, v.bary)
+                    let fx = (nx * 0.5 + 0.5) * w;
+                    let fy = (0.5 - ny * 0.5) * h;
+                    Vert { x: (fx * SUB).round() as i64, y: (fy * SUB).round() as i64, fx, fy, z: v.pos.z as f64 * inv_w, inv_w, bary: v.bary }
                 })
                 .collect();
             let mut out = Vec::new();
@@ -119,10 +122,22 @@ fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<Screen
         .collect()
 }
 
-fn screen_tri(v: [(i64, i64, f64, f64, Vec3); 3], triangle: u32) -> Option<ScreenTri> {
+/// A projected vertex: snapped fixed-point position (coverage), float position (interpolation).
+#[derive(Clone, Copy)]
+struct Vert {
+    x: i64,
+    y: i64,
+    fx: f64,
+    fy: f64,
+    z: f64,
+    inv_w: f64,
+    bary: Vec3,
+}
+
+fn screen_tri(v: [Vert; 3], triangle: u32) -> Option<ScreenTri> {
     let mut v = v;
     let edge = |a: (i64, i64), b: (i64, i64), p: (i64, i64)| (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0);
-    let mut area = edge((v[0].0, v[0].1), (v[1].0, v[1].1), (v[2].0, v[2].1));
+    let mut area = edge((v[0].x, v[0].y), (v[1].x, v[1].y), (v[2].x, v[2].y));
     if area == 0 {
         return None;
     }
@@ -130,8 +145,11 @@ fn screen_tri(v: [(i64, i64, f64, f64, Vec3); 3], triangle: u32) -> Option<Scree
         v.swap(1, 2);
         area = -area;
     }
-    let x = [v[0].0, v[1].0, v[2].0];
-    let y = [v[0].1, v[1].1, v[2].1];
+    let x = [v[0].x, v[1].x, v[2].x];
+    let y = [v[0].y, v[1].y, v[2].y];
+    let fx = [v[0].fx, v[1].fx, v[2].fx];
+    let fy = [v[0].fy, v[1].fy, v[2].fy];
+    let farea = (fx[1] - fx[0]) * (fy[2] - fy[0]) - (fy[1] - fy[0]) * (fx[2] - fx[0]);
     // Edge i goes from vertex i+1 to i+2 (opposite vertex i). Top: horizontal, interior below,
     // going right; left: going up (y decreasing) in y-down screen space.
     let mut top_left = [false; 3];
@@ -142,9 +160,12 @@ fn screen_tri(v: [(i64, i64, f64, f64, Vec3); 3], triangle: u32) -> Option<Scree
     Some(ScreenTri {
         x,
         y,
-        z: [v[0].2, v[1].2, v[2].2],
-        inv_w: [v[0].3, v[1].3, v[2].3],
-        bary: [v[0].4, v[1].4, v[2].4],
+        fx,
+        fy,
+        farea,
+        z: [v[0].z, v[1].z, v[2].z],
+        inv_w: [v[0].inv_w, v[1].inv_w, v[2].inv_w],
+        bary: [v[0].bary, v[1].bary, v[2].bary],
         area,
         x_min: *x.iter().min().unwrap_or(&0),
         x_max: *x.iter().max().unwrap_or(&0),
@@ -188,7 +209,15 @@ fn raster_band(tris: &[ScreenTri], width: u32, row0: usize, rows: &mut [Fragment
                 if !inside {
                     continue;
                 }
-                let l = e.map(|ei| ei as f64 / t.area as f64);
+                // Coverage uses the snapped vertices, interpolation the unsnapped ones (as GPUs set up
+                // their attribute planes); degenerate float areas fall back to the snapped weights.
+                let (pxc, pyc) = (px as f64 + 0.5, py as f64 + 0.5);
+                let l = if t.farea.abs() > 1e-12 {
+                    let fe = |a: usize, b: usize| (t.fx[b] - t.fx[a]) * (pyc - t.fy[a]) - (t.fy[b] - t.fy[a]) * (pxc - t.fx[a]);
+                    [fe(1, 2) / t.farea, fe(2, 0) / t.farea, fe(0, 1) / t.farea]
+                } else {
+                    e.map(|ei| ei as f64 / t.area as f64)
+                };
                 let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
                 let frag = &mut rows[(py as usize - row0) * w + px as usize];
                 if z > frag.z_ndc {

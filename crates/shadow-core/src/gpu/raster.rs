@@ -276,7 +276,7 @@ impl GpuRasterizer {
                 pass.set_pipeline(&self.gbuffer);
                 pass.set_bind_group(0, &bind, &[]);
                 pass.set_vertex_buffer(0, vb.slice(..));
-                pass.draw(0..verts.len() as u32 * 3, 0..1);
+                pass.draw(0..verts.len() as u32, 0..1);
             }
         }
         ctx.queue.submit([enc.finish()]);

@@ -1,0 +1,107 @@
+//! Bad input gets a typed error naming the problem; nothing panics.
+
+use glam::{Mat4, Vec3};
+use shadow_core::gltf_import::import_gltf_slice;
+use shadow_core::{Light, Scene, ShadowError, TriangleMesh};
+use std::sync::Arc;
+
+const BUNNY: &[u8] = include_bytes!("../../../../assets/stanford-bunny.glb");
+
+/// A GLB from a JSON document and a binary chunk.
+fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut j = json.as_bytes().to_vec();
+    while j.len() % 4 != 0 {
+        j.push(b' ');
+    }
+    let mut b = bin.to_vec();
+    while b.len() % 4 != 0 {
+        b.push(0);
+    }
+    let total = 12 + 8 + j.len() + 8 + b.len();
+    let mut out = Vec::new();
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(j.len() as u32).to_le_bytes());
+    out.extend_from_slice(&0x4E4F_534Au32.to_le_bytes());
+    out.extend_from_slice(&j);
+    out.extend_from_slice(&(b.len() as u32).to_le_bytes());
+    out.extend_from_slice(&0x004E_4942u32.to_le_bytes());
+    out.extend_from_slice(&b);
+    out
+}
+
+fn triangle_glb(mode: u32, index: u16) -> Vec<u8> {
+    let mut bin = Vec::new();
+    for v in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
+        for c in v {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for i in [0u16, 1, index] {
+        bin.extend_from_slice(&i.to_le_bytes());
+    }
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"translation":[0,2,0]}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1,"mode":{mode}}}]}}],
+        "buffers":[{{"byteLength":42}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":6}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+                     {{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}}]}}"#
+    );
+    glb(&json, &bin)
+}
+
+fn gltf_reason(r: shadow_core::Result<TriangleMesh>) -> String {
+    match r {
+        Err(ShadowError::Gltf { reason, .. }) => reason,
+        other => panic!("expected a glTF error, got {other:?}"),
+    }
+}
+
+#[test]
+fn valid_glb_imports_with_node_transform() {
+    let m = import_gltf_slice(&triangle_glb(4, 2), "tri.glb", None).expect("valid file");
+    assert_eq!(m.indices, vec![[0, 1, 2]]);
+    assert_eq!(m.positions[2], Vec3::new(0.0, 3.0, 0.0), "node translation applied");
+}
+
+#[test]
+fn the_bunny_has_69451_triangles() {
+    let m = import_gltf_slice(BUNNY, "bunny", None).expect("bunny imports");
+    assert_eq!(m.indices.len(), 69_451);
+}
+
+#[test]
+fn malformed_gltf_is_a_typed_error() {
+    assert!(!gltf_reason(import_gltf_slice(b"not a gltf at all", "junk", None)).is_empty());
+    assert!(!gltf_reason(import_gltf_slice(&BUNNY[..BUNNY.len() / 2], "half-bunny", None)).is_empty());
+    let r = gltf_reason(import_gltf_slice(&triangle_glb(4, 7), "bad-index.glb", None));
+    assert!(r.contains("index 7 out of range"), "{r}");
+    let r = gltf_reason(import_gltf_slice(&triangle_glb(0, 2), "points.glb", None));
+    assert!(r.contains("only triangles"), "{r}");
+}
+
+#[test]
+fn nan_vertex_is_a_typed_error() {
+    let r = TriangleMesh::new("nan", vec![Vec3::ZERO, Vec3::X, Vec3::new(f32::NAN, 0.0, 0.0)], vec![[0, 1, 2]]);
+    assert!(matches!(r, Err(ShadowError::InvalidMesh { ref reason, .. }) if reason.contains("vertex 2")), "{r:?}");
+    let bad = Arc::new(TriangleMesh { name: "nan".into(), positions: vec![Vec3::NAN; 3], indices: vec![[0, 1, 2]] });
+    assert!(matches!(Scene::new().add_mesh(bad, Mat4::IDENTITY, true, true), Err(ShadowError::InvalidMesh { .. })));
+}
+
+#[test]
+fn zero_or_negative_light_size_is_a_typed_error() {
+    let bad = [
+        Light::Rect { center: Vec3::Y, u_half: Vec3::ZERO, v_half: Vec3::Z },
+        Light::Disk { center: Vec3::Y, normal: Vec3::NEG_Y, radius: 0.0 },
+        Light::Sphere { center: Vec3::Y, radius: -1.0 },
+        Light::Linear { a: Vec3::Y, b: Vec3::Y },
+        Light::Distant { direction: Vec3::Y, angular_diameter: 0.0, profile: shadow_core::DistantProfile::UniformDisk },
+        Light::Point { position: Vec3::NAN },
+    ];
+    for l in bad {
+        assert!(matches!(l.validate(), Err(ShadowError::InvalidLight(_))), "{l:?}");
+        assert!(Scene::new().add_light(l).is_err());
+    }
+}

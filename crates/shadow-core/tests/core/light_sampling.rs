@@ -1,0 +1,68 @@
+//! Light sampling stays on the light's extent (proptest over random lights and sample positions).
+
+use glam::{Vec2, Vec3};
+use proptest::prelude::*;
+use shadow_core::{DistantProfile, Light, LightPoint};
+
+fn v3() -> impl Strategy<Value = Vec3> {
+    (-5.0f32..5.0, -5.0f32..5.0, -5.0f32..5.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+fn pos(q: LightPoint) -> Vec3 {
+    match q {
+        LightPoint::Position(p) => p,
+        LightPoint::Direction(_) => panic!("expected a position"),
+    }
+}
+
+proptest! {
+    #[test]
+    fn rect_samples_lie_on_the_rect(c in v3(), a in 0.01f32..3.0, b in 0.01f32..3.0, u in 0.0f32..1.0, v in 0.0f32..1.0) {
+        let l = Light::Rect { center: c, u_half: Vec3::X * a, v_half: Vec3::Z * b };
+        let p = pos(l.sample(Vec2::new(u, v), Vec3::ZERO).0) - c;
+        prop_assert!(p.x.abs() <= a * 1.0001 && p.z.abs() <= b * 1.0001 && p.y.abs() < 1e-5);
+    }
+
+    #[test]
+    fn disk_samples_lie_on_the_disk(c in v3(), n in v3(), r in 0.01f32..3.0, u in 0.0f32..1.0, v in 0.0f32..1.0) {
+        prop_assume!(n.length() > 0.1);
+        let n = n.normalize();
+        let l = Light::Disk { center: c, normal: n, radius: r };
+        let p = pos(l.sample(Vec2::new(u, v), Vec3::ZERO).0) - c;
+        prop_assert!(p.length() <= r * 1.0001 + 1e-5);
+        prop_assert!(p.dot(n).abs() <= 1e-4 * (1.0 + r));
+    }
+
+    /// A sphere sample lies on the silhouette disc: on the sphere's tangent cone from the receiver.
+    #[test]
+    fn sphere_samples_lie_within_the_silhouette_cone(c in v3(), r in 0.05f32..1.0, recv in v3(), u in 0.0f32..1.0, v in 0.0f32..1.0) {
+        prop_assume!((recv - c).length() > 1.5 * r);
+        let l = Light::Sphere { center: c, radius: r };
+        let p = pos(l.sample(Vec2::new(u, v), recv).0);
+        let d = (c - recv).length();
+        let half = (r / d).asin();
+        let ang = (p - recv).normalize().dot((c - recv).normalize()).clamp(-1.0, 1.0).acos();
+        prop_assert!(ang <= half * 1.001 + 1e-4);
+    }
+
+    #[test]
+    fn distant_samples_lie_in_the_cone(d in v3(), diam in 0.001f32..1.0, u in 0.0f32..1.0, v in 0.0f32..1.0, sun in any::<bool>()) {
+        prop_assume!(d.length() > 0.1);
+        let profile = if sun { DistantProfile::LimbDarkenedSun } else { DistantProfile::UniformDisk };
+        let l = Light::Distant { direction: d.normalize(), angular_diameter: diam, profile };
+        let (q, w) = l.sample(Vec2::new(u, v), Vec3::ZERO);
+        let LightPoint::Direction(dir) = q else { panic!("direction expected") };
+        prop_assert!(dir.angle_between(d.normalize()) <= 0.5 * diam * 1.001 + 1e-4);
+        prop_assert!(w > 0.0 && w <= 1.0);
+    }
+}
+
+/// The limb-darkened profile weighs the centre 1 and the limb `1 - u`.
+#[test]
+fn limb_darkening_weights_follow_the_linear_law() {
+    let l = Light::Distant { direction: Vec3::Y, angular_diameter: 0.1, profile: DistantProfile::LimbDarkenedSun };
+    let (_, centre) = l.sample(Vec2::new(0.0, 0.3), Vec3::ZERO);
+    let (_, limb) = l.sample(Vec2::new(1.0, 0.3), Vec3::ZERO);
+    assert!((centre - 1.0).abs() < 1e-6);
+    assert!((limb - (1.0 - shadow_core::light::SUN_LIMB_DARKENING_U)).abs() < 1e-3, "{limb}");
+}

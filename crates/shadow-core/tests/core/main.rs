@@ -1,0 +1,5 @@
+//! shadow-core tests, one binary (each test binary links wgpu, which is slow on 2 cores).
+
+mod bad_input;
+mod light_sampling;
+mod rasterizer;
