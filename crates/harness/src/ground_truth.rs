@@ -8,11 +8,11 @@
 //! an unbiased estimate of the stratified estimator's own error.
 
 use glam::{Vec2, Vec3, Vec3A};
+use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
 use obvhs::ray::Ray;
 use obvhs::triangle::Triangle;
-use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 use shadow_core::{Light, LightPoint};
 use std::time::Duration;
@@ -35,7 +35,10 @@ impl GroundTruthSettings {
 
 impl Default for GroundTruthSettings {
     fn default() -> Self {
-        Self { strata_side: 32, replicates: 4 }
+        Self {
+            strata_side: 32,
+            replicates: 4,
+        }
     }
 }
 
@@ -71,9 +74,17 @@ impl RayTracer {
     pub fn new(casters: &[[Vec3; 3]]) -> Self {
         let tris: Vec<Triangle> = casters
             .iter()
-            .map(|t| Triangle { v0: Vec3A::from(t[0]), v1: Vec3A::from(t[1]), v2: Vec3A::from(t[2]) })
+            .map(|t| Triangle {
+                v0: Vec3A::from(t[0]),
+                v1: Vec3A::from(t[1]),
+                v2: Vec3A::from(t[2]),
+            })
             .collect();
-        let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut Duration::default());
+        let bvh = build_cwbvh_from_tris(
+            &tris,
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
         Self { bvh, tris }
     }
 
@@ -83,7 +94,9 @@ impl RayTracer {
             return true;
         }
         let ray = Ray::new(Vec3A::from(origin), Vec3A::from(dir), t_min, t_max);
-        self.bvh.ray_traverse_miss(ray, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
+        self.bvh.ray_traverse_miss(ray, |r, id| {
+            self.tris[self.bvh.primitive_indices[id] as usize].intersect(r)
+        })
     }
 
     /// Whether `p` (offset along `n`) sees the light sample `q`.
@@ -112,7 +125,10 @@ impl RayTracer {
             let u = if light.sample_dimension() == 1 {
                 Vec2::new((k as f32 + j.x) / count as f32, 0.5)
             } else {
-                Vec2::new(((k % side) as f32 + j.x) / side as f32, ((k / side) as f32 + j.y) / side as f32)
+                Vec2::new(
+                    ((k % side) as f32 + j.x) / side as f32,
+                    ((k / side) as f32 + j.y) / side as f32,
+                )
             };
             let (q, w) = light.sample(u, p);
             sum_w += w as f64;
@@ -120,29 +136,69 @@ impl RayTracer {
                 sum_v += w as f64;
             }
         }
-        if sum_w > 0.0 { (sum_v / sum_w) as f32 } else { 0.0 }
+        if sum_w > 0.0 {
+            (sum_v / sum_w) as f32
+        } else {
+            0.0
+        }
     }
 
     /// Reference visibility of one receiver; `seed` decorrelates receivers.
-    pub fn reference(&self, light: &Light, p: Vec3, n: Vec3, settings: &GroundTruthSettings, seed: u64) -> Reference {
+    pub fn reference(
+        &self,
+        light: &Light,
+        p: Vec3,
+        n: Vec3,
+        settings: &GroundTruthSettings,
+        seed: u64,
+    ) -> Reference {
         if light.sample_dimension() == 0 {
-            let v = if self.sees(p, n, light.center()) { 1.0 } else { 0.0 };
-            return Reference { visibility: v, std_error: 0.0 };
+            let v = if self.sees(p, n, light.center()) {
+                1.0
+            } else {
+                0.0
+            };
+            return Reference {
+                visibility: v,
+                std_error: 0.0,
+            };
         }
         let pilot = self.estimate(light, p, n, 8, hash(seed ^ 0xA5A5));
         if pilot == 0.0 || pilot == 1.0 {
-            return Reference { visibility: pilot, std_error: 0.0 };
+            return Reference {
+                visibility: pilot,
+                std_error: 0.0,
+            };
         }
         let k = settings.replicates.max(2);
-        let reps: Vec<f64> =
-            (0..k).map(|r| self.estimate(light, p, n, settings.strata_side, hash(seed.wrapping_mul(31).wrapping_add(r as u64 + 1))) as f64).collect();
+        let reps: Vec<f64> = (0..k)
+            .map(|r| {
+                self.estimate(
+                    light,
+                    p,
+                    n,
+                    settings.strata_side,
+                    hash(seed.wrapping_mul(31).wrapping_add(r as u64 + 1)),
+                ) as f64
+            })
+            .collect();
         let mean = reps.iter().sum::<f64>() / k as f64;
-        let var = reps.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (k as f64 * (k as f64 - 1.0));
-        Reference { visibility: mean.clamp(0.0, 1.0) as f32, std_error: var.sqrt() as f32 }
+        let var =
+            reps.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (k as f64 * (k as f64 - 1.0));
+        Reference {
+            visibility: mean.clamp(0.0, 1.0) as f32,
+            std_error: var.sqrt() as f32,
+        }
     }
 
     /// References for a batch of receivers, in parallel.
-    pub fn references(&self, light: &Light, positions: &[Vec3], normals: &[Vec3], settings: &GroundTruthSettings) -> Vec<Reference> {
+    pub fn references(
+        &self,
+        light: &Light,
+        positions: &[Vec3],
+        normals: &[Vec3],
+        settings: &GroundTruthSettings,
+    ) -> Vec<Reference> {
         positions
             .par_iter()
             .zip(normals.par_iter())

@@ -7,7 +7,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "harness", about = "Soft-shadow techniques against a ray-traced ground truth")]
+#[command(
+    name = "harness",
+    about = "Soft-shadow techniques against a ray-traced ground truth"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -53,7 +56,16 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let Command::Report { quick, out, scenes, techniques, resolutions, backend, scene_file, size } = cli.command;
+    let Command::Report {
+        quick,
+        out,
+        scenes,
+        techniques,
+        resolutions,
+        backend,
+        scene_file,
+        size,
+    } = cli.command;
     let opts = ReportOptions {
         quick,
         out: out.clone(),
@@ -70,7 +82,12 @@ fn main() -> ExitCode {
     };
     match run(&opts) {
         Ok(r) => {
-            println!("wrote {} runs over {} scenes to {}", r.runs.len(), r.references.len(), out.display());
+            println!(
+                "wrote {} runs over {} scenes to {}",
+                r.runs.len(),
+                r.references.len(),
+                out.display()
+            );
             ExitCode::SUCCESS
         }
         Err(e) => {

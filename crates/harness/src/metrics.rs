@@ -46,7 +46,11 @@ pub fn errors(v: &[f32], reference: &[f32]) -> Errors {
         }
     }
     e.rms_255 = if n > 0 { (sum / n as f64).sqrt() } else { 0.0 };
-    e.penumbra_rms_255 = if pn > 0 { (psum / pn as f64).sqrt() } else { 0.0 };
+    e.penumbra_rms_255 = if pn > 0 {
+        (psum / pn as f64).sqrt()
+    } else {
+        0.0
+    };
     e.penumbra_pixels = pn;
     e
 }
@@ -56,7 +60,11 @@ pub fn rms_255(a: &[f32], b: &[f32]) -> f64 {
     if a.is_empty() {
         return 0.0;
     }
-    let s: f64 = a.iter().zip(b).map(|(x, y)| ((*x as f64 - *y as f64) * 255.0).powi(2)).sum();
+    let s: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| ((*x as f64 - *y as f64) * 255.0).powi(2))
+        .sum();
     (s / a.len() as f64).sqrt()
 }
 
@@ -68,5 +76,9 @@ pub fn median(values: &[f64]) -> f64 {
     let mut v = values.to_vec();
     v.sort_by(|a, b| a.total_cmp(b));
     let m = v.len() / 2;
-    if v.len() % 2 == 1 { v[m] } else { 0.5 * (v[m - 1] + v[m]) }
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
 }

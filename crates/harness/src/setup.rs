@@ -35,12 +35,23 @@ impl PreparedScene {
         let mut scene = spec.to_scene()?;
         let geometry = scene.geometry();
         geometry.validate()?;
-        let camera = scene.camera().ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
+        let camera = scene
+            .camera()
+            .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
         let view = camera.view(size, size);
         let gb = gbuffer(&view, camera.eye, size, size, &geometry.receivers);
-        let pixels: Vec<usize> = gb.data().iter().enumerate().filter(|(_, t)| t.covered && t.normal != Vec3::ZERO).map(|(i, _)| i).collect();
+        let pixels: Vec<usize> = gb
+            .data()
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.covered && t.normal != Vec3::ZERO)
+            .map(|(i, _)| i)
+            .collect();
         if pixels.is_empty() {
-            return Err(ShadowError::InvalidScene(format!("{}: the camera sees no receiver", spec.name)));
+            return Err(ShadowError::InvalidScene(format!(
+                "{}: the camera sees no receiver",
+                spec.name
+            )));
         }
         let positions: Vec<Vec3> = pixels.iter().map(|&i| gb.data()[i].position).collect();
         let normals: Vec<Vec3> = pixels.iter().map(|&i| gb.data()[i].normal).collect();
@@ -48,12 +59,25 @@ impl PreparedScene {
         let tracer = RayTracer::new(&geometry.casters);
         let reference = tracer.references(&spec.light, &positions, &normals, &settings);
         let reference_ms = t.elapsed().as_secs_f64() * 1e3;
-        Ok(Self { spec, geometry, gbuffer: gb, pixels, positions, normals, reference, settings, reference_ms })
+        Ok(Self {
+            spec,
+            geometry,
+            gbuffer: gb,
+            pixels,
+            positions,
+            normals,
+            reference,
+            settings,
+            reference_ms,
+        })
     }
 
     /// The receivers as the techniques take them.
     pub fn receivers(&self) -> Receivers<'_> {
-        Receivers { positions: &self.positions, normals: &self.normals }
+        Receivers {
+            positions: &self.positions,
+            normals: &self.normals,
+        }
     }
 
     /// Reference visibilities.
@@ -67,14 +91,24 @@ impl PreparedScene {
         let pen: Vec<f64> = self
             .reference
             .iter()
-            .filter(|r| r.visibility > crate::metrics::PENUMBRA_LO && r.visibility < crate::metrics::PENUMBRA_HI)
+            .filter(|r| {
+                r.visibility > crate::metrics::PENUMBRA_LO
+                    && r.visibility < crate::metrics::PENUMBRA_HI
+            })
             .map(|r| (r.std_error as f64 * 255.0).powi(2))
             .collect();
-        if pen.is_empty() { 0.0 } else { (pen.iter().sum::<f64>() / pen.len() as f64).sqrt() }
+        if pen.is_empty() {
+            0.0
+        } else {
+            (pen.iter().sum::<f64>() / pen.len() as f64).sqrt()
+        }
     }
 
     /// Largest per-receiver standard error, times 255.
     pub fn max_std_error_255(&self) -> f64 {
-        self.reference.iter().map(|r| r.std_error as f64 * 255.0).fold(0.0, f64::max)
+        self.reference
+            .iter()
+            .map(|r| r.std_error as f64 * 255.0)
+            .fold(0.0, f64::max)
     }
 }

@@ -10,45 +10,82 @@ use gltf::mesh::Mode;
 use std::path::Path;
 
 fn err(source_name: &str, reason: impl Into<String>) -> ShadowError {
-    ShadowError::Gltf { source_name: source_name.to_string(), reason: reason.into() }
+    ShadowError::Gltf {
+        source_name: source_name.to_string(),
+        reason: reason.into(),
+    }
 }
 
 /// Imports a `.glb`/`.gltf` file as one world-space mesh (node transforms applied).
 pub fn import_gltf_file(path: &Path) -> Result<TriangleMesh> {
-    let bytes = std::fs::read(path).map_err(|source| ShadowError::Io { path: path.display().to_string(), source })?;
+    let bytes = std::fs::read(path).map_err(|source| ShadowError::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
     import_gltf_slice(&bytes, &path.display().to_string(), path.parent())
 }
 
 /// Imports glTF bytes. `base_dir` resolves external buffer files; `None` accepts only GLB-embedded data.
-pub fn import_gltf_slice(bytes: &[u8], source_name: &str, base_dir: Option<&Path>) -> Result<TriangleMesh> {
+pub fn import_gltf_slice(
+    bytes: &[u8],
+    source_name: &str,
+    base_dir: Option<&Path>,
+) -> Result<TriangleMesh> {
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| err(source_name, e.to_string()))?;
     let mut buffers: Vec<Vec<u8>> = Vec::new();
     for buffer in gltf.document.buffers() {
         let data = match buffer.source() {
-            gltf::buffer::Source::Bin => {
-                gltf.blob.clone().ok_or_else(|| err(source_name, "GLB buffer 0 has no binary chunk"))?
-            }
+            gltf::buffer::Source::Bin => gltf
+                .blob
+                .clone()
+                .ok_or_else(|| err(source_name, "GLB buffer 0 has no binary chunk"))?,
             gltf::buffer::Source::Uri(uri) => {
                 if uri.starts_with("data:") {
-                    return Err(err(source_name, "data-URI buffers are not supported; use .glb or a .bin file"));
+                    return Err(err(
+                        source_name,
+                        "data-URI buffers are not supported; use .glb or a .bin file",
+                    ));
                 }
-                let dir = base_dir.ok_or_else(|| err(source_name, format!("external buffer {uri} needs a base directory")))?;
+                let dir = base_dir.ok_or_else(|| {
+                    err(
+                        source_name,
+                        format!("external buffer {uri} needs a base directory"),
+                    )
+                })?;
                 let p = dir.join(uri);
-                std::fs::read(&p).map_err(|source| ShadowError::Io { path: p.display().to_string(), source })?
+                std::fs::read(&p).map_err(|source| ShadowError::Io {
+                    path: p.display().to_string(),
+                    source,
+                })?
             }
         };
         if data.len() < buffer.length() {
-            return Err(err(source_name, format!("buffer {} holds {} bytes, needs {}", buffer.index(), data.len(), buffer.length())));
+            return Err(err(
+                source_name,
+                format!(
+                    "buffer {} holds {} bytes, needs {}",
+                    buffer.index(),
+                    data.len(),
+                    buffer.length()
+                ),
+            ));
         }
         buffers.push(data);
     }
-    let scene = gltf.document.default_scene().or_else(|| gltf.document.scenes().next());
+    let scene = gltf
+        .document
+        .default_scene()
+        .or_else(|| gltf.document.scenes().next());
     let roots: Vec<gltf::Node> = match scene {
         Some(s) => s.nodes().collect(),
         None => gltf.document.nodes().collect(),
     };
-    let mut mesh = TriangleMesh { name: source_name.to_string(), ..Default::default() };
-    let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().map(|n| (n, Mat4::IDENTITY)).collect();
+    let mut mesh = TriangleMesh {
+        name: source_name.to_string(),
+        ..Default::default()
+    };
+    let mut stack: Vec<(gltf::Node, Mat4)> =
+        roots.into_iter().map(|n| (n, Mat4::IDENTITY)).collect();
     let mut visited = 0usize;
     while let Some((node, parent)) = stack.pop() {
         visited += 1;
@@ -59,7 +96,14 @@ pub fn import_gltf_slice(bytes: &[u8], source_name: &str, base_dir: Option<&Path
         if let Some(m) = node.mesh() {
             for prim in m.primitives() {
                 if prim.mode() != Mode::Triangles {
-                    return Err(err(source_name, format!("mesh {} uses primitive mode {:?}; only triangles are supported", m.index(), prim.mode())));
+                    return Err(err(
+                        source_name,
+                        format!(
+                            "mesh {} uses primitive mode {:?}; only triangles are supported",
+                            m.index(),
+                            prim.mode()
+                        ),
+                    ));
                 }
                 read_primitive(&prim, &buffers, world, &mut mesh, source_name)?;
             }
@@ -75,22 +119,50 @@ pub fn import_gltf_slice(bytes: &[u8], source_name: &str, base_dir: Option<&Path
     Ok(mesh)
 }
 
-fn read_primitive(prim: &gltf::Primitive, buffers: &[Vec<u8>], world: Mat4, mesh: &mut TriangleMesh, name: &str) -> Result<()> {
+fn read_primitive(
+    prim: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    world: Mat4,
+    mesh: &mut TriangleMesh,
+    name: &str,
+) -> Result<()> {
     // Check accessor ranges ourselves: the reader would index past a short buffer.
-    for (_, acc) in prim.attributes().chain(prim.indices().map(|a| (gltf::Semantic::Positions, a))) {
+    for (_, acc) in prim
+        .attributes()
+        .chain(prim.indices().map(|a| (gltf::Semantic::Positions, a)))
+    {
         if let Some(view) = acc.view() {
             let end = view.offset() + view.length();
             let have = buffers.get(view.buffer().index()).map_or(0, |b| b.len());
             if end > have {
-                return Err(err(name, format!("buffer view {} ends at byte {end} past its buffer ({have} bytes)", view.index())));
+                return Err(err(
+                    name,
+                    format!(
+                        "buffer view {} ends at byte {end} past its buffer ({have} bytes)",
+                        view.index()
+                    ),
+                ));
             }
             let stride = view.stride().unwrap_or(acc.size());
             let need = acc.offset() + stride * acc.count().saturating_sub(1) + acc.size();
             if acc.count() > 0 && need > view.length() {
-                return Err(err(name, format!("accessor {} reads {need} bytes from a {}-byte view", acc.index(), view.length())));
+                return Err(err(
+                    name,
+                    format!(
+                        "accessor {} reads {need} bytes from a {}-byte view",
+                        acc.index(),
+                        view.length()
+                    ),
+                ));
             }
         } else {
-            return Err(err(name, format!("accessor {} has no buffer view (sparse accessors are not supported)", acc.index())));
+            return Err(err(
+                name,
+                format!(
+                    "accessor {} has no buffer view (sparse accessors are not supported)",
+                    acc.index()
+                ),
+            ));
         }
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(|d| d.as_slice()));
@@ -105,13 +177,23 @@ fn read_primitive(prim: &gltf::Primitive, buffers: &[Vec<u8>], world: Mat4, mesh
         Some(ix) => ix.into_u32().collect(),
         None => (0..n).collect(),
     };
-    if indices.len() % 3 != 0 {
-        return Err(err(name, format!("{} indices is not a multiple of 3", indices.len())));
+    if !indices.len().is_multiple_of(3) {
+        return Err(err(
+            name,
+            format!("{} indices is not a multiple of 3", indices.len()),
+        ));
     }
     if let Some(bad) = indices.iter().find(|&&i| i >= n) {
-        return Err(err(name, format!("index {bad} out of range for {n} vertices")));
+        return Err(err(
+            name,
+            format!("index {bad} out of range for {n} vertices"),
+        ));
     }
     mesh.positions.extend(positions);
-    mesh.indices.extend(indices.chunks_exact(3).map(|c| [c[0] + base, c[1] + base, c[2] + base]));
+    mesh.indices.extend(
+        indices
+            .chunks_exact(3)
+            .map(|c| [c[0] + base, c[1] + base, c[2] + base]),
+    );
     Ok(())
 }

@@ -92,8 +92,14 @@ pub enum LightKind {
 
 impl LightKind {
     /// Every kind.
-    pub const ALL: [LightKind; 6] =
-        [LightKind::Point, LightKind::Linear, LightKind::Rect, LightKind::Disk, LightKind::Sphere, LightKind::Distant];
+    pub const ALL: [LightKind; 6] = [
+        LightKind::Point,
+        LightKind::Linear,
+        LightKind::Rect,
+        LightKind::Disk,
+        LightKind::Sphere,
+        LightKind::Distant,
+    ];
 
     /// Lower-case name used in errors and reports.
     pub fn name(self) -> &'static str {
@@ -133,20 +139,31 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
     let (r, phi) = if a.x.abs() > a.y.abs() {
         (a.x, std::f32::consts::FRAC_PI_4 * (a.y / a.x))
     } else {
-        (a.y, std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (a.x / a.y))
+        (
+            a.y,
+            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (a.x / a.y),
+        )
     };
     Vec2::new(r * phi.cos(), r * phi.sin())
 }
 
 fn check_finite(what: &str, v: Vec3) -> Result<()> {
-    if v.is_finite() { Ok(()) } else { Err(ShadowError::InvalidLight(format!("{what} is not finite: {v:?}"))) }
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(ShadowError::InvalidLight(format!(
+            "{what} is not finite: {v:?}"
+        )))
+    }
 }
 
 fn check_size(what: &str, s: f32) -> Result<()> {
     if s.is_finite() && s > 0.0 {
         Ok(())
     } else {
-        Err(ShadowError::InvalidLight(format!("{what} must be positive and finite, got {s}")))
+        Err(ShadowError::InvalidLight(format!(
+            "{what} must be positive and finite, got {s}"
+        )))
     }
 }
 
@@ -172,7 +189,11 @@ impl Light {
                 check_finite("segment end b", b)?;
                 check_size("segment length", (b - a).length())
             }
-            Light::Rect { center, u_half, v_half } => {
+            Light::Rect {
+                center,
+                u_half,
+                v_half,
+            } => {
                 check_finite("rect centre", center)?;
                 check_finite("rect u_half", u_half)?;
                 check_finite("rect v_half", v_half)?;
@@ -186,7 +207,11 @@ impl Light {
                 }
                 Ok(())
             }
-            Light::Disk { center, normal, radius } => {
+            Light::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 check_finite("disk centre", center)?;
                 check_finite("disk normal", normal)?;
                 check_size("disk normal length", normal.length())?;
@@ -196,7 +221,11 @@ impl Light {
                 check_finite("sphere centre", center)?;
                 check_size("sphere radius", radius)
             }
-            Light::Distant { direction, angular_diameter, .. } => {
+            Light::Distant {
+                direction,
+                angular_diameter,
+                ..
+            } => {
                 check_finite("distant direction", direction)?;
                 check_size("distant direction length", direction.length())?;
                 check_size("distant angular diameter", angular_diameter)?;
@@ -215,9 +244,9 @@ impl Light {
         match *self {
             Light::Point { position } => LightPoint::Position(position),
             Light::Linear { a, b } => LightPoint::Position((a + b) * 0.5),
-            Light::Rect { center, .. } | Light::Disk { center, .. } | Light::Sphere { center, .. } => {
-                LightPoint::Position(center)
-            }
+            Light::Rect { center, .. }
+            | Light::Disk { center, .. }
+            | Light::Sphere { center, .. } => LightPoint::Position(center),
             Light::Distant { direction, .. } => LightPoint::Direction(direction.normalize()),
         }
     }
@@ -234,7 +263,9 @@ impl Light {
                 2.0 * (area / std::f32::consts::PI).sqrt()
             }
             Light::Disk { radius, .. } | Light::Sphere { radius, .. } => 2.0 * radius,
-            Light::Distant { angular_diameter, .. } => 2.0 * (0.5 * angular_diameter).tan(),
+            Light::Distant {
+                angular_diameter, ..
+            } => 2.0 * (0.5 * angular_diameter).tan(),
         }
     }
 
@@ -244,7 +275,11 @@ impl Light {
     pub fn axis(&self, scene_center: Vec3) -> Vec3 {
         let towards_scene = |p: Vec3| {
             let d = scene_center - p;
-            if d.length_squared() > 0.0 { d.normalize() } else { Vec3::NEG_Y }
+            if d.length_squared() > 0.0 {
+                d.normalize()
+            } else {
+                Vec3::NEG_Y
+            }
         };
         match *self {
             Light::Rect { u_half, v_half, .. } => u_half.cross(v_half).normalize(),
@@ -275,11 +310,22 @@ impl Light {
         match *self {
             Light::Point { position } => (LightPoint::Position(position), 1.0),
             Light::Linear { a, b } => (LightPoint::Position(a + (b - a) * u.x), 1.0),
-            Light::Rect { center, u_half, v_half } => {
+            Light::Rect {
+                center,
+                u_half,
+                v_half,
+            } => {
                 let s = 2.0 * u - Vec2::ONE;
-                (LightPoint::Position(center + s.x * u_half + s.y * v_half), 1.0)
+                (
+                    LightPoint::Position(center + s.x * u_half + s.y * v_half),
+                    1.0,
+                )
             }
-            Light::Disk { center, normal, radius } => {
+            Light::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 let (t, b) = orthonormal_basis(normal.normalize());
                 let d = concentric_disk(u) * radius;
                 (LightPoint::Position(center + d.x * t + d.y * b), 1.0)
@@ -297,7 +343,11 @@ impl Light {
                 let d = concentric_disk(u) * disc_radius;
                 (LightPoint::Position(disc_center + d.x * t + d.y * b), 1.0)
             }
-            Light::Distant { direction, angular_diameter, profile } => {
+            Light::Distant {
+                direction,
+                angular_diameter,
+                profile,
+            } => {
                 let axis = direction.normalize();
                 let half = 0.5 * angular_diameter;
                 let cos_max = half.cos();
@@ -306,7 +356,8 @@ impl Light {
                 let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
                 let phi = std::f32::consts::TAU * u.y;
                 let (t, b) = orthonormal_basis(axis);
-                let dir = (axis * cos_theta + (t * phi.cos() + b * phi.sin()) * sin_theta).normalize();
+                let dir =
+                    (axis * cos_theta + (t * phi.cos() + b * phi.sin()) * sin_theta).normalize();
                 let weight = match profile {
                     DistantProfile::UniformDisk => 1.0,
                     DistantProfile::LimbDarkenedSun => {
@@ -326,14 +377,19 @@ impl Light {
         let n = n.max(1);
         match self.sample_dimension() {
             0 => vec![self.sample(Vec2::ZERO, receiver)],
-            1 => (0..n).map(|i| self.sample(Vec2::new((i as f32 + 0.5) / n as f32, 0.5), receiver)).collect(),
+            1 => (0..n)
+                .map(|i| self.sample(Vec2::new((i as f32 + 0.5) / n as f32, 0.5), receiver))
+                .collect(),
             _ => {
                 let cols = (n as f32).sqrt().ceil() as u32;
                 let rows = n.div_ceil(cols);
                 (0..n)
                     .map(|i| {
                         let (c, r) = (i % cols, i / cols);
-                        let u = Vec2::new((c as f32 + 0.5) / cols as f32, (r as f32 + 0.5) / rows as f32);
+                        let u = Vec2::new(
+                            (c as f32 + 0.5) / cols as f32,
+                            (r as f32 + 0.5) / rows as f32,
+                        );
                         self.sample(u, receiver)
                     })
                     .collect()

@@ -13,14 +13,22 @@ pub struct Map2D<T> {
 impl<T: Clone> Map2D<T> {
     /// A map filled with `value`.
     pub fn new(width: u32, height: u32, value: T) -> Self {
-        Self { width, height, data: vec![value; width as usize * height as usize] }
+        Self {
+            width,
+            height,
+            data: vec![value; width as usize * height as usize],
+        }
     }
 }
 
 impl<T> Map2D<T> {
     /// A map over existing row-major data; `None` when the length is not `width * height`.
     pub fn from_vec(width: u32, height: u32, data: Vec<T>) -> Option<Self> {
-        (data.len() == width as usize * height as usize).then_some(Self { width, height, data })
+        (data.len() == width as usize * height as usize).then_some(Self {
+            width,
+            height,
+            data,
+        })
     }
 
     /// Width in texels.
@@ -75,7 +83,11 @@ impl<T> Map2D<T> {
 
     /// Maps every texel.
     pub fn map<U>(&self, f: impl Fn(&T) -> U) -> Map2D<U> {
-        Map2D { width: self.width, height: self.height, data: self.data.iter().map(f).collect() }
+        Map2D {
+            width: self.width,
+            height: self.height,
+            data: self.data.iter().map(f).collect(),
+        }
     }
 }
 

@@ -16,8 +16,16 @@ pub struct TriangleMesh {
 
 impl TriangleMesh {
     /// A mesh from positions and triangles, validated: every coordinate finite, every index in range.
-    pub fn new(name: impl Into<String>, positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> Result<Self> {
-        let mesh = Self { name: name.into(), positions, indices };
+    pub fn new(
+        name: impl Into<String>,
+        positions: Vec<Vec3>,
+        indices: Vec<[u32; 3]>,
+    ) -> Result<Self> {
+        let mesh = Self {
+            name: name.into(),
+            positions,
+            indices,
+        };
         mesh.validate()?;
         Ok(mesh)
     }
@@ -34,7 +42,10 @@ impl TriangleMesh {
         if let Some(t) = self.indices.iter().position(|t| t.iter().any(|&i| i >= n)) {
             return Err(ShadowError::InvalidMesh {
                 mesh: self.name.clone(),
-                reason: format!("triangle {t} indexes past the {n} vertices: {:?}", self.indices[t]),
+                reason: format!(
+                    "triangle {t} indexes past the {n} vertices: {:?}",
+                    self.indices[t]
+                ),
             });
         }
         Ok(())
@@ -42,7 +53,9 @@ impl TriangleMesh {
 
     /// The world-space triangles of this mesh under `transform`.
     pub fn world_triangles(&self, transform: Mat4) -> impl Iterator<Item = [Vec3; 3]> + '_ {
-        self.indices.iter().map(move |t| t.map(|i| transform.transform_point3(self.positions[i as usize])))
+        self.indices
+            .iter()
+            .map(move |t| t.map(|i| transform.transform_point3(self.positions[i as usize])))
     }
 }
 
@@ -63,7 +76,10 @@ impl Default for Aabb {
 
 impl Aabb {
     /// The empty box (min = +inf, max = -inf), the identity of [`Aabb::grow`].
-    pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
 
     /// Grows the box to contain `p`.
     pub fn grow(&mut self, p: Vec3) {

@@ -29,7 +29,11 @@ pub struct Fragment {
 
 impl Fragment {
     /// An empty pixel.
-    pub const EMPTY: Fragment = Fragment { z_ndc: 0.0, triangle: u32::MAX, bary: [0.0; 3] };
+    pub const EMPTY: Fragment = Fragment {
+        z_ndc: 0.0,
+        triangle: u32::MAX,
+        bary: [0.0; 3],
+    };
 
     /// True when a triangle covers the pixel.
     pub fn is_covered(&self) -> bool {
@@ -71,7 +75,10 @@ fn clip_polygon(poly: Vec<ClipVertex>, dist: impl Fn(Vec4) -> f32) -> Vec<ClipVe
         }
         if (da >= 0.0) != (db >= 0.0) {
             let t = da / (da - db);
-            out.push(ClipVertex { pos: a.pos.lerp(b.pos, t), bary: a.bary.lerp(b.bary, t) });
+            out.push(ClipVertex {
+                pos: a.pos.lerp(b.pos, t),
+                bary: a.bary.lerp(b.bary, t),
+            });
         }
     }
     out
@@ -86,7 +93,10 @@ fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<Screen
             let mut poly: Vec<ClipVertex> = tri
                 .iter()
                 .zip([Vec3::X, Vec3::Y, Vec3::Z])
-                .map(|(p, bary)| ClipVertex { pos: vp * p.extend(1.0), bary })
+                .map(|(p, bary)| ClipVertex {
+                    pos: vp * p.extend(1.0),
+                    bary,
+                })
                 .collect();
             // Reversed Z: 0 <= z <= w; plus a guard band on x and y that keeps fixed point small.
             poly = clip_polygon(poly, |p| p.w - p.z);
@@ -106,7 +116,15 @@ fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<Screen
                     let ny = v.pos.y as f64 * inv_w;
                     let fx = (nx * 0.5 + 0.5) * w;
                     let fy = (0.5 - ny * 0.5) * h;
-                    Vert { x: (fx * SUB).round() as i64, y: (fy * SUB).round() as i64, fx, fy, z: v.pos.z as f64 * inv_w, inv_w, bary: v.bary }
+                    Vert {
+                        x: (fx * SUB).round() as i64,
+                        y: (fy * SUB).round() as i64,
+                        fx,
+                        fy,
+                        z: v.pos.z as f64 * inv_w,
+                        inv_w,
+                        bary: v.bary,
+                    }
                 })
                 .collect();
             let mut out = Vec::new();
@@ -136,7 +154,9 @@ struct Vert {
 
 fn screen_tri(v: [Vert; 3], triangle: u32) -> Option<ScreenTri> {
     let mut v = v;
-    let edge = |a: (i64, i64), b: (i64, i64), p: (i64, i64)| (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0);
+    let edge = |a: (i64, i64), b: (i64, i64), p: (i64, i64)| {
+        (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0)
+    };
     let mut area = edge((v[0].x, v[0].y), (v[1].x, v[1].y), (v[2].x, v[2].y));
     if area == 0 {
         return None;
@@ -191,17 +211,18 @@ fn raster_band(tris: &[ScreenTri], width: u32, row0: usize, rows: &mut [Fragment
         let px0 = ((t.x_min - half) as f64 / sub as f64).ceil().max(0.0) as i64;
         let px1 = (((t.x_max - half) as f64 / sub as f64).floor() as i64).min(w as i64 - 1);
         let py0 = (((t.y_min - half) as f64 / sub as f64).ceil() as i64).max(row0 as i64);
-        let py1 = (((t.y_max - half) as f64 / sub as f64).floor() as i64).min((row0 + n_rows) as i64 - 1);
+        let py1 =
+            (((t.y_max - half) as f64 / sub as f64).floor() as i64).min((row0 + n_rows) as i64 - 1);
         for py in py0..=py1 {
             let cy = py * sub + half;
             for px in px0..=px1 {
                 let cx = px * sub + half;
                 let mut e = [0i64; 3];
                 let mut inside = true;
-                for i in 0..3 {
+                for (i, ei) in e.iter_mut().enumerate() {
                     let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-                    e[i] = (t.x[b] - t.x[a]) * (cy - t.y[a]) - (t.y[b] - t.y[a]) * (cx - t.x[a]);
-                    if e[i] < 0 || (e[i] == 0 && !t.top_left[i]) {
+                    *ei = (t.x[b] - t.x[a]) * (cy - t.y[a]) - (t.y[b] - t.y[a]) * (cx - t.x[a]);
+                    if *ei < 0 || (*ei == 0 && !t.top_left[i]) {
                         inside = false;
                         break;
                     }
@@ -213,7 +234,10 @@ fn raster_band(tris: &[ScreenTri], width: u32, row0: usize, rows: &mut [Fragment
                 // their attribute planes); degenerate float areas fall back to the snapped weights.
                 let (pxc, pyc) = (px as f64 + 0.5, py as f64 + 0.5);
                 let l = if t.farea.abs() > 1e-12 {
-                    let fe = |a: usize, b: usize| (t.fx[b] - t.fx[a]) * (pyc - t.fy[a]) - (t.fy[b] - t.fy[a]) * (pxc - t.fx[a]);
+                    let fe = |a: usize, b: usize| {
+                        (t.fx[b] - t.fx[a]) * (pyc - t.fy[a])
+                            - (t.fy[b] - t.fy[a]) * (pxc - t.fx[a])
+                    };
                     [fe(1, 2) / t.farea, fe(2, 0) / t.farea, fe(0, 1) / t.farea]
                 } else {
                     e.map(|ei| ei as f64 / t.area as f64)
@@ -223,8 +247,15 @@ fn raster_band(tris: &[ScreenTri], width: u32, row0: usize, rows: &mut [Fragment
                 if z > frag.z_ndc {
                     let pw = [l[0] * t.inv_w[0], l[1] * t.inv_w[1], l[2] * t.inv_w[2]];
                     let s = pw[0] + pw[1] + pw[2];
-                    let b = (t.bary[0] * pw[0] as f32 + t.bary[1] * pw[1] as f32 + t.bary[2] * pw[2] as f32) / s as f32;
-                    *frag = Fragment { z_ndc: z, triangle: t.triangle, bary: b.to_array() };
+                    let b = (t.bary[0] * pw[0] as f32
+                        + t.bary[1] * pw[1] as f32
+                        + t.bary[2] * pw[2] as f32)
+                        / s as f32;
+                    *frag = Fragment {
+                        z_ndc: z,
+                        triangle: t.triangle,
+                        bary: b.to_array(),
+                    };
                 }
             }
         }
@@ -239,9 +270,12 @@ pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Ma
     if w == 0 || height == 0 {
         return out;
     }
-    out.data_mut().par_chunks_mut(w * BAND_ROWS).enumerate().for_each(|(band, rows)| {
-        raster_band(&screen, width, band * BAND_ROWS, rows);
-    });
+    out.data_mut()
+        .par_chunks_mut(w * BAND_ROWS)
+        .enumerate()
+        .for_each(|(band, rows)| {
+            raster_band(&screen, width, band * BAND_ROWS, rows);
+        });
     out
 }
 
@@ -268,14 +302,28 @@ pub fn facing_normal(tri: &[Vec3; 3], eye: Vec3) -> Vec3 {
 }
 
 /// The camera G-buffer: per pixel the nearest receiver's world position and normal.
-pub fn gbuffer(view: &View, eye: Vec3, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<GBufferTexel> {
+pub fn gbuffer(
+    view: &View,
+    eye: Vec3,
+    width: u32,
+    height: u32,
+    tris: &[[Vec3; 3]],
+) -> Map2D<GBufferTexel> {
     let frags = rasterize(view, width, height, tris);
     frags.map(|f| {
         if !f.is_covered() {
-            return GBufferTexel { position: Vec3::ZERO, normal: Vec3::ZERO, covered: false };
+            return GBufferTexel {
+                position: Vec3::ZERO,
+                normal: Vec3::ZERO,
+                covered: false,
+            };
         }
         let t = &tris[f.triangle as usize];
         let position = t[0] * f.bary[0] + t[1] * f.bary[1] + t[2] * f.bary[2];
-        GBufferTexel { position, normal: facing_normal(t, eye), covered: true }
+        GBufferTexel {
+            position,
+            normal: facing_normal(t, eye),
+            covered: true,
+        }
     })
 }

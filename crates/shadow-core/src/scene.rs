@@ -61,14 +61,25 @@ pub struct SceneGeometry {
 impl Scene {
     /// An empty scene.
     pub fn new() -> Self {
-        Self { world: World::new() }
+        Self {
+            world: World::new(),
+        }
     }
 
     /// Adds a mesh instance; it is validated (finite vertices, indices in range).
-    pub fn add_mesh(&mut self, mesh: Arc<TriangleMesh>, transform: Mat4, caster: bool, receiver: bool) -> Result<Entity> {
+    pub fn add_mesh(
+        &mut self,
+        mesh: Arc<TriangleMesh>,
+        transform: Mat4,
+        caster: bool,
+        receiver: bool,
+    ) -> Result<Entity> {
         mesh.validate()?;
         if !transform.is_finite() {
-            return Err(ShadowError::InvalidMesh { mesh: mesh.name.clone(), reason: "transform is not finite".into() });
+            return Err(ShadowError::InvalidMesh {
+                mesh: mesh.name.clone(),
+                reason: "transform is not finite".into(),
+            });
         }
         let mut e = self.world.spawn((MeshHandle(mesh), Transform(transform)));
         if caster {
@@ -88,7 +99,11 @@ impl Scene {
 
     /// Sets the (single) camera, replacing any previous one.
     pub fn set_camera(&mut self, camera: Camera) -> Entity {
-        let old: Vec<Entity> = self.world.query_filtered::<Entity, With<CameraComponent>>().iter(&self.world).collect();
+        let old: Vec<Entity> = self
+            .world
+            .query_filtered::<Entity, With<CameraComponent>>()
+            .iter(&self.world)
+            .collect();
         for e in old {
             self.world.despawn(e);
         }
@@ -97,12 +112,21 @@ impl Scene {
 
     /// The camera, if one is set.
     pub fn camera(&mut self) -> Option<Camera> {
-        self.world.query::<&CameraComponent>().iter(&self.world).next().map(|c| c.0)
+        self.world
+            .query::<&CameraComponent>()
+            .iter(&self.world)
+            .next()
+            .map(|c| c.0)
     }
 
     /// Every light, in spawn order.
     pub fn lights(&mut self) -> Vec<Light> {
-        let mut v: Vec<(Entity, Light)> = self.world.query::<(Entity, &LightSource)>().iter(&self.world).map(|(e, l)| (e, l.0)).collect();
+        let mut v: Vec<(Entity, Light)> = self
+            .world
+            .query::<(Entity, &LightSource)>()
+            .iter(&self.world)
+            .map(|(e, l)| (e, l.0))
+            .collect();
         v.sort_by_key(|(e, _)| *e);
         v.into_iter().map(|(_, l)| l).collect()
     }
@@ -111,7 +135,13 @@ impl Scene {
     pub fn geometry(&mut self) -> SceneGeometry {
         let mut items: Vec<(Entity, Arc<TriangleMesh>, Mat4, bool, bool)> = self
             .world
-            .query::<(Entity, &MeshHandle, &Transform, Has<ShadowCaster>, Has<ShadowReceiver>)>()
+            .query::<(
+                Entity,
+                &MeshHandle,
+                &Transform,
+                Has<ShadowCaster>,
+                Has<ShadowReceiver>,
+            )>()
             .iter(&self.world)
             .map(|(e, m, t, c, r)| (e, m.0.clone(), t.0, c, r))
             .collect();
@@ -141,10 +171,14 @@ impl SceneGeometry {
     /// Checks that there is something to shadow: non-empty bounds, finite coordinates.
     pub fn validate(&self) -> Result<()> {
         if self.bounds.is_empty() {
-            return Err(ShadowError::InvalidScene("the scene holds no triangles".into()));
+            return Err(ShadowError::InvalidScene(
+                "the scene holds no triangles".into(),
+            ));
         }
         if !self.bounds.min.is_finite() || !self.bounds.max.is_finite() {
-            return Err(ShadowError::InvalidScene("the scene bounds are not finite".into()));
+            return Err(ShadowError::InvalidScene(
+                "the scene bounds are not finite".into(),
+            ));
         }
         Ok(())
     }

@@ -48,8 +48,15 @@ impl Receivers<'_> {
                 self.normals.len()
             )));
         }
-        if let Some(i) = self.positions.iter().chain(self.normals).position(|p| !p.is_finite()) {
-            return Err(ShadowError::InvalidReceivers(format!("entry {i} is not finite")));
+        if let Some(i) = self
+            .positions
+            .iter()
+            .chain(self.normals)
+            .position(|p| !p.is_finite())
+        {
+            return Err(ShadowError::InvalidReceivers(format!(
+                "entry {i} is not finite"
+            )));
         }
         Ok(())
     }
@@ -83,22 +90,50 @@ pub trait ShadowTechnique: Send + Sync {
     fn models(&self, kind: LightKind) -> bool;
 
     /// Builds the light-space maps on the CPU.
-    fn generate_cpu(&self, geometry: &SceneGeometry, light: &Light, resolution: u32) -> Result<Self::CpuMaps>;
+    fn generate_cpu(
+        &self,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<Self::CpuMaps>;
     /// Visibility per receiver from CPU maps.
     fn evaluate_cpu(&self, maps: &Self::CpuMaps, receivers: &Receivers) -> Result<Vec<f32>>;
     /// Builds the light-space maps on the GPU.
-    fn generate_gpu(&self, gpu: &GpuContext, geometry: &SceneGeometry, light: &Light, resolution: u32) -> Result<Self::GpuMaps>;
+    fn generate_gpu(
+        &self,
+        gpu: &GpuContext,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<Self::GpuMaps>;
     /// Visibility per receiver from GPU maps, computed on the GPU.
-    fn evaluate_gpu(&self, gpu: &GpuContext, maps: &Self::GpuMaps, receivers: &Receivers) -> Result<Vec<f32>>;
+    fn evaluate_gpu(
+        &self,
+        gpu: &GpuContext,
+        maps: &Self::GpuMaps,
+        receivers: &Receivers,
+    ) -> Result<Vec<f32>>;
 
     /// The common input checks: light valid and modelled, geometry non-empty, resolution in range.
-    fn check_inputs(&self, geometry: &SceneGeometry, light: &Light, resolution: u32, max_resolution: u32) -> Result<()> {
+    fn check_inputs(
+        &self,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+        max_resolution: u32,
+    ) -> Result<()> {
         light.validate()?;
         if !self.models(light.kind()) {
-            return Err(ShadowError::UnsupportedLight { technique: self.name().to_string(), light: light.kind().name() });
+            return Err(ShadowError::UnsupportedLight {
+                technique: self.name().to_string(),
+                light: light.kind().name(),
+            });
         }
         if resolution == 0 || resolution > max_resolution {
-            return Err(ShadowError::InvalidResolution { requested: resolution, max: max_resolution });
+            return Err(ShadowError::InvalidResolution {
+                requested: resolution,
+                max: max_resolution,
+            });
         }
         geometry.validate()
     }
@@ -126,13 +161,27 @@ pub trait DynTechnique: Send + Sync {
     /// See [`ShadowTechnique::models`].
     fn models(&self, kind: LightKind) -> bool;
     /// Generation on `backend`; `gpu` is required for [`Backend::Gpu`].
-    fn generate(&self, backend: Backend, gpu: Option<&GpuContext>, geometry: &SceneGeometry, light: &Light, resolution: u32) -> Result<AnyMaps>;
+    fn generate(
+        &self,
+        backend: Backend,
+        gpu: Option<&GpuContext>,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<AnyMaps>;
     /// Evaluation on the backend that produced `maps`.
-    fn evaluate(&self, gpu: Option<&GpuContext>, maps: &AnyMaps, receivers: &Receivers) -> Result<Vec<f32>>;
+    fn evaluate(
+        &self,
+        gpu: Option<&GpuContext>,
+        maps: &AnyMaps,
+        receivers: &Receivers,
+    ) -> Result<Vec<f32>>;
 }
 
 fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
-    gpu.ok_or_else(|| ShadowError::NoAdapter("the GPU backend was asked for without a GPU context".into()))
+    gpu.ok_or_else(|| {
+        ShadowError::NoAdapter("the GPU backend was asked for without a GPU context".into())
+    })
 }
 
 impl<T: ShadowTechnique> DynTechnique for T {
@@ -145,19 +194,44 @@ impl<T: ShadowTechnique> DynTechnique for T {
     fn models(&self, kind: LightKind) -> bool {
         ShadowTechnique::models(self, kind)
     }
-    fn generate(&self, backend: Backend, gpu: Option<&GpuContext>, geometry: &SceneGeometry, light: &Light, resolution: u32) -> Result<AnyMaps> {
+    fn generate(
+        &self,
+        backend: Backend,
+        gpu: Option<&GpuContext>,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<AnyMaps> {
         let maps: Box<dyn Any + Send + Sync> = match backend {
             Backend::Cpu => Box::new(self.generate_cpu(geometry, light, resolution)?),
-            Backend::Gpu => Box::new(self.generate_gpu(need_gpu(gpu)?, geometry, light, resolution)?),
+            Backend::Gpu => {
+                Box::new(self.generate_gpu(need_gpu(gpu)?, geometry, light, resolution)?)
+            }
         };
         Ok(AnyMaps { backend, maps })
     }
-    fn evaluate(&self, gpu: Option<&GpuContext>, maps: &AnyMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+    fn evaluate(
+        &self,
+        gpu: Option<&GpuContext>,
+        maps: &AnyMaps,
+        receivers: &Receivers,
+    ) -> Result<Vec<f32>> {
         receivers.validate()?;
-        let mismatch = || ShadowError::MapsMismatch(format!("maps were not produced by {}", ShadowTechnique::name(self)));
+        let mismatch = || {
+            ShadowError::MapsMismatch(format!(
+                "maps were not produced by {}",
+                ShadowTechnique::name(self)
+            ))
+        };
         match maps.backend {
-            Backend::Cpu => self.evaluate_cpu(maps.maps.downcast_ref().ok_or_else(mismatch)?, receivers),
-            Backend::Gpu => self.evaluate_gpu(need_gpu(gpu)?, maps.maps.downcast_ref().ok_or_else(mismatch)?, receivers),
+            Backend::Cpu => {
+                self.evaluate_cpu(maps.maps.downcast_ref().ok_or_else(mismatch)?, receivers)
+            }
+            Backend::Gpu => self.evaluate_gpu(
+                need_gpu(gpu)?,
+                maps.maps.downcast_ref().ok_or_else(mismatch)?,
+                receivers,
+            ),
         }
     }
 }

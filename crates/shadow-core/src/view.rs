@@ -43,7 +43,11 @@ pub struct View {
 }
 
 fn look_to(eye: Vec3, axis: Vec3) -> Mat4 {
-    let up = if axis.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    let up = if axis.y.abs() > 0.99 {
+        Vec3::Z
+    } else {
+        Vec3::Y
+    };
     let f = axis.normalize();
     let s = f.cross(up).normalize();
     let u = s.cross(f);
@@ -58,7 +62,13 @@ fn look_to(eye: Vec3, axis: Vec3) -> Mat4 {
 impl View {
     /// A perspective view from `eye` along unit `axis`.
     pub fn perspective(eye: Vec3, axis: Vec3, fov: f32, aspect: f32, near: f32, far: f32) -> Self {
-        Self { view: look_to(eye, axis), kind: ProjectionKind::Perspective { fov }, near, far, aspect }
+        Self {
+            view: look_to(eye, axis),
+            kind: ProjectionKind::Perspective { fov },
+            near,
+            far,
+            aspect,
+        }
     }
 
     /// The reversed-Z projection matrix (view to clip).
@@ -172,7 +182,13 @@ impl View {
                 // 1e-5 of the far plane (reversed-Z float keeps the precision).
                 let near = if zmin > 0.0 { zmin * 0.95 } else { 0.0 };
                 let near = near.max(far * 1e-5);
-                View { view, kind: ProjectionKind::Perspective { fov: 2.0 * half }, near, far, aspect: 1.0 }
+                View {
+                    view,
+                    kind: ProjectionKind::Perspective { fov: 2.0 * half },
+                    near,
+                    far,
+                    aspect: 1.0,
+                }
             }
             LightPoint::Direction(dir) => {
                 // The eye sits outside the bounds, towards the light.
@@ -189,7 +205,9 @@ impl View {
                 let near = (0.05 * radius).max(1e-6);
                 View {
                     view,
-                    kind: ProjectionKind::Orthographic { half_extent: half * 1.01 + 1e-6 },
+                    kind: ProjectionKind::Orthographic {
+                        half_extent: half * 1.01 + 1e-6,
+                    },
                     near,
                     far: zmax * 1.01 + near,
                     aspect: 1.0,
@@ -223,6 +241,13 @@ impl Camera {
     /// The camera's view for a `width` x `height` image.
     pub fn view(&self, width: u32, height: u32) -> View {
         let axis = (self.target - self.eye).normalize();
-        View::perspective(self.eye, axis, self.fov_y, width as f32 / height.max(1) as f32, self.near, self.far)
+        View::perspective(
+            self.eye,
+            axis,
+            self.fov_y,
+            width as f32 / height.max(1) as f32,
+            self.near,
+            self.far,
+        )
     }
 }

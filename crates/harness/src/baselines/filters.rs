@@ -49,7 +49,13 @@ pub struct EvalParams {
 
 impl EvalParams {
     /// Parameters of `b` for maps of `resolution` and `map_count` layers.
-    pub fn new(b: &ShadowMapBaseline, resolution: u32, map_count: u32, receiver_count: u32, light_size: f32) -> Self {
+    pub fn new(
+        b: &ShadowMapBaseline,
+        resolution: u32,
+        map_count: u32,
+        receiver_count: u32,
+        light_size: f32,
+    ) -> Self {
         let (mode, radius) = match b.filter {
             Filter::Hard => (MODE_HARD, 0),
             Filter::Pcf { radius } => (MODE_PCF, radius as i32),
@@ -90,8 +96,14 @@ fn shadow_coord(m: &MapParams, prm: &EvalParams, p: Vec3, n: Vec3) -> Option<Coo
     let z = linear_depth(m, p);
     let texel = m.texel_a * z + m.texel_b;
     let l = Vec4::from(m.light);
-    let to_light = if l.w == 1.0 { l.truncate() - p } else { l.truncate() };
-    let c = (n.dot(to_light) / to_light.length().max(1e-30)).abs().max(0.1);
+    let to_light = if l.w == 1.0 {
+        l.truncate() - p
+    } else {
+        l.truncate()
+    };
+    let c = (n.dot(to_light) / to_light.length().max(1e-30))
+        .abs()
+        .max(0.1);
     let slope = prm.slope_bias * texel * ((1.0 - c * c).max(0.0).sqrt() / c);
     let p2 = p + n * (prm.normal_offset * texel);
     let clip = Mat4::from_cols_array(&m.view_proj) * p2.extend(1.0);
@@ -104,7 +116,11 @@ fn shadow_coord(m: &MapParams, prm: &EvalParams, p: Vec3, n: Vec3) -> Option<Coo
     }
     let res = prm.resolution as f32;
     let st = Vec2::new((ndc.x * 0.5 + 0.5) * res, (0.5 - ndc.y * 0.5) * res);
-    Some(Coord { st, z: linear_depth(m, p2) - prm.depth_bias * texel - slope, slope })
+    Some(Coord {
+        st,
+        z: linear_depth(m, p2) - prm.depth_bias * texel - slope,
+        slope,
+    })
 }
 
 fn tap(map: &Map2D<f32>, st: Vec2, d: Vec2) -> f32 {
@@ -112,13 +128,21 @@ fn tap(map: &Map2D<f32>, st: Vec2, d: Vec2) -> f32 {
 }
 
 fn lit(map: &Map2D<f32>, c: &Coord, d: Vec2) -> f32 {
-    if c.z - c.slope * d.length() <= tap(map, c.st, d) { 1.0 } else { 0.0 }
+    if c.z - c.slope * d.length() <= tap(map, c.st, d) {
+        1.0
+    } else {
+        0.0
+    }
 }
 
 /// Penumbra (or search) radius in texels for light size `l` between depths `z_block` and `z_recv`.
 fn cone_radius(m: &MapParams, l: f32, z_block: f32, z_recv: f32) -> f32 {
     let world = 0.5 * l * (z_recv - z_block);
-    if m.ortho == 1 { world / m.texel_b } else { world / (m.texel_a * z_block * z_recv) }
+    if m.ortho == 1 {
+        world / m.texel_b
+    } else {
+        world / (m.texel_a * z_block * z_recv)
+    }
 }
 
 fn visibility(maps: &CpuShadowMaps, prm: &EvalParams, p: Vec3, n: Vec3) -> f32 {
@@ -138,7 +162,9 @@ fn visibility(maps: &CpuShadowMaps, prm: &EvalParams, p: Vec3, n: Vec3) -> f32 {
             if wsum > 0.0 { sum / wsum } else { 1.0 }
         }
         _ => {
-            let Some(c) = shadow_coord(&m0, prm, p, n) else { return 1.0 };
+            let Some(c) = shadow_coord(&m0, prm, p, n) else {
+                return 1.0;
+            };
             let map = &maps.maps[0];
             match prm.mode {
                 MODE_HARD => lit(map, &c, Vec2::ZERO),
@@ -188,5 +214,9 @@ fn pcss(map: &Map2D<f32>, m: &MapParams, prm: &EvalParams, c: &Coord) -> f32 {
 
 /// Visibility of every receiver from CPU maps.
 pub fn evaluate_cpu(prm: &EvalParams, maps: &CpuShadowMaps, r: &Receivers) -> Vec<f32> {
-    r.positions.par_iter().zip(r.normals.par_iter()).map(|(p, n)| visibility(maps, prm, *p, *n)).collect()
+    r.positions
+        .par_iter()
+        .zip(r.normals.par_iter())
+        .map(|(p, n)| visibility(maps, prm, *p, *n))
+        .collect()
 }

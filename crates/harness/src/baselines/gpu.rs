@@ -32,7 +32,11 @@ fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
         count: None,
     }
 }
@@ -47,7 +51,11 @@ impl EvalPipeline {
                 wgpu::BindGroupLayoutEntry {
                     binding: 0,
                     visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
                     count: None,
                 },
                 storage_entry(1, true),
@@ -85,29 +93,50 @@ impl EvalPipeline {
 
 impl GpuShadowMaps {
     /// Renders one depth layer per view and waits for the GPU.
-    pub fn render(ctx: &GpuContext, views: &[SampleView], casters: &[[Vec3; 3]], resolution: u32, light_size: f32) -> Result<Self> {
+    pub fn render(
+        ctx: &GpuContext,
+        views: &[SampleView],
+        casters: &[[Vec3; 3]],
+        resolution: u32,
+        light_size: f32,
+    ) -> Result<Self> {
         let raster = ctx.cached(|c| Rasterizer(GpuRasterizer::new(c)));
         let tris = GpuTriangles::new(ctx, casters);
         let texture = GpuRasterizer::depth_array(ctx, resolution, views.len() as u32)?;
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for (layer, v) in views.iter().enumerate() {
-            raster.0.encode_depth(ctx, &mut enc, &tris, &v.view, &texture, layer as u32);
+            raster
+                .0
+                .encode_depth(ctx, &mut enc, &tris, &v.view, &texture, layer as u32);
         }
         ctx.queue.submit([enc.finish()]);
         ctx.wait()?;
-        Ok(Self { texture, views: views.to_vec(), resolution, light_size })
+        Ok(Self {
+            texture,
+            views: views.to_vec(),
+            resolution,
+            light_size,
+        })
     }
 
     /// Reads layer `layer` back as a linear depth map.
     pub fn read_layer(&self, ctx: &GpuContext, layer: u32) -> Result<Map2D<f32>> {
         let raster = ctx.cached(|c| Rasterizer(GpuRasterizer::new(c)));
-        let view = self.views.get(layer as usize).ok_or_else(|| ShadowError::MapsMismatch(format!("no layer {layer}")))?;
+        let view = self
+            .views
+            .get(layer as usize)
+            .ok_or_else(|| ShadowError::MapsMismatch(format!("no layer {layer}")))?;
         raster.0.read_depth(ctx, &self.texture, layer, &view.view)
     }
 }
 
 /// Runs the filter compute shader over every receiver and reads the visibilities back.
-pub fn evaluate(ctx: &GpuContext, prm: &EvalParams, maps: &GpuShadowMaps, r: &Receivers) -> Result<Vec<f32>> {
+pub fn evaluate(
+    ctx: &GpuContext,
+    prm: &EvalParams,
+    maps: &GpuShadowMaps,
+    r: &Receivers,
+) -> Result<Vec<f32>> {
     let n = r.positions.len() as u32;
     if n == 0 {
         return Ok(Vec::new());
@@ -115,11 +144,22 @@ pub fn evaluate(ctx: &GpuContext, prm: &EvalParams, maps: &GpuShadowMaps, r: &Re
     let groups = n.div_ceil(WORKGROUP);
     let max_groups = ctx.device.limits().max_compute_workgroups_per_dimension;
     if groups > max_groups {
-        return Err(ShadowError::InvalidReceivers(format!("{n} receivers exceed one dispatch ({} at most)", max_groups * WORKGROUP)));
+        return Err(ShadowError::InvalidReceivers(format!(
+            "{n} receivers exceed one dispatch ({} at most)",
+            max_groups * WORKGROUP
+        )));
     }
     let pipe = ctx.cached(EvalPipeline::new);
-    let params: Vec<MapParams> = maps.views.iter().map(|v| v.params(maps.resolution)).collect();
-    let pos: Vec<[f32; 4]> = r.positions.iter().map(|p| p.extend(1.0).to_array()).collect();
+    let params: Vec<MapParams> = maps
+        .views
+        .iter()
+        .map(|v| v.params(maps.resolution))
+        .collect();
+    let pos: Vec<[f32; 4]> = r
+        .positions
+        .iter()
+        .map(|p| p.extend(1.0).to_array())
+        .collect();
     let nrm: Vec<[f32; 4]> = r.normals.iter().map(|p| p.extend(0.0).to_array()).collect();
     let u = ctx.uniform_buffer("eval params", bytemuck::bytes_of(prm));
     let vb = ctx.storage_buffer("map views", bytemuck::cast_slice(&params));
@@ -141,12 +181,30 @@ pub fn evaluate(ctx: &GpuContext, prm: &EvalParams, maps: &GpuShadowMaps, r: &Re
         label: Some("shadow map eval"),
         layout: &pipe.layout,
         entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: u.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: vb.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&tv) },
-            wgpu::BindGroupEntry { binding: 3, resource: pb.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 4, resource: nb.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: ob.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: u.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: vb.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&tv),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: pb.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: nb.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: ob.as_entire_binding(),
+            },
         ],
     });
     let mut enc = ctx.device.create_command_encoder(&Default::default());

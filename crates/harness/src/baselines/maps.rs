@@ -79,7 +79,11 @@ pub fn sample_views(light: &Light, bounds: &Aabb, count: u32, _resolution: u32) 
     if count <= 1 {
         return vec![make(light.center(), 1.0)];
     }
-    light.stratified_samples(count, center).into_iter().map(|(q, w)| make(q, w)).collect()
+    light
+        .stratified_samples(count, center)
+        .into_iter()
+        .map(|(q, w)| make(q, w))
+        .collect()
 }
 
 /// Depth maps rendered on the CPU.
@@ -97,8 +101,16 @@ pub struct CpuShadowMaps {
 impl CpuShadowMaps {
     /// Rasterizes one depth map per view.
     pub fn render(views: &[SampleView], casters: &[[Vec3; 3]], resolution: u32) -> Self {
-        let maps = views.iter().map(|v| depth_map(&v.view, resolution, casters)).collect();
-        Self { maps, views: views.to_vec(), resolution, light_size: 0.0 }
+        let maps = views
+            .iter()
+            .map(|v| depth_map(&v.view, resolution, casters))
+            .collect();
+        Self {
+            maps,
+            views: views.to_vec(),
+            resolution,
+            light_size: 0.0,
+        }
     }
 
     /// Sets the light size used by PCSS.

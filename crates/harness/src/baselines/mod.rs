@@ -15,7 +15,9 @@ pub mod maps;
 
 use maps::{CpuShadowMaps, sample_views};
 use shadow_core::technique::MAX_CPU_RESOLUTION;
-use shadow_core::{GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique};
+use shadow_core::{
+    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+};
 
 /// Which baseline filter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,7 +56,11 @@ pub struct Bias {
 
 impl Default for Bias {
     fn default() -> Self {
-        Self { normal_offset: 1.0, depth: 1.0, slope: 1.0 }
+        Self {
+            normal_offset: 1.0,
+            depth: 1.0,
+            slope: 1.0,
+        }
     }
 }
 
@@ -75,14 +81,25 @@ pub const PCSS_FILTER_MAX: f32 = 32.0;
 impl ShadowMapBaseline {
     /// A baseline with default biases.
     pub fn new(filter: Filter) -> Self {
-        Self { filter, bias: Bias::default() }
+        Self {
+            filter,
+            bias: Bias::default(),
+        }
     }
 
     /// The baselines the report runs by default: hard, PCF r=2, PCSS, and accumulation of
     /// `accumulation` samples for each entry.
     pub fn standard_set(accumulation: &[u32]) -> Vec<ShadowMapBaseline> {
-        let mut v = vec![Self::new(Filter::Hard), Self::new(Filter::Pcf { radius: 2 }), Self::new(Filter::Pcss)];
-        v.extend(accumulation.iter().map(|&n| Self::new(Filter::Accumulate { samples: n })));
+        let mut v = vec![
+            Self::new(Filter::Hard),
+            Self::new(Filter::Pcf { radius: 2 }),
+            Self::new(Filter::Pcss),
+        ];
+        v.extend(
+            accumulation
+                .iter()
+                .map(|&n| Self::new(Filter::Accumulate { samples: n })),
+        );
         v
     }
 
@@ -122,27 +139,56 @@ impl ShadowTechnique for ShadowMapBaseline {
         true
     }
 
-    fn generate_cpu(&self, geometry: &SceneGeometry, light: &Light, resolution: u32) -> Result<CpuShadowMaps> {
+    fn generate_cpu(
+        &self,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<CpuShadowMaps> {
         self.check_inputs(geometry, light, resolution, MAX_CPU_RESOLUTION)?;
         let views = sample_views(light, &geometry.bounds, self.map_count(), resolution);
-        Ok(CpuShadowMaps::render(&views, &geometry.casters, resolution).with_light_size(light.size()))
+        Ok(CpuShadowMaps::render(&views, &geometry.casters, resolution)
+            .with_light_size(light.size()))
     }
 
     fn evaluate_cpu(&self, maps: &CpuShadowMaps, receivers: &Receivers) -> Result<Vec<f32>> {
         receivers.validate()?;
-        let params = filters::EvalParams::new(self, maps.resolution, maps.views.len() as u32, receivers.positions.len() as u32, maps.light_size);
+        let params = filters::EvalParams::new(
+            self,
+            maps.resolution,
+            maps.views.len() as u32,
+            receivers.positions.len() as u32,
+            maps.light_size,
+        );
         Ok(filters::evaluate_cpu(&params, maps, receivers))
     }
 
-    fn generate_gpu(&self, gpu: &GpuContext, geometry: &SceneGeometry, light: &Light, resolution: u32) -> Result<gpu::GpuShadowMaps> {
+    fn generate_gpu(
+        &self,
+        gpu: &GpuContext,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<gpu::GpuShadowMaps> {
         self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
         let views = sample_views(light, &geometry.bounds, self.map_count(), resolution);
         gpu::GpuShadowMaps::render(gpu, &views, &geometry.casters, resolution, light.size())
     }
 
-    fn evaluate_gpu(&self, gpu: &GpuContext, maps: &gpu::GpuShadowMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+    fn evaluate_gpu(
+        &self,
+        gpu: &GpuContext,
+        maps: &gpu::GpuShadowMaps,
+        receivers: &Receivers,
+    ) -> Result<Vec<f32>> {
         receivers.validate()?;
-        let params = filters::EvalParams::new(self, maps.resolution, maps.views.len() as u32, receivers.positions.len() as u32, maps.light_size);
+        let params = filters::EvalParams::new(
+            self,
+            maps.resolution,
+            maps.views.len() as u32,
+            receivers.positions.len() as u32,
+            maps.light_size,
+        );
         gpu::evaluate(gpu, &params, maps, receivers)
     }
 }

@@ -8,7 +8,10 @@ use std::path::Path;
 const BACKGROUND: Rgb<u8> = Rgb([40, 44, 60]);
 
 fn io_err(path: &Path, e: impl std::fmt::Display) -> ShadowError {
-    ShadowError::Io { path: path.display().to_string(), source: std::io::Error::other(e.to_string()) }
+    ShadowError::Io {
+        path: path.display().to_string(),
+        source: std::io::Error::other(e.to_string()),
+    }
 }
 
 /// Scatters per-receiver values back into a `size²` image; `None` where no receiver is.
@@ -38,7 +41,11 @@ fn signed(v: Option<f32>, r: Option<f32>) -> Rgb<u8> {
         (Some(v), Some(r)) if v.is_finite() => {
             let e = ((v - r) * 4.0).clamp(-1.0, 1.0);
             let k = (255.0 * (1.0 - e.abs())) as u8;
-            if e < 0.0 { Rgb([255, k, k]) } else { Rgb([k, k, 255]) }
+            if e < 0.0 {
+                Rgb([255, k, k])
+            } else {
+                Rgb([k, k, 255])
+            }
         }
         (Some(_), Some(_)) => Rgb([255, 0, 255]),
         _ => BACKGROUND,
@@ -46,7 +53,12 @@ fn signed(v: Option<f32>, r: Option<f32>) -> Rgb<u8> {
 }
 
 /// Writes the strip: top row reference then each run; bottom row blank then each run's error.
-pub fn write_strip(path: &Path, size: u32, reference: &[Option<f32>], runs: &[Vec<Option<f32>>]) -> Result<()> {
+pub fn write_strip(
+    path: &Path,
+    size: u32,
+    reference: &[Option<f32>],
+    runs: &[Vec<Option<f32>>],
+) -> Result<()> {
     let cols = 1 + runs.len() as u32;
     let mut img = RgbImage::from_pixel(cols * size, 2 * size, Rgb([20, 20, 20]));
     let put = |img: &mut RgbImage, col: u32, row: u32, f: &dyn Fn(usize) -> Rgb<u8>| {
@@ -66,12 +78,16 @@ pub fn write_strip(path: &Path, size: u32, reference: &[Option<f32>], runs: &[Ve
 
 /// Writes three channels per pixel as OpenEXR (32-bit float).
 pub fn write_exr_rgb(path: &Path, size: u32, rgb: Vec<f32>) -> Result<()> {
-    let img = Rgb32FImage::from_raw(size, size, rgb).ok_or_else(|| io_err(path, "EXR buffer size"))?;
+    let img =
+        Rgb32FImage::from_raw(size, size, rgb).ok_or_else(|| io_err(path, "EXR buffer size"))?;
     img.save(path).map_err(|e| io_err(path, e))
 }
 
 /// Writes a scalar image as gray OpenEXR; pixels without receiver are NaN.
 pub fn write_exr_scalar(path: &Path, size: u32, values: &[Option<f32>]) -> Result<()> {
-    let rgb = values.iter().flat_map(|v| [v.unwrap_or(f32::NAN); 3]).collect();
+    let rgb = values
+        .iter()
+        .flat_map(|v| [v.unwrap_or(f32::NAN); 3])
+        .collect();
     write_exr_rgb(path, size, rgb)
 }

@@ -14,6 +14,19 @@ pub struct Report {
     pub references: Vec<ReferenceInfo>,
     /// One entry per technique x variant x backend x resolution x scene.
     pub runs: Vec<Run>,
+    /// What each column of each scene's PNG strip shows.
+    pub strips: Vec<Strip>,
+}
+
+/// The columns of one scene's PNG strip (top: `V`, bottom: signed error, red = too dark, blue = too bright).
+#[derive(Clone, Debug, Serialize)]
+pub struct Strip {
+    /// Scene name.
+    pub scene: String,
+    /// File name of the strip.
+    pub file: String,
+    /// Column labels, left to right.
+    pub columns: Vec<String>,
 }
 
 /// The machine the report ran on.

@@ -51,13 +51,21 @@ pub struct ReportOptions {
 /// Every technique the report knows, for `--techniques`.
 pub fn all_techniques(quick: bool) -> Vec<Box<dyn DynTechnique>> {
     let accumulation: &[u32] = if quick { &[16] } else { &[4, 16, 64, 256] };
-    ShadowMapBaseline::standard_set(accumulation).into_iter().map(|b| Box::new(b) as Box<dyn DynTechnique>).collect()
+    ShadowMapBaseline::standard_set(accumulation)
+        .into_iter()
+        .map(|b| Box::new(b) as Box<dyn DynTechnique>)
+        .collect()
 }
 
 fn cpu_name() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|s| s.trim().to_string()))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
         .unwrap_or_else(|| std::env::consts::ARCH.to_string())
 }
 
@@ -65,7 +73,10 @@ fn select_scenes(opts: &ReportOptions) -> Result<Vec<SceneSpec>> {
     let mut specs = Vec::new();
     let names: Vec<String> = match &opts.scenes {
         Some(v) => v.clone(),
-        None if opts.scene_files.is_empty() => catalogue::SCENE_NAMES.iter().map(|s| s.to_string()).collect(),
+        None if opts.scene_files.is_empty() => catalogue::SCENE_NAMES
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
         None => Vec::new(),
     };
     for n in names {
@@ -83,7 +94,13 @@ struct Measured {
     v: Vec<f32>,
 }
 
-fn measure(t: &dyn DynTechnique, backend: Backend, gpu: Option<&GpuContext>, p: &PreparedScene, res: u32) -> Result<Measured> {
+fn measure(
+    t: &dyn DynTechnique,
+    backend: Backend,
+    gpu: Option<&GpuContext>,
+    p: &PreparedScene,
+    res: u32,
+) -> Result<Measured> {
     let light = &p.spec.light;
     if backend == Backend::Gpu {
         // Warm-up: pipelines are compiled on first use and cached per device.
@@ -105,11 +122,18 @@ fn measure(t: &dyn DynTechnique, backend: Backend, gpu: Option<&GpuContext>, p: 
             break;
         }
     }
-    Ok(Measured { generate_ms: median(&gen_t), evaluate_ms: median(&eval_t), v })
+    Ok(Measured {
+        generate_ms: median(&gen_t),
+        evaluate_ms: median(&eval_t),
+        v,
+    })
 }
 
 fn create_dir(path: &Path) -> Result<()> {
-    std::fs::create_dir_all(path).map_err(|source| ShadowError::Io { path: path.display().to_string(), source })
+    std::fs::create_dir_all(path).map_err(|source| ShadowError::Io {
+        path: path.display().to_string(),
+        source,
+    })
 }
 
 /// Runs the report and writes `report.json`, `report.md`, PNG strips, Pareto charts and EXR data into `opts.out`.
@@ -117,19 +141,39 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     let quick = opts.quick;
     let size = opts.size.unwrap_or(if quick { 128 } else { 512 });
     if size == 0 || size > 4096 {
-        return Err(ShadowError::InvalidResolution { requested: size, max: 4096 });
+        return Err(ShadowError::InvalidResolution {
+            requested: size,
+            max: 4096,
+        });
     }
-    let settings = if quick { GroundTruthSettings { strata_side: 32, replicates: 4 } } else { GroundTruthSettings::default() };
-    let resolutions = opts.resolutions.clone().unwrap_or(if quick { vec![256] } else { vec![64, 256, 1024] });
+    let settings = if quick {
+        GroundTruthSettings {
+            strata_side: 32,
+            replicates: 4,
+        }
+    } else {
+        GroundTruthSettings::default()
+    };
+    let resolutions = opts.resolutions.clone().unwrap_or(if quick {
+        vec![256]
+    } else {
+        vec![64, 256, 1024]
+    });
     if let Some(&bad) = resolutions.iter().find(|&&r| r == 0) {
-        return Err(ShadowError::InvalidResolution { requested: bad, max: shadow_core::technique::MAX_CPU_RESOLUTION });
+        return Err(ShadowError::InvalidResolution {
+            requested: bad,
+            max: shadow_core::technique::MAX_CPU_RESOLUTION,
+        });
     }
     let mut techniques = all_techniques(quick);
     if let Some(names) = &opts.techniques {
         for n in names {
             if !techniques.iter().any(|t| t.name() == n) {
                 let known: Vec<&str> = techniques.iter().map(|t| t.name()).collect();
-                return Err(ShadowError::InvalidScene(format!("unknown technique {n:?}; known: {}", known.join(", "))));
+                return Err(ShadowError::InvalidScene(format!(
+                    "unknown technique {n:?}; known: {}",
+                    known.join(", ")
+                )));
             }
         }
         techniques.retain(|t| names.iter().any(|n| n == t.name()));
@@ -163,19 +207,30 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     create_dir(&opts.out)?;
     let per_scene = 1 + (techniques.len() * resolutions.len() * backends.len()) as u64;
     let bar = ProgressBar::new(per_scene * specs.len() as u64);
-    bar.set_style(ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} {msg}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     let mut report = Report {
         version: 1,
-        machine: Machine { cpu: cpu_name(), threads: rayon::current_num_threads(), gpu_adapter },
+        machine: Machine {
+            cpu: cpu_name(),
+            threads: rayon::current_num_threads(),
+            gpu_adapter,
+        },
         references: Vec::new(),
         runs: Vec::new(),
+        strips: Vec::new(),
     };
     for spec in specs {
         bar.set_message(format!("{}: reference", spec.name));
         let name = spec.name.clone();
         let p = PreparedScene::new(spec, size, settings)?;
         let reference = p.reference_v();
-        let penumbra = reference.iter().filter(|&&r| r > crate::metrics::PENUMBRA_LO && r < crate::metrics::PENUMBRA_HI).count();
+        let penumbra = reference
+            .iter()
+            .filter(|&&r| r > crate::metrics::PENUMBRA_LO && r < crate::metrics::PENUMBRA_HI)
+            .count();
         report.references.push(ReferenceInfo {
             scene: name.clone(),
             method: "monte-carlo".into(),
@@ -194,11 +249,23 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         for t in &techniques {
             for &res in &resolutions {
                 for &backend in &backends {
-                    bar.set_message(format!("{name}: {} {} {} {res}", t.name(), t.variant(), backend.name()));
+                    bar.set_message(format!(
+                        "{name}: {} {} {} {res}",
+                        t.name(),
+                        t.variant(),
+                        backend.name()
+                    ));
                     let m = match measure(t.as_ref(), backend, gpu.as_ref(), &p, res) {
                         Ok(m) => m,
-                        Err(e @ (ShadowError::InvalidResolution { .. } | ShadowError::UnsupportedLight { .. })) => {
-                            bar.println(format!("skipped {name} {} {} {res}: {e}", t.name(), backend.name()));
+                        Err(
+                            e @ (ShadowError::InvalidResolution { .. }
+                            | ShadowError::UnsupportedLight { .. }),
+                        ) => {
+                            bar.println(format!(
+                                "skipped {name} {} {} {res}: {e}",
+                                t.name(),
+                                backend.name()
+                            ));
                             bar.inc(1);
                             continue;
                         }
@@ -214,11 +281,16 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
                         evaluate_ms: m.evaluate_ms,
                         errors: errors(&m.v, &reference),
                     };
-                    let file = exr_dir.join(format!("{}-{}-{}-{res}.exr", run.technique, run.variant, run.backend));
+                    let file = exr_dir.join(format!(
+                        "{}-{}-{}-{res}.exr",
+                        run.technique, run.variant, run.backend
+                    ));
                     images::write_exr_scalar(&file, size, &images::scatter(size, &p.pixels, &m.v))?;
                     let label = format!("{}/{}", run.technique, run.variant);
                     match strip.iter_mut().find(|s| s.0 == label) {
-                        Some(s) if (res, backend == Backend::Cpu) > (s.1, s.2 == Backend::Cpu) => *s = (label, res, backend, m.v),
+                        Some(s) if (res, backend == Backend::Cpu) > (s.1, s.2 == Backend::Cpu) => {
+                            *s = (label, res, backend, m.v)
+                        }
                         Some(_) => {}
                         None => strip.push((label, res, backend, m.v)),
                     }
@@ -228,16 +300,53 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
             }
         }
         let reference_img = images::scatter(size, &p.pixels, &reference);
-        let runs_img: Vec<Vec<Option<f32>>> = strip.iter().map(|s| images::scatter(size, &p.pixels, &s.3)).collect();
-        images::write_strip(&opts.out.join(format!("{name}.png")), size, &reference_img, &runs_img)?;
-        let scene_runs: Vec<Run> = report.runs.iter().filter(|r| r.scene == name).cloned().collect();
-        pareto::draw(&opts.out.join(format!("pareto-{name}.png")), &format!("{name}: error vs time"), &scene_runs)?;
-        let legend: Vec<String> = strip.iter().map(|s| format!("{} ({} {})", s.0, s.2.name(), s.1)).collect();
-        bar.println(format!("{name}: strip columns = reference | {}", legend.join(" | ")));
+        let runs_img: Vec<Vec<Option<f32>>> = strip
+            .iter()
+            .map(|s| images::scatter(size, &p.pixels, &s.3))
+            .collect();
+        images::write_strip(
+            &opts.out.join(format!("{name}.png")),
+            size,
+            &reference_img,
+            &runs_img,
+        )?;
+        let scene_runs: Vec<Run> = report
+            .runs
+            .iter()
+            .filter(|r| r.scene == name)
+            .cloned()
+            .collect();
+        pareto::draw(
+            &opts.out.join(format!("pareto-{name}.png")),
+            &format!("{name}: error vs time"),
+            &scene_runs,
+        )?;
+        let mut columns = vec![format!(
+            "reference (monte-carlo, {} spp in penumbra)",
+            settings.samples_per_pixel()
+        )];
+        columns.extend(
+            strip
+                .iter()
+                .map(|s| format!("{} ({} {})", s.0, s.2.name(), s.1)),
+        );
+        report.strips.push(json::Strip {
+            scene: name.clone(),
+            file: format!("{name}.png"),
+            columns,
+        });
     }
     bar.finish_with_message("done");
-    pareto::draw(&opts.out.join("pareto.png"), "all scenes: mean error vs mean time", &scene_means(&report.runs))?;
-    write_text(&opts.out.join("report.json"), &serde_json::to_string_pretty(&report).map_err(|e| ShadowError::InvalidScene(e.to_string()))?)?;
+    pareto::draw(
+        &opts.out.join("pareto.png"),
+        "all scenes: mean error vs mean time",
+        &scene_means(&report.runs),
+    )?;
+    write_text(
+        &opts.out.join("report.json"),
+        &serde_json::to_string_pretty(&report)
+            .map_err(|e| ShadowError::InvalidScene(e.to_string()))?,
+    )?;
     write_text(&opts.out.join("report.md"), &markdown::render(&report))?;
     Ok(report)
 }
@@ -246,7 +355,10 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
 fn scene_means(runs: &[Run]) -> Vec<Run> {
     let mut out: Vec<(Run, u32)> = Vec::new();
     for r in runs {
-        match out.iter_mut().find(|(o, _)| o.series() == r.series() && o.resolution == r.resolution) {
+        match out
+            .iter_mut()
+            .find(|(o, _)| o.series() == r.series() && o.resolution == r.resolution)
+        {
             Some((o, n)) => {
                 o.generate_ms += r.generate_ms;
                 o.evaluate_ms += r.evaluate_ms;
@@ -269,15 +381,48 @@ fn scene_means(runs: &[Run]) -> Vec<Run> {
 }
 
 fn write_text(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|source| ShadowError::Io { path: path.display().to_string(), source })
+    std::fs::write(path, text).map_err(|source| ShadowError::Io {
+        path: path.display().to_string(),
+        source,
+    })
 }
 
 fn write_scene_exr(dir: &Path, size: u32, p: &PreparedScene) -> Result<()> {
-    let pos: Vec<f32> = p.gbuffer.data().iter().flat_map(|t| if t.covered { t.position.to_array() } else { [f32::NAN; 3] }).collect();
-    let nrm: Vec<f32> = p.gbuffer.data().iter().flat_map(|t| if t.covered { t.normal.to_array() } else { [f32::NAN; 3] }).collect();
+    let pos: Vec<f32> = p
+        .gbuffer
+        .data()
+        .iter()
+        .flat_map(|t| {
+            if t.covered {
+                t.position.to_array()
+            } else {
+                [f32::NAN; 3]
+            }
+        })
+        .collect();
+    let nrm: Vec<f32> = p
+        .gbuffer
+        .data()
+        .iter()
+        .flat_map(|t| {
+            if t.covered {
+                t.normal.to_array()
+            } else {
+                [f32::NAN; 3]
+            }
+        })
+        .collect();
     images::write_exr_rgb(&dir.join("gbuffer-position.exr"), size, pos)?;
     images::write_exr_rgb(&dir.join("gbuffer-normal.exr"), size, nrm)?;
-    images::write_exr_scalar(&dir.join("reference.exr"), size, &images::scatter(size, &p.pixels, &p.reference_v()))?;
+    images::write_exr_scalar(
+        &dir.join("reference.exr"),
+        size,
+        &images::scatter(size, &p.pixels, &p.reference_v()),
+    )?;
     let se: Vec<f32> = p.reference.iter().map(|r| r.std_error).collect();
-    images::write_exr_scalar(&dir.join("reference-std-error.exr"), size, &images::scatter(size, &p.pixels, &se))
+    images::write_exr_scalar(
+        &dir.join("reference-std-error.exr"),
+        size,
+        &images::scatter(size, &p.pixels, &se),
+    )
 }

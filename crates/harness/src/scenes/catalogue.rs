@@ -30,18 +30,40 @@ pub const SCENE_NAMES: [&str; 15] = [
 ];
 
 fn inst(mesh: TriangleMesh) -> MeshInstance {
-    MeshInstance { mesh: Arc::new(mesh), transform: Mat4::IDENTITY, caster: true, receiver: true }
+    MeshInstance {
+        mesh: Arc::new(mesh),
+        transform: Mat4::IDENTITY,
+        caster: true,
+        receiver: true,
+    }
 }
 
 fn camera(eye: Vec3, target: Vec3) -> Camera {
-    Camera { eye, target, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 }
+    Camera {
+        eye,
+        target,
+        fov_y: 50f32.to_radians(),
+        near: 0.05,
+        far: 100.0,
+    }
 }
 
 fn rect_down(center: Vec3, half: f32) -> Light {
-    Light::Rect { center, u_half: Vec3::X * half, v_half: Vec3::Z * half }
+    Light::Rect {
+        center,
+        u_half: Vec3::X * half,
+        v_half: Vec3::Z * half,
+    }
 }
 
-fn spec(name: &str, description: &str, hard_case: bool, meshes: Vec<TriangleMesh>, light: Light, camera: Camera) -> SceneSpec {
+fn spec(
+    name: &str,
+    description: &str,
+    hard_case: bool,
+    meshes: Vec<TriangleMesh>,
+    light: Light,
+    camera: Camera,
+) -> SceneSpec {
     SceneSpec {
         name: name.into(),
         description: description.into(),
@@ -62,7 +84,10 @@ pub fn plane_occluder(light_half: f32) -> SceneSpec {
         "plane-occluder",
         "square occluder parallel to a square light above the ground",
         false,
-        vec![ground(8.0, 0.0, 1), horizontal_rect("occluder", Vec2::new(-0.5, 0.5), Vec2::new(-0.5, 0.5), 1.0)],
+        vec![
+            ground(8.0, 0.0, 1),
+            horizontal_rect("occluder", Vec2::new(-0.5, 0.5), Vec2::new(-0.5, 0.5), 1.0),
+        ],
         rect_down(Vec3::new(0.0, 2.5, 0.0), light_half),
         default_camera(),
     )
@@ -92,7 +117,11 @@ pub fn build(name: &str) -> Result<SceneSpec> {
         "skewed-triangle" => {
             let tri = TriangleMesh {
                 name: "skewed-triangle".into(),
-                positions: vec![Vec3::new(-1.0, 0.0, -0.8), Vec3::new(1.1, 0.08, -0.6), Vec3::new(0.1, 1.6, 1.0)],
+                positions: vec![
+                    Vec3::new(-1.0, 0.0, -0.8),
+                    Vec3::new(1.1, 0.08, -0.6),
+                    Vec3::new(0.1, 1.6, 1.0),
+                ],
                 indices: vec![[0, 1, 2]],
             };
             spec(
@@ -100,7 +129,11 @@ pub fn build(name: &str) -> Result<SceneSpec> {
                 "one tilted triangle: one corner touching, one slightly raised, one far up; distant disk light",
                 false,
                 vec![g(), tri],
-                Light::Distant { direction: Vec3::new(0.15, 1.0, 0.1).normalize(), angular_diameter: 0.12, profile: DistantProfile::UniformDisk },
+                Light::Distant {
+                    direction: Vec3::new(0.15, 1.0, 0.1).normalize(),
+                    angular_diameter: 0.12,
+                    profile: DistantProfile::UniformDisk,
+                },
                 default_camera(),
             )
         }
@@ -108,8 +141,14 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             name,
             "a bar under a linear light perpendicular to it",
             false,
-            vec![g(), cuboid("bar", Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.1, 0.1, 1.5))],
-            Light::Linear { a: Vec3::new(-0.8, 3.0, 0.0), b: Vec3::new(0.8, 3.0, 0.0) },
+            vec![
+                g(),
+                cuboid("bar", Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.1, 0.1, 1.5)),
+            ],
+            Light::Linear {
+                a: Vec3::new(-0.8, 3.0, 0.0),
+                b: Vec3::new(0.8, 3.0, 0.0),
+            },
             default_camera(),
         ),
         "torus" => spec(
@@ -117,7 +156,10 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             "torus over the ground, sphere light",
             false,
             vec![g(), torus(Vec3::new(0.0, 1.2, 0.0), 0.8, 0.25, 48, 16)],
-            Light::Sphere { center: Vec3::new(0.3, 3.5, 0.2), radius: 0.35 },
+            Light::Sphere {
+                center: Vec3::new(0.3, 3.5, 0.2),
+                radius: 0.35,
+            },
             default_camera(),
         ),
         "overlap" => spec(
@@ -137,7 +179,16 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             name,
             "3000 small random quads over the ground",
             false,
-            vec![g(), random_quads(3000, Vec3::new(-1.5, 1.0, -1.5), Vec3::new(1.5, 2.0, 1.5), 0.08, 7)],
+            vec![
+                g(),
+                random_quads(
+                    3000,
+                    Vec3::new(-1.5, 1.0, -1.5),
+                    Vec3::new(1.5, 2.0, 1.5),
+                    0.08,
+                    7,
+                ),
+            ],
             rect_down(Vec3::new(0.0, 4.0, 0.0), 0.6),
             default_camera(),
         ),
@@ -146,14 +197,21 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             "the Stanford bunny (69,451 triangles) under a disk light",
             false,
             vec![g(), bunny_mesh()?],
-            Light::Disk { center: Vec3::new(0.5, 3.5, 0.5), normal: Vec3::NEG_Y, radius: 0.4 },
+            Light::Disk {
+                center: Vec3::new(0.5, 3.5, 0.5),
+                normal: Vec3::NEG_Y,
+                radius: 0.4,
+            },
             camera(Vec3::new(0.0, 3.0, 3.5), Vec3::new(0.0, 0.5, 0.0)),
         ),
         "contact" => spec(
             name,
             "a box resting on the receiver: the shadow starts at the contact line",
             true,
-            vec![g(), cuboid("box", Vec3::new(0.0, 0.4, 0.0), Vec3::splat(0.4))],
+            vec![
+                g(),
+                cuboid("box", Vec3::new(0.0, 0.4, 0.0), Vec3::splat(0.4)),
+            ],
             rect_down(Vec3::new(0.8, 3.0, 0.0), 0.4),
             default_camera(),
         ),
@@ -161,8 +219,15 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             name,
             "a post lit by a rect light 5.7 degrees above the horizon",
             true,
-            vec![g(), cuboid("post", Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.1, 0.5, 0.1))],
-            Light::Rect { center: Vec3::new(6.0, 0.6, 0.0), u_half: Vec3::Z * 0.3, v_half: Vec3::Y * 0.3 },
+            vec![
+                g(),
+                cuboid("post", Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.1, 0.5, 0.1)),
+            ],
+            Light::Rect {
+                center: Vec3::new(6.0, 0.6, 0.0),
+                u_half: Vec3::Z * 0.3,
+                v_half: Vec3::Y * 0.3,
+            },
             default_camera(),
         ),
         "light-plane" => spec(
@@ -171,7 +236,13 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             true,
             vec![
                 g(),
-                quad_grid("wall", Vec3::new(1.5, 0.0, -2.0), Vec3::Y * 4.0, Vec3::Z * 4.0, 1),
+                quad_grid(
+                    "wall",
+                    Vec3::new(1.5, 0.0, -2.0),
+                    Vec3::Y * 4.0,
+                    Vec3::Z * 4.0,
+                    1,
+                ),
                 horizontal_rect("occluder", Vec2::new(0.3, 1.0), Vec2::new(-0.4, 0.4), 1.2),
             ],
             rect_down(Vec3::new(0.0, 2.5, 0.0), 0.4),
@@ -180,7 +251,9 @@ pub fn build(name: &str) -> Result<SceneSpec> {
         "tiny-light" => {
             let mut s = plane_occluder(1e-4);
             s.name = name.into();
-            s.description = "plane-occluder with a 0.2 mm light: every technique must give the hard shadow".into();
+            s.description =
+                "plane-occluder with a 0.2 mm light: every technique must give the hard shadow"
+                    .into();
             s.hard_case = true;
             s
         }
@@ -191,10 +264,24 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             vec![
                 graded_strip(400.0, 1.0e4, 0.02, 64),
                 cuboid("near-box", Vec3::new(0.0, 0.01, -0.15), Vec3::splat(0.01)),
-                cuboid("far-box", Vec3::new(0.0, 100.0, -5000.0), Vec3::splat(100.0)),
+                cuboid(
+                    "far-box",
+                    Vec3::new(0.0, 100.0, -5000.0),
+                    Vec3::splat(100.0),
+                ),
             ],
-            Light::Distant { direction: Vec3::new(0.5, 1.0, 0.3).normalize(), angular_diameter: 0.05, profile: DistantProfile::UniformDisk },
-            Camera { eye: Vec3::new(0.0, 0.03, 0.0), target: Vec3::new(0.0, 0.0, -1.0), fov_y: 60f32.to_radians(), near: 1e-3, far: 1e4 },
+            Light::Distant {
+                direction: Vec3::new(0.5, 1.0, 0.3).normalize(),
+                angular_diameter: 0.05,
+                profile: DistantProfile::UniformDisk,
+            },
+            Camera {
+                eye: Vec3::new(0.0, 0.03, 0.0),
+                target: Vec3::new(0.0, 0.0, -1.0),
+                fov_y: 60f32.to_radians(),
+                near: 1e-3,
+                far: 1e4,
+            },
         ),
         "degenerate" => {
             let junk = TriangleMesh {
@@ -231,7 +318,14 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             true,
             vec![
                 horizontal_rect("flat", Vec2::new(-3.0, 3.0), Vec2::new(0.0, 3.0), 0.0),
-                cylinder_patch(Vec3::new(0.0, -1.0, -1.75), 2.0, -5f32.to_radians(), 60f32.to_radians(), 2.5, 48),
+                cylinder_patch(
+                    Vec3::new(0.0, -1.0, -1.75),
+                    2.0,
+                    -5f32.to_radians(),
+                    60f32.to_radians(),
+                    2.5,
+                    48,
+                ),
             ],
             Light::Distant {
                 direction: Vec3::new(15f32.to_radians().cos(), 15f32.to_radians().sin(), 0.0),
@@ -246,9 +340,23 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             true,
             vec![
                 g(),
-                quad_grid("sheet", Vec3::new(0.0, 0.5, -1.0), Vec3::Y, Vec3::Z * 2.0, 1),
-                cuboid("wire-a", Vec3::new(-0.7, 1.0, 0.0), Vec3::new(0.003, 0.003, 1.2)),
-                cuboid("wire-b", Vec3::new(0.7, 1.0, 0.0), Vec3::new(0.003, 0.003, 1.2)),
+                quad_grid(
+                    "sheet",
+                    Vec3::new(0.0, 0.5, -1.0),
+                    Vec3::Y,
+                    Vec3::Z * 2.0,
+                    1,
+                ),
+                cuboid(
+                    "wire-a",
+                    Vec3::new(-0.7, 1.0, 0.0),
+                    Vec3::new(0.003, 0.003, 1.2),
+                ),
+                cuboid(
+                    "wire-b",
+                    Vec3::new(0.7, 1.0, 0.0),
+                    Vec3::new(0.003, 0.003, 1.2),
+                ),
             ],
             rect_down(Vec3::new(0.3, 3.0, 0.0), 0.3),
             default_camera(),

@@ -54,12 +54,32 @@ struct FileMesh {
 #[derive(Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 enum FileLight {
-    Point { position: [f32; 3] },
-    Linear { a: [f32; 3], b: [f32; 3] },
-    Rect { center: [f32; 3], u_half: [f32; 3], v_half: [f32; 3] },
-    Disk { center: [f32; 3], normal: [f32; 3], radius: f32 },
-    Sphere { center: [f32; 3], radius: f32 },
-    Distant { direction: [f32; 3], angular_diameter: f32, profile: Option<String> },
+    Point {
+        position: [f32; 3],
+    },
+    Linear {
+        a: [f32; 3],
+        b: [f32; 3],
+    },
+    Rect {
+        center: [f32; 3],
+        u_half: [f32; 3],
+        v_half: [f32; 3],
+    },
+    Disk {
+        center: [f32; 3],
+        normal: [f32; 3],
+        radius: f32,
+    },
+    Sphere {
+        center: [f32; 3],
+        radius: f32,
+    },
+    Distant {
+        direction: [f32; 3],
+        angular_diameter: f32,
+        profile: Option<String>,
+    },
 }
 
 #[derive(Deserialize)]
@@ -78,15 +98,25 @@ fn bad(path: &Path, reason: impl Into<String>) -> ShadowError {
 
 /// Reads a user scene file.
 pub fn load(path: &Path) -> Result<SceneSpec> {
-    let text = std::fs::read_to_string(path).map_err(|source| ShadowError::Io { path: path.display().to_string(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| ShadowError::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
     let file: FileScene = toml::from_str(&text).map_err(|e| bad(path, e.to_string()))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut meshes = Vec::new();
     for m in &file.mesh {
         let mesh = match (&m.path, m.ground) {
             (Some(p), None) => import_gltf_file(&dir.join(p))?,
-            (None, Some(size)) if size > 0.0 && size.is_finite() => super::shapes::ground(size, 0.0, 1),
-            _ => return Err(bad(path, "each [[mesh]] needs exactly one of `path` or a positive `ground` size")),
+            (None, Some(size)) if size > 0.0 && size.is_finite() => {
+                super::shapes::ground(size, 0.0, 1)
+            }
+            _ => {
+                return Err(bad(
+                    path,
+                    "each [[mesh]] needs exactly one of `path` or a positive `ground` size",
+                ));
+            }
         };
         let transform = Mat4::from_scale_rotation_translation(
             Vec3::splat(m.scale.unwrap_or(1.0)),
@@ -102,18 +132,48 @@ pub fn load(path: &Path) -> Result<SceneSpec> {
     }
     let v = Vec3::from;
     let light = match file.light {
-        FileLight::Point { position } => Light::Point { position: v(position) },
+        FileLight::Point { position } => Light::Point {
+            position: v(position),
+        },
         FileLight::Linear { a, b } => Light::Linear { a: v(a), b: v(b) },
-        FileLight::Rect { center, u_half, v_half } => Light::Rect { center: v(center), u_half: v(u_half), v_half: v(v_half) },
-        FileLight::Disk { center, normal, radius } => Light::Disk { center: v(center), normal: v(normal).normalize_or_zero(), radius },
-        FileLight::Sphere { center, radius } => Light::Sphere { center: v(center), radius },
-        FileLight::Distant { direction, angular_diameter, profile } => Light::Distant {
+        FileLight::Rect {
+            center,
+            u_half,
+            v_half,
+        } => Light::Rect {
+            center: v(center),
+            u_half: v(u_half),
+            v_half: v(v_half),
+        },
+        FileLight::Disk {
+            center,
+            normal,
+            radius,
+        } => Light::Disk {
+            center: v(center),
+            normal: v(normal).normalize_or_zero(),
+            radius,
+        },
+        FileLight::Sphere { center, radius } => Light::Sphere {
+            center: v(center),
+            radius,
+        },
+        FileLight::Distant {
+            direction,
+            angular_diameter,
+            profile,
+        } => Light::Distant {
             direction: v(direction).normalize_or_zero(),
             angular_diameter,
             profile: match profile.as_deref() {
                 None | Some("uniform") => DistantProfile::UniformDisk,
                 Some("sun") => DistantProfile::LimbDarkenedSun,
-                Some(other) => return Err(bad(path, format!("unknown distant profile {other:?} (uniform | sun)"))),
+                Some(other) => {
+                    return Err(bad(
+                        path,
+                        format!("unknown distant profile {other:?} (uniform | sun)"),
+                    ));
+                }
             },
         },
     };
@@ -126,9 +186,22 @@ pub fn load(path: &Path) -> Result<SceneSpec> {
         near: c.near.unwrap_or(0.05),
         far: c.far.unwrap_or(100.0),
     };
-    if !(camera.near > 0.0 && camera.far > camera.near) || (camera.target - camera.eye).length() == 0.0 {
+    if !(camera.near > 0.0 && camera.far > camera.near)
+        || (camera.target - camera.eye).length() == 0.0
+    {
         return Err(bad(path, "camera needs 0 < near < far and target != eye"));
     }
-    let name = file.name.unwrap_or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "user".into()));
-    Ok(SceneSpec { name, description: format!("user scene from {}", path.display()), hard_case: false, meshes, light, camera })
+    let name = file.name.unwrap_or_else(|| {
+        path.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "user".into())
+    });
+    Ok(SceneSpec {
+        name,
+        description: format!("user scene from {}", path.display()),
+        hard_case: false,
+        meshes,
+        light,
+        camera,
+    })
 }

@@ -4,7 +4,11 @@ use glam::{Vec2, Vec3};
 use shadow_core::TriangleMesh;
 
 fn mesh(name: &str, positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> TriangleMesh {
-    TriangleMesh { name: name.to_string(), positions, indices }
+    TriangleMesh {
+        name: name.to_string(),
+        positions,
+        indices,
+    }
 }
 
 /// A grid in the plane through `origin` spanned by `u` and `v` (full side vectors), `n x n` cells.
@@ -29,12 +33,24 @@ pub fn quad_grid(name: &str, origin: Vec3, u: Vec3, v: Vec3, n: u32) -> Triangle
 
 /// A horizontal square of side `size` centred at `center`, `n x n` cells.
 pub fn ground(size: f32, y: f32, n: u32) -> TriangleMesh {
-    quad_grid("ground", Vec3::new(-0.5 * size, y, -0.5 * size), Vec3::X * size, Vec3::Z * size, n)
+    quad_grid(
+        "ground",
+        Vec3::new(-0.5 * size, y, -0.5 * size),
+        Vec3::X * size,
+        Vec3::Z * size,
+        n,
+    )
 }
 
 /// A horizontal rectangle `[x0,x1] x [z0,z1]` at height `y`.
 pub fn horizontal_rect(name: &str, x: Vec2, z: Vec2, y: f32) -> TriangleMesh {
-    quad_grid(name, Vec3::new(x.x, y, z.x), Vec3::X * (x.y - x.x), Vec3::Z * (z.y - z.x), 1)
+    quad_grid(
+        name,
+        Vec3::new(x.x, y, z.x),
+        Vec3::X * (x.y - x.x),
+        Vec3::Z * (z.y - z.x),
+        1,
+    )
 }
 
 /// An axis-aligned box.
@@ -51,14 +67,30 @@ pub fn cuboid(name: &str, center: Vec3, half: Vec3) -> TriangleMesh {
         c(-1., 1., 1.),
     ];
     let ix = vec![
-        [0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
-        [3, 6, 2], [3, 7, 6], [0, 4, 7], [0, 7, 3], [1, 2, 6], [1, 6, 5],
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [3, 6, 2],
+        [3, 7, 6],
+        [0, 4, 7],
+        [0, 7, 3],
+        [1, 2, 6],
+        [1, 6, 5],
     ];
     mesh(name, p, ix)
 }
 
 /// A torus around +Y: major radius `r_major`, tube radius `r_minor`.
-pub fn torus(center: Vec3, r_major: f32, r_minor: f32, seg_major: u32, seg_minor: u32) -> TriangleMesh {
+pub fn torus(
+    center: Vec3,
+    r_major: f32,
+    r_minor: f32,
+    seg_major: u32,
+    seg_minor: u32,
+) -> TriangleMesh {
     let mut p = Vec::new();
     let mut ix = Vec::new();
     for i in 0..seg_major {
@@ -83,7 +115,14 @@ pub fn torus(center: Vec3, r_major: f32, r_minor: f32, seg_major: u32, seg_minor
 
 /// A patch of a cylinder with axis along Z through `axis_point`, radius `r`, angles (from +Y towards +X)
 /// in `[a0, a1]`, length `len`.
-pub fn cylinder_patch(axis_point: Vec3, r: f32, a0: f32, a1: f32, len: f32, segs: u32) -> TriangleMesh {
+pub fn cylinder_patch(
+    axis_point: Vec3,
+    r: f32,
+    a0: f32,
+    a1: f32,
+    len: f32,
+    segs: u32,
+) -> TriangleMesh {
     let mut p = Vec::new();
     let mut ix = Vec::new();
     for i in 0..=segs {
@@ -147,7 +186,12 @@ pub fn random_quads(count: u32, lo: Vec3, hi: Vec3, size: f32, seed: u64) -> Tri
     let mut ix = Vec::new();
     for _ in 0..count {
         let c = lo + (hi - lo) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-        let n = Vec3::new(rng.next_f32() - 0.5, rng.next_f32() + 0.2, rng.next_f32() - 0.5).normalize();
+        let n = Vec3::new(
+            rng.next_f32() - 0.5,
+            rng.next_f32() + 0.2,
+            rng.next_f32() - 0.5,
+        )
+        .normalize();
         let (t, b) = shadow_core::light::orthonormal_basis(n);
         let s = size * (0.5 + rng.next_f32());
         let base = p.len() as u32;

@@ -16,12 +16,22 @@ fn resolution_zero_and_zero_size_light_are_typed_errors() {
     if ctx.is_some() {
         backends.push(Backend::Gpu);
     }
-    let zero = Light::Rect { center: Vec3::Y, u_half: Vec3::ZERO, v_half: Vec3::Z };
+    let zero = Light::Rect {
+        center: Vec3::Y,
+        u_half: Vec3::ZERO,
+        v_half: Vec3::Z,
+    };
     for be in backends {
         let r = b.generate(be, ctx.as_ref(), &geo, &spec.light, 0);
-        assert!(matches!(r, Err(ShadowError::InvalidResolution { requested: 0, .. })), "{be:?}");
+        assert!(
+            matches!(r, Err(ShadowError::InvalidResolution { requested: 0, .. })),
+            "{be:?}"
+        );
         let r = b.generate(be, ctx.as_ref(), &geo, &spec.light, 1 << 20);
-        assert!(matches!(r, Err(ShadowError::InvalidResolution { .. })), "{be:?}");
+        assert!(
+            matches!(r, Err(ShadowError::InvalidResolution { .. })),
+            "{be:?}"
+        );
         let r = b.generate(be, ctx.as_ref(), &geo, &zero, 64);
         assert!(matches!(r, Err(ShadowError::InvalidLight(_))), "{be:?}");
     }
@@ -41,10 +51,22 @@ fn cli_reports_bad_input_and_exits_nonzero() {
     let glb_toml = dir.join("glb.toml");
     std::fs::write(&glb_toml, "[[mesh]]\npath = \"broken.glb\"\n[light]\nkind = \"point\"\nposition = [0,3,0]\n[camera]\neye = [0,4,4]\ntarget = [0,0,0]\n").unwrap();
     let cases: Vec<(Vec<String>, &str)> = vec![
-        (vec!["--scenes".into(), "no-such-scene".into()], "unknown scene"),
-        (vec!["--resolutions".into(), "0".into()], "invalid resolution 0"),
-        (vec!["--scene-file".into(), bad_toml.display().to_string()], "invalid light"),
-        (vec!["--scene-file".into(), glb_toml.display().to_string()], "glTF import failed"),
+        (
+            vec!["--scenes".into(), "no-such-scene".into()],
+            "unknown scene",
+        ),
+        (
+            vec!["--resolutions".into(), "0".into()],
+            "invalid resolution 0",
+        ),
+        (
+            vec!["--scene-file".into(), bad_toml.display().to_string()],
+            "invalid light",
+        ),
+        (
+            vec!["--scene-file".into(), glb_toml.display().to_string()],
+            "glTF import failed",
+        ),
     ];
     for (args, expect) in cases {
         let out = std::process::Command::new(exe)

@@ -17,7 +17,9 @@ const MAX_COVERAGE_MISMATCH: f64 = 1e-3;
 
 #[test]
 fn gpu_depth_maps_match_the_cpu_rasterizer() {
-    let Some(ctx) = gpu_for_test("gpu_depth_maps_match_the_cpu_rasterizer") else { return };
+    let Some(ctx) = gpu_for_test("gpu_depth_maps_match_the_cpu_rasterizer") else {
+        return;
+    };
     let raster = GpuRasterizer::new(&ctx);
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
@@ -25,7 +27,9 @@ fn gpu_depth_maps_match_the_cpu_rasterizer() {
         let view = View::for_light_center(&spec.light, &geo.bounds);
         let res = 256;
         let cpu = depth_map(&view, res, &geo.casters);
-        let gpu = raster.depth_map(&ctx, &GpuTriangles::new(&ctx, &geo.casters), &view, res).unwrap();
+        let gpu = raster
+            .depth_map(&ctx, &GpuTriangles::new(&ctx, &geo.casters), &view, res)
+            .unwrap();
         let range = view.far - view.near;
         let (mut mismatch, mut worst) = (0usize, 0.0f32);
         for (c, g) in cpu.data().iter().zip(gpu.data()) {
@@ -35,16 +39,26 @@ fn gpu_depth_maps_match_the_cpu_rasterizer() {
                 worst = worst.max((c - g).abs() / range);
             }
         }
-        eprintln!("{name}: worst depth difference {worst:e} of the range, {mismatch} coverage mismatches");
+        eprintln!(
+            "{name}: worst depth difference {worst:e} of the range, {mismatch} coverage mismatches"
+        );
         let frac = mismatch as f64 / (res * res) as f64;
-        assert!(frac <= MAX_COVERAGE_MISMATCH, "{name}: {mismatch} texels differ in coverage");
-        assert!(worst < 1e-5, "{name}: depth differs by {worst:e} of the range");
+        assert!(
+            frac <= MAX_COVERAGE_MISMATCH,
+            "{name}: {mismatch} texels differ in coverage"
+        );
+        assert!(
+            worst < 1e-5,
+            "{name}: depth differs by {worst:e} of the range"
+        );
     }
 }
 
 #[test]
 fn gpu_gbuffer_matches_the_cpu_rasterizer() {
-    let Some(ctx) = gpu_for_test("gpu_gbuffer_matches_the_cpu_rasterizer") else { return };
+    let Some(ctx) = gpu_for_test("gpu_gbuffer_matches_the_cpu_rasterizer") else {
+        return;
+    };
     let raster = GpuRasterizer::new(&ctx);
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
@@ -52,19 +66,28 @@ fn gpu_gbuffer_matches_the_cpu_rasterizer() {
         let (w, h) = (160, 120);
         let view = spec.camera.view(w, h);
         let cpu = gbuffer(&view, spec.camera.eye, w, h, &geo.receivers);
-        let gpu = raster.gbuffer(&ctx, &geo.receivers, &view, spec.camera.eye, w, h).unwrap();
+        let gpu = raster
+            .gbuffer(&ctx, &geo.receivers, &view, spec.camera.eye, w, h)
+            .unwrap();
         let scale = geo.bounds.diagonal();
         let (mut mismatch, mut worst_p, mut worst_n) = (0usize, 0.0f32, 0.0f32);
         for (c, g) in cpu.data().iter().zip(gpu.data()) {
             if c.covered != g.covered {
                 mismatch += 1;
             } else if c.covered {
-                worst_p = worst_p.max((c.position - g.position).length() / (scale + c.position.length()));
+                worst_p =
+                    worst_p.max((c.position - g.position).length() / (scale + c.position.length()));
                 worst_n = worst_n.max((c.normal - g.normal).length());
             }
         }
-        assert!(mismatch as f64 / (w * h) as f64 <= MAX_COVERAGE_MISMATCH, "{name}: {mismatch} pixels differ in coverage");
-        assert!(worst_p < 1e-5, "{name}: positions differ by {worst_p:e} of the scene size");
+        assert!(
+            mismatch as f64 / (w * h) as f64 <= MAX_COVERAGE_MISMATCH,
+            "{name}: {mismatch} pixels differ in coverage"
+        );
+        assert!(
+            worst_p < 1e-5,
+            "{name}: positions differ by {worst_p:e} of the scene size"
+        );
         assert!(worst_n < 1e-4, "{name}: normals differ by {worst_n:e}");
     }
 }
@@ -72,20 +95,33 @@ fn gpu_gbuffer_matches_the_cpu_rasterizer() {
 /// Every baseline, both backends, every catalogue scene: RMS of `V * 255` below 1.0.
 #[test]
 fn baselines_agree_between_cpu_and_gpu_on_every_scene() {
-    let Some(ctx) = gpu_for_test("baselines_agree_between_cpu_and_gpu_on_every_scene") else { return };
+    let Some(ctx) = gpu_for_test("baselines_agree_between_cpu_and_gpu_on_every_scene") else {
+        return;
+    };
     let baselines = ShadowMapBaseline::standard_set(&[16]);
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
         let r = receivers(&spec, 96);
-        let recv = Recv { positions: &r.positions, normals: &r.normals };
+        let recv = Recv {
+            positions: &r.positions,
+            normals: &r.normals,
+        };
         for b in &baselines {
             for res in [64, 256] {
-                let cm = b.generate(Backend::Cpu, None, &r.geometry, &spec.light, res).unwrap();
-                let gm = b.generate(Backend::Gpu, Some(&ctx), &r.geometry, &spec.light, res).unwrap();
+                let cm = b
+                    .generate(Backend::Cpu, None, &r.geometry, &spec.light, res)
+                    .unwrap();
+                let gm = b
+                    .generate(Backend::Gpu, Some(&ctx), &r.geometry, &spec.light, res)
+                    .unwrap();
                 let cv = b.evaluate(None, &cm, &recv).unwrap();
                 let gv = b.evaluate(Some(&ctx), &gm, &recv).unwrap();
                 let rms = rms_255(&cv, &gv);
-                assert!(rms < 1.0, "{name} {} {res}: CPU/GPU rms {rms:.3}", DynTechnique::name(b));
+                assert!(
+                    rms < 1.0,
+                    "{name} {} {res}: CPU/GPU rms {rms:.3}",
+                    DynTechnique::name(b)
+                );
             }
         }
     }

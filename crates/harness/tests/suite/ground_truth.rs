@@ -11,7 +11,10 @@ use shadow_core::Light;
 
 fn quad(x0: f32, x1: f32, z0: f32, z1: f32, y: f32) -> Vec<[Vec3; 3]> {
     let p = |x, z| Vec3::new(x, y, z);
-    vec![[p(x0, z0), p(x1, z0), p(x1, z1)], [p(x0, z0), p(x1, z1), p(x0, z1)]]
+    vec![
+        [p(x0, z0), p(x1, z0), p(x1, z1)],
+        [p(x0, z0), p(x1, z1), p(x0, z1)],
+    ]
 }
 
 fn overlap(a0: f32, a1: f32, b0: f32, b1: f32) -> f32 {
@@ -44,7 +47,10 @@ fn check(tracer: &RayTracer, light: &Light, pts: &[Vec3], exact: &dyn Fn(Vec3) -
         sum += (d * 255.0).powi(2);
         worst = worst.max(d.abs() / (4.0 * r.std_error as f64 + 1.0 / 255.0));
     }
-    Check { rms_255: (sum / pts.len() as f64).sqrt(), worst_sigma: worst }
+    Check {
+        rms_255: (sum / pts.len() as f64).sqrt(),
+        worst_sigma: worst,
+    }
 }
 
 #[test]
@@ -54,17 +60,41 @@ fn square_occluder_under_square_light_matches_the_box_filter_integral() {
     let mut casters = quad(occ[0], occ[1], occ[2], occ[3], ho);
     casters.extend(quad(-4.0, 4.0, -4.0, 4.0, 0.0));
     let tracer = RayTracer::new(&casters);
-    let light = Light::Rect { center: Vec3::new(0.0, hl, 0.0), u_half: Vec3::X * a, v_half: Vec3::Z * a };
+    let light = Light::Rect {
+        center: Vec3::new(0.0, hl, 0.0),
+        u_half: Vec3::X * a,
+        v_half: Vec3::Z * a,
+    };
     // Receivers across the penumbra (|x| from 0 to 1.3) and along z.
-    let pts: Vec<Vec3> = (0..400).map(|i| Vec3::new(-1.3 + 2.6 * (i % 40) as f32 / 39.0, 0.0, -1.2 + 2.4 * (i / 40) as f32 / 9.0)).collect();
+    let pts: Vec<Vec3> = (0..400)
+        .map(|i| {
+            Vec3::new(
+                -1.3 + 2.6 * (i % 40) as f32 / 39.0,
+                0.0,
+                -1.2 + 2.4 * (i / 40) as f32 / 9.0,
+            )
+        })
+        .collect();
     let exact = |p: Vec3| square_exact(p, a, hl, occ, ho);
     let c = check(&tracer, &light, &pts, &exact);
     assert!(c.rms_255 <= 1.0, "rms {:.3}", c.rms_255);
-    assert!(c.worst_sigma <= 1.0, "worst receiver off by {:.2} of its bound", c.worst_sigma);
+    assert!(
+        c.worst_sigma <= 1.0,
+        "worst receiver off by {:.2} of its bound",
+        c.worst_sigma
+    );
     // The same bound rejects a light whose half-extent was taken for the full side.
-    let wrong = Light::Rect { center: Vec3::new(0.0, hl, 0.0), u_half: Vec3::X * (2.0 * a), v_half: Vec3::Z * (2.0 * a) };
+    let wrong = Light::Rect {
+        center: Vec3::new(0.0, hl, 0.0),
+        u_half: Vec3::X * (2.0 * a),
+        v_half: Vec3::Z * (2.0 * a),
+    };
     let w = check(&tracer, &wrong, &pts, &exact);
-    assert!(w.rms_255 > 10.0, "a wrong parameterisation must fail the bound, rms {:.2}", w.rms_255);
+    assert!(
+        w.rms_255 > 10.0,
+        "a wrong parameterisation must fail the bound, rms {:.2}",
+        w.rms_255
+    );
 }
 
 /// Heidrich et al. 2000, section 3.1, eq. 1: with the occluder edge at the origin of the 2D plane
@@ -81,9 +111,15 @@ fn eq1_visible_fraction(x2: f32, y2_slope: f32, y2_offset: f32, t: f32, light_x:
 fn straight_edge_under_linear_light_matches_the_rational_function() {
     // Light along x at height 3, from -0.8 to 0.8; occluder half-plane x <= e at height 1.
     let (hl, ho, e, half) = (3.0f32, 1.0f32, 0.2f32, 0.8f32);
-    let light = Light::Linear { a: Vec3::new(-half, hl, 0.0), b: Vec3::new(half, hl, 0.0) };
+    let light = Light::Linear {
+        a: Vec3::new(-half, hl, 0.0),
+        b: Vec3::new(half, hl, 0.0),
+    };
     let occluder = quad(-5.0, e, -5.0, 5.0, ho);
-    for (slope, label) in [(0.0f32, "parallel receiver: linear"), (0.25, "tilted receiver: rational")] {
+    for (slope, label) in [
+        (0.0f32, "parallel receiver: linear"),
+        (0.25, "tilted receiver: rational"),
+    ] {
         // Receiver plane y = slope * x + y0 (normals ignored by the exact form; use the plane's).
         let y0 = 0.0;
         let mut casters = occluder.clone();
@@ -91,18 +127,51 @@ fn straight_edge_under_linear_light_matches_the_rational_function() {
         casters.push([r(-4.0, -4.0), r(4.0, -4.0), r(4.0, 4.0)]);
         casters.push([r(-4.0, -4.0), r(4.0, 4.0), r(-4.0, 4.0)]);
         let tracer = RayTracer::new(&casters);
-        let pts: Vec<Vec3> = (0..300).map(|i| r(-1.2 + 2.4 * (i % 60) as f32 / 59.0, -1.0 + 2.0 * (i / 60) as f32 / 4.0)).collect();
+        let pts: Vec<Vec3> = (0..300)
+            .map(|i| {
+                r(
+                    -1.2 + 2.4 * (i % 60) as f32 / 59.0,
+                    -1.0 + 2.0 * (i / 60) as f32 / 4.0,
+                )
+            })
+            .collect();
         // In the plane of the light line: coordinates relative to the occluder edge (e, ho).
-        let exact = |p: Vec3| eq1_visible_fraction(p.x - e, slope, (slope * e + y0) - ho, hl - ho, [-half - e, half - e]);
+        let exact = |p: Vec3| {
+            eq1_visible_fraction(
+                p.x - e,
+                slope,
+                (slope * e + y0) - ho,
+                hl - ho,
+                [-half - e, half - e],
+            )
+        };
         let settings = GroundTruthSettings::default();
         let n = Vec3::new(-slope, 1.0, 0.0).normalize();
         let refs = tracer.references(&light, &pts, &vec![n; pts.len()], &settings);
-        let rms = (pts.iter().zip(&refs).map(|(p, r)| ((r.visibility - exact(*p)) as f64 * 255.0).powi(2)).sum::<f64>() / pts.len() as f64).sqrt();
+        let rms = (pts
+            .iter()
+            .zip(&refs)
+            .map(|(p, r)| ((r.visibility - exact(*p)) as f64 * 255.0).powi(2))
+            .sum::<f64>()
+            / pts.len() as f64)
+            .sqrt();
         assert!(rms <= 1.0, "{label}: rms {rms:.3}");
-        let wrong = Light::Linear { a: Vec3::new(-0.5 * half, hl, 0.0), b: Vec3::new(0.5 * half, hl, 0.0) };
+        let wrong = Light::Linear {
+            a: Vec3::new(-0.5 * half, hl, 0.0),
+            b: Vec3::new(0.5 * half, hl, 0.0),
+        };
         let wr = tracer.references(&wrong, &pts, &vec![n; pts.len()], &settings);
-        let wrms = (pts.iter().zip(&wr).map(|(p, r)| ((r.visibility - exact(*p)) as f64 * 255.0).powi(2)).sum::<f64>() / pts.len() as f64).sqrt();
-        assert!(wrms > 10.0, "{label}: a wrong segment must fail the bound, rms {wrms:.2}");
+        let wrms = (pts
+            .iter()
+            .zip(&wr)
+            .map(|(p, r)| ((r.visibility - exact(*p)) as f64 * 255.0).powi(2))
+            .sum::<f64>()
+            / pts.len() as f64)
+            .sqrt();
+        assert!(
+            wrms > 10.0,
+            "{label}: a wrong segment must fail the bound, rms {wrms:.2}"
+        );
     }
 }
 
@@ -111,8 +180,23 @@ fn straight_edge_under_linear_light_matches_the_rational_function() {
 fn receivers_do_not_shadow_themselves() {
     let casters = quad(-50.0, 50.0, -50.0, 50.0, 0.0);
     let tracer = RayTracer::new(&casters);
-    let light = Light::Distant { direction: Vec3::new(1.0, 0.05, 0.0).normalize(), angular_diameter: 0.02, profile: shadow_core::DistantProfile::UniformDisk };
-    let pts: Vec<Vec3> = (0..200).map(|i| Vec3::new(-40.0 + 0.4 * i as f32, 0.0, 7.0 - 0.07 * i as f32)).collect();
-    let refs = tracer.references(&light, &pts, &vec![Vec3::Y; pts.len()], &GroundTruthSettings::default());
-    assert!(refs.iter().all(|r| r.visibility == 1.0), "{:?}", refs.iter().find(|r| r.visibility < 1.0));
+    let light = Light::Distant {
+        direction: Vec3::new(1.0, 0.05, 0.0).normalize(),
+        angular_diameter: 0.02,
+        profile: shadow_core::DistantProfile::UniformDisk,
+    };
+    let pts: Vec<Vec3> = (0..200)
+        .map(|i| Vec3::new(-40.0 + 0.4 * i as f32, 0.0, 7.0 - 0.07 * i as f32))
+        .collect();
+    let refs = tracer.references(
+        &light,
+        &pts,
+        &vec![Vec3::Y; pts.len()],
+        &GroundTruthSettings::default(),
+    );
+    assert!(
+        refs.iter().all(|r| r.visibility == 1.0),
+        "{:?}",
+        refs.iter().find(|r| r.visibility < 1.0)
+    );
 }

@@ -9,8 +9,8 @@ mod wgsl;
 
 use glam::Vec3;
 use harness::scenes::SceneSpec;
-use shadow_core::raster::gbuffer;
 use shadow_core::SceneGeometry;
+use shadow_core::raster::gbuffer;
 
 /// Geometry and G-buffer receivers of a scene, without the reference (cheap).
 pub struct Receivers {
@@ -27,7 +27,22 @@ pub fn receivers(spec: &SceneSpec, size: u32) -> Receivers {
     let mut scene = spec.to_scene().expect("catalogue scene builds");
     let geometry = scene.geometry();
     let cam = scene.camera().expect("camera");
-    let gb = gbuffer(&cam.view(size, size), cam.eye, size, size, &geometry.receivers);
-    let (positions, normals) = gb.data().iter().filter(|t| t.covered && t.normal != Vec3::ZERO).map(|t| (t.position, t.normal)).unzip();
-    Receivers { geometry, positions, normals }
+    let gb = gbuffer(
+        &cam.view(size, size),
+        cam.eye,
+        size,
+        size,
+        &geometry.receivers,
+    );
+    let (positions, normals) = gb
+        .data()
+        .iter()
+        .filter(|t| t.covered && t.normal != Vec3::ZERO)
+        .map(|t| (t.position, t.normal))
+        .unzip();
+    Receivers {
+        geometry,
+        positions,
+        normals,
+    }
 }

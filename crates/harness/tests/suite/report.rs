@@ -17,27 +17,65 @@ fn quick_report_writes_the_contract() {
         size: Some(64),
     };
     let report = run(&opts).expect("report runs");
-    for f in ["report.json", "report.md", "pareto.png", "plane-occluder.png", "pareto-linear-bar.png", "exr/linear-bar/reference.exr", "exr/linear-bar/gbuffer-position.exr"] {
+    for f in [
+        "report.json",
+        "report.md",
+        "pareto.png",
+        "plane-occluder.png",
+        "pareto-linear-bar.png",
+        "exr/linear-bar/reference.exr",
+        "exr/linear-bar/gbuffer-position.exr",
+    ] {
         assert!(dir.join(f).is_file(), "{f} missing");
     }
-    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     assert_eq!(json["version"], 1);
     for key in ["cpu", "threads", "gpu_adapter"] {
         assert!(!json["machine"][key].is_null(), "machine.{key}");
     }
     let runs = json["runs"].as_array().unwrap();
-    assert_eq!(runs.len(), 2 * 4 * 2, "2 scenes x 4 baselines x 2 resolutions");
+    assert_eq!(
+        runs.len(),
+        2 * 4 * 2,
+        "2 scenes x 4 baselines x 2 resolutions"
+    );
     for r in runs {
-        for key in ["scene", "technique", "variant", "backend", "resolution", "generate_ms", "evaluate_ms", "rms_255", "penumbra_rms_255", "max_abs_255", "nonfinite"] {
+        for key in [
+            "scene",
+            "technique",
+            "variant",
+            "backend",
+            "resolution",
+            "generate_ms",
+            "evaluate_ms",
+            "rms_255",
+            "penumbra_rms_255",
+            "max_abs_255",
+            "nonfinite",
+        ] {
             assert!(!r[key].is_null(), "run field {key}");
         }
         assert_eq!(r["nonfinite"], 0);
     }
     for r in &report.references {
-        assert!(r.std_error_255 < 1.0, "{}: reference std error {}", r.scene, r.std_error_255);
+        assert!(
+            r.std_error_255 < 1.0,
+            "{}: reference std error {}",
+            r.scene,
+            r.std_error_255
+        );
         assert!(r.penumbra_receivers > 0, "{} has a penumbra", r.scene);
     }
     // Accumulation of 16 samples beats the hard shadow map on the soft plane-occluder scene.
-    let rms = |t: &str| report.runs.iter().find(|r| r.scene == "plane-occluder" && r.technique == t && r.resolution == 256).unwrap().errors.rms_255;
+    let rms = |t: &str| {
+        report
+            .runs
+            .iter()
+            .find(|r| r.scene == "plane-occluder" && r.technique == t && r.resolution == 256)
+            .unwrap()
+            .errors
+            .rms_255
+    };
     assert!(rms("accumulation") < rms("hard-shadow-map"));
 }

@@ -35,7 +35,8 @@ impl GpuContext {
     }
 
     async fn new_async() -> Result<Self> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
             Ok(wanted) if !wanted.is_empty() => {
                 let wanted_lc = wanted.to_lowercase();
@@ -70,25 +71,42 @@ impl GpuContext {
             })
             .await
             .map_err(|e| ShadowError::Gpu(format!("request_device on {}: {e}", info.name)))?;
-        Ok(Self { instance, adapter, device, queue, info, cache: Mutex::new(HashMap::new()) })
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            info,
+            cache: Mutex::new(HashMap::new()),
+        })
     }
 
     /// One line naming the adapter, e.g. `"llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, Cpu)"`.
     pub fn describe(&self) -> String {
-        format!("{} ({:?}, {:?})", self.info.name, self.info.backend, self.info.device_type)
+        format!(
+            "{} ({:?}, {:?})",
+            self.info.name, self.info.backend, self.info.device_type
+        )
     }
 
     /// Per-device cache of pipelines and other resources, keyed by type: `init` runs once per
     /// context, later calls return the same value.
     pub fn cached<T: Any + Send + Sync>(&self, init: impl FnOnce(&GpuContext) -> T) -> Arc<T> {
         let key = TypeId::of::<T>();
-        if let Some(v) = self.cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
-            if let Ok(t) = v.clone().downcast::<T>() {
-                return t;
-            }
+        let hit = self
+            .cache
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+            .cloned();
+        if let Some(t) = hit.and_then(|v| v.downcast::<T>().ok()) {
+            return t;
         }
         let value = Arc::new(init(self));
-        self.cache.lock().unwrap_or_else(|e| e.into_inner()).insert(key, value.clone());
+        self.cache
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(key, value.clone());
         value
     }
 
@@ -100,27 +118,34 @@ impl GpuContext {
     /// Blocks until all submitted work has finished.
     pub fn wait(&self) -> Result<()> {
         self.device
-            .poll(wgpu::PollType::Wait { submission_index: None, timeout: None })
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })
             .map(|_| ())
             .map_err(|e| ShadowError::Gpu(format!("poll: {e}")))
     }
 
     /// A storage buffer initialised with `data`.
     pub fn storage_buffer(&self, label: &str, data: &[u8]) -> wgpu::Buffer {
-        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: data,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-        })
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: data,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+            })
     }
 
     /// A uniform buffer initialised with `data`.
     pub fn uniform_buffer(&self, label: &str, data: &[u8]) -> wgpu::Buffer {
-        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: data,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        })
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: data,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            })
     }
 
     /// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) back to the CPU.

@@ -26,12 +26,21 @@ impl GpuTriangles {
     /// Uploads triangles.
     pub fn new(ctx: &GpuContext, tris: &[[Vec3; 3]]) -> Self {
         let flat: Vec<[f32; 3]> = tris.iter().flat_map(|t| t.map(|p| p.to_array())).collect();
-        let vertices = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("triangles"),
-            contents: if flat.is_empty() { &[0u8; 12] } else { bytemuck::cast_slice(&flat) },
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        Self { vertices, vertex_count: flat.len() as u32 }
+        let vertices = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("triangles"),
+                contents: if flat.is_empty() {
+                    &[0u8; 12]
+                } else {
+                    bytemuck::cast_slice(&flat)
+                },
+                usage: wgpu::BufferUsages::VERTEX,
+            });
+        Self {
+            vertices,
+            vertex_count: flat.len() as u32,
+        }
     }
 }
 
@@ -59,7 +68,11 @@ impl GpuRasterizer {
             entries: &[wgpu::BindGroupLayoutEntry {
                 binding: 0,
                 visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
                 count: None,
             }],
         });
@@ -75,7 +88,10 @@ impl GpuRasterizer {
             stencil: Default::default(),
             bias: Default::default(),
         };
-        let primitive = wgpu::PrimitiveState { cull_mode: None, ..Default::default() };
+        let primitive = wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        };
         let depth = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("depth"),
             layout: Some(&pl),
@@ -126,7 +142,11 @@ impl GpuRasterizer {
             multiview_mask: None,
             cache: None,
         });
-        Self { depth, gbuffer, layout }
+        Self {
+            depth,
+            gbuffer,
+            layout,
+        }
     }
 
     fn view_bind_group(&self, ctx: &GpuContext, view_proj: Mat4) -> wgpu::BindGroup {
@@ -134,7 +154,10 @@ impl GpuRasterizer {
         ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("view"),
             layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: buf.as_entire_binding() }],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buf.as_entire_binding(),
+            }],
         })
     }
 
@@ -142,26 +165,45 @@ impl GpuRasterizer {
     pub fn depth_array(ctx: &GpuContext, resolution: u32, layers: u32) -> Result<wgpu::Texture> {
         let max = ctx.max_texture_size();
         if resolution == 0 || resolution > max {
-            return Err(ShadowError::InvalidResolution { requested: resolution, max });
+            return Err(ShadowError::InvalidResolution {
+                requested: resolution,
+                max,
+            });
         }
         let max_layers = ctx.device.limits().max_texture_array_layers;
         if layers == 0 || layers > max_layers {
-            return Err(ShadowError::Gpu(format!("{layers} depth layers asked for; the device allows 1..={max_layers}")));
+            return Err(ShadowError::Gpu(format!(
+                "{layers} depth layers asked for; the device allows 1..={max_layers}"
+            )));
         }
         Ok(ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("depth maps"),
-            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: layers },
+            size: wgpu::Extent3d {
+                width: resolution,
+                height: resolution,
+                depth_or_array_layers: layers,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         }))
     }
 
     /// Records a depth pass of `tris` seen through `view` into layer `layer` of `target`.
-    pub fn encode_depth(&self, ctx: &GpuContext, enc: &mut wgpu::CommandEncoder, tris: &GpuTriangles, view: &View, target: &wgpu::Texture, layer: u32) {
+    pub fn encode_depth(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        tris: &GpuTriangles,
+        view: &View,
+        target: &wgpu::Texture,
+        layer: u32,
+    ) {
         let bind = self.view_bind_group(ctx, view.view_projection());
         let tv = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
@@ -174,7 +216,10 @@ impl GpuRasterizer {
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &tv,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,
@@ -190,7 +235,13 @@ impl GpuRasterizer {
     }
 
     /// Reads one layer of a depth array back as a linear depth map (for tests and reports).
-    pub fn read_depth(&self, ctx: &GpuContext, target: &wgpu::Texture, layer: u32, view: &View) -> Result<Map2D<f32>> {
+    pub fn read_depth(
+        &self,
+        ctx: &GpuContext,
+        target: &wgpu::Texture,
+        layer: u32,
+        view: &View,
+    ) -> Result<Map2D<f32>> {
         let (w, h) = (target.width(), target.height());
         let raw: Vec<f32> = read_texture(ctx, target, layer, wgpu::TextureAspect::DepthOnly, 4)?;
         let lin = raw.iter().map(|&z| view.linear_depth_from_ndc(z)).collect();
@@ -198,7 +249,13 @@ impl GpuRasterizer {
     }
 
     /// Renders one depth map and reads it back as linear depth.
-    pub fn depth_map(&self, ctx: &GpuContext, tris: &GpuTriangles, view: &View, resolution: u32) -> Result<Map2D<f32>> {
+    pub fn depth_map(
+        &self,
+        ctx: &GpuContext,
+        tris: &GpuTriangles,
+        view: &View,
+        resolution: u32,
+    ) -> Result<Map2D<f32>> {
         let tex = Self::depth_array(ctx, resolution, 1)?;
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         self.encode_depth(ctx, &mut enc, tris, view, &tex, 0);
@@ -207,10 +264,21 @@ impl GpuRasterizer {
     }
 
     /// Renders the camera G-buffer of `tris` (normals flipped to face `eye`) and reads it back.
-    pub fn gbuffer(&self, ctx: &GpuContext, tris: &[[Vec3; 3]], view: &View, eye: Vec3, width: u32, height: u32) -> Result<GpuGBuffer> {
+    pub fn gbuffer(
+        &self,
+        ctx: &GpuContext,
+        tris: &[[Vec3; 3]],
+        view: &View,
+        eye: Vec3,
+        width: u32,
+        height: u32,
+    ) -> Result<GpuGBuffer> {
         let max = ctx.max_texture_size();
         if width == 0 || height == 0 || width.max(height) > max {
-            return Err(ShadowError::InvalidResolution { requested: width.max(height), max });
+            return Err(ShadowError::InvalidResolution {
+                requested: width.max(height),
+                max,
+            });
         }
         let verts: Vec<[f32; 6]> = tris
             .iter()
@@ -219,12 +287,22 @@ impl GpuRasterizer {
                 t.map(|p| [p.x, p.y, p.z, n.x, n.y, n.z])
             })
             .collect();
-        let vb = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("gbuffer vertices"),
-            contents: if verts.is_empty() { &[0u8; 24] } else { bytemuck::cast_slice(&verts) },
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
+        let vb = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("gbuffer vertices"),
+                contents: if verts.is_empty() {
+                    &[0u8; 24]
+                } else {
+                    bytemuck::cast_slice(&verts)
+                },
+                usage: wgpu::BufferUsages::VERTEX,
+            });
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
         let color = |label| {
             ctx.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
@@ -249,7 +327,11 @@ impl GpuRasterizer {
             view_formats: &[],
         });
         let bind = self.view_bind_group(ctx, view.view_projection());
-        let (pv, nv, dv) = (pos.create_view(&Default::default()), nrm.create_view(&Default::default()), depth.create_view(&Default::default()));
+        let (pv, nv, dv) = (
+            pos.create_view(&Default::default()),
+            nrm.create_view(&Default::default()),
+            depth.create_view(&Default::default()),
+        );
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         {
             let attach = |v| {
@@ -257,7 +339,10 @@ impl GpuRasterizer {
                     view: v,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })
             };
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -265,7 +350,10 @@ impl GpuRasterizer {
                 color_attachments: &[attach(&pv), attach(&nv)],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &dv,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
@@ -291,12 +379,19 @@ impl GpuRasterizer {
                 covered: p[3] > 0.5,
             })
             .collect();
-        Map2D::from_vec(width, height, texels).ok_or_else(|| ShadowError::Gpu("gbuffer readback size".into()))
+        Map2D::from_vec(width, height, texels)
+            .ok_or_else(|| ShadowError::Gpu("gbuffer readback size".into()))
     }
 }
 
 /// Copies one layer of a texture back, un-padding rows; `texel_bytes` per texel.
-pub fn read_texture<T: bytemuck::Pod>(ctx: &GpuContext, tex: &wgpu::Texture, layer: u32, aspect: wgpu::TextureAspect, texel_bytes: u32) -> Result<Vec<T>> {
+pub fn read_texture<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    tex: &wgpu::Texture,
+    layer: u32,
+    aspect: wgpu::TextureAspect,
+    texel_bytes: u32,
+) -> Result<Vec<T>> {
     let (w, h) = (tex.width(), tex.height());
     let row = padded_row(w * texel_bytes);
     let size = row as u64 * h as u64;
@@ -308,12 +403,29 @@ pub fn read_texture<T: bytemuck::Pod>(ctx: &GpuContext, tex: &wgpu::Texture, lay
     });
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo { texture: tex, mip_level: 0, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect },
+        wgpu::TexelCopyTextureInfo {
+            texture: tex,
+            mip_level: 0,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
+            aspect,
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &staging,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(h) },
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
         },
-        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
     );
     ctx.queue.submit([enc.finish()]);
     let bytes = ctx.map_read(&staging, size)?;

@@ -13,7 +13,9 @@ pub fn gpu_for_test(test: &str) -> Option<GpuContext> {
     match GpuContext::new() {
         Ok(ctx) => Some(ctx),
         Err(e) if std::env::var_os("CI").is_some() => {
-            panic!("{test}: GPU tests are required in CI (CI is set) but no adapter is available: {e}")
+            panic!(
+                "{test}: GPU tests are required in CI (CI is set) but no adapter is available: {e}"
+            )
         }
         Err(e) => {
             eprintln!("skipping GPU test {test}: {e}");

@@ -10,11 +10,11 @@ const BUNNY: &[u8] = include_bytes!("../../../../assets/stanford-bunny.glb");
 /// A GLB from a JSON document and a binary chunk.
 fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     let mut j = json.as_bytes().to_vec();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut b = bin.to_vec();
-    while b.len() % 4 != 0 {
+    while !b.len().is_multiple_of(4) {
         b.push(0);
     }
     let total = 12 + 8 + j.len() + 8 + b.len();
@@ -63,7 +63,11 @@ fn gltf_reason(r: shadow_core::Result<TriangleMesh>) -> String {
 fn valid_glb_imports_with_node_transform() {
     let m = import_gltf_slice(&triangle_glb(4, 2), "tri.glb", None).expect("valid file");
     assert_eq!(m.indices, vec![[0, 1, 2]]);
-    assert_eq!(m.positions[2], Vec3::new(0.0, 3.0, 0.0), "node translation applied");
+    assert_eq!(
+        m.positions[2],
+        Vec3::new(0.0, 3.0, 0.0),
+        "node translation applied"
+    );
 }
 
 #[test]
@@ -75,8 +79,19 @@ fn the_bunny_has_69451_triangles() {
 #[test]
 fn malformed_gltf_is_a_typed_error() {
     assert!(!gltf_reason(import_gltf_slice(b"not a gltf at all", "junk", None)).is_empty());
-    assert!(!gltf_reason(import_gltf_slice(&BUNNY[..BUNNY.len() / 2], "half-bunny", None)).is_empty());
-    let r = gltf_reason(import_gltf_slice(&triangle_glb(4, 7), "bad-index.glb", None));
+    assert!(
+        !gltf_reason(import_gltf_slice(
+            &BUNNY[..BUNNY.len() / 2],
+            "half-bunny",
+            None
+        ))
+        .is_empty()
+    );
+    let r = gltf_reason(import_gltf_slice(
+        &triangle_glb(4, 7),
+        "bad-index.glb",
+        None,
+    ));
     assert!(r.contains("index 7 out of range"), "{r}");
     let r = gltf_reason(import_gltf_slice(&triangle_glb(0, 2), "points.glb", None));
     assert!(r.contains("only triangles"), "{r}");
@@ -84,24 +99,61 @@ fn malformed_gltf_is_a_typed_error() {
 
 #[test]
 fn nan_vertex_is_a_typed_error() {
-    let r = TriangleMesh::new("nan", vec![Vec3::ZERO, Vec3::X, Vec3::new(f32::NAN, 0.0, 0.0)], vec![[0, 1, 2]]);
-    assert!(matches!(r, Err(ShadowError::InvalidMesh { ref reason, .. }) if reason.contains("vertex 2")), "{r:?}");
-    let bad = Arc::new(TriangleMesh { name: "nan".into(), positions: vec![Vec3::NAN; 3], indices: vec![[0, 1, 2]] });
-    assert!(matches!(Scene::new().add_mesh(bad, Mat4::IDENTITY, true, true), Err(ShadowError::InvalidMesh { .. })));
+    let r = TriangleMesh::new(
+        "nan",
+        vec![Vec3::ZERO, Vec3::X, Vec3::new(f32::NAN, 0.0, 0.0)],
+        vec![[0, 1, 2]],
+    );
+    assert!(
+        matches!(r, Err(ShadowError::InvalidMesh { ref reason, .. }) if reason.contains("vertex 2")),
+        "{r:?}"
+    );
+    let bad = Arc::new(TriangleMesh {
+        name: "nan".into(),
+        positions: vec![Vec3::NAN; 3],
+        indices: vec![[0, 1, 2]],
+    });
+    assert!(matches!(
+        Scene::new().add_mesh(bad, Mat4::IDENTITY, true, true),
+        Err(ShadowError::InvalidMesh { .. })
+    ));
 }
 
 #[test]
 fn zero_or_negative_light_size_is_a_typed_error() {
     let bad = [
-        Light::Rect { center: Vec3::Y, u_half: Vec3::ZERO, v_half: Vec3::Z },
-        Light::Disk { center: Vec3::Y, normal: Vec3::NEG_Y, radius: 0.0 },
-        Light::Sphere { center: Vec3::Y, radius: -1.0 },
-        Light::Linear { a: Vec3::Y, b: Vec3::Y },
-        Light::Distant { direction: Vec3::Y, angular_diameter: 0.0, profile: shadow_core::DistantProfile::UniformDisk },
-        Light::Point { position: Vec3::NAN },
+        Light::Rect {
+            center: Vec3::Y,
+            u_half: Vec3::ZERO,
+            v_half: Vec3::Z,
+        },
+        Light::Disk {
+            center: Vec3::Y,
+            normal: Vec3::NEG_Y,
+            radius: 0.0,
+        },
+        Light::Sphere {
+            center: Vec3::Y,
+            radius: -1.0,
+        },
+        Light::Linear {
+            a: Vec3::Y,
+            b: Vec3::Y,
+        },
+        Light::Distant {
+            direction: Vec3::Y,
+            angular_diameter: 0.0,
+            profile: shadow_core::DistantProfile::UniformDisk,
+        },
+        Light::Point {
+            position: Vec3::NAN,
+        },
     ];
     for l in bad {
-        assert!(matches!(l.validate(), Err(ShadowError::InvalidLight(_))), "{l:?}");
+        assert!(
+            matches!(l.validate(), Err(ShadowError::InvalidLight(_))),
+            "{l:?}"
+        );
         assert!(Scene::new().add_light(l).is_err());
     }
 }

@@ -60,9 +60,16 @@ proptest! {
 /// The limb-darkened profile weighs the centre 1 and the limb `1 - u`.
 #[test]
 fn limb_darkening_weights_follow_the_linear_law() {
-    let l = Light::Distant { direction: Vec3::Y, angular_diameter: 0.1, profile: DistantProfile::LimbDarkenedSun };
+    let l = Light::Distant {
+        direction: Vec3::Y,
+        angular_diameter: 0.1,
+        profile: DistantProfile::LimbDarkenedSun,
+    };
     let (_, centre) = l.sample(Vec2::new(0.0, 0.3), Vec3::ZERO);
     let (_, limb) = l.sample(Vec2::new(1.0, 0.3), Vec3::ZERO);
     assert!((centre - 1.0).abs() < 1e-6);
-    assert!((limb - (1.0 - shadow_core::light::SUN_LIMB_DARKENING_U)).abs() < 1e-3, "{limb}");
+    assert!(
+        (limb - (1.0 - shadow_core::light::SUN_LIMB_DARKENING_U)).abs() < 1e-3,
+        "{limb}"
+    );
 }

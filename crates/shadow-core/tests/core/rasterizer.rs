@@ -10,7 +10,14 @@ use shadow_core::{Aabb, Camera};
 /// covered exactly once (no gap, no double coverage along the shared edge), whatever the diagonal.
 #[test]
 fn shared_edges_cover_each_pixel_once() {
-    let view = View::fit_light(LightPoint::Direction(Vec3::Y), Vec3::NEG_Y, &Aabb { min: Vec3::new(-1.0, 0.0, -1.0), max: Vec3::new(1.0, 0.0, 1.0) });
+    let view = View::fit_light(
+        LightPoint::Direction(Vec3::Y),
+        Vec3::NEG_Y,
+        &Aabb {
+            min: Vec3::new(-1.0, 0.0, -1.0),
+            max: Vec3::new(1.0, 0.0, 1.0),
+        },
+    );
     for (k, skew) in [0.0f32, 0.137, -0.31, 0.5].into_iter().enumerate() {
         // A fan of 6 triangles around an off-centre point: every edge is shared by two triangles.
         let c = Vec3::new(skew, 0.0, -skew * 0.7);
@@ -32,7 +39,11 @@ fn shared_edges_cover_each_pixel_once() {
                 }
             }
         }
-        assert!(counts.iter().all(|&c| c == 1), "case {k}: coverage counts {:?}", counts.iter().filter(|&&c| c != 1).count());
+        assert!(
+            counts.iter().all(|&c| c == 1),
+            "case {k}: coverage counts {:?}",
+            counts.iter().filter(|&&c| c != 1).count()
+        );
     }
 }
 
@@ -47,8 +58,14 @@ fn perspective_depth_matches_ray_plane_intersection() {
     // A large quad in the plane through p0 with that normal.
     let (t, b) = shadow_core::light::orthonormal_basis(normal);
     let q = |s: f32, u: f32| p0 + t * s + b * u;
-    let tris = vec![[q(-20., -20.), q(20., -20.), q(20., 20.)], [q(-20., -20.), q(20., 20.), q(-20., 20.)]];
-    let bounds = Aabb { min: Vec3::splat(-3.0), max: Vec3::new(3.0, 1.0, 3.0) };
+    let tris = vec![
+        [q(-20., -20.), q(20., -20.), q(20., 20.)],
+        [q(-20., -20.), q(20., 20.), q(-20., 20.)],
+    ];
+    let bounds = Aabb {
+        min: Vec3::splat(-3.0),
+        max: Vec3::new(3.0, 1.0, 3.0),
+    };
     let view = View::fit_light(LightPoint::Position(eye), axis, &bounds);
     let res = 64;
     let map = depth_map(&view, res, &tris);
@@ -67,11 +84,15 @@ fn perspective_depth_matches_ray_plane_intersection() {
             let (tt, expect) = exact(cx, cy);
             // Vertices snap to 1/256 pixel as on a GPU, which moves the plane by at most the depth
             // gradient times 1/256 of a pixel; beyond that only f32 rounding (2e-6 relative) is allowed.
-            let grad = (exact(cx + 1.0, cy).1 - expect).abs() + (exact(cx, cy + 1.0).1 - expect).abs();
+            let grad =
+                (exact(cx + 1.0, cy).1 - expect).abs() + (exact(cx, cy + 1.0).1 - expect).abs();
             let tol = 2e-6 * expect + grad / 256.0;
             let got = *map.get(x, y);
             if tt > 0.0 && expect > view.near && expect < view.far {
-                assert!((got - expect).abs() <= tol, "texel ({x},{y}): {got} vs {expect} (tol {tol})");
+                assert!(
+                    (got - expect).abs() <= tol,
+                    "texel ({x},{y}): {got} vs {expect} (tol {tol})"
+                );
                 checked += 1;
             }
         }
@@ -82,24 +103,36 @@ fn perspective_depth_matches_ray_plane_intersection() {
 /// Orthographic depth of a tilted plane is affine in the texel centre: exact to 1e-5 of the range.
 #[test]
 fn orthographic_depth_matches_plane() {
-    let bounds = Aabb { min: Vec3::splat(-1.0), max: Vec3::splat(1.0) };
+    let bounds = Aabb {
+        min: Vec3::splat(-1.0),
+        max: Vec3::splat(1.0),
+    };
     let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
     let view = View::fit_light(LightPoint::Direction(dir), -dir, &bounds);
     let normal = Vec3::new(0.1, 1.0, 0.3).normalize();
     let (t, b) = shadow_core::light::orthonormal_basis(normal);
     let q = |s: f32, u: f32| t * s + b * u;
-    let tris = vec![[q(-9., -9.), q(9., -9.), q(9., 9.)], [q(-9., -9.), q(9., 9.), q(-9., 9.)]];
+    let tris = vec![
+        [q(-9., -9.), q(9., -9.), q(9., 9.)],
+        [q(-9., -9.), q(9., 9.), q(-9., 9.)],
+    ];
     let res = 48;
     let map = depth_map(&view, res, &tris);
     let inv = view.view_projection().inverse();
     for y in 0..res {
         for x in 0..res {
-            let ndc = glam::Vec2::new((x as f32 + 0.5) / res as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / res as f32 * 2.0);
+            let ndc = glam::Vec2::new(
+                (x as f32 + 0.5) / res as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / res as f32 * 2.0,
+            );
             let o = inv.project_point3(ndc.extend(1.0));
             let tt = (-o).dot(normal) / (-dir).dot(normal);
             let expect = view.linear_depth(o - dir * tt);
             let got = *map.get(x, y);
-            assert!((got - expect).abs() <= 1e-5 * (view.far - view.near), "({x},{y}) {got} vs {expect}");
+            assert!(
+                (got - expect).abs() <= 1e-5 * (view.far - view.near),
+                "({x},{y}) {got} vs {expect}"
+            );
         }
     }
 }
@@ -107,8 +140,18 @@ fn orthographic_depth_matches_plane() {
 /// Empty texels hold the sentinel; a G-buffer pixel lies on the plane it shows, with the plane's normal.
 #[test]
 fn gbuffer_positions_lie_on_the_receiver() {
-    let cam = Camera { eye: Vec3::new(0.0, 3.0, 3.0), target: Vec3::ZERO, fov_y: 0.9, near: 0.05, far: 50.0 };
-    let tris = vec![[Vec3::new(-1., 0., -1.), Vec3::new(1., 0., -1.), Vec3::new(1., 0., 1.)]];
+    let cam = Camera {
+        eye: Vec3::new(0.0, 3.0, 3.0),
+        target: Vec3::ZERO,
+        fov_y: 0.9,
+        near: 0.05,
+        far: 50.0,
+    };
+    let tris = vec![[
+        Vec3::new(-1., 0., -1.),
+        Vec3::new(1., 0., -1.),
+        Vec3::new(1., 0., 1.),
+    ]];
     let gb = gbuffer(&cam.view(40, 30), cam.eye, 40, 30, &tris);
     let covered: Vec<_> = gb.data().iter().filter(|t| t.covered).collect();
     assert!(covered.len() > 50);
