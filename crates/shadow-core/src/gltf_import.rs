@@ -1,7 +1,9 @@
 //! glTF 2.0 import (`.glb` or `.gltf` with external `.bin` buffers) into triangle meshes.
 //!
-//! Every mesh primitive of triangle mode is read, node transforms applied (the default scene, or
-//! every root node when none is marked). Anything else is a typed [`ShadowError::Gltf`].
+//! Every mesh primitive of a triangle mode (list, strip, fan) is read with node transforms applied
+//! (the default scene, or every root node when none is marked); point and line primitives cast no
+//! shadow and are skipped. A file without triangles, or malformed in any way, is a typed
+//! [`ShadowError::Gltf`] naming the problem.
 
 use crate::error::{Result, ShadowError};
 use crate::mesh::TriangleMesh;
@@ -87,6 +89,7 @@ pub fn import_gltf_slice(
     let mut stack: Vec<(gltf::Node, Mat4)> =
         roots.into_iter().map(|n| (n, Mat4::IDENTITY)).collect();
     let mut visited = 0usize;
+    let mut skipped: Vec<String> = Vec::new();
     while let Some((node, parent)) = stack.pop() {
         visited += 1;
         if visited > 1_000_000 {
@@ -95,17 +98,16 @@ pub fn import_gltf_slice(
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(m) = node.mesh() {
             for prim in m.primitives() {
-                if prim.mode() != Mode::Triangles {
-                    return Err(err(
-                        source_name,
-                        format!(
-                            "mesh {} uses primitive mode {:?}; only triangles are supported",
-                            m.index(),
-                            prim.mode()
-                        ),
-                    ));
+                match prim.mode() {
+                    Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => {
+                        read_primitive(&prim, &buffers, world, &mut mesh, source_name)?
+                    }
+                    other => skipped.push(format!(
+                        "mesh {} primitive {} ({other:?})",
+                        m.index(),
+                        prim.index()
+                    )),
                 }
-                read_primitive(&prim, &buffers, world, &mut mesh, source_name)?;
             }
         }
         for child in node.children() {
@@ -113,7 +115,17 @@ pub fn import_gltf_slice(
         }
     }
     if mesh.indices.is_empty() {
-        return Err(err(source_name, "no triangles found"));
+        return Err(if skipped.is_empty() {
+            err(source_name, "no triangles found")
+        } else {
+            err(
+                source_name,
+                format!(
+                    "no triangles found; only triangles cast shadows, skipped {}",
+                    skipped.join(", ")
+                ),
+            )
+        });
     }
     mesh.validate()?;
     Ok(mesh)

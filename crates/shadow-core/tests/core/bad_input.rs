@@ -71,6 +71,15 @@ fn valid_glb_imports_with_node_transform() {
 }
 
 #[test]
+fn strips_and_fans_become_triangles() {
+    // Mode 5 = TRIANGLE_STRIP, 6 = TRIANGLE_FAN: three indices make one triangle either way.
+    for mode in [5, 6] {
+        let m = import_gltf_slice(&triangle_glb(mode, 2), "strip.glb", None).expect("valid file");
+        assert_eq!(m.indices.len(), 1, "mode {mode}");
+    }
+}
+
+#[test]
 fn the_bunny_has_69451_triangles() {
     let m = import_gltf_slice(BUNNY, "bunny", None).expect("bunny imports");
     assert_eq!(m.indices.len(), 69_451);
@@ -94,7 +103,7 @@ fn malformed_gltf_is_a_typed_error() {
     ));
     assert!(r.contains("index 7 out of range"), "{r}");
     let r = gltf_reason(import_gltf_slice(&triangle_glb(0, 2), "points.glb", None));
-    assert!(r.contains("only triangles"), "{r}");
+    assert!(r.contains("only triangles cast shadows"), "{r}");
 }
 
 #[test]
