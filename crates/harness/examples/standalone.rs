@@ -10,18 +10,34 @@ fn main() -> shadow_core::Result<()> {
     // A 1 m square occluder 1 m above a ground plane, a 0.8 m square light 3 m up.
     let quad = |h: f32, y: f32| {
         let p = |x: f32, z: f32| Vec3::new(x, y, z);
-        vec![[p(-h, -h), p(h, -h), p(h, h)], [p(-h, -h), p(h, h), p(-h, h)]]
+        vec![
+            [p(-h, -h), p(h, -h), p(h, h)],
+            [p(-h, -h), p(h, h), p(-h, h)],
+        ]
     };
     let mut casters = quad(0.5, 1.0);
     casters.extend(quad(4.0, 0.0));
     let bounds = Aabb::of_triangles(&casters);
-    let geometry = SceneGeometry { receivers: Vec::new(), casters, bounds };
-    let light = Light::Rect { center: Vec3::new(0.0, 3.0, 0.0), u_half: Vec3::X * 0.4, v_half: Vec3::Z * 0.4 };
+    let geometry = SceneGeometry {
+        receivers: Vec::new(),
+        casters,
+        bounds,
+    };
+    let light = Light::Rect {
+        center: Vec3::new(0.0, 3.0, 0.0),
+        u_half: Vec3::X * 0.4,
+        v_half: Vec3::Z * 0.4,
+    };
 
     // Receivers along a line on the ground crossing the shadow's edge.
-    let points: Vec<Vec3> = (0..=10).map(|i| Vec3::new(0.2 + 0.1 * i as f32, 0.0, 0.0)).collect();
+    let points: Vec<Vec3> = (0..=10)
+        .map(|i| Vec3::new(0.2 + 0.1 * i as f32, 0.0, 0.0))
+        .collect();
     let normals = vec![Vec3::Y; points.len()];
-    let receivers = Receivers { positions: &points, normals: &normals };
+    let receivers = Receivers {
+        positions: &points,
+        normals: &normals,
+    };
 
     let pcss = ShadowMapBaseline::new(Filter::Pcss);
     let maps = pcss.generate_cpu(&geometry, &light, 1024)?;
@@ -34,8 +50,15 @@ fn main() -> shadow_core::Result<()> {
         Ok(gpu) => {
             let gpu_maps = pcss.generate_gpu(&gpu, &geometry, &light, 1024)?;
             let v_gpu = pcss.evaluate_gpu(&gpu, &gpu_maps, &receivers)?;
-            let worst = v_cpu.iter().zip(&v_gpu).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
-            println!("GPU ({}): largest |V_cpu - V_gpu| = {worst:.2e}", gpu.describe());
+            let worst = v_cpu
+                .iter()
+                .zip(&v_gpu)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0f32, f32::max);
+            println!(
+                "GPU ({}): largest |V_cpu - V_gpu| = {worst:.2e}",
+                gpu.describe()
+            );
         }
         Err(e) => println!("GPU path skipped: {e}"),
     }

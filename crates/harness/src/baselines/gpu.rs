@@ -149,6 +149,13 @@ pub fn evaluate(
             max_groups * WORKGROUP
         )));
     }
+    let limit = ctx.device.limits().max_storage_buffer_binding_size as u64;
+    if n as u64 * 16 > limit {
+        return Err(ShadowError::InvalidReceivers(format!(
+            "{n} receivers need {} bytes, above the device's {limit}-byte storage binding",
+            n as u64 * 16
+        )));
+    }
     let pipe = ctx.cached(EvalPipeline::new);
     let params: Vec<MapParams> = maps
         .views

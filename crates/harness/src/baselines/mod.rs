@@ -172,7 +172,9 @@ impl ShadowTechnique for ShadowMapBaseline {
     ) -> Result<gpu::GpuShadowMaps> {
         self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
         let views = sample_views(light, &geometry.bounds, self.map_count(), resolution);
-        gpu::GpuShadowMaps::render(gpu, &views, &geometry.casters, resolution, light.size())
+        gpu.checked("shadow-map generation", || {
+            gpu::GpuShadowMaps::render(gpu, &views, &geometry.casters, resolution, light.size())
+        })
     }
 
     fn evaluate_gpu(
@@ -189,6 +191,8 @@ impl ShadowTechnique for ShadowMapBaseline {
             receivers.positions.len() as u32,
             maps.light_size,
         );
-        gpu::evaluate(gpu, &params, maps, receivers)
+        gpu.checked("shadow-map evaluation", || {
+            gpu::evaluate(gpu, &params, maps, receivers)
+        })
     }
 }

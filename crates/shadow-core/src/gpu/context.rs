@@ -110,6 +110,20 @@ impl GpuContext {
         value
     }
 
+    /// Runs `f` inside validation and out-of-memory error scopes: a wgpu error raised by the work
+    /// `f` records becomes [`ShadowError::Gpu`] instead of wgpu's default panic.
+    pub fn checked<T>(&self, what: &str, f: impl FnOnce() -> Result<T>) -> Result<T> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let out = f();
+        let v = pollster::block_on(validation.pop());
+        let m = pollster::block_on(oom.pop());
+        if let Some(e) = v.or(m) {
+            return Err(ShadowError::Gpu(format!("{what}: {e}")));
+        }
+        out
+    }
+
     /// Largest 2D texture side of this device.
     pub fn max_texture_size(&self) -> u32 {
         self.device.limits().max_texture_dimension_2d
