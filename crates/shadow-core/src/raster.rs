@@ -65,23 +65,34 @@ struct ScreenTri {
     triangle: u32,
 }
 
-fn clip_polygon(poly: Vec<ClipVertex>, dist: impl Fn(Vec4) -> f32) -> Vec<ClipVertex> {
-    let mut out = Vec::with_capacity(poly.len() + 2);
-    for i in 0..poly.len() {
-        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-        let (da, db) = (dist(a.pos), dist(b.pos));
-        if da >= 0.0 {
-            out.push(a);
+/// A convex polygon of at most 3 + 6 vertices (a triangle clipped by six planes).
+#[derive(Clone, Copy)]
+struct Poly {
+    v: [ClipVertex; 10],
+    n: usize,
+}
+
+impl Poly {
+    fn clip(&self, dist: impl Fn(Vec4) -> f32) -> Poly {
+        let mut out = Poly { v: self.v, n: 0 };
+        for i in 0..self.n {
+            let (a, b) = (self.v[i], self.v[(i + 1) % self.n]);
+            let (da, db) = (dist(a.pos), dist(b.pos));
+            if da >= 0.0 {
+                out.v[out.n] = a;
+                out.n += 1;
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                let t = da / (da - db);
+                out.v[out.n] = ClipVertex {
+                    pos: a.pos.lerp(b.pos, t),
+                    bary: a.bary.lerp(b.bary, t),
+                };
+                out.n += 1;
+            }
         }
-        if (da >= 0.0) != (db >= 0.0) {
-            let t = da / (da - db);
-            out.push(ClipVertex {
-                pos: a.pos.lerp(b.pos, t),
-                bary: a.bary.lerp(b.bary, t),
-            });
-        }
+        out
     }
-    out
 }
 
 fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<ScreenTri> {
@@ -89,55 +100,67 @@ fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<Screen
     let (w, h) = (width as f64, height as f64);
     tris.par_iter()
         .enumerate()
-        .flat_map_iter(|(index, tri)| {
-            let mut poly: Vec<ClipVertex> = tri
-                .iter()
-                .zip([Vec3::X, Vec3::Y, Vec3::Z])
-                .map(|(p, bary)| ClipVertex {
-                    pos: vp * p.extend(1.0),
-                    bary,
-                })
-                .collect();
+        .fold(Vec::new, |mut out, (index, tri)| {
+            let cv = |k: usize, bary: Vec3| ClipVertex {
+                pos: vp * tri[k].extend(1.0),
+                bary,
+            };
+            let first = cv(0, Vec3::X);
+            let mut poly = Poly {
+                v: [first; 10],
+                n: 3,
+            };
+            poly.v[1] = cv(1, Vec3::Y);
+            poly.v[2] = cv(2, Vec3::Z);
             // Reversed Z: 0 <= z <= w; plus a guard band on x and y that keeps fixed point small.
-            poly = clip_polygon(poly, |p| p.w - p.z);
-            poly = clip_polygon(poly, |p| p.z);
-            for (sx, sy) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
-                if poly.len() < 3 {
-                    break;
-                }
-                poly = clip_polygon(poly, |p| GUARD_BAND * p.w - sx * p.x - sy * p.y);
-            }
-            let verts: Vec<Vert> = poly
-                .iter()
-                .filter(|v| v.pos.w > 0.0)
-                .map(|v| {
-                    let inv_w = 1.0 / v.pos.w as f64;
-                    let nx = v.pos.x as f64 * inv_w;
-                    let ny = v.pos.y as f64 * inv_w;
-                    let fx = (nx * 0.5 + 0.5) * w;
-                    let fy = (0.5 - ny * 0.5) * h;
-                    Vert {
-                        x: (fx * SUB).round() as i64,
-                        y: (fy * SUB).round() as i64,
-                        fx,
-                        fy,
-                        z: v.pos.z as f64 * inv_w,
-                        inv_w,
-                        bary: v.bary,
+            // Most triangles lie inside every plane and skip clipping.
+            let inside = |p: Vec4| {
+                p.z <= p.w
+                    && p.z >= 0.0
+                    && p.x.abs() <= GUARD_BAND * p.w
+                    && p.y.abs() <= GUARD_BAND * p.w
+            };
+            if !poly.v[..3].iter().all(|v| inside(v.pos)) {
+                poly = poly.clip(|p| p.w - p.z);
+                poly = poly.clip(|p| p.z);
+                for (sx, sy) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
+                    if poly.n < 3 {
+                        break;
                     }
-                })
-                .collect();
-            let mut out = Vec::new();
-            if verts.len() == poly.len() && verts.len() >= 3 {
-                for k in 1..verts.len() - 1 {
-                    if let Some(t) = screen_tri([verts[0], verts[k], verts[k + 1]], index as u32) {
-                        out.push(t);
-                    }
+                    poly = poly.clip(|p| GUARD_BAND * p.w - sx * p.x - sy * p.y);
                 }
             }
-            out.into_iter()
+            if poly.n < 3 || poly.v[..poly.n].iter().any(|v| v.pos.w <= 0.0) {
+                return out;
+            }
+            let vert = |v: &ClipVertex| {
+                let inv_w = 1.0 / v.pos.w as f64;
+                let fx = (v.pos.x as f64 * inv_w * 0.5 + 0.5) * w;
+                let fy = (0.5 - v.pos.y as f64 * inv_w * 0.5) * h;
+                Vert {
+                    x: (fx * SUB).round() as i64,
+                    y: (fy * SUB).round() as i64,
+                    fx,
+                    fy,
+                    z: v.pos.z as f64 * inv_w,
+                    inv_w,
+                    bary: v.bary,
+                }
+            };
+            let v0 = vert(&poly.v[0]);
+            for k in 1..poly.n - 1 {
+                if let Some(t) =
+                    screen_tri([v0, vert(&poly.v[k]), vert(&poly.v[k + 1])], index as u32)
+                {
+                    out.push(t);
+                }
+            }
+            out
         })
-        .collect()
+        .reduce(Vec::new, |mut a, mut b| {
+            a.append(&mut b);
+            a
+        })
 }
 
 /// A projected vertex: snapped fixed-point position (coverage), float position (interpolation).
@@ -196,7 +219,16 @@ fn screen_tri(v: [Vert; 3], triangle: u32) -> Option<ScreenTri> {
     })
 }
 
-fn raster_band(tris: &[ScreenTri], width: u32, row0: usize, rows: &mut [Fragment]) {
+/// Rasterizes `tris` into the rows `row0..` of a band; `z_of` reads a texel's NDC depth and
+/// `shade` makes the texel of a fragment that passes the `Greater` depth test.
+fn raster_band<T>(
+    tris: &[ScreenTri],
+    width: u32,
+    row0: usize,
+    rows: &mut [T],
+    z_of: impl Fn(&T) -> f32,
+    shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T,
+) {
     let w = width as usize;
     let n_rows = rows.len() / w;
     let half = (SUB / 2.0) as i64;
@@ -243,45 +275,81 @@ fn raster_band(tris: &[ScreenTri], width: u32, row0: usize, rows: &mut [Fragment
                     e.map(|ei| ei as f64 / t.area as f64)
                 };
                 let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
-                let frag = &mut rows[(py as usize - row0) * w + px as usize];
-                if z > frag.z_ndc {
-                    let pw = [l[0] * t.inv_w[0], l[1] * t.inv_w[1], l[2] * t.inv_w[2]];
-                    let s = pw[0] + pw[1] + pw[2];
-                    let b = (t.bary[0] * pw[0] as f32
-                        + t.bary[1] * pw[1] as f32
-                        + t.bary[2] * pw[2] as f32)
-                        / s as f32;
-                    *frag = Fragment {
-                        z_ndc: z,
-                        triangle: t.triangle,
-                        bary: b.to_array(),
-                    };
+                let texel = &mut rows[(py as usize - row0) * w + px as usize];
+                if z > z_of(texel) {
+                    *texel = shade(t, l, z);
                 }
             }
         }
     }
 }
 
-/// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
-pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<Fragment> {
-    let screen = setup(view, width, height, tris);
-    let mut out = Map2D::new(width, height, Fragment::EMPTY);
+fn fragment(t: &ScreenTri, l: [f64; 3], z: f32) -> Fragment {
+    let pw = [l[0] * t.inv_w[0], l[1] * t.inv_w[1], l[2] * t.inv_w[2]];
+    let s = pw[0] + pw[1] + pw[2];
+    let b =
+        (t.bary[0] * pw[0] as f32 + t.bary[1] * pw[1] as f32 + t.bary[2] * pw[2] as f32) / s as f32;
+    Fragment {
+        z_ndc: z,
+        triangle: t.triangle,
+        bary: b.to_array(),
+    }
+}
+
+fn rasterize_into<T: Clone + Send>(
+    view: &View,
+    width: u32,
+    height: u32,
+    tris: &[[Vec3; 3]],
+    empty: T,
+    z_of: impl Fn(&T) -> f32 + Sync,
+    shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T + Sync,
+) -> Map2D<T> {
+    let mut out = Map2D::new(width, height, empty);
     let w = width as usize;
     if w == 0 || height == 0 {
         return out;
     }
+    let screen = setup(view, width, height, tris);
     out.data_mut()
         .par_chunks_mut(w * BAND_ROWS)
         .enumerate()
         .for_each(|(band, rows)| {
-            raster_band(&screen, width, band * BAND_ROWS, rows);
+            raster_band(&screen, width, band * BAND_ROWS, rows, &z_of, &shade);
         });
     out
 }
 
+/// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
+pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<Fragment> {
+    rasterize_into(
+        view,
+        width,
+        height,
+        tris,
+        Fragment::EMPTY,
+        |f| f.z_ndc,
+        fragment,
+    )
+}
+
 /// A linear depth map (distance along the view axis; [`crate::view::NO_OCCLUDER`] where empty).
+///
+/// Depth-only: keeps 4 bytes per texel while rasterizing.
 pub fn depth_map(view: &View, resolution: u32, tris: &[[Vec3; 3]]) -> Map2D<f32> {
-    rasterize(view, resolution, resolution, tris).map(|f| view.linear_depth_from_ndc(f.z_ndc))
+    let mut z = rasterize_into(
+        view,
+        resolution,
+        resolution,
+        tris,
+        0.0f32,
+        |z| *z,
+        |_, _, z| z,
+    );
+    z.data_mut()
+        .par_iter_mut()
+        .for_each(|d| *d = view.linear_depth_from_ndc(*d));
+    z
 }
 
 /// One G-buffer texel: world position and unit normal facing the camera; `covered` false where empty.

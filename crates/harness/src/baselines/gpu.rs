@@ -149,7 +149,7 @@ pub fn evaluate(
             max_groups * WORKGROUP
         )));
     }
-    let limit = ctx.device.limits().max_storage_buffer_binding_size as u64;
+    let limit = ctx.device.limits().max_storage_buffer_binding_size;
     if n as u64 * 16 > limit {
         return Err(ShadowError::InvalidReceivers(format!(
             "{n} receivers need {} bytes, above the device's {limit}-byte storage binding",
