@@ -16,7 +16,7 @@ pub enum ShadowError {
         reason: String,
     },
     /// An I/O error while reading an input file.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}")]
     Io {
         /// The path that failed.
         path: String,

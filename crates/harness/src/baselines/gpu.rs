@@ -101,7 +101,7 @@ impl GpuShadowMaps {
         light_size: f32,
     ) -> Result<Self> {
         let raster = ctx.cached(|c| Rasterizer(GpuRasterizer::new(c)));
-        let tris = GpuTriangles::new(ctx, casters);
+        let tris = GpuTriangles::new(ctx, casters)?;
         let texture = GpuRasterizer::depth_array(ctx, resolution, views.len() as u32)?;
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         for (layer, v) in views.iter().enumerate() {

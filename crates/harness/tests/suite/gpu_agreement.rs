@@ -28,7 +28,12 @@ fn gpu_depth_maps_match_the_cpu_rasterizer() {
         let res = 256;
         let cpu = depth_map(&view, res, &geo.casters);
         let gpu = raster
-            .depth_map(&ctx, &GpuTriangles::new(&ctx, &geo.casters), &view, res)
+            .depth_map(
+                &ctx,
+                &GpuTriangles::new(&ctx, &geo.casters).unwrap(),
+                &view,
+                res,
+            )
             .unwrap();
         let range = view.far - view.near;
         let (mut mismatch, mut worst) = (0usize, 0.0f32);

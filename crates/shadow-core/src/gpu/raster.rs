@@ -23,8 +23,16 @@ pub struct GpuTriangles {
 }
 
 impl GpuTriangles {
-    /// Uploads triangles.
-    pub fn new(ctx: &GpuContext, tris: &[[Vec3; 3]]) -> Self {
+    /// Uploads triangles; more than the device's largest buffer is [`ShadowError::Gpu`].
+    pub fn new(ctx: &GpuContext, tris: &[[Vec3; 3]]) -> Result<Self> {
+        let bytes = tris.len() as u64 * 36;
+        let max = ctx.device.limits().max_buffer_size;
+        if bytes > max {
+            return Err(ShadowError::Gpu(format!(
+                "{} triangles need a {bytes}-byte vertex buffer; the device allows {max}",
+                tris.len()
+            )));
+        }
         let flat: Vec<[f32; 3]> = tris.iter().flat_map(|t| t.map(|p| p.to_array())).collect();
         let vertices = ctx
             .device
@@ -37,10 +45,10 @@ impl GpuTriangles {
                 },
                 usage: wgpu::BufferUsages::VERTEX,
             });
-        Self {
+        Ok(Self {
             vertices,
             vertex_count: flat.len() as u32,
-        }
+        })
     }
 }
 
@@ -278,6 +286,26 @@ impl GpuRasterizer {
         width: u32,
         height: u32,
     ) -> Result<GpuGBuffer> {
+        ctx.checked("g-buffer", || {
+            self.gbuffer_unchecked(ctx, tris, view, eye, width, height)
+        })
+    }
+
+    fn gbuffer_unchecked(
+        &self,
+        ctx: &GpuContext,
+        tris: &[[Vec3; 3]],
+        view: &View,
+        eye: Vec3,
+        width: u32,
+        height: u32,
+    ) -> Result<GpuGBuffer> {
+        if tris.len() as u64 * 72 > ctx.device.limits().max_buffer_size {
+            return Err(ShadowError::Gpu(format!(
+                "{} triangles exceed the device's largest vertex buffer",
+                tris.len()
+            )));
+        }
         let max = ctx.max_texture_size();
         if width == 0 || height == 0 || width.max(height) > max {
             return Err(ShadowError::InvalidResolution {
