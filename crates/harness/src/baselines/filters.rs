@@ -145,14 +145,19 @@ fn cone_radius(m: &MapParams, l: f32, z_block: f32, z_recv: f32) -> f32 {
     }
 }
 
-fn visibility(maps: &CpuShadowMaps, prm: &EvalParams, p: Vec3, n: Vec3) -> f32 {
-    let m0 = maps.views[0].params(prm.resolution);
+fn visibility(
+    maps: &CpuShadowMaps,
+    params: &[MapParams],
+    prm: &EvalParams,
+    p: Vec3,
+    n: Vec3,
+) -> f32 {
+    let m0 = params[0];
     match prm.mode {
         MODE_ACCUMULATE => {
             let (mut sum, mut wsum) = (0.0f32, 0.0f32);
-            for (k, sv) in maps.views.iter().enumerate() {
-                let m = sv.params(prm.resolution);
-                let v = match shadow_coord(&m, prm, p, n) {
+            for (k, m) in params.iter().enumerate() {
+                let v = match shadow_coord(m, prm, p, n) {
                     None => 1.0,
                     Some(c) => lit(&maps.maps[k], &c, Vec2::ZERO),
                 };
@@ -214,9 +219,14 @@ fn pcss(map: &Map2D<f32>, m: &MapParams, prm: &EvalParams, c: &Coord) -> f32 {
 
 /// Visibility of every receiver from CPU maps.
 pub fn evaluate_cpu(prm: &EvalParams, maps: &CpuShadowMaps, r: &Receivers) -> Vec<f32> {
+    let params: Vec<MapParams> = maps
+        .views
+        .iter()
+        .map(|v| v.params(prm.resolution))
+        .collect();
     r.positions
         .par_iter()
         .zip(r.normals.par_iter())
-        .map(|(p, n)| visibility(maps, prm, *p, *n))
+        .map(|(p, n)| visibility(maps, &params, prm, *p, *n))
         .collect()
 }
