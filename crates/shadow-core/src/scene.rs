@@ -35,10 +35,16 @@ pub struct LightSource(pub Light);
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct CameraComponent(pub Camera);
 
+/// The order in which a mesh or light was added; flattening and listing follow it, so
+/// results do not depend on how the ECS allocates entities.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct SpawnOrder(pub u64);
+
 /// A scene: an ECS world plus convenience constructors.
 pub struct Scene {
     /// The ECS world holding every entity.
     pub world: World,
+    next: u64,
 }
 
 impl Default for Scene {
@@ -63,6 +69,7 @@ impl Scene {
     pub fn new() -> Self {
         Self {
             world: World::new(),
+            next: 0,
         }
     }
 
@@ -81,7 +88,12 @@ impl Scene {
                 reason: "transform is not finite".into(),
             });
         }
-        let mut e = self.world.spawn((MeshHandle(mesh), Transform(transform)));
+        self.next += 1;
+        let mut e = self.world.spawn((
+            MeshHandle(mesh),
+            Transform(transform),
+            SpawnOrder(self.next),
+        ));
         if caster {
             e.insert(ShadowCaster);
         }
@@ -94,7 +106,11 @@ impl Scene {
     /// Adds a light after validating it.
     pub fn add_light(&mut self, light: Light) -> Result<Entity> {
         light.validate()?;
-        Ok(self.world.spawn(LightSource(light)).id())
+        self.next += 1;
+        Ok(self
+            .world
+            .spawn((LightSource(light), SpawnOrder(self.next)))
+            .id())
     }
 
     /// Sets the (single) camera, replacing any previous one.
@@ -119,21 +135,22 @@ impl Scene {
             .map(|c| c.0)
     }
 
-    /// Every light, in spawn order.
+    /// Every light, in the order added (entities spawned without [`SpawnOrder`] come last).
     pub fn lights(&mut self) -> Vec<Light> {
-        let mut v: Vec<(Entity, Light)> = self
+        let mut v: Vec<(u64, Entity, Light)> = self
             .world
-            .query::<(Entity, &LightSource)>()
+            .query::<(Entity, &LightSource, Option<&SpawnOrder>)>()
             .iter(&self.world)
-            .map(|(e, l)| (e, l.0))
+            .map(|(e, l, o)| (o.map_or(u64::MAX, |o| o.0), e, l.0))
             .collect();
-        v.sort_by_key(|(e, _)| *e);
-        v.into_iter().map(|(_, l)| l).collect()
+        v.sort_by_key(|(o, e, _)| (*o, *e));
+        v.into_iter().map(|(_, _, l)| l).collect()
     }
 
-    /// Flattens casters and receivers into world-space triangles, in spawn order.
+    /// Flattens casters and receivers into world-space triangles, in the order added (entities
+    /// spawned without [`SpawnOrder`] come last).
     pub fn geometry(&mut self) -> SceneGeometry {
-        let mut items: Vec<(Entity, Arc<TriangleMesh>, Mat4, bool, bool)> = self
+        let mut items: Vec<((u64, Entity), Arc<TriangleMesh>, Mat4, bool, bool)> = self
             .world
             .query::<(
                 Entity,
@@ -141,9 +158,10 @@ impl Scene {
                 &Transform,
                 Has<ShadowCaster>,
                 Has<ShadowReceiver>,
+                Option<&SpawnOrder>,
             )>()
             .iter(&self.world)
-            .map(|(e, m, t, c, r)| (e, m.0.clone(), t.0, c, r))
+            .map(|(e, m, t, c, r, o)| ((o.map_or(u64::MAX, |o| o.0), e), m.0.clone(), t.0, c, r))
             .collect();
         items.sort_by_key(|i| i.0);
         let mut g = SceneGeometry::default();

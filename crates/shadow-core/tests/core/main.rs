@@ -3,3 +3,4 @@
 mod bad_input;
 mod light_sampling;
 mod rasterizer;
+mod scene;
