@@ -150,7 +150,14 @@ impl Scene {
     /// Flattens casters and receivers into world-space triangles, in the order added (entities
     /// spawned without [`SpawnOrder`] come last).
     pub fn geometry(&mut self) -> SceneGeometry {
-        let mut items: Vec<((u64, Entity), Arc<TriangleMesh>, Mat4, bool, bool)> = self
+        struct Instance {
+            order: (u64, Entity),
+            mesh: Arc<TriangleMesh>,
+            transform: Mat4,
+            caster: bool,
+            receiver: bool,
+        }
+        let mut items: Vec<Instance> = self
             .world
             .query::<(
                 Entity,
@@ -161,11 +168,24 @@ impl Scene {
                 Option<&SpawnOrder>,
             )>()
             .iter(&self.world)
-            .map(|(e, m, t, c, r, o)| ((o.map_or(u64::MAX, |o| o.0), e), m.0.clone(), t.0, c, r))
+            .map(|(e, m, t, c, r, o)| Instance {
+                order: (o.map_or(u64::MAX, |o| o.0), e),
+                mesh: m.0.clone(),
+                transform: t.0,
+                caster: c,
+                receiver: r,
+            })
             .collect();
-        items.sort_by_key(|i| i.0);
+        items.sort_by_key(|i| i.order);
         let mut g = SceneGeometry::default();
-        for (_, mesh, transform, caster, receiver) in items {
+        for Instance {
+            mesh,
+            transform,
+            caster,
+            receiver,
+            ..
+        } in items
+        {
             let tris: Vec<[Vec3; 3]> = mesh.world_triangles(transform).collect();
             if caster {
                 g.casters.extend_from_slice(&tris);
