@@ -121,7 +121,10 @@ impl RayTracer {
         let count = side * side;
         for k in 0..count {
             let s = seed.wrapping_mul(0x9E37_79B9).wrapping_add(k as u64);
-            let j = Vec2::new(rand01(s * 2 + 1), rand01(s * 2 + 2));
+            let j = Vec2::new(
+                rand01(s.wrapping_mul(2).wrapping_add(1)),
+                rand01(s.wrapping_mul(2).wrapping_add(2)),
+            );
             let u = if light.sample_dimension() == 1 {
                 Vec2::new((k as f32 + j.x) / count as f32, 0.5)
             } else {
