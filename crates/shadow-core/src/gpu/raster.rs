@@ -34,17 +34,7 @@ impl GpuTriangles {
             )));
         }
         let flat: Vec<[f32; 3]> = tris.iter().flat_map(|t| t.map(|p| p.to_array())).collect();
-        let vertices = ctx
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("triangles"),
-                contents: if flat.is_empty() {
-                    &[0u8; 12]
-                } else {
-                    bytemuck::cast_slice(&flat)
-                },
-                usage: wgpu::BufferUsages::VERTEX,
-            });
+        let vertices = vertex_buffer(ctx, "triangles", bytemuck::cast_slice(&flat));
         Ok(Self {
             vertices,
             vertex_count: flat.len() as u32,
@@ -60,6 +50,16 @@ pub struct GpuRasterizer {
     depth: wgpu::RenderPipeline,
     gbuffer: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
+}
+
+/// A vertex buffer holding `bytes` (one zero vertex when empty: wgpu rejects empty buffers).
+fn vertex_buffer(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: if bytes.is_empty() { &[0u8; 24] } else { bytes },
+            usage: wgpu::BufferUsages::VERTEX,
+        })
 }
 
 /// A depth attachment cleared to 0, the far plane of reversed Z.
@@ -320,17 +320,7 @@ impl GpuRasterizer {
                 t.map(|p| [p.x, p.y, p.z, n.x, n.y, n.z])
             })
             .collect();
-        let vb = ctx
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("gbuffer vertices"),
-                contents: if verts.is_empty() {
-                    &[0u8; 24]
-                } else {
-                    bytemuck::cast_slice(&verts)
-                },
-                usage: wgpu::BufferUsages::VERTEX,
-            });
+        let vb = vertex_buffer(ctx, "gbuffer vertices", bytemuck::cast_slice(&verts));
         let size = wgpu::Extent3d {
             width,
             height,
