@@ -65,7 +65,7 @@ impl SampleView {
 }
 
 /// The views of `count` stratified light samples (1: the light's centre), fitted to `bounds`.
-pub fn sample_views(light: &Light, bounds: &Aabb, count: u32, _resolution: u32) -> Vec<SampleView> {
+pub fn sample_views(light: &Light, bounds: &Aabb, count: u32) -> Vec<SampleView> {
     let center = bounds.center();
     let axis = light.axis(center);
     let make = |q: LightPoint, weight: f32| SampleView {
@@ -99,8 +99,13 @@ pub struct CpuShadowMaps {
 }
 
 impl CpuShadowMaps {
-    /// Rasterizes one depth map per view.
-    pub fn render(views: &[SampleView], casters: &[[Vec3; 3]], resolution: u32) -> Self {
+    /// Rasterizes one depth map per view; `light_size` is [`Light::size`], kept for PCSS.
+    pub fn render(
+        views: &[SampleView],
+        casters: &[[Vec3; 3]],
+        resolution: u32,
+        light_size: f32,
+    ) -> Self {
         let maps = views
             .iter()
             .map(|v| depth_map(&v.view, resolution, casters))
@@ -109,13 +114,7 @@ impl CpuShadowMaps {
             maps,
             views: views.to_vec(),
             resolution,
-            light_size: 0.0,
+            light_size,
         }
-    }
-
-    /// Sets the light size used by PCSS.
-    pub fn with_light_size(mut self, size: f32) -> Self {
-        self.light_size = size;
-        self
     }
 }

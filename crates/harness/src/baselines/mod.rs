@@ -146,9 +146,13 @@ impl ShadowTechnique for ShadowMapBaseline {
         resolution: u32,
     ) -> Result<CpuShadowMaps> {
         self.check_inputs(geometry, light, resolution, MAX_CPU_RESOLUTION)?;
-        let views = sample_views(light, &geometry.bounds, self.map_count(), resolution);
-        Ok(CpuShadowMaps::render(&views, &geometry.casters, resolution)
-            .with_light_size(light.size()))
+        let views = sample_views(light, &geometry.bounds, self.map_count());
+        Ok(CpuShadowMaps::render(
+            &views,
+            &geometry.casters,
+            resolution,
+            light.size(),
+        ))
     }
 
     fn evaluate_cpu(&self, maps: &CpuShadowMaps, receivers: &Receivers) -> Result<Vec<f32>> {
@@ -171,7 +175,7 @@ impl ShadowTechnique for ShadowMapBaseline {
         resolution: u32,
     ) -> Result<gpu::GpuShadowMaps> {
         self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
-        let views = sample_views(light, &geometry.bounds, self.map_count(), resolution);
+        let views = sample_views(light, &geometry.bounds, self.map_count());
         gpu.checked("shadow-map generation", || {
             gpu::GpuShadowMaps::render(gpu, &views, &geometry.casters, resolution, light.size())
         })
