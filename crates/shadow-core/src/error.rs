@@ -57,6 +57,9 @@ pub enum ShadowError {
     /// Receiver positions and normals differ in length, or hold non-finite values.
     #[error("invalid receivers: {0}")]
     InvalidReceivers(String),
+    /// A technique parameter is out of its documented range (names the parameter and the value).
+    #[error("invalid parameter: {0}")]
+    InvalidParameter(String),
     /// Maps handed to an evaluation step were produced for another backend or technique.
     #[error("maps mismatch: {0}")]
     MapsMismatch(String),

@@ -2,7 +2,8 @@
 //!
 //! - [`scene`]: the `bevy_ecs` scene (meshes, transforms, casters, receivers, lights, camera) and
 //!   its flattening into plain [`SceneGeometry`] for technique kernels.
-//! - [`light`]: the light kinds, their validation and sampling; [`view`]: camera and light frusta.
+//! - [`light`]: the light kinds, their validation and sampling; [`view`]: camera and light frusta;
+//!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
 //! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers).
 //! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
 //! - [`gltf_import`]: glTF/GLB meshes.
@@ -13,6 +14,7 @@ pub mod error;
 pub mod gltf_import;
 pub mod gpu;
 pub mod light;
+pub mod light_space;
 pub mod map2d;
 pub mod mesh;
 pub mod raster;
@@ -23,6 +25,7 @@ pub mod view;
 pub use error::{Result, ShadowError};
 pub use gpu::GpuContext;
 pub use light::{DistantProfile, Light, LightKind, LightPoint};
+pub use light_space::{Bias, MapParams, SampleView, ShadowCoord};
 pub use map2d::Map2D;
 pub use mesh::{Aabb, TriangleMesh};
 pub use scene::{Scene, SceneGeometry};

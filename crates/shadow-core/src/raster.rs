@@ -41,6 +41,79 @@ impl Fragment {
     }
 }
 
+/// Which fragment a depth pass keeps per texel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum DepthTest {
+    /// The surface nearest the view (`Greater` in reversed Z; cleared to the far plane).
+    #[default]
+    Nearest,
+    /// The farthest surface (`Less` in reversed Z; cleared to the near plane), the paper's
+    /// "z-greater" test (Kirsch & Döllner 2003, section 5).
+    Farthest,
+}
+
+/// Which triangles a depth pass rasterizes, by their orientation in the view.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Faces {
+    /// Every triangle (no culling).
+    #[default]
+    All,
+    /// Only triangles whose back (clockwise in NDC) faces the view; front faces are culled, as
+    /// `cull_mode: Front` with counter-clockwise front faces does on the GPU.
+    Back,
+}
+
+/// A depth pass: the depth test and the faces it draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub struct DepthPass {
+    /// Nearest or farthest surface.
+    pub test: DepthTest,
+    /// All faces or back faces only.
+    pub faces: Faces,
+}
+
+impl DepthPass {
+    /// The ordinary shadow-map pass: nearest surface, every face.
+    pub const NEAREST: DepthPass = DepthPass {
+        test: DepthTest::Nearest,
+        faces: Faces::All,
+    };
+    /// The farthest surface of every face.
+    pub const FARTHEST: DepthPass = DepthPass {
+        test: DepthTest::Farthest,
+        faces: Faces::All,
+    };
+    /// The farthest back face (second-depth style maps).
+    pub const FARTHEST_BACK: DepthPass = DepthPass {
+        test: DepthTest::Farthest,
+        faces: Faces::Back,
+    };
+
+    /// The reversed-Z NDC depth the pass clears to: 0 (far plane) or 1 (near plane).
+    pub fn clear_depth(self) -> f32 {
+        match self.test {
+            DepthTest::Nearest => 0.0,
+            DepthTest::Farthest => 1.0,
+        }
+    }
+
+    /// Linear depth of a texel of this pass; the cleared value gives [`crate::view::NO_OCCLUDER`].
+    pub fn linear_depth(self, view: &View, z_ndc: f32) -> f32 {
+        match self.test {
+            DepthTest::Nearest => view.linear_depth_from_ndc(z_ndc),
+            DepthTest::Farthest if z_ndc >= 1.0 => crate::view::NO_OCCLUDER,
+            DepthTest::Farthest => view.linear_depth_from_ndc(z_ndc),
+        }
+    }
+
+    fn passes(self, z: f32, stored: f32) -> bool {
+        match self.test {
+            DepthTest::Nearest => z > stored,
+            DepthTest::Farthest => z < stored,
+        }
+    }
+}
+
 #[derive(Clone, Copy)]
 struct ClipVertex {
     pos: Vec4,
@@ -95,7 +168,7 @@ impl Poly {
     }
 }
 
-fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<ScreenTri> {
+fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]], faces: Faces) -> Vec<ScreenTri> {
     let vp = view.view_projection();
     let (w, h) = (width as f64, height as f64);
     tris.par_iter()
@@ -149,9 +222,11 @@ fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Vec<Screen
             };
             let v0 = vert(&poly.v[0]);
             for k in 1..poly.n - 1 {
-                if let Some(t) =
-                    screen_tri([v0, vert(&poly.v[k]), vert(&poly.v[k + 1])], index as u32)
-                {
+                if let Some(t) = screen_tri(
+                    [v0, vert(&poly.v[k]), vert(&poly.v[k + 1])],
+                    index as u32,
+                    faces,
+                ) {
                     out.push(t);
                 }
             }
@@ -175,13 +250,14 @@ struct Vert {
     bary: Vec3,
 }
 
-fn screen_tri(v: [Vert; 3], triangle: u32) -> Option<ScreenTri> {
+fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
     let mut v = v;
     let edge = |a: (i64, i64), b: (i64, i64), p: (i64, i64)| {
         (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0)
     };
     let mut area = edge((v[0].x, v[0].y), (v[1].x, v[1].y), (v[2].x, v[2].y));
-    if area == 0 {
+    // y points down on screen, so a counter-clockwise (front) triangle in NDC has area < 0 here.
+    if area == 0 || (faces == Faces::Back && area < 0) {
         return None;
     }
     if area < 0 {
@@ -220,12 +296,13 @@ fn screen_tri(v: [Vert; 3], triangle: u32) -> Option<ScreenTri> {
 }
 
 /// Rasterizes `tris` into the rows `row0..` of a band; `z_of` reads a texel's NDC depth and
-/// `shade` makes the texel of a fragment that passes the `Greater` depth test.
+/// `shade` makes the texel of a fragment that passes `pass`'s depth test.
 fn raster_band<T>(
     tris: &[ScreenTri],
     width: u32,
     row0: usize,
     rows: &mut [T],
+    pass: DepthPass,
     z_of: impl Fn(&T) -> f32,
     shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T,
 ) {
@@ -276,7 +353,7 @@ fn raster_band<T>(
                 };
                 let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
                 let texel = &mut rows[(py as usize - row0) * w + px as usize];
-                if z > z_of(texel) {
+                if pass.passes(z, z_of(texel)) {
                     *texel = shade(t, l, z);
                 }
             }
@@ -296,11 +373,13 @@ fn fragment(t: &ScreenTri, l: [f64; 3], z: f32) -> Fragment {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn rasterize_into<T: Clone + Send>(
     view: &View,
     width: u32,
     height: u32,
     tris: &[[Vec3; 3]],
+    pass: DepthPass,
     empty: T,
     z_of: impl Fn(&T) -> f32 + Sync,
     shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T + Sync,
@@ -310,12 +389,12 @@ fn rasterize_into<T: Clone + Send>(
     if w == 0 || height == 0 {
         return out;
     }
-    let screen = setup(view, width, height, tris);
+    let screen = setup(view, width, height, tris, pass.faces);
     out.data_mut()
         .par_chunks_mut(w * BAND_ROWS)
         .enumerate()
         .for_each(|(band, rows)| {
-            raster_band(&screen, width, band * BAND_ROWS, rows, &z_of, &shade);
+            raster_band(&screen, width, band * BAND_ROWS, rows, pass, &z_of, &shade);
         });
     out
 }
@@ -327,6 +406,7 @@ pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Ma
         width,
         height,
         tris,
+        DepthPass::NEAREST,
         Fragment::EMPTY,
         |f| f.z_ndc,
         fragment,
@@ -337,18 +417,29 @@ pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Ma
 ///
 /// Depth-only: keeps 4 bytes per texel while rasterizing.
 pub fn depth_map(view: &View, resolution: u32, tris: &[[Vec3; 3]]) -> Map2D<f32> {
+    depth_map_pass(view, resolution, tris, DepthPass::NEAREST)
+}
+
+/// A linear depth map of the surfaces `pass` keeps ([`crate::view::NO_OCCLUDER`] where empty).
+pub fn depth_map_pass(
+    view: &View,
+    resolution: u32,
+    tris: &[[Vec3; 3]],
+    pass: DepthPass,
+) -> Map2D<f32> {
     let mut z = rasterize_into(
         view,
         resolution,
         resolution,
         tris,
-        0.0f32,
+        pass,
+        pass.clear_depth(),
         |z| *z,
         |_, _, z| z,
     );
     z.data_mut()
         .par_iter_mut()
-        .for_each(|d| *d = view.linear_depth_from_ndc(*d));
+        .for_each(|d| *d = pass.linear_depth(view, *d));
     z
 }
 

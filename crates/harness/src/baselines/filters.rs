@@ -1,12 +1,13 @@
 //! The baselines' filters on the CPU. `shadow_map_eval.wgsl` is the same code in WGSL, line for
 //! line, so that both backends compute the same function.
 
-use super::maps::{CpuShadowMaps, MapParams};
+use super::maps::CpuShadowMaps;
 use super::{Filter, PCSS_FILTER_MAX, PCSS_SEARCH_MAX, ShadowMapBaseline};
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use shadow_core::{Map2D, Receivers};
+use shadow_core::light_space::shadow_coord;
+use shadow_core::{Bias, Map2D, MapParams, Receivers, ShadowCoord};
 
 /// Filter modes as the shader numbers them.
 pub const MODE_HARD: u32 = 0;
@@ -21,8 +22,6 @@ pub const MODE_ACCUMULATE: u32 = 3;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct EvalParams {
-    /// Map side in texels.
-    pub resolution: u32,
     /// Number of maps.
     pub map_count: u32,
     /// One of the `MODE_*` constants.
@@ -31,27 +30,22 @@ pub struct EvalParams {
     pub receiver_count: u32,
     /// PCF radius in texels.
     pub pcf_radius: i32,
-    /// Normal offset in texels.
-    pub normal_offset: f32,
-    /// Depth bias in texels.
-    pub depth_bias: f32,
     /// [`shadow_core::Light::size`].
     pub light_size: f32,
     /// Largest blocker-search radius (texels).
     pub search_max: f32,
     /// Largest PCSS filter radius (texels).
     pub filter_max: f32,
-    /// Slope bias scale.
-    pub slope_bias: f32,
     /// Padding.
     pub _pad: f32,
+    /// Receiver biases.
+    pub bias: Bias,
 }
 
 impl EvalParams {
-    /// Parameters of `b` for maps of `resolution` and `map_count` layers.
+    /// Parameters of `b` for `map_count` maps, `receiver_count` receivers and a light of `light_size`.
     pub fn new(
         b: &ShadowMapBaseline,
-        resolution: u32,
         map_count: u32,
         receiver_count: u32,
         light_size: f32,
@@ -63,71 +57,24 @@ impl EvalParams {
             Filter::Accumulate { .. } => (MODE_ACCUMULATE, 0),
         };
         Self {
-            resolution,
             map_count,
             mode,
             receiver_count,
             pcf_radius: radius,
-            normal_offset: b.bias.normal_offset,
-            depth_bias: b.bias.depth,
             light_size,
             search_max: PCSS_SEARCH_MAX,
             filter_max: PCSS_FILTER_MAX,
-            slope_bias: b.bias.slope,
             _pad: 0.0,
+            bias: b.bias,
         }
     }
-}
-
-fn linear_depth(m: &MapParams, p: Vec3) -> f32 {
-    Vec4::from(m.depth_row).dot(p.extend(1.0))
-}
-
-/// A receiver in one map: position in texels, biased comparison depth, slope bias per texel of offset.
-#[derive(Clone, Copy)]
-struct Coord {
-    st: Vec2,
-    z: f32,
-    slope: f32,
-}
-
-/// The receiver in map `m`, or `None` outside the map (lit).
-fn shadow_coord(m: &MapParams, prm: &EvalParams, p: Vec3, n: Vec3) -> Option<Coord> {
-    let z = linear_depth(m, p);
-    let texel = m.texel_a * z + m.texel_b;
-    let l = Vec4::from(m.light);
-    let to_light = if l.w == 1.0 {
-        l.truncate() - p
-    } else {
-        l.truncate()
-    };
-    let c = (n.dot(to_light) / to_light.length().max(1e-30))
-        .abs()
-        .max(0.1);
-    let slope = prm.slope_bias * texel * ((1.0 - c * c).max(0.0).sqrt() / c);
-    let p2 = p + n * (prm.normal_offset * texel);
-    let clip = Mat4::from_cols_array(&m.view_proj) * p2.extend(1.0);
-    if clip.w <= 0.0 {
-        return None;
-    }
-    let ndc = Vec2::new(clip.x / clip.w, clip.y / clip.w);
-    if ndc.x.abs() > 1.0 || ndc.y.abs() > 1.0 {
-        return None;
-    }
-    let res = prm.resolution as f32;
-    let st = Vec2::new((ndc.x * 0.5 + 0.5) * res, (0.5 - ndc.y * 0.5) * res);
-    Some(Coord {
-        st,
-        z: linear_depth(m, p2) - prm.depth_bias * texel - slope,
-        slope,
-    })
 }
 
 fn tap(map: &Map2D<f32>, st: Vec2, d: Vec2) -> f32 {
     *map.get_clamped((st.x + d.x).floor() as i64, (st.y + d.y).floor() as i64)
 }
 
-fn lit(map: &Map2D<f32>, c: &Coord, d: Vec2) -> f32 {
+fn lit(map: &Map2D<f32>, c: &ShadowCoord, d: Vec2) -> f32 {
     if c.z - c.slope * d.length() <= tap(map, c.st, d) {
         1.0
     } else {
@@ -157,7 +104,7 @@ fn visibility(
         MODE_ACCUMULATE => {
             let (mut sum, mut wsum) = (0.0f32, 0.0f32);
             for (k, m) in params.iter().enumerate() {
-                let v = match shadow_coord(m, prm, p, n) {
+                let v = match shadow_coord(m, &prm.bias, p, n) {
                     None => 1.0,
                     Some(c) => lit(&maps.maps[k], &c, Vec2::ZERO),
                 };
@@ -167,7 +114,7 @@ fn visibility(
             if wsum > 0.0 { sum / wsum } else { 1.0 }
         }
         _ => {
-            let Some(c) = shadow_coord(&m0, prm, p, n) else {
+            let Some(c) = shadow_coord(&m0, &prm.bias, p, n) else {
                 return 1.0;
             };
             let map = &maps.maps[0];
@@ -189,7 +136,7 @@ fn visibility(
     }
 }
 
-fn pcss(map: &Map2D<f32>, m: &MapParams, prm: &EvalParams, c: &Coord) -> f32 {
+fn pcss(map: &Map2D<f32>, m: &MapParams, prm: &EvalParams, c: &ShadowCoord) -> f32 {
     let (st, z) = (c.st, c.z);
     let search = cone_radius(m, prm.light_size, m.near, z).clamp(1.0, prm.search_max);
     let (mut sum, mut count) = (0.0f32, 0.0f32);
@@ -222,7 +169,7 @@ pub fn evaluate_cpu(prm: &EvalParams, maps: &CpuShadowMaps, r: &Receivers) -> Ve
     let params: Vec<MapParams> = maps
         .views
         .iter()
-        .map(|v| v.params(prm.resolution))
+        .map(|v| v.params(maps.resolution))
         .collect();
     r.positions
         .par_iter()

@@ -2,12 +2,14 @@
 //! reversed-Z texture array, filters evaluated by the compute shader `shadow_map_eval.wgsl`.
 
 use super::filters::EvalParams;
-use super::maps::{MapParams, SampleView};
 use glam::Vec3;
+use shadow_core::gpu::compute::{
+    ReceiverBuffers, bind_group, compute_pipelines, depth_array_entry, depth_array_view,
+    storage_entry, uniform_entry,
+};
+use shadow_core::gpu::light_space_shader;
 use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
-use shadow_core::{GpuContext, Map2D, Receivers, Result, ShadowError};
-
-const WORKGROUP: u32 = 64;
+use shadow_core::{GpuContext, Map2D, MapParams, Receivers, Result, SampleView, ShadowError};
 
 /// Depth maps kept on the GPU.
 pub struct GpuShadowMaps {
@@ -28,65 +30,25 @@ struct EvalPipeline {
     layout: wgpu::BindGroupLayout,
 }
 
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 impl EvalPipeline {
     fn new(ctx: &GpuContext) -> Self {
         let d = &ctx.device;
-        let module = d.create_shader_module(wgpu::include_wgsl!("shadow_map_eval.wgsl"));
+        let module = d.create_shader_module(light_space_shader(
+            "shadow map eval",
+            include_str!("shadow_map_eval.wgsl"),
+        ));
         let layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadow map eval"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                uniform_entry(0),
                 storage_entry(1, true),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
+                depth_array_entry(2),
                 storage_entry(3, true),
                 storage_entry(4, true),
                 storage_entry(5, false),
             ],
         });
-        let pl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shadow map eval"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("shadow map eval"),
-            layout: Some(&pl),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let [pipeline] = compute_pipelines(ctx, "shadow map eval", &module, &layout, ["main"]);
         Self { pipeline, layout }
     }
 }
@@ -137,91 +99,30 @@ pub fn evaluate(
     maps: &GpuShadowMaps,
     r: &Receivers,
 ) -> Result<Vec<f32>> {
-    let n = r.positions.len() as u32;
-    if n == 0 {
+    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
         return Ok(Vec::new());
-    }
-    let groups = n.div_ceil(WORKGROUP);
-    let max_groups = ctx.device.limits().max_compute_workgroups_per_dimension;
-    if groups > max_groups {
-        return Err(ShadowError::InvalidReceivers(format!(
-            "{n} receivers exceed one dispatch ({} at most)",
-            max_groups * WORKGROUP
-        )));
-    }
-    let limit = ctx.device.limits().max_storage_buffer_binding_size;
-    if n as u64 * 16 > limit {
-        return Err(ShadowError::InvalidReceivers(format!(
-            "{n} receivers need {} bytes, above the device's {limit}-byte storage binding",
-            n as u64 * 16
-        )));
-    }
+    };
     let pipe = ctx.cached(EvalPipeline::new);
     let params: Vec<MapParams> = maps
         .views
         .iter()
         .map(|v| v.params(maps.resolution))
         .collect();
-    let pos: Vec<[f32; 4]> = r
-        .positions
-        .iter()
-        .map(|p| p.extend(1.0).to_array())
-        .collect();
-    let nrm: Vec<[f32; 4]> = r.normals.iter().map(|p| p.extend(0.0).to_array()).collect();
     let u = ctx.uniform_buffer("eval params", bytemuck::bytes_of(prm));
     let vb = ctx.storage_buffer("map views", bytemuck::cast_slice(&params));
-    let pb = ctx.storage_buffer("receiver positions", bytemuck::cast_slice(&pos));
-    let nb = ctx.storage_buffer("receiver normals", bytemuck::cast_slice(&nrm));
-    let out_size = n as u64 * 4;
-    let ob = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("visibility"),
-        size: out_size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let tv = maps.texture.create_view(&wgpu::TextureViewDescriptor {
-        dimension: Some(wgpu::TextureViewDimension::D2Array),
-        aspect: wgpu::TextureAspect::DepthOnly,
-        ..Default::default()
-    });
-    let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("shadow map eval"),
-        layout: &pipe.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: u.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: vb.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(&tv),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: pb.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: nb.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 5,
-                resource: ob.as_entire_binding(),
-            },
+    let tv = depth_array_view(&maps.texture);
+    let bind = bind_group(
+        ctx,
+        "shadow map eval",
+        &pipe.layout,
+        &[
+            u.as_entire_binding(),
+            vb.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&tv),
+            rb.positions.as_entire_binding(),
+            rb.normals.as_entire_binding(),
+            rb.visibility.as_entire_binding(),
         ],
-    });
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipe.pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(groups, 1, 1);
-    }
-    ctx.queue.submit([enc.finish()]);
-    let bytes = ctx.read_buffer(&ob, out_size)?;
-    Ok(bytemuck::pod_collect_to_vec(&bytes))
+    );
+    rb.run(ctx, &pipe.pipeline, &bind)
 }

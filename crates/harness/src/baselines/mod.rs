@@ -13,10 +13,11 @@ pub mod filters;
 pub mod gpu;
 pub mod maps;
 
-use maps::{CpuShadowMaps, sample_views};
+use maps::CpuShadowMaps;
+use shadow_core::light_space::sample_views;
 use shadow_core::technique::MAX_CPU_RESOLUTION;
 use shadow_core::{
-    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+    Bias, GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
 };
 
 /// Which baseline filter.
@@ -38,38 +39,12 @@ pub enum Filter {
     },
 }
 
-/// Biases shared by every baseline, in texels of the map at the receiver's depth.
-///
-/// The comparison depth of a tap at offset `d` texels is
-/// `z(p + n * normal_offset * texel) - texel * (depth + slope * tan(theta) * (1 + |d|))`, with `theta`
-/// the angle between the normal and the light (tan clamped to 10): a constant, a slope-scaled and a
-/// receiver-plane bias, as engines combine them against acne.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Bias {
-    /// Receiver offset along its normal.
-    pub normal_offset: f32,
-    /// Constant depth bias.
-    pub depth: f32,
-    /// Scale of the slope term.
-    pub slope: f32,
-}
-
-impl Default for Bias {
-    fn default() -> Self {
-        Self {
-            normal_offset: 1.0,
-            depth: 1.0,
-            slope: 1.0,
-        }
-    }
-}
-
 /// A shadow-map baseline: a filter plus biases.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadowMapBaseline {
     /// The filter.
     pub filter: Filter,
-    /// The biases.
+    /// The receiver biases (one texel of each term by default).
     pub bias: Bias,
 }
 
@@ -159,7 +134,6 @@ impl ShadowTechnique for ShadowMapBaseline {
         receivers.validate()?;
         let params = filters::EvalParams::new(
             self,
-            maps.resolution,
             maps.views.len() as u32,
             receivers.positions.len() as u32,
             maps.light_size,
@@ -190,7 +164,6 @@ impl ShadowTechnique for ShadowMapBaseline {
         receivers.validate()?;
         let params = filters::EvalParams::new(
             self,
-            maps.resolution,
             maps.views.len() as u32,
             receivers.positions.len() as u32,
             maps.light_size,

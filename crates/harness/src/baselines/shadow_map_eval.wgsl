@@ -1,33 +1,17 @@
+// requires: light_space.wgsl
 // Baseline shadow-map filters (hard, PCF, PCSS, accumulation) over reversed-Z depth maps.
 // Mirrors harness::baselines::filters line for line.
 
 struct Params {
-    resolution: u32,
     map_count: u32,
     mode: u32,
     receiver_count: u32,
     pcf_radius: i32,
-    normal_offset: f32,
-    depth_bias: f32,
     light_size: f32,
     search_max: f32,
     filter_max: f32,
-    slope_bias: f32,
     _pad0: f32,
-};
-
-struct MapView {
-    view_proj: mat4x4<f32>,
-    depth_row: vec4<f32>,
-    near: f32,
-    far: f32,
-    texel_a: f32,
-    texel_b: f32,
-    ortho: u32,
-    weight: f32,
-    _pad0: f32,
-    _pad1: f32,
-    light: vec4<f32>,
+    bias: Bias,
 };
 
 @group(0) @binding(0) var<uniform> prm: Params;
@@ -37,63 +21,15 @@ struct MapView {
 @group(0) @binding(4) var<storage, read> normals: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read_write> out_v: array<f32>;
 
-const NO_OCCLUDER: f32 = 3.40282347e38;
-
-fn linear_depth(m: MapView, p: vec3<f32>) -> f32 {
-    return dot(m.depth_row, vec4<f32>(p, 1.0));
-}
-
 // Linear depth stored in layer `layer` at texel (x, y), clamped to the edge.
 fn tap(m: MapView, layer: u32, st: vec2<f32>, d: vec2<f32>) -> f32 {
-    let last = i32(prm.resolution) - 1;
+    let last = i32(m.resolution) - 1;
     let xy = clamp(vec2<i32>(floor(st + d)), vec2<i32>(0), vec2<i32>(last));
-    let z_ndc = textureLoad(depth_maps, xy, layer, 0);
-    if z_ndc <= 0.0 {
-        return NO_OCCLUDER;
-    }
-    if m.ortho == 1u {
-        return m.far - z_ndc * (m.far - m.near);
-    }
-    return m.near * m.far / (z_ndc * (m.far - m.near) + m.near);
+    return linear_from_ndc(m, textureLoad(depth_maps, xy, layer, 0));
 }
-
-struct Coord {
-    inside: bool,
-    st: vec2<f32>,
-    z: f32,
-    slope: f32,
-};
 
 fn lit(m: MapView, layer: u32, c: Coord, d: vec2<f32>) -> f32 {
     return select(0.0, 1.0, c.z - c.slope * length(d) <= tap(m, layer, c.st, d));
-}
-
-fn shadow_coord(m: MapView, p: vec3<f32>, n: vec3<f32>) -> Coord {
-    var c: Coord;
-    c.inside = false;
-    let z = linear_depth(m, p);
-    let texel = m.texel_a * z + m.texel_b;
-    var to_light = m.light.xyz;
-    if m.light.w == 1.0 {
-        to_light = m.light.xyz - p;
-    }
-    let cs = max(abs(dot(n, to_light) / max(length(to_light), 1e-30)), 0.1);
-    let slope = prm.slope_bias * texel * (sqrt(max(1.0 - cs * cs, 0.0)) / cs);
-    let p2 = p + n * (prm.normal_offset * texel);
-    let clip = m.view_proj * vec4<f32>(p2, 1.0);
-    if clip.w <= 0.0 {
-        return c;
-    }
-    let ndc = vec2<f32>(clip.x / clip.w, clip.y / clip.w);
-    if abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 {
-        return c;
-    }
-    let res = f32(prm.resolution);
-    c.inside = true;
-    c.st = vec2<f32>((ndc.x * 0.5 + 0.5) * res, (0.5 - ndc.y * 0.5) * res);
-    c.z = linear_depth(m, p2) - prm.depth_bias * texel - slope;
-    c.slope = slope;
-    return c;
 }
 
 fn cone_radius(m: MapView, l: f32, z_block: f32, z_recv: f32) -> f32 {
@@ -140,7 +76,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         var wsum = 0.0;
         for (var k = 0u; k < prm.map_count; k++) {
             let m = views[k];
-            let c = shadow_coord(m, p, n);
+            let c = shadow_coord(m, prm.bias, p, n);
             var v = 1.0;
             if c.inside {
                 v = lit(m, k, c, vec2<f32>(0.0));
@@ -151,7 +87,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         return select(1.0, sum / wsum, wsum > 0.0);
     }
     let m = views[0];
-    let c = shadow_coord(m, p, n);
+    let c = shadow_coord(m, prm.bias, p, n);
     if !c.inside {
         return 1.0;
     }

@@ -13,6 +13,7 @@ use crate::setup::PreparedScene;
 use indicatif::{ProgressBar, ProgressStyle};
 use json::{Machine, ReferenceInfo, Report, Run};
 use shadow_core::{Backend, DynTechnique, GpuContext, Result, ShadowError};
+use shadow_width::ShadowWidth;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -51,10 +52,13 @@ pub struct ReportOptions {
 /// Every technique the report knows, for `--techniques`.
 pub fn all_techniques(quick: bool) -> Vec<Box<dyn DynTechnique>> {
     let accumulation: &[u32] = if quick { &[16] } else { &[4, 16, 64, 256] };
-    ShadowMapBaseline::standard_set(accumulation)
+    let baselines = ShadowMapBaseline::standard_set(accumulation)
         .into_iter()
-        .map(|b| Box::new(b) as Box<dyn DynTechnique>)
-        .collect()
+        .map(|b| Box::new(b) as Box<dyn DynTechnique>);
+    let shadow_width = ShadowWidth::standard_set()
+        .into_iter()
+        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
+    baselines.chain(shadow_width).collect()
 }
 
 fn cpu_name() -> String {

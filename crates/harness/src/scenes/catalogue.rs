@@ -239,8 +239,8 @@ pub fn build(name: &str) -> Result<SceneSpec> {
                 quad_grid(
                     "wall",
                     Vec3::new(1.5, 0.0, -2.0),
-                    Vec3::Y * 4.0,
                     Vec3::Z * 4.0,
+                    Vec3::Y * 4.0,
                     1,
                 ),
                 horizontal_rect("occluder", Vec2::new(0.3, 1.0), Vec2::new(-0.4, 0.4), 1.2),

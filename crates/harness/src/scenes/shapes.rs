@@ -12,6 +12,7 @@ fn mesh(name: &str, positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> TriangleMes
 }
 
 /// A grid in the plane through `origin` spanned by `u` and `v` (full side vectors), `n x n` cells.
+/// Its front (counter-clockwise) face looks along `u x v`.
 pub fn quad_grid(name: &str, origin: Vec3, u: Vec3, v: Vec3, n: u32) -> TriangleMesh {
     let n = n.max(1);
     let mut p = Vec::new();
@@ -31,24 +32,24 @@ pub fn quad_grid(name: &str, origin: Vec3, u: Vec3, v: Vec3, n: u32) -> Triangle
     mesh(name, p, ix)
 }
 
-/// A horizontal square of side `size` centred at `center`, `n x n` cells.
+/// A horizontal square of side `size` centred on the Y axis at height `y`, `n x n` cells, facing +Y.
 pub fn ground(size: f32, y: f32, n: u32) -> TriangleMesh {
     quad_grid(
         "ground",
         Vec3::new(-0.5 * size, y, -0.5 * size),
-        Vec3::X * size,
         Vec3::Z * size,
+        Vec3::X * size,
         n,
     )
 }
 
-/// A horizontal rectangle `[x0,x1] x [z0,z1]` at height `y`.
+/// A horizontal rectangle `[x0,x1] x [z0,z1]` at height `y`, facing +Y.
 pub fn horizontal_rect(name: &str, x: Vec2, z: Vec2, y: f32) -> TriangleMesh {
     quad_grid(
         name,
         Vec3::new(x.x, y, z.x),
-        Vec3::X * (x.y - x.x),
         Vec3::Z * (z.y - z.x),
+        Vec3::X * (x.y - x.x),
         1,
     )
 }
@@ -83,7 +84,7 @@ pub fn cuboid(name: &str, center: Vec3, half: Vec3) -> TriangleMesh {
     mesh(name, p, ix)
 }
 
-/// A torus around +Y: major radius `r_major`, tube radius `r_minor`.
+/// A torus around +Y: major radius `r_major`, tube radius `r_minor`; front faces outwards.
 pub fn torus(
     center: Vec3,
     r_major: f32,
@@ -106,15 +107,15 @@ pub fn torus(
             let i1 = (i + 1) % seg_major;
             let j1 = (j + 1) % seg_minor;
             let q = |i: u32, j: u32| i * seg_minor + j;
-            ix.push([q(i, j), q(i1, j), q(i1, j1)]);
-            ix.push([q(i, j), q(i1, j1), q(i, j1)]);
+            ix.push([q(i, j), q(i1, j1), q(i1, j)]);
+            ix.push([q(i, j), q(i, j1), q(i1, j1)]);
         }
     }
     mesh("torus", p, ix)
 }
 
 /// A patch of a cylinder with axis along Z through `axis_point`, radius `r`, angles (from +Y towards +X)
-/// in `[a0, a1]`, length `len`.
+/// in `[a0, a1]`, length `len`; front faces outwards.
 pub fn cylinder_patch(
     axis_point: Vec3,
     r: f32,
@@ -133,8 +134,8 @@ pub fn cylinder_patch(
     }
     for i in 0..segs {
         let a = 2 * i;
-        ix.push([a, a + 2, a + 3]);
-        ix.push([a, a + 3, a + 1]);
+        ix.push([a, a + 3, a + 2]);
+        ix.push([a, a + 1, a + 3]);
     }
     mesh("cylinder-patch", p, ix)
 }

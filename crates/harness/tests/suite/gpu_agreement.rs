@@ -7,7 +7,7 @@ use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_core::gpu::testing::gpu_for_test;
 use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
-use shadow_core::raster::{depth_map, gbuffer};
+use shadow_core::raster::{DepthPass, depth_map_pass, gbuffer};
 use shadow_core::view::NO_OCCLUDER;
 use shadow_core::{Backend, DynTechnique, Receivers as Recv, View};
 
@@ -15,47 +15,56 @@ use shadow_core::{Backend, DynTechnique, Receivers as Recv, View};
 /// may be at most this fraction of the map.
 const MAX_COVERAGE_MISMATCH: f64 = 1e-3;
 
+/// Every depth pass (nearest, farthest, farthest back face) on every catalogue scene: CPU and GPU
+/// agree on coverage (culling included) and depth.
 #[test]
 fn gpu_depth_maps_match_the_cpu_rasterizer() {
     let Some(ctx) = gpu_for_test("gpu_depth_maps_match_the_cpu_rasterizer") else {
         return;
     };
     let raster = GpuRasterizer::new(&ctx);
+    let passes = [
+        DepthPass::NEAREST,
+        DepthPass::FARTHEST,
+        DepthPass::FARTHEST_BACK,
+    ];
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
         let geo = spec.to_scene().unwrap().geometry();
         let view = View::for_light_center(&spec.light, &geo.bounds);
         let res = 256;
-        let cpu = depth_map(&view, res, &geo.casters);
-        let gpu = raster
-            .depth_map(
-                &ctx,
-                &GpuTriangles::new(&ctx, &geo.casters).unwrap(),
-                &view,
-                res,
-            )
-            .unwrap();
-        let range = view.far - view.near;
-        let (mut mismatch, mut worst) = (0usize, 0.0f32);
-        for (c, g) in cpu.data().iter().zip(gpu.data()) {
-            if (*c == NO_OCCLUDER) != (*g == NO_OCCLUDER) {
-                mismatch += 1;
-            } else if *c != NO_OCCLUDER {
-                worst = worst.max((c - g).abs() / range);
+        let tris = GpuTriangles::new(&ctx, &geo.casters).unwrap();
+        for pass in passes {
+            let cpu = depth_map_pass(&view, res, &geo.casters, pass);
+            let tex = GpuRasterizer::depth_array(&ctx, res, 1).unwrap();
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            raster.encode_depth_pass(&ctx, &mut enc, &tris, &view, &tex, 0, pass);
+            ctx.queue.submit([enc.finish()]);
+            let gpu = GpuRasterizer::read_depth_pass(&ctx, &tex, 0, &view, pass).unwrap();
+            let range = view.far - view.near;
+            let (mut mismatch, mut worst, mut covered) = (0usize, 0.0f32, 0usize);
+            for (c, g) in cpu.data().iter().zip(gpu.data()) {
+                if (*c == NO_OCCLUDER) != (*g == NO_OCCLUDER) {
+                    mismatch += 1;
+                } else if *c != NO_OCCLUDER {
+                    covered += 1;
+                    worst = worst.max((c - g).abs() / range);
+                }
             }
+            eprintln!(
+                "{name} {pass:?}: worst depth difference {worst:e} of the range, \
+                 {mismatch} coverage mismatches, {covered} texels covered"
+            );
+            let frac = mismatch as f64 / (res * res) as f64;
+            assert!(
+                frac <= MAX_COVERAGE_MISMATCH,
+                "{name} {pass:?}: {mismatch} texels differ in coverage"
+            );
+            assert!(
+                worst < 1e-5,
+                "{name} {pass:?}: depth differs by {worst:e} of the range"
+            );
         }
-        eprintln!(
-            "{name}: worst depth difference {worst:e} of the range, {mismatch} coverage mismatches"
-        );
-        let frac = mismatch as f64 / (res * res) as f64;
-        assert!(
-            frac <= MAX_COVERAGE_MISMATCH,
-            "{name}: {mismatch} texels differ in coverage"
-        );
-        assert!(
-            worst < 1e-5,
-            "{name}: depth differs by {worst:e} of the range"
-        );
     }
 }
 

@@ -4,6 +4,7 @@ mod bad_input;
 mod gpu_agreement;
 mod ground_truth;
 mod report;
+mod shadow_width;
 mod stability;
 mod wgsl;
 

@@ -1,4 +1,6 @@
 //! Every `.wgsl` file of the workspace parses and validates with naga, on any machine.
+//! A file that starts with `// requires: light_space.wgsl` is validated as the GPU code builds it:
+//! after `shadow_core::gpu::LIGHT_SPACE_WGSL`.
 
 use std::path::{Path, PathBuf};
 
@@ -22,7 +24,10 @@ fn every_wgsl_file_validates() {
     wgsl_files(crates, &mut files);
     assert!(files.len() >= 2, "found {files:?}");
     for f in files {
-        let src = std::fs::read_to_string(&f).unwrap();
+        let mut src = std::fs::read_to_string(&f).unwrap();
+        if src.starts_with("// requires: light_space.wgsl") {
+            src = format!("{}\n{src}", shadow_core::gpu::LIGHT_SPACE_WGSL);
+        }
         let module = naga::front::wgsl::parse_str(&src)
             .unwrap_or_else(|e| panic!("{}: {}", f.display(), e.emit_to_string(&src)));
         naga::valid::Validator::new(

@@ -6,7 +6,7 @@
 use super::GpuContext;
 use crate::error::{Result, ShadowError};
 use crate::map2d::Map2D;
-use crate::raster::{GBufferTexel, facing_normal};
+use crate::raster::{DepthPass, DepthTest, Faces, GBufferTexel, facing_normal};
 use crate::view::View;
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -47,7 +47,8 @@ pub type GpuGBuffer = Map2D<GBufferTexel>;
 
 /// Pipelines for depth maps and G-buffers; create once per [`GpuContext`] and reuse.
 pub struct GpuRasterizer {
-    depth: wgpu::RenderPipeline,
+    /// Depth-only pipelines indexed by [`pass_index`].
+    depth: [wgpu::RenderPipeline; 4],
     gbuffer: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
 }
@@ -62,12 +63,20 @@ fn vertex_buffer(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
         })
 }
 
-/// A depth attachment cleared to 0, the far plane of reversed Z.
-fn cleared_depth(view: &wgpu::TextureView) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
+fn pass_index(pass: DepthPass) -> usize {
+    (pass.test == DepthTest::Farthest) as usize * 2 + (pass.faces == Faces::Back) as usize
+}
+
+/// A depth attachment cleared to `pass`'s clear depth (0, the far plane of reversed Z, for the
+/// nearest-surface pass).
+fn cleared_depth(
+    view: &wgpu::TextureView,
+    pass: DepthPass,
+) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
     Some(wgpu::RenderPassDepthStencilAttachment {
         view,
         depth_ops: Some(wgpu::Operations {
-            load: wgpu::LoadOp::Clear(0.0),
+            load: wgpu::LoadOp::Clear(pass.clear_depth()),
             store: wgpu::StoreOp::Store,
         }),
         stencil_ops: None,
@@ -112,26 +121,47 @@ impl GpuRasterizer {
             cull_mode: None,
             ..Default::default()
         };
-        let depth = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("depth"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_depth"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 12,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                })],
+        let depth_pipeline = |pass: DepthPass| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("depth"),
+                layout: Some(&pl),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_depth"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: 12,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: (pass.faces == Faces::Back).then_some(wgpu::Face::Front),
+                    ..primitive
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    depth_compare: Some(match pass.test {
+                        DepthTest::Nearest => wgpu::CompareFunction::Greater,
+                        DepthTest::Farthest => wgpu::CompareFunction::Less,
+                    }),
+                    ..depth_state.clone()
+                }),
+                multisample: Default::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let depth = [
+            DepthPass::NEAREST,
+            DepthPass {
+                test: DepthTest::Nearest,
+                faces: Faces::Back,
             },
-            primitive,
-            depth_stencil: Some(depth_state.clone()),
-            multisample: Default::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+            DepthPass::FARTHEST,
+            DepthPass::FARTHEST_BACK,
+        ]
+        .map(depth_pipeline);
         let target = Some(wgpu::ColorTargetState {
             format: wgpu::TextureFormat::Rgba32Float,
             blend: None,
@@ -214,7 +244,8 @@ impl GpuRasterizer {
         }))
     }
 
-    /// Records a depth pass of `tris` seen through `view` into layer `layer` of `target`.
+    /// Records a nearest-surface depth pass of `tris` seen through `view` into layer `layer` of
+    /// `target`.
     pub fn encode_depth(
         &self,
         ctx: &GpuContext,
@@ -224,6 +255,21 @@ impl GpuRasterizer {
         target: &wgpu::Texture,
         layer: u32,
     ) {
+        self.encode_depth_pass(ctx, enc, tris, view, target, layer, DepthPass::NEAREST);
+    }
+
+    /// Records the depth pass `pass` of `tris` seen through `view` into layer `layer` of `target`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode_depth_pass(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        tris: &GpuTriangles,
+        view: &View,
+        target: &wgpu::Texture,
+        layer: u32,
+        pass: DepthPass,
+    ) {
         let bind = self.view_bind_group(ctx, view.view_projection());
         let tv = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
@@ -231,23 +277,24 @@ impl GpuRasterizer {
             array_layer_count: Some(1),
             ..Default::default()
         });
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("depth"),
             color_attachments: &[],
-            depth_stencil_attachment: cleared_depth(&tv),
+            depth_stencil_attachment: cleared_depth(&tv, pass),
             timestamp_writes: None,
             occlusion_query_set: None,
             multiview_mask: None,
         });
         if tris.vertex_count > 0 {
-            pass.set_pipeline(&self.depth);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.set_vertex_buffer(0, tris.vertices.slice(..));
-            pass.draw(0..tris.vertex_count, 0..1);
+            rp.set_pipeline(&self.depth[pass_index(pass)]);
+            rp.set_bind_group(0, &bind, &[]);
+            rp.set_vertex_buffer(0, tris.vertices.slice(..));
+            rp.draw(0..tris.vertex_count, 0..1);
         }
     }
 
-    /// Reads one layer of a depth array back as a linear depth map (for tests and reports).
+    /// Reads one layer of a nearest-surface depth array back as a linear depth map (for tests
+    /// and reports).
     pub fn read_depth(
         &self,
         ctx: &GpuContext,
@@ -255,9 +302,20 @@ impl GpuRasterizer {
         layer: u32,
         view: &View,
     ) -> Result<Map2D<f32>> {
+        Self::read_depth_pass(ctx, target, layer, view, DepthPass::NEAREST)
+    }
+
+    /// Reads one layer of a depth array rendered by `pass` back as a linear depth map.
+    pub fn read_depth_pass(
+        ctx: &GpuContext,
+        target: &wgpu::Texture,
+        layer: u32,
+        view: &View,
+        pass: DepthPass,
+    ) -> Result<Map2D<f32>> {
         let (w, h) = (target.width(), target.height());
         let raw: Vec<f32> = read_texture(ctx, target, layer, wgpu::TextureAspect::DepthOnly, 4)?;
-        let lin = raw.iter().map(|&z| view.linear_depth_from_ndc(z)).collect();
+        let lin = raw.iter().map(|&z| pass.linear_depth(view, z)).collect();
         Map2D::from_vec(w, h, lin).ok_or_else(|| ShadowError::Gpu("depth readback size".into()))
     }
 
@@ -371,7 +429,7 @@ impl GpuRasterizer {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("gbuffer"),
                 color_attachments: &[attach(&pv), attach(&nv)],
-                depth_stencil_attachment: cleared_depth(&dv),
+                depth_stencil_attachment: cleared_depth(&dv, DepthPass::NEAREST),
                 timestamp_writes: None,
                 occlusion_query_set: None,
                 multiview_mask: None,

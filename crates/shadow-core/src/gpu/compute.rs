@@ -1,0 +1,188 @@
+//! Helpers every technique's compute passes share: bind-group layout entries, pipelines from
+//! one module with several entry points, and the receiver batch of an evaluation pass.
+
+use super::GpuContext;
+use crate::error::{Result, ShadowError};
+use crate::technique::Receivers;
+
+/// Receivers per workgroup of the evaluation shaders (`@workgroup_size(64)`).
+pub const EVAL_WORKGROUP: u32 = 64;
+
+/// A uniform buffer entry visible to compute.
+pub fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A storage buffer entry visible to compute.
+pub fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A depth texture array entry (`texture_depth_2d_array`) visible to compute.
+pub fn depth_array_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Depth,
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+/// A view of every layer of a depth texture array, for [`depth_array_entry`].
+pub fn depth_array_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        aspect: wgpu::TextureAspect::DepthOnly,
+        ..Default::default()
+    })
+}
+
+/// One compute pipeline per entry point of `module`, all with the bind group layout `layout`.
+pub fn compute_pipelines<const N: usize>(
+    ctx: &GpuContext,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+    entry_points: [&str; N],
+) -> [wgpu::ComputePipeline; N] {
+    let pl = ctx
+        .device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(layout)],
+            immediate_size: 0,
+        });
+    entry_points.map(|e| {
+        ctx.device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(e),
+                layout: Some(&pl),
+                module,
+                entry_point: Some(e),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+    })
+}
+
+/// A bind group of `buffers`/resources in binding order 0, 1, 2, ...
+pub fn bind_group(
+    ctx: &GpuContext,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[wgpu::BindingResource<'_>],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .iter()
+        .enumerate()
+        .map(|(i, r)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: r.clone(),
+        })
+        .collect();
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// The receivers of one evaluation pass on the GPU: positions and normals as `vec4<f32>`
+/// storage buffers, and the output visibility buffer.
+pub struct ReceiverBuffers {
+    /// Number of receivers.
+    pub count: u32,
+    /// Workgroups of [`EVAL_WORKGROUP`] to dispatch.
+    pub groups: u32,
+    /// `array<vec4<f32>>` positions (w = 1).
+    pub positions: wgpu::Buffer,
+    /// `array<vec4<f32>>` normals (w = 0).
+    pub normals: wgpu::Buffer,
+    /// `array<f32>` visibilities written by the shader.
+    pub visibility: wgpu::Buffer,
+}
+
+impl ReceiverBuffers {
+    /// Uploads `r`; `None` for an empty batch. Errors when the batch exceeds one dispatch or
+    /// the device's storage binding size.
+    pub fn new(ctx: &GpuContext, r: &Receivers) -> Result<Option<Self>> {
+        let n = r.positions.len() as u32;
+        if n == 0 {
+            return Ok(None);
+        }
+        let groups = n.div_ceil(EVAL_WORKGROUP);
+        let max_groups = ctx.device.limits().max_compute_workgroups_per_dimension;
+        if groups > max_groups {
+            return Err(ShadowError::InvalidReceivers(format!(
+                "{n} receivers exceed one dispatch ({} at most)",
+                max_groups as u64 * EVAL_WORKGROUP as u64
+            )));
+        }
+        let limit = ctx.device.limits().max_storage_buffer_binding_size;
+        if n as u64 * 16 > limit {
+            return Err(ShadowError::InvalidReceivers(format!(
+                "{n} receivers need {} bytes, above the device's {limit}-byte storage binding",
+                n as u64 * 16
+            )));
+        }
+        let pos: Vec<[f32; 4]> = r
+            .positions
+            .iter()
+            .map(|p| p.extend(1.0).to_array())
+            .collect();
+        let nrm: Vec<[f32; 4]> = r.normals.iter().map(|p| p.extend(0.0).to_array()).collect();
+        Ok(Some(Self {
+            count: n,
+            groups,
+            positions: ctx.storage_buffer("receiver positions", bytemuck::cast_slice(&pos)),
+            normals: ctx.storage_buffer("receiver normals", bytemuck::cast_slice(&nrm)),
+            visibility: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("visibility"),
+                size: n as u64 * 4,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+        }))
+    }
+
+    /// Runs `pipeline` with `bind` over every receiver and reads the visibilities back.
+    pub fn run(
+        &self,
+        ctx: &GpuContext,
+        pipeline: &wgpu::ComputePipeline,
+        bind: &wgpu::BindGroup,
+    ) -> Result<Vec<f32>> {
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bind, &[]);
+            pass.dispatch_workgroups(self.groups, 1, 1);
+        }
+        ctx.queue.submit([enc.finish()]);
+        let bytes = ctx.read_buffer(&self.visibility, self.count as u64 * 4)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+}

@@ -1,0 +1,79 @@
+//! The CPU path: depth passes through `shadow_core`'s rasterizer, the occlusion mask, the width
+//! map, and evaluation with rayon.
+
+use crate::attenuation::{AttenuationTable, FalloffKind};
+use crate::eval::{EvalParams, Shader, shade};
+use crate::occlusion::occlusion_mask;
+use crate::params::{DepthLayer, ShadowWidth};
+use crate::width::width_map;
+use rayon::prelude::*;
+use shadow_core::raster::{DepthPass, depth_map_pass};
+use shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+
+/// The maps of one light, built on the CPU.
+pub struct CpuWidthMaps {
+    /// The light-centre view the maps are rendered from.
+    pub view: SampleView,
+    /// Its shader-side parameters.
+    pub params: MapParams,
+    /// Linear depth that `sd` is measured from (nearest surface, or farthest back face).
+    pub depth: Map2D<f32>,
+    /// Inverted occlusion map (`true` = blocked).
+    pub occlusion: Map2D<bool>,
+    /// Shadow width in texels.
+    pub width: Map2D<f32>,
+    /// [`Light::size`].
+    pub light_size: f32,
+}
+
+/// Builds the depth, occlusion and width maps of `light` at `resolution` (inputs already checked).
+pub fn generate(
+    t: &ShadowWidth,
+    geometry: &SceneGeometry,
+    light: &Light,
+    resolution: u32,
+) -> CpuWidthMaps {
+    let view = SampleView::center(light, &geometry.bounds);
+    let params = view.params(resolution);
+    let tris = &geometry.casters;
+    let near = depth_map_pass(&view.view, resolution, tris, DepthPass::NEAREST);
+    let far = depth_map_pass(&view.view, resolution, tris, DepthPass::FARTHEST);
+    let occlusion = occlusion_mask(&params, &near, &far, t.layer_gap);
+    let width = width_map(&occlusion, t.method);
+    let depth = match t.depth {
+        DepthLayer::Front => near,
+        DepthLayer::BackFaces => {
+            depth_map_pass(&view.view, resolution, tris, DepthPass::FARTHEST_BACK)
+        }
+    };
+    CpuWidthMaps {
+        view,
+        params,
+        depth,
+        occlusion,
+        width,
+        light_size: light.size(),
+    }
+}
+
+/// `V` for every receiver.
+pub fn evaluate(t: &ShadowWidth, maps: &CpuWidthMaps, r: &Receivers) -> Vec<f32> {
+    let table = t.table.map(|n| AttenuationTable::new(&t.falloff, n));
+    let prm = EvalParams::new(
+        t,
+        maps.params,
+        r.positions.len() as u32,
+        maps.light_size,
+        table.as_ref().map_or(0, |t| t.values.len() as u32),
+    );
+    let falloff: &FalloffKind = &t.falloff;
+    let shader = match &table {
+        Some(tab) => Shader::Table(tab),
+        None => Shader::Direct(falloff),
+    };
+    r.positions
+        .par_iter()
+        .zip(r.normals.par_iter())
+        .map(|(p, n)| shade(&prm, &shader, &maps.depth, &maps.width, *p, *n))
+        .collect()
+}

@@ -1,0 +1,153 @@
+//! Evaluation shared by both backends: the parameters `evaluate.wgsl` reads and the per-receiver
+//! shading `I(sd, sw)` on the CPU, which the shader repeats line for line.
+
+use crate::attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation, table_coordinate};
+use crate::params::{DepthLayer, ShadowWidth, Softness};
+use bytemuck::{Pod, Zeroable};
+use glam::Vec2;
+use shadow_core::light_space::shadow_coord;
+use shadow_core::{Bias, Map2D, MapParams};
+
+/// Largest `c_scale` used (beyond it `I` is a hard shadow to f32 precision; keeps products finite).
+pub const MAX_C_SCALE: f32 = 1.0e30;
+
+/// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct EvalParams {
+    /// The light-space map.
+    pub map: MapParams,
+    /// Receiver biases.
+    pub bias: Bias,
+    /// 0: the linear falloff evaluated directly; 1: the lookup table.
+    pub use_table: u32,
+    /// Number of receivers.
+    pub receiver_count: u32,
+    /// 1 when `c_scale` comes from the light size ([`Softness::FromLight`]).
+    pub from_light: u32,
+    /// Constant `c_scale` (when `from_light == 0`).
+    pub c_scale: f32,
+    /// `c_bias` of the linear falloff.
+    pub c_bias: f32,
+    /// [`shadow_core::Light::size`].
+    pub light_size: f32,
+    /// Entries in the table.
+    pub table_size: u32,
+    /// Layer of the depth texture that `sd` is measured from.
+    pub depth_layer: u32,
+}
+
+impl EvalParams {
+    /// Parameters of `t` for a map `map`, `receiver_count` receivers and a light of `light_size`.
+    pub fn new(
+        t: &ShadowWidth,
+        map: MapParams,
+        receiver_count: u32,
+        light_size: f32,
+        table_size: u32,
+    ) -> Self {
+        let (from_light, c_scale) = match t.softness {
+            Softness::FromLight => (1, 0.0),
+            Softness::Constant(c) => (0, c),
+        };
+        let c_bias = match t.falloff {
+            FalloffKind::Linear { c_bias } => c_bias,
+            FalloffKind::Custom(_) => 0.0,
+        };
+        Self {
+            map,
+            bias: t.bias,
+            use_table: (table_size > 0) as u32,
+            receiver_count,
+            from_light,
+            c_scale,
+            c_bias,
+            light_size,
+            table_size,
+            depth_layer: match t.depth {
+                DepthLayer::Front => 0,
+                DepthLayer::BackFaces => 2,
+            },
+        }
+    }
+
+    /// `c_scale` for a blocker at depth `z_b` and a receiver at `z_r`; `None` for a hard shadow
+    /// (a light of size 0 with physical softness).
+    pub fn c_scale_at(&self, z_b: f32, z_r: f32) -> Option<f32> {
+        if self.from_light == 0 {
+            return Some(self.c_scale.min(MAX_C_SCALE));
+        }
+        if self.light_size <= 0.0 {
+            return None;
+        }
+        let c = if self.map.ortho == 1 {
+            2.0 / self.light_size
+        } else {
+            2.0 * z_b * z_r / self.light_size
+        };
+        Some(c.min(MAX_C_SCALE))
+    }
+
+    /// World (distant light) or angular (local light) size of one texel of the width map.
+    pub fn width_unit(&self) -> f32 {
+        if self.map.ortho == 1 {
+            self.map.texel_b
+        } else {
+            self.map.texel_a
+        }
+    }
+}
+
+/// Bilinear sample of a square map at texel coordinates `st` (centres at +0.5), clamped to the edge.
+pub fn bilinear(map: &Map2D<f32>, st: Vec2) -> f32 {
+    let u = st - Vec2::splat(0.5);
+    let i = u.floor();
+    let a = u - i;
+    let (x, y) = (i.x as i64, i.y as i64);
+    let t = |dx: i64, dy: i64| *map.get_clamped(x + dx, y + dy);
+    let top = t(0, 0) * (1.0 - a.x) + t(1, 0) * a.x;
+    let bottom = t(0, 1) * (1.0 - a.x) + t(1, 1) * a.x;
+    top * (1.0 - a.y) + bottom * a.y
+}
+
+/// How `I` is computed on the CPU.
+pub enum Shader<'a> {
+    /// `f` called directly.
+    Direct(&'a dyn Falloff),
+    /// Through the lookup table.
+    Table(&'a AttenuationTable),
+}
+
+/// `V` of one receiver: project, shadow depth against `depth`, shadow width from `width`, `I`.
+pub fn shade(
+    prm: &EvalParams,
+    shader: &Shader,
+    depth: &Map2D<f32>,
+    width: &Map2D<f32>,
+    p: glam::Vec3,
+    n: glam::Vec3,
+) -> f32 {
+    let Some(c) = shadow_coord(&prm.map, &prm.bias, p, n) else {
+        return 1.0;
+    };
+    let z_b = *depth.get_clamped(c.st.x.floor() as i64, c.st.y.floor() as i64);
+    let sd = c.z - z_b;
+    // NaN-safe: anything but a positive shadow depth is lit.
+    if sd.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return 1.0;
+    }
+    let sw = bilinear(width, c.st) * prm.width_unit();
+    let Some(cs) = prm.c_scale_at(z_b, c.z_receiver) else {
+        return if sw > 0.0 { 0.0 } else { 1.0 };
+    };
+    match shader {
+        Shader::Direct(f) => attenuation(sd, sw, cs, *f),
+        Shader::Table(t) => {
+            if sw > 0.0 {
+                t.lookup(table_coordinate(cs * sw, sd))
+            } else {
+                1.0
+            }
+        }
+    }
+}

@@ -1,0 +1,406 @@
+//! The GPU path: depth passes into one depth array (layer 0 nearest, 1 farthest, 2 farthest back
+//! face when asked for), the width map by the compute kernels of `width.wgsl`, and evaluation by
+//! `evaluate.wgsl`. Nothing is read back between generation steps.
+
+use crate::attenuation::{AttenuationTable, FalloffKind};
+use crate::eval::EvalParams;
+use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, ShadowWidth, WidthMethod};
+use crate::width::{cap, jfa, propagate};
+use bytemuck::{Pod, Zeroable};
+use shadow_core::gpu::compute::{
+    ReceiverBuffers, bind_group, compute_pipelines, depth_array_entry, depth_array_view,
+    storage_entry, uniform_entry,
+};
+use shadow_core::gpu::{GpuRasterizer, GpuTriangles, light_space_shader};
+use shadow_core::raster::DepthPass;
+use shadow_core::{
+    GpuContext, Light, Map2D, MapParams, Receivers, Result, SampleView, SceneGeometry, ShadowError,
+};
+
+/// The maps of one light, kept on the GPU.
+pub struct GpuWidthMaps {
+    /// The light-centre view.
+    pub view: SampleView,
+    /// Its shader-side parameters.
+    pub params: MapParams,
+    /// `Depth32Float` array: nearest, farthest, and (back-face depth) farthest back face.
+    pub depth: wgpu::Texture,
+    /// Shadow width in texels, `array<f32>` of `resolution²`.
+    pub width: wgpu::Buffer,
+    /// [`Light::size`].
+    pub light_size: f32,
+}
+
+impl GpuWidthMaps {
+    /// Reads the width map back (tests, reports).
+    pub fn read_width(&self, ctx: &GpuContext) -> Result<Map2D<f32>> {
+        let res = self.params.resolution;
+        let bytes = ctx.read_buffer(&self.width, res as u64 * res as u64 * 4)?;
+        Map2D::from_vec(res, res, bytemuck::pod_collect_to_vec(&bytes))
+            .ok_or_else(|| ShadowError::Gpu("width map readback size".into()))
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct WidthParams {
+    map: MapParams,
+    res: u32,
+    step: u32,
+    neighbours: u32,
+    cap: f32,
+    layer_gap: f32,
+    _pad: [u32; 3],
+}
+
+struct Raster(GpuRasterizer);
+
+struct WidthPipelines {
+    layout: wgpu::BindGroupLayout,
+    mask: wgpu::ComputePipeline,
+    propagate: wgpu::ComputePipeline,
+    cap: wgpu::ComputePipeline,
+    jfa_init: wgpu::ComputePipeline,
+    jfa_step: wgpu::ComputePipeline,
+    jfa_resolve: wgpu::ComputePipeline,
+    edt_columns: wgpu::ComputePipeline,
+    edt_rows: wgpu::ComputePipeline,
+}
+
+impl WidthPipelines {
+    fn new(ctx: &GpuContext) -> Self {
+        let module = ctx.device.create_shader_module(light_space_shader(
+            "shadow width",
+            include_str!("width.wgsl"),
+        ));
+        let layout = ctx
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("shadow width"),
+                entries: &[
+                    uniform_entry(0),
+                    depth_array_entry(1),
+                    storage_entry(2, true),
+                    storage_entry(3, false),
+                    storage_entry(4, true),
+                    storage_entry(5, false),
+                    storage_entry(6, false),
+                    storage_entry(7, false),
+                ],
+            });
+        let [
+            mask,
+            propagate,
+            cap,
+            jfa_init,
+            jfa_step,
+            jfa_resolve,
+            edt_columns,
+            edt_rows,
+        ] = compute_pipelines(
+            ctx,
+            "shadow width",
+            &module,
+            &layout,
+            [
+                "mask",
+                "propagate",
+                "cap_width",
+                "jfa_init",
+                "jfa_step",
+                "jfa_resolve",
+                "edt_columns",
+                "edt_rows",
+            ],
+        );
+        Self {
+            layout,
+            mask,
+            propagate,
+            cap,
+            jfa_init,
+            jfa_step,
+            jfa_resolve,
+            edt_columns,
+            edt_rows,
+        }
+    }
+}
+
+struct EvalPipeline {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl EvalPipeline {
+    fn new(ctx: &GpuContext) -> Self {
+        let module = ctx.device.create_shader_module(light_space_shader(
+            "shadow width eval",
+            include_str!("evaluate.wgsl"),
+        ));
+        let layout = ctx
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("shadow width eval"),
+                entries: &[
+                    uniform_entry(0),
+                    depth_array_entry(1),
+                    storage_entry(2, true),
+                    storage_entry(3, true),
+                    storage_entry(4, true),
+                    storage_entry(5, true),
+                    storage_entry(6, false),
+                ],
+            });
+        let [pipeline] = compute_pipelines(ctx, "shadow width eval", &module, &layout, ["main"]);
+        Self { layout, pipeline }
+    }
+}
+
+fn buffer(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(4),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+/// One dispatch of the width kernels: pipeline, step, and the buffers in bindings 2..=7.
+struct Dispatch<'a> {
+    pipeline: &'a wgpu::ComputePipeline,
+    step: u32,
+    buffers: [&'a wgpu::Buffer; 6],
+    lines: bool,
+}
+
+/// Renders the depth layers and builds the width map on the GPU (inputs already checked), then
+/// waits for the GPU.
+pub fn generate(
+    ctx: &GpuContext,
+    t: &ShadowWidth,
+    geometry: &SceneGeometry,
+    light: &Light,
+    resolution: u32,
+) -> Result<GpuWidthMaps> {
+    let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
+    let pipes = ctx.cached(WidthPipelines::new);
+    let view = SampleView::center(light, &geometry.bounds);
+    let params = view.params(resolution);
+    let texels = resolution as u64 * resolution as u64;
+    let limit = ctx.device.limits().max_storage_buffer_binding_size;
+    if texels * 4 * 2 > limit {
+        return Err(ShadowError::InvalidResolution {
+            requested: resolution,
+            max: ((limit / 8) as f64).sqrt() as u32,
+        });
+    }
+    let tris = GpuTriangles::new(ctx, &geometry.casters)?;
+    let mut passes = vec![DepthPass::NEAREST, DepthPass::FARTHEST];
+    if t.depth == DepthLayer::BackFaces {
+        passes.push(DepthPass::FARTHEST_BACK);
+    }
+    let depth = GpuRasterizer::depth_array(ctx, resolution, passes.len() as u32)?;
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    for (layer, pass) in passes.iter().enumerate() {
+        raster.0.encode_depth_pass(
+            ctx,
+            &mut enc,
+            &tris,
+            &view.view,
+            &depth,
+            layer as u32,
+            *pass,
+        );
+    }
+    let f = [
+        buffer(ctx, "width a", texels * 4),
+        buffer(ctx, "width b", texels * 4),
+    ];
+    let jfa_bytes = if t.method == WidthMethod::JumpFlood {
+        texels * 4
+    } else {
+        4
+    };
+    let u = [
+        buffer(ctx, "seeds a", jfa_bytes),
+        buffer(ctx, "seeds b", jfa_bytes),
+    ];
+    let (v_bytes, z_bytes) = if t.method == WidthMethod::Exact {
+        (texels * 4, (texels + resolution as u64) * 4)
+    } else {
+        (4, 4)
+    };
+    let env = [
+        buffer(ctx, "envelope v", v_bytes),
+        buffer(ctx, "envelope z", z_bytes),
+    ];
+    // Ping-pong: every dispatch reads `src` and writes `dst` of each pair.
+    let mut plan: Vec<Dispatch> = Vec::new();
+    let fw = |src: usize| [&f[src], &f[1 - src], &u[0], &u[1], &env[0], &env[1]];
+    plan.push(Dispatch {
+        pipeline: &pipes.mask,
+        step: 0,
+        buffers: [&f[1], &f[0], &u[0], &u[1], &env[0], &env[1]],
+        lines: false,
+    });
+    let mut cur = 0; // f[cur] holds the latest f32 map
+    match t.method {
+        WidthMethod::Propagate { .. } => {
+            for step in propagate::steps(resolution) {
+                plan.push(Dispatch {
+                    pipeline: &pipes.propagate,
+                    step,
+                    buffers: fw(cur),
+                    lines: false,
+                });
+                cur = 1 - cur;
+            }
+            plan.push(Dispatch {
+                pipeline: &pipes.cap,
+                step: 0,
+                buffers: fw(cur),
+                lines: false,
+            });
+            cur = 1 - cur;
+        }
+        WidthMethod::JumpFlood => {
+            plan.push(Dispatch {
+                pipeline: &pipes.jfa_init,
+                step: 0,
+                buffers: [&f[cur], &f[1 - cur], &u[1], &u[0], &env[0], &env[1]],
+                lines: false,
+            });
+            let mut ucur = 0;
+            for k in jfa::steps(resolution) {
+                plan.push(Dispatch {
+                    pipeline: &pipes.jfa_step,
+                    step: k,
+                    buffers: [
+                        &f[cur],
+                        &f[1 - cur],
+                        &u[ucur],
+                        &u[1 - ucur],
+                        &env[0],
+                        &env[1],
+                    ],
+                    lines: false,
+                });
+                ucur = 1 - ucur;
+            }
+            plan.push(Dispatch {
+                pipeline: &pipes.jfa_resolve,
+                step: 0,
+                buffers: [
+                    &f[cur],
+                    &f[1 - cur],
+                    &u[ucur],
+                    &u[1 - ucur],
+                    &env[0],
+                    &env[1],
+                ],
+                lines: false,
+            });
+            cur = 1 - cur;
+        }
+        WidthMethod::Exact => {
+            for pipeline in [&pipes.edt_columns, &pipes.edt_rows] {
+                plan.push(Dispatch {
+                    pipeline,
+                    step: 0,
+                    buffers: fw(cur),
+                    lines: true,
+                });
+                cur = 1 - cur;
+            }
+        }
+    }
+    let neighbours = match t.method {
+        WidthMethod::Propagate { neighbours } => neighbours.count(),
+        _ => 0,
+    };
+    let depth_view = depth_array_view(&depth);
+    let groups_2d = resolution.div_ceil(8);
+    let groups_lines = resolution.div_ceil(64);
+    for d in &plan {
+        let wp = WidthParams {
+            map: params,
+            res: resolution,
+            step: d.step,
+            neighbours,
+            cap: cap(resolution),
+            layer_gap: t.layer_gap,
+            _pad: [0; 3],
+        };
+        let ub = ctx.uniform_buffer("width params", bytemuck::bytes_of(&wp));
+        let mut res: Vec<wgpu::BindingResource> = vec![
+            ub.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&depth_view),
+        ];
+        res.extend(d.buffers.iter().map(|b| b.as_entire_binding()));
+        let bind = bind_group(ctx, "shadow width", &pipes.layout, &res);
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(d.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        if d.lines {
+            pass.dispatch_workgroups(groups_lines, 1, 1);
+        } else {
+            pass.dispatch_workgroups(groups_2d, groups_2d, 1);
+        }
+    }
+    ctx.queue.submit([enc.finish()]);
+    ctx.wait()?;
+    let [a, b] = f;
+    Ok(GpuWidthMaps {
+        view,
+        params,
+        depth,
+        width: if cur == 0 { a } else { b },
+        light_size: light.size(),
+    })
+}
+
+/// `V` for every receiver, computed by `evaluate.wgsl`.
+pub fn evaluate(
+    ctx: &GpuContext,
+    t: &ShadowWidth,
+    maps: &GpuWidthMaps,
+    r: &Receivers,
+) -> Result<Vec<f32>> {
+    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
+        return Ok(Vec::new());
+    };
+    let pipe = ctx.cached(EvalPipeline::new);
+    let table_size = match (&t.falloff, t.table) {
+        (_, Some(n)) => Some(n),
+        (FalloffKind::Custom(_), None) => Some(DEFAULT_TABLE_SIZE),
+        (FalloffKind::Linear { .. }, None) => None,
+    };
+    let table = table_size.map(|n| AttenuationTable::new(&t.falloff, n));
+    let prm = EvalParams::new(
+        t,
+        maps.params,
+        rb.count,
+        maps.light_size,
+        table.as_ref().map_or(0, |t| t.values.len() as u32),
+    );
+    let values = table.map_or(vec![1.0f32; 2], |t| t.values);
+    let ub = ctx.uniform_buffer("shadow width eval", bytemuck::bytes_of(&prm));
+    let tb = ctx.storage_buffer("attenuation table", bytemuck::cast_slice(&values));
+    let dv = depth_array_view(&maps.depth);
+    let bind = bind_group(
+        ctx,
+        "shadow width eval",
+        &pipe.layout,
+        &[
+            ub.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&dv),
+            maps.width.as_entire_binding(),
+            tb.as_entire_binding(),
+            rb.positions.as_entire_binding(),
+            rb.normals.as_entire_binding(),
+            rb.visibility.as_entire_binding(),
+        ],
+    );
+    rb.run(ctx, &pipe.pipeline, &bind)
+}

@@ -1,0 +1,196 @@
+//! The technique's parameters: how the width map is built, which depth the shadow depth is
+//! measured from, the softness and the attenuation.
+
+use crate::attenuation::FalloffKind;
+use shadow_core::{Bias, Result, ShadowError};
+
+/// How the shadow-width map is built from the inverted occlusion map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WidthMethod {
+    /// The paper's iterative propagation (section 4): each pass takes the minimum over the texel
+    /// and its neighbours at distance `step`, plus `step` times the neighbour's offset length; the
+    /// step doubles from 1 until it reaches the map size. Approximate (a chamfer distance).
+    Propagate {
+        /// 4 (axis) or 8 (axis and diagonal) neighbours per pass.
+        neighbours: Neighbours,
+    },
+    /// Exact Euclidean distance transform in linear time (Felzenszwalb & Huttenlocher 2012): a
+    /// pass along columns, then the lower envelope of parabolas along rows.
+    Exact,
+    /// Jump flooding (Rong & Tan 2006) with steps `2^k .. 1` plus one extra step of 1 (JFA+1).
+    JumpFlood,
+}
+
+/// Neighbourhood of [`WidthMethod::Propagate`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Neighbours {
+    /// Left, right, up, down.
+    Four,
+    /// The four axis neighbours and the four diagonals (offset length √2).
+    Eight,
+}
+
+impl Neighbours {
+    /// 4 or 8.
+    pub fn count(self) -> u32 {
+        match self {
+            Neighbours::Four => 4,
+            Neighbours::Eight => 8,
+        }
+    }
+}
+
+/// Which surface the depth map holds, i.e. where the shadow depth `sd = z' - z` is measured from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum DepthLayer {
+    /// The nearest surface (the ordinary shadow map).
+    #[default]
+    Front,
+    /// The farthest back face of the shadow casters, rendered with a "z-greater" test (section 5):
+    /// fewer self-shadowing artifacts and harder edges where blockers overlap. Open sheets whose
+    /// front faces the light cast no shadow in this mode.
+    BackFaces,
+}
+
+/// The softness `c_scale` of `I = f(c_scale * sw / sd)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Softness {
+    /// A constant `c_scale >= 0` (the paper's form). Larger is harder.
+    Constant(f32),
+    /// Derived from the light's physical size `L` ([`shadow_core::Light::size`]) so that a straight
+    /// edge's shadow reaches `I = 0` where the inner half of the true penumbra ends:
+    /// - distant light (`sw` in world units, `L = 2 tan(angular_diameter / 2)`): `c_scale = 2 / L`;
+    /// - local light (`sw` an angle at the light): `c_scale = 2 z_b z_r / L` per receiver, with
+    ///   `z_b` the blocker's and `z_r` the receiver's depth along the light axis (the inner half
+    ///   penumbra on the receiver is `L sd / (2 z_b)` wide, i.e. `L sd / (2 z_b z_r)` as an angle).
+    ///
+    /// `L = 0` (point light) gives `c_scale = ∞`: the hard shadow.
+    FromLight,
+}
+
+/// Kirsch & Döllner's single-sample soft shadows: parameters of one configuration.
+#[derive(Clone, Debug)]
+pub struct ShadowWidth {
+    /// How the width map is built.
+    pub method: WidthMethod,
+    /// Which depth `sd` is measured from.
+    pub depth: DepthLayer,
+    /// `c_scale`.
+    pub softness: Softness,
+    /// `f` of `I = f(c_scale * sw / sd)`.
+    pub falloff: FalloffKind,
+    /// `Some(n)`: evaluate `I` through an `n`-entry dependent lookup table (the paper's GPU
+    /// implementation); `None`: evaluate `f` directly (a custom `f` on the GPU always uses a table
+    /// of [`DEFAULT_TABLE_SIZE`] entries).
+    pub table: Option<u32>,
+    /// Receiver biases against acne (shared with the baselines).
+    pub bias: Bias,
+    /// A texel belongs to a blocker when a surface lies at least this many texels (at its depth)
+    /// in front of the farthest surface there. See [`crate::occlusion`].
+    pub layer_gap: f32,
+}
+
+/// Table size used when a custom falloff runs on the GPU without an explicit size.
+pub const DEFAULT_TABLE_SIZE: u32 = 256;
+
+impl ShadowWidth {
+    /// A configuration with `method`, front depth, physical softness, the linear falloff with
+    /// `c_bias = 0`, direct evaluation and the default biases.
+    pub fn new(method: WidthMethod) -> Self {
+        Self {
+            method,
+            depth: DepthLayer::Front,
+            softness: Softness::FromLight,
+            falloff: FalloffKind::default(),
+            table: None,
+            bias: Bias::default(),
+            layer_gap: 2.0,
+        }
+    }
+
+    /// The configurations the report runs: every width method with front depth, plus the
+    /// back-face depth and the lookup-table evaluation on the exact transform.
+    pub fn standard_set() -> Vec<ShadowWidth> {
+        let mut v: Vec<ShadowWidth> = [
+            WidthMethod::Propagate {
+                neighbours: Neighbours::Four,
+            },
+            WidthMethod::Propagate {
+                neighbours: Neighbours::Eight,
+            },
+            WidthMethod::Exact,
+            WidthMethod::JumpFlood,
+        ]
+        .into_iter()
+        .map(ShadowWidth::new)
+        .collect();
+        let mut back = ShadowWidth::new(WidthMethod::Exact);
+        back.depth = DepthLayer::BackFaces;
+        v.push(back);
+        let mut table = ShadowWidth::new(WidthMethod::Exact);
+        table.table = Some(DEFAULT_TABLE_SIZE);
+        v.push(table);
+        v
+    }
+
+    /// Checks the parameters: `c_scale` and `c_bias` finite and non-negative, `layer_gap` finite
+    /// and non-negative, biases finite, table size in range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: String| Err(ShadowError::InvalidParameter(what));
+        if let Softness::Constant(c) = self.softness
+            && !(c.is_finite() && c >= 0.0)
+        {
+            return bad(format!("c_scale must be finite and >= 0, got {c}"));
+        }
+        if let FalloffKind::Linear { c_bias } = self.falloff
+            && !(c_bias.is_finite() && c_bias >= 0.0)
+        {
+            return bad(format!("c_bias must be finite and >= 0, got {c_bias}"));
+        }
+        if !(self.layer_gap.is_finite() && self.layer_gap >= 0.0) {
+            return bad(format!(
+                "layer_gap must be finite and >= 0, got {}",
+                self.layer_gap
+            ));
+        }
+        let b = self.bias;
+        if ![b.normal_offset, b.depth, b.slope]
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return bad(format!("biases must be finite, got {b:?}"));
+        }
+        if let Some(n) = self.table
+            && !crate::attenuation::TABLE_SIZE_RANGE.contains(&n)
+        {
+            return bad(format!(
+                "table size must be in {:?}, got {n}",
+                crate::attenuation::TABLE_SIZE_RANGE
+            ));
+        }
+        Ok(())
+    }
+
+    /// The variant label: method, then `-back` for back-face depth, `-table{n}` for table lookup,
+    /// `-custom` for a custom falloff, `-c{c_scale}` for a constant softness.
+    pub fn label(&self) -> String {
+        let mut s = match self.method {
+            WidthMethod::Propagate { neighbours } => format!("propagate-{}", neighbours.count()),
+            WidthMethod::Exact => "edt".to_string(),
+            WidthMethod::JumpFlood => "jfa".to_string(),
+        };
+        if self.depth == DepthLayer::BackFaces {
+            s.push_str("-back");
+        }
+        if let Some(n) = self.table {
+            s.push_str(&format!("-table{n}"));
+        }
+        if matches!(self.falloff, FalloffKind::Custom(_)) {
+            s.push_str("-custom");
+        }
+        if let Softness::Constant(c) = self.softness {
+            s.push_str(&format!("-c{c}"));
+        }
+        s
+    }
+}

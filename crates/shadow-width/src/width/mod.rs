@@ -1,0 +1,29 @@
+//! Shadow-width maps on the CPU: for each blocked texel of the inverted occlusion map, the distance
+//! in texels (between texel centres) to the nearest unblocked texel; 0 on unblocked texels.
+//!
+//! Three ways, as the harness compares their cost and accuracy: the paper's iterative
+//! propagation ([`propagate`]), the exact linear-time Euclidean distance transform ([`edt`]) and
+//! jump flooding ([`jfa`]). Every one is mirrored in `width.wgsl`, so CPU and GPU build the same map.
+
+pub mod edt;
+pub mod jfa;
+pub mod propagate;
+
+use crate::params::WidthMethod;
+use shadow_core::Map2D;
+
+/// Width given to texels with no reachable unblocked texel: twice the map side (beyond any
+/// distance inside the map).
+pub fn cap(resolution: u32) -> f32 {
+    2.0 * resolution as f32
+}
+
+/// The shadow-width map of `mask` (`true` = blocked; square) by `method`, in texels, capped at
+/// [`cap`].
+pub fn width_map(mask: &Map2D<bool>, method: WidthMethod) -> Map2D<f32> {
+    match method {
+        WidthMethod::Propagate { neighbours } => propagate::width(mask, neighbours),
+        WidthMethod::Exact => edt::width(mask),
+        WidthMethod::JumpFlood => jfa::width(mask),
+    }
+}

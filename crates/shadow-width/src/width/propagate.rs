@@ -1,0 +1,81 @@
+//! The paper's shadow-width propagation (Kirsch & Döllner 2003, section 4), as on its GPU path:
+//! every pass replaces a texel by the minimum of itself and its neighbours at distance `step`
+//! plus the distance travelled, reading only the previous pass (ping-pong), with the step doubling
+//! from 1 until it reaches the map side. The paper adds one "difference value" per step whatever
+//! the direction; we add the offset's length (`step` or `step √2`), which makes the 8-neighbour
+//! variant a closer approximation of the Euclidean distance.
+
+use crate::params::Neighbours;
+use rayon::prelude::*;
+use shadow_core::Map2D;
+
+/// Value of a blocked texel before propagation reaches it.
+pub const UNREACHED: f32 = 1.0e9;
+/// √2, the diagonal offset length (`width.wgsl` spells the same f32).
+pub const SQRT_2: f32 = std::f32::consts::SQRT_2;
+
+/// Offsets and their lengths for a neighbourhood.
+pub fn offsets(n: Neighbours) -> &'static [(i32, i32, f32)] {
+    const ALL: [(i32, i32, f32); 8] = [
+        (1, 0, 1.0),
+        (-1, 0, 1.0),
+        (0, 1, 1.0),
+        (0, -1, 1.0),
+        (1, 1, SQRT_2),
+        (-1, 1, SQRT_2),
+        (1, -1, SQRT_2),
+        (-1, -1, SQRT_2),
+    ];
+    &ALL[..n.count() as usize]
+}
+
+/// The steps of the passes: 1, 2, 4, ... below the map side.
+pub fn steps(resolution: u32) -> Vec<u32> {
+    let mut v = Vec::new();
+    let mut s = 1u32;
+    while s < resolution {
+        v.push(s);
+        s *= 2;
+    }
+    v
+}
+
+/// One pass with step `step`: reads `src`, writes `dst`.
+pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
+    let r = res as i32;
+    let s = step as i32;
+    dst.par_chunks_mut(res as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let y = y as i32;
+            for (x, out) in row.iter_mut().enumerate() {
+                let x = x as i32;
+                let mut w = src[(y * r + x) as usize];
+                for &(dx, dy, len) in offsets(n) {
+                    let (qx, qy) = (x + dx * s, y + dy * s);
+                    if qx >= 0 && qy >= 0 && qx < r && qy < r {
+                        w = w.min(src[(qy * r + qx) as usize] + step as f32 * len);
+                    }
+                }
+                *out = w;
+            }
+        });
+}
+
+/// The propagated width map of `mask`, capped at [`super::cap`].
+pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
+    let res = mask.width();
+    let mut a: Vec<f32> = mask
+        .data()
+        .iter()
+        .map(|&b| if b { UNREACHED } else { 0.0 })
+        .collect();
+    let mut b = vec![0.0f32; a.len()];
+    for step in steps(res) {
+        pass(&a, &mut b, res, step, n);
+        std::mem::swap(&mut a, &mut b);
+    }
+    let cap = super::cap(res);
+    a.iter_mut().for_each(|w| *w = w.min(cap));
+    Map2D::from_vec(res, mask.height(), a).unwrap_or_else(|| Map2D::new(0, 0, 0.0))
+}
