@@ -1,5 +1,6 @@
 //! Generation cost per map resolution, CPU and GPU, for the baselines' depth maps
-//! (one map for hard/PCF/PCSS, 16 for accumulation), on the `torus` and `bunny` scenes.
+//! (one map for hard/PCF/PCSS, 16 for accumulation), on the `torus` and `bunny` scenes, and for
+//! shadow-width (width map alone and full generation, every width method) on `torus`.
 //!
 //! `cargo bench -p shadow-benches`; GPU timings are submit-and-wait (the GPU path returns after
 //! the device has finished). Without a GPU adapter the GPU group is skipped with a message.
@@ -8,6 +9,8 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::baselines::{Filter, ShadowMapBaseline};
 use harness::scenes::catalogue::build;
 use shadow_core::{Backend, DynTechnique, GpuContext};
+use shadow_width::width::width_map;
+use shadow_width::{DepthLayer, ShadowWidth, cpu};
 
 const RESOLUTIONS: [u32; 5] = [128, 256, 512, 1024, 2048];
 
@@ -51,5 +54,41 @@ fn generation(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, generation);
+/// shadow-width on `torus`: the width map alone from the occlusion mask (CPU builders, the step
+/// the three methods differ in), then full generation (depth passes + mask + width) on CPU and GPU.
+fn shadow_width_generation(c: &mut Criterion) {
+    let gpu = GpuContext::new().ok();
+    let spec = build("torus").expect("catalogue scene");
+    let geo = spec.to_scene().expect("scene").geometry();
+    for t in ShadowWidth::standard_set()
+        .into_iter()
+        .filter(|t| t.depth == DepthLayer::Front && t.table.is_none())
+    {
+        let mut group = c.benchmark_group(format!("shadow-width/torus/{}", t.label()));
+        group.sample_size(10);
+        for res in RESOLUTIONS {
+            let maps = cpu::generate(&t, &geo, &spec.light, res);
+            group.bench_with_input(BenchmarkId::new("width-map-cpu", res), &res, |bch, _| {
+                bch.iter(|| width_map(&maps.occlusion, t.method))
+            });
+            group.bench_with_input(BenchmarkId::new("generate-cpu", res), &res, |bch, &res| {
+                bch.iter(|| {
+                    t.generate(Backend::Cpu, None, &geo, &spec.light, res)
+                        .expect("cpu generation")
+                })
+            });
+            if let Some(g) = &gpu {
+                group.bench_with_input(BenchmarkId::new("generate-gpu", res), &res, |bch, &res| {
+                    bch.iter(|| {
+                        t.generate(Backend::Gpu, Some(g), &geo, &spec.light, res)
+                            .expect("gpu generation")
+                    })
+                });
+            }
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, generation, shadow_width_generation);
 criterion_main!(benches);

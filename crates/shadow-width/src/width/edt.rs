@@ -7,41 +7,28 @@ use rayon::prelude::*;
 use shadow_core::Map2D;
 
 /// Column pass: for every texel, the vertical distance to the nearest unblocked texel of its
-/// column, or `None` when the column has none.
+/// column, or `None` when the column has none. Both sweeps walk whole rows (every column at once),
+/// so memory is read in order.
 pub fn columns(mask: &Map2D<bool>) -> Vec<Option<u32>> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
-    let cols: Vec<Vec<Option<u32>>> = (0..w)
-        .into_par_iter()
-        .map(|x| {
-            let mut g = vec![None; h];
-            let mut last: Option<u32> = None;
-            for (y, gy) in g.iter_mut().enumerate() {
-                last = if !mask.data()[y * w + x] {
-                    Some(0)
-                } else {
-                    last.map(|d| d + 1)
-                };
-                *gy = last;
-            }
-            let mut next: Option<u32> = None;
-            for y in (0..h).rev() {
-                next = if !mask.data()[y * w + x] {
-                    Some(0)
-                } else {
-                    next.map(|d| d + 1)
-                };
-                g[y] = match (g[y], next) {
-                    (Some(a), Some(b)) => Some(a.min(b)),
-                    (a, b) => a.or(b),
-                };
-            }
-            g
-        })
-        .collect();
-    let mut out = vec![None; w * h];
-    for (x, c) in cols.iter().enumerate() {
-        for (y, g) in c.iter().enumerate() {
-            out[y * w + x] = *g;
+    let m = mask.data();
+    let mut out: Vec<Option<u32>> = vec![None; w * h];
+    let mut run: Vec<Option<u32>> = vec![None; w];
+    for y in 0..h {
+        for (r, &blocked) in run.iter_mut().zip(&m[y * w..(y + 1) * w]) {
+            *r = if !blocked { Some(0) } else { r.map(|d| d + 1) };
+        }
+        out[y * w..(y + 1) * w].copy_from_slice(&run);
+    }
+    run.iter_mut().for_each(|r| *r = None);
+    for y in (0..h).rev() {
+        for (x, r) in run.iter_mut().enumerate() {
+            let i = y * w + x;
+            *r = if !m[i] { Some(0) } else { r.map(|d| d + 1) };
+            out[i] = match (out[i], *r) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
         }
     }
     out
