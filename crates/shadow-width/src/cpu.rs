@@ -22,7 +22,7 @@ pub struct CpuWidthMaps {
     pub occlusion: Map2D<bool>,
     /// Shadow width in texels.
     pub width: Map2D<f32>,
-    /// [`Light::size`].
+    /// [`crate::params::softness_size`] of the light: its size over the fit factor.
     pub light_size: f32,
 }
 
@@ -52,7 +52,7 @@ pub fn generate(
         depth,
         occlusion,
         width,
-        light_size: light.size(),
+        light_size: crate::params::softness_size(light),
     }
 }
 

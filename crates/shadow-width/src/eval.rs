@@ -29,7 +29,7 @@ pub struct EvalParams {
     pub c_scale: f32,
     /// `c_bias` of the linear falloff.
     pub c_bias: f32,
-    /// [`shadow_core::Light::size`].
+    /// [`crate::params::softness_size`] of the light.
     pub light_size: f32,
     /// Entries in the table.
     pub table_size: u32,

@@ -27,7 +27,7 @@ pub struct GpuWidthMaps {
     pub depth: wgpu::Texture,
     /// Shadow width in texels, `array<f32>` of `resolution²`.
     pub width: wgpu::Buffer,
-    /// [`Light::size`].
+    /// [`crate::params::softness_size`] of the light: its size over the fit factor.
     pub light_size: f32,
 }
 
@@ -356,7 +356,7 @@ pub fn generate(
         params,
         depth,
         width: if cur == 0 { a } else { b },
-        light_size: light.size(),
+        light_size: crate::params::softness_size(light),
     })
 }
 

@@ -2,7 +2,7 @@
 //! measured from, the softness and the attenuation.
 
 use crate::attenuation::FalloffKind;
-use shadow_core::{Bias, Result, ShadowError};
+use shadow_core::{Bias, Light, LightKind, Result, ShadowError};
 
 /// How the shadow-width map is built from the inverted occlusion map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -57,15 +57,35 @@ pub enum DepthLayer {
 pub enum Softness {
     /// A constant `c_scale >= 0` (the paper's form). Larger is harder.
     Constant(f32),
-    /// Derived from the light's physical size `L` ([`shadow_core::Light::size`]) so that a straight
-    /// edge's shadow reaches `I = 0` where the inner half of the true penumbra ends:
+    /// Derived from the light's physical size `L` ([`shadow_core::Light::size`]). The physical
+    /// relation: a straight edge's true penumbra reaches the umbra a distance `L sd / 2` (distant
+    /// light, world units) inside the hard shadow edge, so `I` reaches 0 there when
     /// - distant light (`sw` in world units, `L = 2 tan(angular_diameter / 2)`): `c_scale = 2 / L`;
     /// - local light (`sw` an angle at the light): `c_scale = 2 z_b z_r / L` per receiver, with
     ///   `z_b` the blocker's and `z_r` the receiver's depth along the light axis (the inner half
     ///   penumbra on the receiver is `L sd / (2 z_b)` wide, i.e. `L sd / (2 z_b z_r)` as an angle).
     ///
-    /// `L = 0` (point light) gives `c_scale = ∞`: the hard shadow.
+    /// Both are multiplied by [`fit_factor`]: `I` starts at 1 on the hard edge where the truth is
+    /// 1/2, so reaching 0 exactly at the umbra gives the same squared error as the hard shadow;
+    /// the least-squares fit of the linear `I` to the straight-edge penumbra inside the hard
+    /// shadow halves it. `L = 0` (point light) gives `c_scale = ∞`: the hard shadow.
     FromLight,
+}
+
+/// The factor [`Softness::FromLight`] applies to the physical `c_scale`: the `k` minimising
+/// `∫₀¹ (max(0, 1 - k u) - V(u))² du` for the visibility `V(u)` of a straight edge at depth `u`
+/// (in half-penumbra units) inside the hard shadow: 2.0 for a linear ramp (segment and rectangle
+/// lights), 2.5 for the circular-segment profile of round lights (disk, sphere, distant).
+pub fn fit_factor(kind: LightKind) -> f32 {
+    match kind {
+        LightKind::Disk | LightKind::Sphere | LightKind::Distant => 2.5,
+        _ => 2.0,
+    }
+}
+
+/// The light size the evaluation divides by: [`shadow_core::Light::size`] over [`fit_factor`].
+pub fn softness_size(light: &Light) -> f32 {
+    light.size() / fit_factor(light.kind())
 }
 
 /// Kirsch & Döllner's single-sample soft shadows: parameters of one configuration.

@@ -266,7 +266,8 @@ fn geometry(h: f32) -> SceneGeometry {
 /// straight edge: a blocker covering `x < 0` at height `h` over the ground. Inside the shadow at
 /// distance `x` from the edge, `sd = h` and the width is `x` (world units, distant light) or
 /// `x / z_r` (an angle, light overhead), so `I = 1 - 2x/(hL)` for a distant light of size
-/// `L = 2 tan(θ/2)` and `I = 1 - 2 z_b x / (L h)` for a local light. Bound: one texel of width.
+/// `L = 2 tan(θ/2)` and `I = 1 - 2 z_b x / (L h)` for a local light, each times the fit factor
+/// (2.5 for round lights). Bound: one texel of width.
 #[test]
 fn width_units_follow_the_closed_form() {
     let h = 1.0;
@@ -299,7 +300,7 @@ fn width_units_follow_the_closed_form() {
                 },
             )
             .unwrap();
-        let l = light.size();
+        let l = light.size() / shadow_width::params::fit_factor(light.kind());
         let (slope, texel) = match light {
             Light::Distant { .. } => (2.0 / (h * l), maps.params.texel_b),
             _ => {
