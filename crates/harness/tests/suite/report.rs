@@ -35,10 +35,15 @@ fn quick_report_writes_the_contract() {
         assert!(!json["machine"][key].is_null(), "machine.{key}");
     }
     let runs = json["runs"].as_array().unwrap();
+    let techniques = 4 + shadow_width::ShadowWidth::standard_set().len();
     assert_eq!(
         runs.len(),
-        2 * 4 * 2,
-        "2 scenes x 4 baselines x 2 resolutions"
+        2 * techniques * 2,
+        "2 scenes x (4 baselines + shadow-width variants) x 2 resolutions"
+    );
+    assert!(
+        runs.iter().any(|r| r["technique"] == "shadow-width"),
+        "no shadow-width rows"
     );
     for r in runs {
         for key in [
