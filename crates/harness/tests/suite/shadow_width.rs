@@ -6,7 +6,7 @@ use harness::baselines::{Filter, ShadowMapBaseline};
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Backend, DynTechnique, Receivers as Recv};
+use shadow_core::{Backend, DynTechnique, Receivers as Recv, ShadowTechnique};
 use shadow_width::ShadowWidth;
 
 /// Every variant, every catalogue scene, two resolutions: RMS of `V * 255` between CPU and GPU
@@ -25,15 +25,8 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
         };
         for t in ShadowWidth::standard_set() {
             for res in [64, 256] {
-                let cm = t.generate_cpu_checked(&r.geometry, &spec.light, res);
-                let gm = shadow_core::ShadowTechnique::generate_gpu(
-                    &t,
-                    &ctx,
-                    &r.geometry,
-                    &spec.light,
-                    res,
-                )
-                .unwrap();
+                let cm = t.generate_cpu(&r.geometry, &spec.light, res).unwrap();
+                let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
                 let gw = gm.read_width(&ctx).unwrap();
                 let mean_diff: f64 = cm
                     .width
@@ -58,27 +51,6 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
                 );
             }
         }
-    }
-}
-
-/// Extension used above: CPU generation that must succeed on catalogue scenes.
-trait GenerateChecked {
-    fn generate_cpu_checked(
-        &self,
-        g: &shadow_core::SceneGeometry,
-        l: &shadow_core::Light,
-        res: u32,
-    ) -> shadow_width::cpu::CpuWidthMaps;
-}
-
-impl GenerateChecked for ShadowWidth {
-    fn generate_cpu_checked(
-        &self,
-        g: &shadow_core::SceneGeometry,
-        l: &shadow_core::Light,
-        res: u32,
-    ) -> shadow_width::cpu::CpuWidthMaps {
-        shadow_core::ShadowTechnique::generate_cpu(self, g, l, res).unwrap()
     }
 }
 
