@@ -4,7 +4,8 @@
 //!   its flattening into plain [`SceneGeometry`] for technique kernels.
 //! - [`light`]: the light kinds, their validation and sampling; [`view`]: camera and light frusta;
 //!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
-//! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers).
+//! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers);
+//!   [`jump_flood`]: nearest-seed maps (CPU and GPU).
 //! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
 //! - [`gltf_import`]: glTF/GLB meshes.
 //!
@@ -13,6 +14,7 @@
 pub mod error;
 pub mod gltf_import;
 pub mod gpu;
+pub mod jump_flood;
 pub mod light;
 pub mod light_space;
 pub mod map2d;

@@ -81,6 +81,21 @@ impl<T> Map2D<T> {
         self.get_clamped(x, y)
     }
 
+    /// The four texels around texel coordinate `st` (texel centres at +0.5, clamp-to-edge) with
+    /// their bilinear weights, top-left first.
+    pub fn bilinear_taps(&self, st: Vec2) -> [(&T, f32); 4] {
+        let u = st - Vec2::splat(0.5);
+        let i = u.floor();
+        let (fx, fy) = (u.x - i.x, u.y - i.y);
+        let (x0, y0) = (i.x as i64, i.y as i64);
+        [
+            (self.get_clamped(x0, y0), (1.0 - fx) * (1.0 - fy)),
+            (self.get_clamped(x0 + 1, y0), fx * (1.0 - fy)),
+            (self.get_clamped(x0, y0 + 1), (1.0 - fx) * fy),
+            (self.get_clamped(x0 + 1, y0 + 1), fx * fy),
+        ]
+    }
+
     /// Maps every texel.
     pub fn map<U>(&self, f: impl Fn(&T) -> U) -> Map2D<U> {
         Map2D {

@@ -168,16 +168,20 @@ impl Poly {
     }
 }
 
-fn setup(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]], faces: Faces) -> Vec<ScreenTri> {
-    let vp = view.view_projection();
+/// Screen triangles of `count` triangles whose clip-space vertices `clip(i)` gives.
+fn setup(
+    count: usize,
+    clip: impl Fn(usize) -> [Vec4; 3] + Sync,
+    width: u32,
+    height: u32,
+    faces: Faces,
+) -> Vec<ScreenTri> {
     let (w, h) = (width as f64, height as f64);
-    tris.par_iter()
-        .enumerate()
-        .fold(Vec::new, |mut out, (index, tri)| {
-            let cv = |k: usize, bary: Vec3| ClipVertex {
-                pos: vp * tri[k].extend(1.0),
-                bary,
-            };
+    (0..count)
+        .into_par_iter()
+        .fold(Vec::new, |mut out, index| {
+            let tri = clip(index);
+            let cv = |k: usize, bary: Vec3| ClipVertex { pos: tri[k], bary };
             let first = cv(0, Vec3::X);
             let mut poly = Poly {
                 v: [first; 10],
@@ -297,6 +301,7 @@ fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
 
 /// Rasterizes `tris` into the rows `row0..` of a band; `z_of` reads a texel's NDC depth and
 /// `shade` makes the texel of a fragment that passes `pass`'s depth test.
+#[allow(clippy::too_many_arguments)]
 fn raster_band<T>(
     tris: &[ScreenTri],
     width: u32,
@@ -305,6 +310,7 @@ fn raster_band<T>(
     pass: DepthPass,
     z_of: impl Fn(&T) -> f32,
     shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T,
+    accept: impl Fn(usize, usize, f32) -> bool,
 ) {
     let w = width as usize;
     let n_rows = rows.len() / w;
@@ -353,7 +359,7 @@ fn raster_band<T>(
                 };
                 let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
                 let texel = &mut rows[(py as usize - row0) * w + px as usize];
-                if pass.passes(z, z_of(texel)) {
+                if pass.passes(z, z_of(texel)) && accept(px as usize, py as usize, z) {
                     *texel = shade(t, l, z);
                 }
             }
@@ -373,44 +379,97 @@ fn fragment(t: &ScreenTri, l: [f64; 3], z: f32) -> Fragment {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn rasterize_into<T: Clone + Send>(
-    view: &View,
+/// How one raster pass stores its texels: the cleared texel, its NDC depth, the texel of a
+/// fragment, and which fragments (pixel x, y, NDC depth) may enter the depth test at all.
+struct Target<T, Z, S, A> {
+    empty: T,
+    z_of: Z,
+    shade: S,
+    accept: A,
+}
+
+fn rasterize_into<T, Z, S, A>(
+    screen: &[ScreenTri],
     width: u32,
     height: u32,
-    tris: &[[Vec3; 3]],
     pass: DepthPass,
-    empty: T,
-    z_of: impl Fn(&T) -> f32 + Sync,
-    shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T + Sync,
-) -> Map2D<T> {
-    let mut out = Map2D::new(width, height, empty);
+    target: Target<T, Z, S, A>,
+) -> Map2D<T>
+where
+    T: Clone + Send,
+    Z: Fn(&T) -> f32 + Sync,
+    S: Fn(&ScreenTri, [f64; 3], f32) -> T + Sync,
+    A: Fn(usize, usize, f32) -> bool + Sync,
+{
+    let mut out = Map2D::new(width, height, target.empty);
     let w = width as usize;
     if w == 0 || height == 0 {
         return out;
     }
-    let screen = setup(view, width, height, tris, pass.faces);
     out.data_mut()
         .par_chunks_mut(w * BAND_ROWS)
         .enumerate()
         .for_each(|(band, rows)| {
-            raster_band(&screen, width, band * BAND_ROWS, rows, pass, &z_of, &shade);
+            raster_band(
+                screen,
+                width,
+                band * BAND_ROWS,
+                rows,
+                pass,
+                &target.z_of,
+                &target.shade,
+                &target.accept,
+            );
         });
     out
 }
 
-/// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
-pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<Fragment> {
-    rasterize_into(
-        view,
+/// Screen triangles of world-space `tris` seen through `view`.
+fn setup_world(
+    view: &View,
+    width: u32,
+    height: u32,
+    tris: &[[Vec3; 3]],
+    faces: Faces,
+) -> Vec<ScreenTri> {
+    let vp = view.view_projection();
+    setup(
+        tris.len(),
+        |i| tris[i].map(|p| vp * p.extend(1.0)),
         width,
         height,
-        tris,
-        DepthPass::NEAREST,
-        Fragment::EMPTY,
-        |f| f.z_ndc,
-        fragment,
+        faces,
     )
+}
+
+/// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
+pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<Fragment> {
+    let screen = setup_world(view, width, height, tris, Faces::All);
+    rasterize_into(&screen, width, height, DepthPass::NEAREST, fragment_target())
+}
+
+fn fragment_target() -> Target<
+    Fragment,
+    impl Fn(&Fragment) -> f32 + Sync,
+    impl Fn(&ScreenTri, [f64; 3], f32) -> Fragment + Sync,
+    impl Fn(usize, usize, f32) -> bool + Sync,
+> {
+    Target {
+        empty: Fragment::EMPTY,
+        z_of: |f: &Fragment| f.z_ndc,
+        shade: fragment,
+        accept: |_, _, _| true,
+    }
+}
+
+/// Rasterizes triangles given in clip space (`x, y, z, w` before the divide; reversed Z, so the
+/// nearest fragment has the greatest `z / w`) into a `width x height` map of nearest fragments.
+///
+/// For geometry a technique builds directly in the map's screen space (penumbra ribbons): with
+/// `w = 1` the barycentrics are screen-linear, as a GPU interpolates them.
+pub fn rasterize_clip(width: u32, height: u32, tris: &[[Vec4; 3]]) -> Map2D<Fragment> {
+    let screen = setup(tris.len(), |i| tris[i], width, height, Faces::All);
+    rasterize_into(&screen, width, height, DepthPass::NEAREST, fragment_target())
 }
 
 /// A linear depth map (distance along the view axis; [`crate::view::NO_OCCLUDER`] where empty).
@@ -427,16 +486,28 @@ pub fn depth_map_pass(
     tris: &[[Vec3; 3]],
     pass: DepthPass,
 ) -> Map2D<f32> {
-    let mut z = rasterize_into(
-        view,
-        resolution,
-        resolution,
-        tris,
-        pass,
-        pass.clear_depth(),
-        |z| *z,
-        |_, _, z| z,
-    );
+    depth_map_filtered(view, resolution, tris, pass, |_, _, _| true)
+}
+
+/// [`depth_map_pass`] keeping only the fragments for which `accept(x, y, linear_depth)` holds,
+/// as a fragment shader that discards: the others never enter the depth test.
+pub fn depth_map_filtered(
+    view: &View,
+    resolution: u32,
+    tris: &[[Vec3; 3]],
+    pass: DepthPass,
+    accept: impl Fn(u32, u32, f32) -> bool + Sync,
+) -> Map2D<f32> {
+    let screen = setup_world(view, resolution, resolution, tris, pass.faces);
+    let target = Target {
+        empty: pass.clear_depth(),
+        z_of: |z: &f32| *z,
+        shade: |_: &ScreenTri, _: [f64; 3], z: f32| z,
+        accept: |x: usize, y: usize, z: f32| {
+            accept(x as u32, y as u32, view.linear_depth_from_ndc(z))
+        },
+    };
+    let mut z = rasterize_into(&screen, resolution, resolution, pass, target);
     z.data_mut()
         .par_iter_mut()
         .for_each(|d| *d = pass.linear_depth(view, *d));

@@ -5,13 +5,13 @@
 use crate::attenuation::{AttenuationTable, FalloffKind};
 use crate::eval::EvalParams;
 use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, ShadowWidth, WidthMethod};
-use crate::width::{cap, jfa, propagate};
+use crate::width::{cap, propagate};
 use bytemuck::{Pod, Zeroable};
 use shadow_core::gpu::compute::{
     ReceiverBuffers, bind_group, compute_pipelines, depth_array_entry, depth_array_view,
     storage_entry, uniform_entry,
 };
-use shadow_core::gpu::{GpuRasterizer, GpuTriangles, light_space_shader};
+use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuTriangles, light_space_shader};
 use shadow_core::raster::DepthPass;
 use shadow_core::{
     GpuContext, Light, Map2D, MapParams, Receivers, Result, SampleView, SceneGeometry, ShadowError,
@@ -61,7 +61,6 @@ struct WidthPipelines {
     propagate: wgpu::ComputePipeline,
     cap: wgpu::ComputePipeline,
     jfa_init: wgpu::ComputePipeline,
-    jfa_step: wgpu::ComputePipeline,
     jfa_resolve: wgpu::ComputePipeline,
     edt_columns: wgpu::ComputePipeline,
     edt_rows: wgpu::ComputePipeline,
@@ -93,7 +92,6 @@ impl WidthPipelines {
             propagate,
             cap,
             jfa_init,
-            jfa_step,
             jfa_resolve,
             edt_columns,
             edt_rows,
@@ -107,7 +105,6 @@ impl WidthPipelines {
                 "propagate",
                 "cap_width",
                 "jfa_init",
-                "jfa_step",
                 "jfa_resolve",
                 "edt_columns",
                 "edt_rows",
@@ -119,7 +116,6 @@ impl WidthPipelines {
             propagate,
             cap,
             jfa_init,
-            jfa_step,
             jfa_resolve,
             edt_columns,
             edt_rows,
@@ -172,6 +168,42 @@ struct Dispatch<'a> {
     step: u32,
     buffers: [&'a wgpu::Buffer; 6],
     lines: bool,
+}
+
+/// What every width dispatch shares: the pipelines, the depth layers and the parameters.
+struct Kernels<'a> {
+    ctx: &'a GpuContext,
+    pipes: &'a WidthPipelines,
+    depth_view: &'a wgpu::TextureView,
+    params: WidthParams,
+}
+
+impl Kernels<'_> {
+    fn run(&self, enc: &mut wgpu::CommandEncoder, d: &Dispatch) {
+        let res = self.params.res;
+        let wp = WidthParams {
+            step: d.step,
+            ..self.params
+        };
+        let ub = self
+            .ctx
+            .uniform_buffer("width params", bytemuck::bytes_of(&wp));
+        let mut resources: Vec<wgpu::BindingResource> = vec![
+            ub.as_entire_binding(),
+            wgpu::BindingResource::TextureView(self.depth_view),
+        ];
+        resources.extend(d.buffers.iter().map(|b| b.as_entire_binding()));
+        let bind = bind_group(self.ctx, "shadow width", &self.pipes.layout, &resources);
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(d.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        if d.lines {
+            pass.dispatch_workgroups(res.div_ceil(64), 1, 1);
+        } else {
+            let g = res.div_ceil(8);
+            pass.dispatch_workgroups(g, g, 1);
+        }
+    }
 }
 
 /// Renders the depth layers and builds the width map on the GPU (inputs already checked), then
@@ -235,60 +267,70 @@ pub fn generate(
         buffer(ctx, "envelope v", v_bytes),
         buffer(ctx, "envelope z", z_bytes),
     ];
+    let neighbours = match t.method {
+        WidthMethod::Propagate { neighbours } => neighbours.count(),
+        _ => 0,
+    };
+    let depth_view = depth_array_view(&depth);
+    let kernels = Kernels {
+        ctx,
+        pipes: &pipes,
+        depth_view: &depth_view,
+        params: WidthParams {
+            map: params,
+            res: resolution,
+            step: 0,
+            neighbours,
+            cap: cap(resolution),
+            layer_gap: t.layer_gap,
+            _pad: [0; 3],
+        },
+    };
     // Ping-pong: every dispatch reads `src` and writes `dst` of each pair.
-    let mut plan: Vec<Dispatch> = Vec::new();
     let fw = |src: usize| [&f[src], &f[1 - src], &u[0], &u[1], &env[0], &env[1]];
-    plan.push(Dispatch {
-        pipeline: &pipes.mask,
-        step: 0,
-        buffers: [&f[1], &f[0], &u[0], &u[1], &env[0], &env[1]],
-        lines: false,
-    });
+    kernels.run(
+        &mut enc,
+        &Dispatch {
+            pipeline: &pipes.mask,
+            step: 0,
+            buffers: [&f[1], &f[0], &u[0], &u[1], &env[0], &env[1]],
+            lines: false,
+        },
+    );
     let mut cur = 0; // f[cur] holds the latest f32 map
     match t.method {
         WidthMethod::Propagate { .. } => {
             for step in propagate::steps(resolution) {
-                plan.push(Dispatch {
+                let d = Dispatch {
                     pipeline: &pipes.propagate,
                     step,
                     buffers: fw(cur),
                     lines: false,
-                });
+                };
+                kernels.run(&mut enc, &d);
                 cur = 1 - cur;
             }
-            plan.push(Dispatch {
+            let d = Dispatch {
                 pipeline: &pipes.cap,
                 step: 0,
                 buffers: fw(cur),
                 lines: false,
-            });
+            };
+            kernels.run(&mut enc, &d);
             cur = 1 - cur;
         }
         WidthMethod::JumpFlood => {
-            plan.push(Dispatch {
+            // Seeds into u[0], flooded by shadow_core's kernel, resolved to distances.
+            let init = Dispatch {
                 pipeline: &pipes.jfa_init,
                 step: 0,
                 buffers: [&f[cur], &f[1 - cur], &u[1], &u[0], &env[0], &env[1]],
                 lines: false,
-            });
-            let mut ucur = 0;
-            for k in jfa::steps(resolution) {
-                plan.push(Dispatch {
-                    pipeline: &pipes.jfa_step,
-                    step: k,
-                    buffers: [
-                        &f[cur],
-                        &f[1 - cur],
-                        &u[ucur],
-                        &u[1 - ucur],
-                        &env[0],
-                        &env[1],
-                    ],
-                    lines: false,
-                });
-                ucur = 1 - ucur;
-            }
-            plan.push(Dispatch {
+            };
+            kernels.run(&mut enc, &init);
+            let flood = ctx.cached(GpuJumpFlood::new);
+            let ucur = flood.encode(ctx, &mut enc, [&u[0], &u[1]], resolution);
+            let resolve = Dispatch {
                 pipeline: &pipes.jfa_resolve,
                 step: 0,
                 buffers: [
@@ -300,52 +342,21 @@ pub fn generate(
                     &env[1],
                 ],
                 lines: false,
-            });
+            };
+            kernels.run(&mut enc, &resolve);
             cur = 1 - cur;
         }
         WidthMethod::Exact => {
             for pipeline in [&pipes.edt_columns, &pipes.edt_rows] {
-                plan.push(Dispatch {
+                let d = Dispatch {
                     pipeline,
                     step: 0,
                     buffers: fw(cur),
                     lines: true,
-                });
+                };
+                kernels.run(&mut enc, &d);
                 cur = 1 - cur;
             }
-        }
-    }
-    let neighbours = match t.method {
-        WidthMethod::Propagate { neighbours } => neighbours.count(),
-        _ => 0,
-    };
-    let depth_view = depth_array_view(&depth);
-    let groups_2d = resolution.div_ceil(8);
-    let groups_lines = resolution.div_ceil(64);
-    for d in &plan {
-        let wp = WidthParams {
-            map: params,
-            res: resolution,
-            step: d.step,
-            neighbours,
-            cap: cap(resolution),
-            layer_gap: t.layer_gap,
-            _pad: [0; 3],
-        };
-        let ub = ctx.uniform_buffer("width params", bytemuck::bytes_of(&wp));
-        let mut res: Vec<wgpu::BindingResource> = vec![
-            ub.as_entire_binding(),
-            wgpu::BindingResource::TextureView(&depth_view),
-        ];
-        res.extend(d.buffers.iter().map(|b| b.as_entire_binding()));
-        let bind = bind_group(ctx, "shadow width", &pipes.layout, &res);
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(d.pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        if d.lines {
-            pass.dispatch_workgroups(groups_lines, 1, 1);
-        } else {
-            pass.dispatch_workgroups(groups_2d, groups_2d, 1);
         }
     }
     ctx.queue.submit([enc.finish()]);

@@ -111,41 +111,7 @@ fn seed_dist2(x: i32, y: i32, s: u32) -> i32 {
     return dx * dx + dy * dy;
 }
 
-@compute @workgroup_size(8, 8)
-fn jfa_step(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = texel_index(gid);
-    if i < 0 {
-        return;
-    }
-    let r = i32(prm.res);
-    let k = i32(prm.step);
-    let x = i32(gid.x);
-    let y = i32(gid.y);
-    var best = usrc[i];
-    var best_d = 0x7fffffff;
-    if best != NONE {
-        best_d = seed_dist2(x, y, best);
-    }
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let qx = x + dx * k;
-            let qy = y + dy * k;
-            if qx < 0 || qy < 0 || qx >= r || qy >= r {
-                continue;
-            }
-            let s = usrc[qy * r + qx];
-            if s != NONE {
-                let d = seed_dist2(x, y, s);
-                if d < best_d {
-                    best = s;
-                    best_d = d;
-                }
-            }
-        }
-    }
-    udst[i] = best;
-}
-
+// (The flood itself is shadow_core's gpu/jump_flood.wgsl.)
 @compute @workgroup_size(8, 8)
 fn jfa_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = texel_index(gid);

@@ -2,10 +2,12 @@
 
 pub mod compute;
 mod context;
+pub mod jump_flood;
 pub mod raster;
 pub mod testing;
 
 pub use context::GpuContext;
+pub use jump_flood::GpuJumpFlood;
 pub use raster::{GpuGBuffer, GpuRasterizer, GpuTriangles};
 
 /// WGSL of [`crate::light_space`]: `MapView`, `Bias`, `linear_depth`, `linear_from_ndc`,

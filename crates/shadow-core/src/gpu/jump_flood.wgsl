@@ -1,0 +1,56 @@
+// Jump flooding on the GPU: one pass with step `k`. Mirrors shadow_core::jump_flood::pass, in the
+// same neighbour order, so both backends keep the same nearest seed.
+
+struct FloodParams {
+    res: u32,
+    step: u32,
+    _pad0: u32,
+    _pad1: u32,
+};
+
+@group(0) @binding(0) var<uniform> prm: FloodParams;
+@group(0) @binding(1) var<storage, read> src: array<u32>;
+@group(0) @binding(2) var<storage, read_write> dst: array<u32>;
+
+const NONE: u32 = 0xffffffffu;
+
+fn seed_dist2(x: i32, y: i32, s: u32) -> i32 {
+    let dx = i32(s & 0xffffu) - x;
+    let dy = i32(s >> 16u) - y;
+    return dx * dx + dy * dy;
+}
+
+@compute @workgroup_size(8, 8)
+fn jfa_step(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= prm.res || gid.y >= prm.res {
+        return;
+    }
+    let r = i32(prm.res);
+    let k = i32(prm.step);
+    let x = i32(gid.x);
+    let y = i32(gid.y);
+    let i = y * r + x;
+    var best = src[i];
+    var best_d = 0x7fffffff;
+    if best != NONE {
+        best_d = seed_dist2(x, y, best);
+    }
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let qx = x + dx * k;
+            let qy = y + dy * k;
+            if qx < 0 || qy < 0 || qx >= r || qy >= r {
+                continue;
+            }
+            let s = src[qy * r + qx];
+            if s != NONE {
+                let d = seed_dist2(x, y, s);
+                if d < best_d {
+                    best = s;
+                    best_d = d;
+                }
+            }
+        }
+    }
+    dst[i] = best;
+}
