@@ -445,31 +445,18 @@ fn setup_world(
 /// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
 pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<Fragment> {
     let screen = setup_world(view, width, height, tris, Faces::All);
-    rasterize_into(&screen, width, height, DepthPass::NEAREST, fragment_target())
-}
-
-fn fragment_target() -> Target<
-    Fragment,
-    impl Fn(&Fragment) -> f32 + Sync,
-    impl Fn(&ScreenTri, [f64; 3], f32) -> Fragment + Sync,
-    impl Fn(usize, usize, f32) -> bool + Sync,
-> {
-    Target {
-        empty: Fragment::EMPTY,
-        z_of: |f: &Fragment| f.z_ndc,
-        shade: fragment,
-        accept: |_, _, _| true,
-    }
-}
-
-/// Rasterizes triangles given in clip space (`x, y, z, w` before the divide; reversed Z, so the
-/// nearest fragment has the greatest `z / w`) into a `width x height` map of nearest fragments.
-///
-/// For geometry a technique builds directly in the map's screen space (penumbra ribbons): with
-/// `w = 1` the barycentrics are screen-linear, as a GPU interpolates them.
-pub fn rasterize_clip(width: u32, height: u32, tris: &[[Vec4; 3]]) -> Map2D<Fragment> {
-    let screen = setup(tris.len(), |i| tris[i], width, height, Faces::All);
-    rasterize_into(&screen, width, height, DepthPass::NEAREST, fragment_target())
+    rasterize_into(
+        &screen,
+        width,
+        height,
+        DepthPass::NEAREST,
+        Target {
+            empty: Fragment::EMPTY,
+            z_of: |f: &Fragment| f.z_ndc,
+            shade: fragment,
+            accept: |_, _, _| true,
+        },
+    )
 }
 
 /// A linear depth map (distance along the view axis; [`crate::view::NO_OCCLUDER`] where empty).
