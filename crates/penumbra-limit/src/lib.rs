@@ -1,4 +1,132 @@
-//! Lawlor (2006), *Interpolation-Friendly Soft Shadow Maps* (penumbra limit maps).
+//! Lawlor (2006), *Interpolation-Friendly Soft Shadow Maps*: penumbra limit maps, on the CPU and
+//! the GPU.
 //!
-//! This crate is a placeholder until its issue lands: it will hold the four-channel map
-//! (c, g, b, p_i) and the visibility-to-illumination table for distant lights.
+//! One map from the light's centre stores four channels per texel: the occluder edge depth `c`,
+//! the geometry upper limit `g`, the lower limit `b` and the signed penumbra limit `p_i`. A
+//! receiver at map depth `z` sees the fraction `l_g` of the light's diameter given by equation 2
+//! ([`visibility::clamped_visibility`]), and the visibility-to-illumination table of appendix A
+//! ([`table`]) turns that into the fraction of the light's power. Along a straight edge every
+//! channel is linear in the map plane, so the map survives bilinear interpolation: that is the
+//! paper's point, and why coarse maps stay smooth.
+//!
+//! - Two generators ([`Generation`]): silhouette extrusion in the paper's three steps
+//!   ([`silhouette`], GPU: `silhouette.wgsl`), and propagation from a depth image
+//!   ([`depth_image`], GPU: `depth_image.wgsl`).
+//! - Three storage formats ([`Storage`]): f32, f16 and the paper's RGBA8 packing.
+//! - Lights: distant lights as in the paper; disk, sphere and rect lights through the perspective
+//!   warp the conclusion proposes ([`warp`]; a sphere is its facing disc, a rect the disk of equal
+//!   area); a point light gives an antialiased hard shadow. A segment light is
+//!   [`shadow_core::ShadowError::UnsupportedLight`]: its penumbra depends on the edge's direction,
+//!   which one scalar `p_i` per texel cannot hold.
+//!
+//! Modules, one concept each: [`visibility`] (equations 1 and 2), [`table`] (section A),
+//! [`storage`] (formats and packing), [`warp`] (map depths and local lights), [`params`],
+//! [`silhouette`] and [`depth_image`] (generators), [`combine`] (the stored texel), [`eval`]
+//! (per-receiver shading shared by both backends), [`cpu`] and [`gpu`].
+//!
+//! ```no_run
+//! use penumbra_limit::{Generation, PenumbraLimit};
+//! use shadow_core::{Receivers, ShadowTechnique};
+//! # fn demo(geometry: &shadow_core::SceneGeometry, light: &shadow_core::Light,
+//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> shadow_core::Result<()> {
+//! let technique = PenumbraLimit::new(Generation::Silhouette);
+//! let maps = technique.generate_cpu(geometry, light, 256)?;
+//! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
+//! # Ok(()) }
+//! ```
+
+pub mod combine;
+pub mod cpu;
+pub mod depth_image;
+pub mod eval;
+pub mod gpu;
+pub mod params;
+pub mod silhouette;
+pub mod storage;
+pub mod table;
+pub mod visibility;
+pub mod warp;
+
+pub use params::{Generation, PenumbraLimit};
+pub use storage::{Storage, Texel};
+pub use table::{IlluminationTable, Profile};
+
+use shadow_core::technique::MAX_CPU_RESOLUTION;
+use shadow_core::{
+    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+};
+
+/// Largest map side: packed seed coordinates of the depth-image generator are 16-bit.
+pub const MAX_RESOLUTION: u32 = 65535;
+
+impl ShadowTechnique for PenumbraLimit {
+    type CpuMaps = cpu::CpuPenumbraMaps;
+    type GpuMaps = gpu::GpuPenumbraMaps;
+
+    fn name(&self) -> &'static str {
+        "penumbra-limit"
+    }
+
+    fn variant(&self) -> String {
+        self.label()
+    }
+
+    /// Every light but a segment (see the crate docs).
+    fn models(&self, kind: LightKind) -> bool {
+        kind != LightKind::Linear
+    }
+
+    fn generate_cpu(
+        &self,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<cpu::CpuPenumbraMaps> {
+        self.validate()?;
+        self.check_inputs(
+            geometry,
+            light,
+            resolution,
+            MAX_CPU_RESOLUTION.min(MAX_RESOLUTION),
+        )?;
+        Ok(cpu::generate(self, geometry, light, resolution))
+    }
+
+    fn evaluate_cpu(&self, maps: &cpu::CpuPenumbraMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+        self.validate()?;
+        receivers.validate()?;
+        Ok(cpu::evaluate(self, maps, receivers))
+    }
+
+    fn generate_gpu(
+        &self,
+        gpu: &GpuContext,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<gpu::GpuPenumbraMaps> {
+        self.validate()?;
+        self.check_inputs(
+            geometry,
+            light,
+            resolution,
+            gpu.max_texture_size().min(MAX_RESOLUTION),
+        )?;
+        gpu.checked("penumbra-limit generation", || {
+            gpu::generate(gpu, self, geometry, light, resolution)
+        })
+    }
+
+    fn evaluate_gpu(
+        &self,
+        gpu: &GpuContext,
+        maps: &gpu::GpuPenumbraMaps,
+        receivers: &Receivers,
+    ) -> Result<Vec<f32>> {
+        self.validate()?;
+        receivers.validate()?;
+        gpu.checked("penumbra-limit evaluation", || {
+            gpu::evaluate(gpu, self, maps, receivers)
+        })
+    }
+}

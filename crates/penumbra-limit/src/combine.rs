@@ -1,0 +1,77 @@
+//! The last generation step, shared by both generators: per texel the nearest geometry, the
+//! winning edge `(c, p_i)` and the lower limit become the stored `(c, g, b, p_i)`.
+//!
+//! - With an edge: `g` is the geometry depth inside the silhouette (`p_i < 0`); outside it is
+//!   raised to the outer penumbra limit `c + p_i` where that lies above the geometry, so `g`
+//!   does not clip the outer penumbra away (section 3.1, step 2).
+//! - Without one (beyond every ribbon): the hard shadow, lit above the geometry and umbra below
+//!   it: `c = g` and `p_i = -MAX_P` where there is geometry (so a receiver between the inner end
+//!   of a ribbon and such a texel interpolates towards umbra, not towards "outside"), `c` =
+//!   "none" and `p_i = MAX_P` where there is none.
+//! - Occluder transitions (Figure 7 C): where `c` jumps between 4-neighbours by more than the
+//!   transition gap, `b = g`, which clamps the soft shadow away there (hard shadow below `g`).
+//!
+//! `combine.wgsl` is the same per-texel code.
+
+use crate::storage::{MAX_P, Storage, Texel};
+use crate::warp::{NONE_DEPTH, Warp};
+use rayon::prelude::*;
+use shadow_core::Map2D;
+
+/// The generators' output, before storage.
+pub struct Layers {
+    /// Normalised depth of the nearest geometry ([`NONE_DEPTH`] where empty).
+    pub geom: Map2D<f32>,
+    /// The winning edge: `[c, p_i]` normalised, `c =` [`NONE_DEPTH`] where no ribbon reaches.
+    pub edge: Map2D<[f32; 2]>,
+    /// Normalised lower limit ([`NONE_DEPTH`] where none).
+    pub lower: Map2D<f32>,
+}
+
+/// The edge value of a texel no ribbon reaches.
+pub const NO_EDGE: [f32; 2] = [NONE_DEPTH, MAX_P];
+
+/// Whether an edge value is real.
+pub fn has_edge(e: [f32; 2]) -> bool {
+    e[0] < NONE_DEPTH
+}
+
+/// The stored texel at `(x, y)` (before quantisation).
+pub fn combine_texel(l: &Layers, warp: &Warp, transition_gap: f32, x: u32, y: u32) -> Texel {
+    let geom = *l.geom.get(x, y);
+    let lower = *l.lower.get(x, y);
+    let e = *l.edge.get(x, y);
+    if !has_edge(e) {
+        let solid = geom < NONE_DEPTH;
+        return Texel {
+            c: geom,
+            g: geom,
+            b: lower,
+            p: if solid { -MAX_P } else { MAX_P },
+        };
+    }
+    let [c, p] = e;
+    let g = if p < 0.0 { geom } else { geom.min(c + p) };
+    let gap = warp.depth_gap(warp.linear(c), transition_gap);
+    let (xi, yi) = (x as i64, y as i64);
+    let transition = [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|&(dx, dy)| {
+        let n = *l.edge.get_clamped(xi + dx, yi + dy);
+        has_edge(n) && (n[0] - c).abs() > gap
+    });
+    Texel {
+        c,
+        g,
+        b: if transition { g } else { lower },
+        p,
+    }
+}
+
+/// The stored map: every texel combined, then quantised by `storage`.
+pub fn combine(l: &Layers, warp: &Warp, transition_gap: f32, storage: Storage) -> Map2D<Texel> {
+    let (w, h) = (l.geom.width(), l.geom.height());
+    let data: Vec<Texel> = (0..w * h)
+        .into_par_iter()
+        .map(|i| combine_texel(l, warp, transition_gap, i % w, i / w).stored(storage))
+        .collect();
+    Map2D::from_vec(w, h, data).unwrap_or_else(|| Map2D::new(0, 0, Texel::default()))
+}

@@ -1,0 +1,46 @@
+// requires: light_space.wgsl warp.wgsl
+// The stored texel (c, g, b, p_i / 4 + 1/2); mirrors penumbra_limit::combine::combine_texel.
+// The storage format below (rgba32float) is replaced by the map's format when the pipeline is
+// built, so the hardware's conversion quantises exactly as penumbra_limit::storage does.
+
+@group(0) @binding(0) var<uniform> gp: GenParams;
+@group(0) @binding(1) var<storage, read> geom: array<f32>;
+@group(0) @binding(2) var edge_tex: texture_2d<f32>;
+@group(0) @binding(3) var lower_tex: texture_2d<f32>;
+@group(0) @binding(4) var map_out: texture_storage_2d<rgba32float, write>;
+
+fn edge_at(x: i32, y: i32) -> vec2<f32> {
+    let r = i32(gp.res) - 1;
+    return textureLoad(edge_tex, vec2<i32>(clamp(x, 0, r), clamp(y, 0, r)), 0).xy;
+}
+
+@compute @workgroup_size(8, 8)
+fn combine(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= gp.res || gid.y >= gp.res {
+        return;
+    }
+    let x = i32(gid.x);
+    let y = i32(gid.y);
+    let g0 = geom[gid.y * gp.res + gid.x];
+    let lower = textureLoad(lower_tex, vec2<i32>(x, y), 0).x;
+    let e = edge_at(x, y);
+    var t = vec4<f32>(g0, g0, lower, select(MAX_P, -MAX_P, g0 < NONE_DEPTH));
+    if has_edge(e) {
+        let c = e.x;
+        let p = e.y;
+        var g = g0;
+        if p >= 0.0 {
+            g = min(g0, c + p);
+        }
+        let gap = depth_gap(gp.warp, linear(gp.warp, c), gp.transition_gap);
+        var transition = false;
+        let ds = array<vec2<i32>, 4>(vec2<i32>(-1, 0), vec2<i32>(1, 0), vec2<i32>(0, -1), vec2<i32>(0, 1));
+        for (var i = 0; i < 4; i++) {
+            let n = edge_at(x + ds[i].x, y + ds[i].y);
+            transition = transition || (has_edge(n) && abs(n.x - c) > gap);
+        }
+        t = vec4<f32>(c, g, select(lower, g, transition), p);
+    }
+    let raw = clamp(vec4<f32>(t.xyz, clamp(t.w, -MAX_P, MAX_P) * 0.25 + 0.5), vec4<f32>(0.0), vec4<f32>(1.0));
+    textureStore(map_out, vec2<i32>(x, y), raw);
+}

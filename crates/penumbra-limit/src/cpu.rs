@@ -1,0 +1,90 @@
+//! The CPU path: the generators of [`crate::silhouette`] and [`crate::depth_image`] through
+//! `shadow_core`'s rasterizer, [`crate::combine`], and evaluation with rayon.
+
+use crate::combine::{Layers, combine};
+use crate::eval::{EvalParams, shade};
+use crate::params::{Generation, PenumbraLimit};
+use crate::storage::Texel;
+use crate::table::IlluminationTable;
+use crate::warp::Warp;
+use crate::{depth_image, silhouette};
+use rayon::prelude::*;
+use shadow_core::raster::{DepthPass, depth_map_pass};
+use shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+
+/// The penumbra limit map of one light, built on the CPU.
+pub struct CpuPenumbraMaps {
+    /// The light-centre view the map is rendered from.
+    pub view: SampleView,
+    /// Its shader-side parameters.
+    pub params: MapParams,
+    /// Depth warp and normalisation of the map.
+    pub warp: Warp,
+    /// The four channels, quantised as the storage format keeps them.
+    pub map: Map2D<Texel>,
+    /// The visibility-to-illumination table for the light.
+    pub table: IlluminationTable,
+}
+
+/// The generators' layers before combination (inputs already checked).
+pub fn layers(
+    t: &PenumbraLimit,
+    view: &SampleView,
+    warp: &Warp,
+    tris: &[[glam::Vec3; 3]],
+    res: u32,
+) -> Layers {
+    let params = view.params(res);
+    let geom =
+        depth_map_pass(&view.view, res, tris, DepthPass::NEAREST).map(|&z| warp.normalized(z));
+    let (edge, lower) = match t.generation {
+        Generation::Silhouette => {
+            let ribbons: Vec<_> = silhouette::edges(tris)
+                .iter()
+                .filter_map(|e| silhouette::ribbon(&params, warp, e))
+                .collect();
+            let edge = silhouette::rasterize_ribbons(&ribbons, res, warp.p_per_texel);
+            let lower = silhouette::lower_limit(&view.view, warp, tris, &edge, t.layer_gap);
+            (edge, lower)
+        }
+        Generation::DepthImage => depth_image::limits(&geom, warp, t.layer_gap),
+    };
+    Layers { geom, edge, lower }
+}
+
+/// Builds the map of `light` at `resolution` (inputs already checked).
+pub fn generate(
+    t: &PenumbraLimit,
+    geometry: &SceneGeometry,
+    light: &Light,
+    resolution: u32,
+) -> CpuPenumbraMaps {
+    let view = SampleView::center(light, &geometry.bounds);
+    let params = view.params(resolution);
+    let warp = Warp::new(&params, light);
+    let l = layers(t, &view, &warp, &geometry.casters, resolution);
+    CpuPenumbraMaps {
+        view,
+        params,
+        warp,
+        map: combine(&l, &warp, t.transition_gap, t.storage),
+        table: IlluminationTable::new(t.profile.for_light(light), t.table_size),
+    }
+}
+
+/// `V` for every receiver.
+pub fn evaluate(t: &PenumbraLimit, maps: &CpuPenumbraMaps, r: &Receivers) -> Vec<f32> {
+    let prm = EvalParams::new(
+        maps.params,
+        t.bias,
+        maps.warp,
+        t.storage,
+        r.positions.len() as u32,
+        maps.table.values.len() as u32,
+    );
+    r.positions
+        .par_iter()
+        .zip(r.normals.par_iter())
+        .map(|(p, n)| shade(&prm, &maps.map, &maps.table, *p, *n))
+        .collect()
+}

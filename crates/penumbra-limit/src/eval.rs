@@ -1,0 +1,88 @@
+//! Evaluation shared by both backends: the parameters `evaluate.wgsl` reads and the per-receiver
+//! shading on the CPU, which the shader repeats line for line: project the receiver, sample the
+//! four channels bilinearly, equation 2, then the visibility-to-illumination table.
+
+use crate::storage::{Storage, Texel};
+use crate::table::IlluminationTable;
+use crate::visibility::clamped_visibility;
+use crate::warp::{DEPTH_SPAN, Warp};
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec2, Vec3};
+use shadow_core::light_space::shadow_coord;
+use shadow_core::{Bias, Map2D, MapParams};
+
+/// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct EvalParams {
+    /// The light-space map.
+    pub map: MapParams,
+    /// Receiver biases.
+    pub bias: Bias,
+    /// Depth warp and normalisation.
+    pub warp: Warp,
+    /// Number of receivers.
+    pub receiver_count: u32,
+    /// Entries in the illumination table.
+    pub table_size: u32,
+    /// [`Storage::depth_tolerance`] of the map's format.
+    pub tolerance: f32,
+    /// Padding to 16 bytes.
+    pub _pad: f32,
+}
+
+impl EvalParams {
+    /// Parameters for `receiver_count` receivers of a map stored as `storage`.
+    pub fn new(
+        map: MapParams,
+        bias: Bias,
+        warp: Warp,
+        storage: Storage,
+        receiver_count: u32,
+        table_size: u32,
+    ) -> Self {
+        Self {
+            map,
+            bias,
+            warp,
+            receiver_count,
+            table_size,
+            tolerance: storage.depth_tolerance(),
+            _pad: 0.0,
+        }
+    }
+}
+
+/// The four channels bilinearly interpolated at texel coordinate `st`.
+pub fn bilinear_texel(map: &Map2D<Texel>, st: Vec2) -> Texel {
+    map.bilinear_taps(st)
+        .iter()
+        .fold(Texel::default(), |acc, (t, w)| Texel {
+            c: acc.c + t.c * w,
+            g: acc.g + t.g * w,
+            b: acc.b + t.b * w,
+            p: acc.p + t.p * w,
+        })
+}
+
+/// The fraction `l_g` of the light's diameter visible from receiver `p` (normal `n`), before
+/// the table; 1 outside the map.
+pub fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n: Vec3) -> f32 {
+    let Some(co) = shadow_coord(&prm.map, &prm.bias, p, n) else {
+        return 1.0;
+    };
+    let z = (prm.warp.normalized(co.z) - prm.tolerance).min(DEPTH_SPAN);
+    let t = bilinear_texel(map, co.st);
+    clamped_visibility(z, t.c, t.g, t.b, t.p)
+}
+
+/// `V` of one receiver: the visible fraction through the illumination table.
+pub fn shade(
+    prm: &EvalParams,
+    map: &Map2D<Texel>,
+    table: &IlluminationTable,
+    p: Vec3,
+    n: Vec3,
+) -> f32 {
+    table.lookup(visible_fraction(prm, map, p, n))
+}

@@ -1,0 +1,71 @@
+// requires: light_space.wgsl warp.wgsl
+// Evaluation; mirrors penumbra_limit::eval: project the receiver, bilinear (c, g, b, p_i),
+// equation 2, then the visibility-to-illumination table.
+
+struct EvalParams {
+    map: MapView,
+    bias: Bias,
+    warp: Warp,
+    receiver_count: u32,
+    table_size: u32,
+    tolerance: f32,
+    _pad0: f32,
+};
+
+@group(0) @binding(0) var<uniform> prm: EvalParams;
+@group(0) @binding(1) var map: texture_2d<f32>;
+@group(0) @binding(2) var<storage, read> table: array<f32>;
+@group(0) @binding(3) var<storage, read> positions: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read> normals: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read_write> visibility: array<f32>;
+
+fn texel(x: i32, y: i32) -> vec4<f32> {
+    let r = i32(prm.map.resolution) - 1;
+    let raw = textureLoad(map, vec2<i32>(clamp(x, 0, r), clamp(y, 0, r)), 0);
+    return vec4<f32>(raw.xyz, (raw.w - 0.5) * 4.0);
+}
+
+fn bilinear(st: vec2<f32>) -> vec4<f32> {
+    let u = st - vec2<f32>(0.5);
+    let i = floor(u);
+    let f = u - i;
+    let x0 = i32(i.x);
+    let y0 = i32(i.y);
+    return texel(x0, y0) * ((1.0 - f.x) * (1.0 - f.y)) + texel(x0 + 1, y0) * (f.x * (1.0 - f.y))
+        + texel(x0, y0 + 1) * ((1.0 - f.x) * f.y) + texel(x0 + 1, y0 + 1) * (f.x * f.y);
+}
+
+fn sat(x: f32) -> f32 {
+    return clamp(x, 0.0, 1.0);
+}
+
+// Equation 2 with (z <= b); see penumbra_limit::visibility.
+fn clamped_visibility(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
+    let l = sat(0.5 + 0.5 * p / max(z - c, 1.0e-30));
+    let k = 4.0 * f32(z < g) - 2.0 * f32(z < c) + f32(z <= b) - 1.0;
+    return sat(l + k);
+}
+
+fn lookup(l: f32) -> f32 {
+    let n = prm.table_size;
+    let s = clamp(l, 0.0, 1.0) * f32(n - 1u);
+    let i = min(u32(floor(s)), n - 2u);
+    let a = s - f32(i);
+    return table[i] * (1.0 - a) + table[i + 1u] * a;
+}
+
+@compute @workgroup_size(64)
+fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= prm.receiver_count {
+        return;
+    }
+    let co = shadow_coord(prm.map, prm.bias, positions[i].xyz, normals[i].xyz);
+    var l = 1.0;
+    if co.inside {
+        let z = min(normalized(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
+        let t = bilinear(co.st);
+        l = clamped_visibility(z, t.x, t.y, t.z, t.w);
+    }
+    visibility[i] = lookup(l);
+}

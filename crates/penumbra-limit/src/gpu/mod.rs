@@ -1,0 +1,425 @@
+//! The GPU path. Generation records everything in one command buffer and reads nothing back:
+//!
+//! 1. the nearest-surface depth map (`shadow_core`'s rasterizer), normalised into the geometry
+//!    layer (`depth_image.wgsl`, `geometry`);
+//! 2. the edge `[c, p_i]` and lower-limit layers, either by silhouette extrusion (render passes
+//!    of `silhouette.wgsl`: ribbons with the penumbra limit as depth, then back faces) or from
+//!    the depth image (`seeds`, two jump floods, `limits`);
+//! 3. the stored map (`combine.wgsl`, written through a storage texture of the map's format).
+//!
+//! Evaluation is one compute pass (`evaluate.wgsl`).
+
+pub mod pipelines;
+
+use crate::eval::EvalParams;
+use crate::params::{Generation, PenumbraLimit};
+use crate::silhouette::{Edge, edges};
+use crate::storage::{Storage, Texel};
+use crate::table::IlluminationTable;
+use crate::warp::{NONE_DEPTH, Warp};
+use bytemuck::{Pod, Zeroable};
+use pipelines::{
+    CombinePipelines, DepthImagePipelines, EDGE_FORMAT, EvalPipeline, LOWER_FORMAT,
+    SilhouettePipelines,
+};
+use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
+use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
+use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuTriangles};
+use shadow_core::raster::DepthPass;
+use shadow_core::{
+    GpuContext, Light, Map2D, MapParams, Receivers, Result, SampleView, SceneGeometry, ShadowError,
+};
+
+/// The penumbra limit map of one light, kept on the GPU.
+pub struct GpuPenumbraMaps {
+    /// The light-centre view.
+    pub view: SampleView,
+    /// Its shader-side parameters.
+    pub params: MapParams,
+    /// Depth warp and normalisation.
+    pub warp: Warp,
+    /// The map: raw channels `(c, g, b, p_i / 4 + 1/2)` in the storage format.
+    pub map: wgpu::Texture,
+    /// The storage format of `map`.
+    pub storage: Storage,
+    /// The visibility-to-illumination table for the light.
+    pub table: IlluminationTable,
+}
+
+impl GpuPenumbraMaps {
+    /// Reads the map back, decoded (tests, reports).
+    pub fn read_map(&self, ctx: &GpuContext) -> Result<Map2D<Texel>> {
+        let all = wgpu::TextureAspect::All;
+        let raw: Vec<[f32; 4]> = match self.storage {
+            Storage::F32 => read_texture(ctx, &self.map, 0, all, 16)?,
+            Storage::F16 => read_texture::<[u16; 4]>(ctx, &self.map, 0, all, 8)?
+                .iter()
+                .map(|t| t.map(|h| half::f16::from_bits(h).to_f32()))
+                .collect(),
+            Storage::Rgba8 => read_texture::<[u8; 4]>(ctx, &self.map, 0, all, 4)?
+                .iter()
+                .map(|t| t.map(|b| b as f32 / 255.0))
+                .collect(),
+        };
+        let res = self.params.resolution;
+        Map2D::from_vec(res, res, raw.into_iter().map(Texel::decode).collect())
+            .ok_or_else(|| ShadowError::Gpu("penumbra map readback size".into()))
+    }
+}
+
+/// Generation parameters, laid out as `GenParams` in `warp.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct GenParams {
+    map: MapParams,
+    warp: Warp,
+    res: u32,
+    layer_gap: f32,
+    transition_gap: f32,
+    _pad: f32,
+}
+
+struct Raster(GpuRasterizer);
+
+fn buffer(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(4),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+fn texture(
+    ctx: &GpuContext,
+    label: &str,
+    res: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: res,
+            height: res,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+fn layer_usage() -> wgpu::TextureUsages {
+    wgpu::TextureUsages::RENDER_ATTACHMENT
+        | wgpu::TextureUsages::STORAGE_BINDING
+        | wgpu::TextureUsages::TEXTURE_BINDING
+        | wgpu::TextureUsages::COPY_SRC
+}
+
+fn dispatch(
+    enc: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    bind: &wgpu::BindGroup,
+    res: u32,
+) {
+    let mut pass = enc.begin_compute_pass(&Default::default());
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, bind, &[]);
+    let g = res.div_ceil(8);
+    pass.dispatch_workgroups(g, g, 1);
+}
+
+/// A render pass into `color` (cleared to `clear`) with depth `depth` cleared to `clear_depth`.
+fn render_pass<'a>(
+    enc: &'a mut wgpu::CommandEncoder,
+    label: &str,
+    color: &'a wgpu::TextureView,
+    clear: wgpu::Color,
+    depth: &'a wgpu::TextureView,
+    clear_depth: f32,
+) -> wgpu::RenderPass<'a> {
+    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: color,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(clear),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(clear_depth),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// Steps 2 and 3 of silhouette extrusion: ribbons into `edge`, back faces into `lower`.
+#[allow(clippy::too_many_arguments)]
+fn encode_silhouette(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    geometry: &SceneGeometry,
+    tris: &GpuTriangles,
+    uniform: &wgpu::Buffer,
+    edge: &wgpu::Texture,
+    lower: &wgpu::Texture,
+    res: u32,
+) {
+    let pipes = ctx.cached(SilhouettePipelines::new);
+    let list = edges(&geometry.casters);
+    let data = if list.is_empty() {
+        vec![Edge::zeroed()]
+    } else {
+        list.clone()
+    };
+    let eb = ctx.storage_buffer("penumbra edges", bytemuck::cast_slice(&data));
+    let depth = texture(
+        ctx,
+        "penumbra ribbon depth",
+        res,
+        DEPTH_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    );
+    let dummy = texture(
+        ctx,
+        "penumbra no edges",
+        1,
+        EDGE_FORMAT,
+        wgpu::TextureUsages::TEXTURE_BINDING,
+    );
+    let (edge_view, lower_view, depth_view) = (
+        edge.create_view(&Default::default()),
+        lower.create_view(&Default::default()),
+        depth.create_view(&Default::default()),
+    );
+    let bind = |tex: &wgpu::TextureView| {
+        bind_group(
+            ctx,
+            "penumbra silhouette",
+            &pipes.layout,
+            &[
+                uniform.as_entire_binding(),
+                eb.as_entire_binding(),
+                wgpu::BindingResource::TextureView(tex),
+            ],
+        )
+    };
+    let ribbon_bind = bind(&dummy.create_view(&Default::default()));
+    let no_edge = wgpu::Color {
+        r: NONE_DEPTH as f64,
+        g: crate::storage::MAX_P as f64,
+        b: 0.0,
+        a: 0.0,
+    };
+    {
+        let mut rp = render_pass(
+            enc,
+            "penumbra ribbons",
+            &edge_view,
+            no_edge,
+            &depth_view,
+            1.0,
+        );
+        rp.set_pipeline(&pipes.ribbons);
+        rp.set_bind_group(0, &ribbon_bind, &[]);
+        rp.draw(0..list.len() as u32 * 12, 0..1);
+    }
+    let lower_bind = bind(&edge_view);
+    let none = wgpu::Color {
+        r: NONE_DEPTH as f64,
+        ..wgpu::Color::BLACK
+    };
+    let mut rp = render_pass(
+        enc,
+        "penumbra lower limit",
+        &lower_view,
+        none,
+        &depth_view,
+        0.0,
+    );
+    if tris.vertex_count > 0 {
+        rp.set_pipeline(&pipes.lower);
+        rp.set_bind_group(0, &lower_bind, &[]);
+        rp.set_vertex_buffer(0, tris.vertices.slice(..));
+        rp.draw(0..tris.vertex_count, 0..1);
+    }
+}
+
+/// Builds the map on the GPU (inputs already checked), then waits for the GPU.
+pub fn generate(
+    ctx: &GpuContext,
+    t: &PenumbraLimit,
+    geometry: &SceneGeometry,
+    light: &Light,
+    res: u32,
+) -> Result<GpuPenumbraMaps> {
+    let texels = res as u64 * res as u64;
+    let limit = ctx.device.limits().max_storage_buffer_binding_size;
+    if texels * 4 > limit {
+        return Err(ShadowError::InvalidResolution {
+            requested: res,
+            max: ((limit / 4) as f64).sqrt() as u32,
+        });
+    }
+    let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
+    let di = ctx.cached(DepthImagePipelines::new);
+    let comb = ctx.cached(CombinePipelines::new);
+    let view = SampleView::center(light, &geometry.bounds);
+    let params = view.params(res);
+    let warp = Warp::new(&params, light);
+    let tris = GpuTriangles::new(ctx, &geometry.casters)?;
+    let depth = GpuRasterizer::depth_array(ctx, res, 1)?;
+    let gen_params = GenParams {
+        map: params,
+        warp,
+        res,
+        layer_gap: t.layer_gap,
+        transition_gap: t.transition_gap,
+        _pad: 0.0,
+    };
+    let uniform = ctx.uniform_buffer("penumbra params", bytemuck::bytes_of(&gen_params));
+    let seeds_bytes = if t.generation == Generation::DepthImage {
+        texels * 4
+    } else {
+        4
+    };
+    let geom = buffer(ctx, "penumbra geometry", texels * 4);
+    let seeds = [0, 1, 2, 3].map(|_| buffer(ctx, "penumbra seeds", seeds_bytes));
+    let edge = texture(ctx, "penumbra edge", res, EDGE_FORMAT, layer_usage());
+    let lower = texture(ctx, "penumbra lower", res, LOWER_FORMAT, layer_usage());
+    let map = texture(
+        ctx,
+        "penumbra limit map",
+        res,
+        t.storage.texture_format(),
+        wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+    );
+    let (edge_view, lower_view) = (
+        edge.create_view(&Default::default()),
+        lower.create_view(&Default::default()),
+    );
+    let depth_view = depth_array_view(&depth);
+    let di_bind = |a: &wgpu::Buffer, b: &wgpu::Buffer| {
+        bind_group(
+            ctx,
+            "penumbra depth image",
+            &di.layout,
+            &[
+                uniform.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&depth_view),
+                geom.as_entire_binding(),
+                a.as_entire_binding(),
+                b.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&edge_view),
+                wgpu::BindingResource::TextureView(&lower_view),
+            ],
+        )
+    };
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    raster.0.encode_depth_pass(
+        ctx,
+        &mut enc,
+        &tris,
+        &view.view,
+        &depth,
+        0,
+        DepthPass::NEAREST,
+    );
+    dispatch(&mut enc, &di.geometry, &di_bind(&seeds[0], &seeds[1]), res);
+    match t.generation {
+        Generation::Silhouette => {
+            encode_silhouette(ctx, &mut enc, geometry, &tris, &uniform, &edge, &lower, res);
+        }
+        Generation::DepthImage => {
+            dispatch(&mut enc, &di.seeds, &di_bind(&seeds[0], &seeds[1]), res);
+            let flood = ctx.cached(GpuJumpFlood::new);
+            let ia = flood.encode(ctx, &mut enc, [&seeds[0], &seeds[2]], res);
+            let ib = flood.encode(ctx, &mut enc, [&seeds[1], &seeds[3]], res);
+            let a = if ia == 0 { &seeds[0] } else { &seeds[2] };
+            let b = if ib == 0 { &seeds[1] } else { &seeds[3] };
+            dispatch(&mut enc, &di.limits, &di_bind(a, b), res);
+        }
+    }
+    let k = CombinePipelines::index(t.storage);
+    let map_view = map.create_view(&Default::default());
+    let cb = bind_group(
+        ctx,
+        "penumbra combine",
+        &comb.layouts[k],
+        &[
+            uniform.as_entire_binding(),
+            geom.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&edge_view),
+            wgpu::BindingResource::TextureView(&lower_view),
+            wgpu::BindingResource::TextureView(&map_view),
+        ],
+    );
+    dispatch(&mut enc, &comb.pipelines[k], &cb, res);
+    ctx.queue.submit([enc.finish()]);
+    ctx.wait()?;
+    Ok(GpuPenumbraMaps {
+        view,
+        params,
+        warp,
+        map,
+        storage: t.storage,
+        table: IlluminationTable::new(t.profile.for_light(light), t.table_size),
+    })
+}
+
+/// `V` for every receiver, computed by `evaluate.wgsl`.
+pub fn evaluate(
+    ctx: &GpuContext,
+    t: &PenumbraLimit,
+    maps: &GpuPenumbraMaps,
+    r: &Receivers,
+) -> Result<Vec<f32>> {
+    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
+        return Ok(Vec::new());
+    };
+    let pipe = ctx.cached(EvalPipeline::new);
+    let prm = EvalParams::new(
+        maps.params,
+        t.bias,
+        maps.warp,
+        maps.storage,
+        rb.count,
+        maps.table.values.len() as u32,
+    );
+    let ub = ctx.uniform_buffer("penumbra eval", bytemuck::bytes_of(&prm));
+    let tb = ctx.storage_buffer(
+        "illumination table",
+        bytemuck::cast_slice(&maps.table.values),
+    );
+    let map_view = maps.map.create_view(&Default::default());
+    let bind = bind_group(
+        ctx,
+        "penumbra evaluate",
+        &pipe.layout,
+        &[
+            ub.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&map_view),
+            tb.as_entire_binding(),
+            rb.positions.as_entire_binding(),
+            rb.normals.as_entire_binding(),
+            rb.visibility.as_entire_binding(),
+        ],
+    );
+    rb.run(ctx, &pipe.pipeline, &bind)
+}

@@ -1,0 +1,321 @@
+//! The pipelines of the GPU path, built once per context: the ribbon and back-face render
+//! pipelines (`silhouette.wgsl`), the depth-image kernels (`depth_image.wgsl`), one combine
+//! kernel per storage format (`combine.wgsl`) and evaluation (`evaluate.wgsl`).
+
+use crate::storage::Storage;
+use shadow_core::GpuContext;
+use shadow_core::gpu::LIGHT_SPACE_WGSL;
+use shadow_core::gpu::compute::{
+    compute_pipelines, depth_array_entry, storage_entry, uniform_entry,
+};
+use shadow_core::gpu::raster::DEPTH_FORMAT;
+
+/// `warp.wgsl`, prepended after `light_space.wgsl` to every shader of the crate.
+pub const WARP_WGSL: &str = include_str!("../warp.wgsl");
+
+/// Format of the edge layer `[c, p_i]`.
+pub const EDGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// Format of the lower-limit layer.
+pub const LOWER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+fn module(ctx: &GpuContext, label: &str, source: &str) -> wgpu::ShaderModule {
+    ctx.device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(
+                format!("{LIGHT_SPACE_WGSL}\n{WARP_WGSL}\n{source}").into(),
+            ),
+        })
+}
+
+fn entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty,
+        count: None,
+    }
+}
+
+fn texture(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+    )
+}
+
+fn storage_texture(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        wgpu::ShaderStages::COMPUTE,
+        wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+    )
+}
+
+fn layout(
+    ctx: &GpuContext,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries,
+        })
+}
+
+/// Silhouette extrusion, steps 2 and 3.
+pub struct SilhouettePipelines {
+    /// Parameters, edges, edge texture.
+    pub layout: wgpu::BindGroupLayout,
+    /// Ribbons into the edge layer, depth = penumbra limit.
+    pub ribbons: wgpu::RenderPipeline,
+    /// Back faces into the lower layer.
+    pub lower: wgpu::RenderPipeline,
+}
+
+impl SilhouettePipelines {
+    /// Builds the pipelines.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let m = module(
+            ctx,
+            "penumbra silhouette",
+            include_str!("../silhouette.wgsl"),
+        );
+        let vf = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
+        let uniform = wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        };
+        let edges = wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        };
+        let layout = layout(
+            ctx,
+            "penumbra silhouette",
+            &[
+                entry(0, vf, uniform),
+                entry(1, wgpu::ShaderStages::VERTEX, edges),
+                texture(2, wgpu::ShaderStages::FRAGMENT),
+            ],
+        );
+        let pl = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("penumbra silhouette"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let pipeline = |label: &str,
+                        vs: &str,
+                        fs: &str,
+                        buffers: &[Option<wgpu::VertexBufferLayout>],
+                        format: wgpu::TextureFormat,
+                        cull: Option<wgpu::Face>,
+                        compare: wgpu::CompareFunction| {
+            ctx.device
+                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&pl),
+                    vertex: wgpu::VertexState {
+                        module: &m,
+                        entry_point: Some(vs),
+                        compilation_options: Default::default(),
+                        buffers,
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: cull,
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(compare),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &m,
+                        entry_point: Some(fs),
+                        compilation_options: Default::default(),
+                        targets: &[Some(format.into())],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+        };
+        let positions = [Some(wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        })];
+        Self {
+            ribbons: pipeline(
+                "penumbra ribbons",
+                "vs_ribbon",
+                "fs_ribbon",
+                &[],
+                EDGE_FORMAT,
+                None,
+                wgpu::CompareFunction::Less,
+            ),
+            lower: pipeline(
+                "penumbra lower limit",
+                "vs_lower",
+                "fs_lower",
+                &positions,
+                LOWER_FORMAT,
+                Some(wgpu::Face::Front),
+                wgpu::CompareFunction::Greater,
+            ),
+            layout,
+        }
+    }
+}
+
+/// The geometry layer and the depth-image generator.
+pub struct DepthImagePipelines {
+    /// Parameters, depth map, geometry, seeds, edge and lower outputs.
+    pub layout: wgpu::BindGroupLayout,
+    /// Normalised nearest depth.
+    pub geometry: wgpu::ComputePipeline,
+    /// Near- and far-side seeds.
+    pub seeds: wgpu::ComputePipeline,
+    /// Edge and lower limit from the flooded seeds.
+    pub limits: wgpu::ComputePipeline,
+}
+
+impl DepthImagePipelines {
+    /// Builds the pipelines.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let m = module(
+            ctx,
+            "penumbra depth image",
+            include_str!("../depth_image.wgsl"),
+        );
+        let layout = layout(
+            ctx,
+            "penumbra depth image",
+            &[
+                uniform_entry(0),
+                depth_array_entry(1),
+                storage_entry(2, false),
+                storage_entry(3, false),
+                storage_entry(4, false),
+                storage_texture(5, EDGE_FORMAT),
+                storage_texture(6, LOWER_FORMAT),
+            ],
+        );
+        let [geometry, seeds, limits] = compute_pipelines(
+            ctx,
+            "penumbra depth image",
+            &m,
+            &layout,
+            ["geometry", "seeds", "limits"],
+        );
+        Self {
+            layout,
+            geometry,
+            seeds,
+            limits,
+        }
+    }
+}
+
+/// One combine kernel per storage format.
+pub struct CombinePipelines {
+    /// Parameters, geometry, edge and lower textures, the map.
+    pub layouts: Vec<wgpu::BindGroupLayout>,
+    /// Indexed like [`Storage::ALL`].
+    pub pipelines: Vec<wgpu::ComputePipeline>,
+}
+
+/// The WGSL name of a storage texture format.
+fn wgsl_format(s: Storage) -> &'static str {
+    match s {
+        Storage::F32 => "rgba32float",
+        Storage::F16 => "rgba16float",
+        Storage::Rgba8 => "rgba8unorm",
+    }
+}
+
+impl CombinePipelines {
+    /// Builds the pipelines.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let (mut layouts, mut pipelines) = (Vec::new(), Vec::new());
+        for s in Storage::ALL {
+            let src = include_str!("../combine.wgsl").replace(
+                "texture_storage_2d<rgba32float, write>",
+                &format!("texture_storage_2d<{}, write>", wgsl_format(s)),
+            );
+            let m = module(ctx, "penumbra combine", &src);
+            let c = wgpu::ShaderStages::COMPUTE;
+            let l = layout(
+                ctx,
+                "penumbra combine",
+                &[
+                    uniform_entry(0),
+                    storage_entry(1, true),
+                    texture(2, c),
+                    texture(3, c),
+                    storage_texture(4, s.texture_format()),
+                ],
+            );
+            let [p] = compute_pipelines(ctx, "penumbra combine", &m, &l, ["combine"]);
+            layouts.push(l);
+            pipelines.push(p);
+        }
+        Self { layouts, pipelines }
+    }
+
+    /// The index of `s`.
+    pub fn index(s: Storage) -> usize {
+        Storage::ALL.iter().position(|&x| x == s).unwrap_or(0)
+    }
+}
+
+/// Evaluation.
+pub struct EvalPipeline {
+    /// Parameters, map, table, receivers, output.
+    pub layout: wgpu::BindGroupLayout,
+    /// The kernel.
+    pub pipeline: wgpu::ComputePipeline,
+}
+
+impl EvalPipeline {
+    /// Builds the pipeline.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let m = module(ctx, "penumbra evaluate", include_str!("../evaluate.wgsl"));
+        let layout = layout(
+            ctx,
+            "penumbra evaluate",
+            &[
+                uniform_entry(0),
+                texture(1, wgpu::ShaderStages::COMPUTE),
+                storage_entry(2, true),
+                storage_entry(3, true),
+                storage_entry(4, true),
+                storage_entry(5, false),
+            ],
+        );
+        let [pipeline] = compute_pipelines(ctx, "penumbra evaluate", &m, &layout, ["evaluate"]);
+        Self { layout, pipeline }
+    }
+}

@@ -1,0 +1,131 @@
+//! The technique's parameters and their validation.
+
+use crate::storage::Storage;
+use crate::table::{Profile, TABLE_SIZE_RANGE};
+use shadow_core::{Bias, Result, ShadowError};
+
+/// How the map is generated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Generation {
+    /// Section 3.1: front geometry to `g`, silhouette edges extruded into soft-shadow ribbons
+    /// that write `c` and `p_i` ("highest penumbra limit wins"), back faces to `b`.
+    Silhouette,
+    /// From a rasterized depth map: occluder edges are depth discontinuities, every texel takes
+    /// its nearest edge (jump flooding) inwards and outwards, `p_i = w s r`. For scenes whose
+    /// silhouettes are not worth enumerating (foliage).
+    DepthImage,
+}
+
+impl Generation {
+    /// Both generators.
+    pub const ALL: [Generation; 2] = [Generation::Silhouette, Generation::DepthImage];
+
+    /// Short name used in variant labels.
+    pub fn name(self) -> &'static str {
+        match self {
+            Generation::Silhouette => "silhouette",
+            Generation::DepthImage => "depth-image",
+        }
+    }
+}
+
+/// Default table size (the paper's 512 entries).
+pub const DEFAULT_TABLE_SIZE: u32 = 512;
+
+/// Penumbra limit maps (Lawlor 2006) with their parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PenumbraLimit {
+    /// Generator.
+    pub generation: Generation,
+    /// Texel format of the map.
+    pub storage: Storage,
+    /// Light profile of the visibility-to-illumination table.
+    pub profile: Profile,
+    /// Entries of the table, in [`TABLE_SIZE_RANGE`].
+    pub table_size: u32,
+    /// Receiver biases against self-shadowing (texels).
+    pub bias: Bias,
+    /// Depth gap, in texels of world size, that separates layers: an occluder edge in the depth
+    /// image needs a jump this much above the local slope; back faces within it of the edge
+    /// depth `c` are thrown away (section 3.1, step 3).
+    pub layer_gap: f32,
+    /// Change of `c` between neighbouring texels, in texels of world size, that marks a
+    /// transition between occluders; there `g` and `b` are brought together (Figure 7 C).
+    pub transition_gap: f32,
+}
+
+impl PenumbraLimit {
+    /// The technique with `generation`, f32 storage and the defaults.
+    pub fn new(generation: Generation) -> Self {
+        Self {
+            generation,
+            storage: Storage::F32,
+            profile: Profile::Auto,
+            table_size: DEFAULT_TABLE_SIZE,
+            bias: Bias::default(),
+            layer_gap: 2.0,
+            transition_gap: 4.0,
+        }
+    }
+
+    /// The same with `storage`.
+    pub fn with_storage(mut self, storage: Storage) -> Self {
+        self.storage = storage;
+        self
+    }
+
+    /// The variants the report runs: both generators in every storage format.
+    pub fn standard_set() -> Vec<PenumbraLimit> {
+        Generation::ALL
+            .iter()
+            .flat_map(|&g| {
+                Storage::ALL
+                    .iter()
+                    .map(move |&s| PenumbraLimit::new(g).with_storage(s))
+            })
+            .collect()
+    }
+
+    /// Variant label: generator and storage, plus the profile and table size when not default.
+    pub fn label(&self) -> String {
+        let mut s = format!("{}-{}", self.generation.name(), self.storage.name());
+        match self.profile {
+            Profile::Auto => {}
+            Profile::UniformDisk => s.push_str("-disk"),
+            Profile::LimbDarkened { u } => s.push_str(&format!("-limb{u}")),
+            Profile::Line => s.push_str("-line"),
+        }
+        if self.table_size != DEFAULT_TABLE_SIZE {
+            s.push_str(&format!("-table{}", self.table_size));
+        }
+        s
+    }
+
+    /// Checks every parameter; the error names the first bad one.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: String| Err(ShadowError::InvalidParameter(what));
+        if !TABLE_SIZE_RANGE.contains(&self.table_size) {
+            return bad(format!(
+                "table_size {} is outside {TABLE_SIZE_RANGE:?}",
+                self.table_size
+            ));
+        }
+        if let Profile::LimbDarkened { u } = self.profile
+            && !(0.0..=1.0).contains(&u)
+        {
+            return bad(format!("limb-darkening coefficient {u} is outside [0, 1]"));
+        }
+        for (name, v) in [
+            ("layer_gap", self.layer_gap),
+            ("transition_gap", self.transition_gap),
+            ("bias.normal_offset", self.bias.normal_offset),
+            ("bias.depth", self.bias.depth),
+            ("bias.slope", self.bias.slope),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return bad(format!("{name} must be finite and >= 0, got {v}"));
+            }
+        }
+        Ok(())
+    }
+}

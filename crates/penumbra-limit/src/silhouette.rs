@@ -1,0 +1,310 @@
+//! Generation by silhouette extrusion (section 3.1), CPU side; `silhouette.wgsl` is the GPU side.
+//!
+//! 1. Every face (front faces, and open surfaces' back faces, which occlude too) to the
+//!    geometry depth (`geom`), nearest wins: an ordinary shadow map.
+//! 2. Every silhouette edge (faces on its two sides face the light differently, or a mesh
+//!    border) becomes two ribbons in the map: an inner strip over the silhouette's inside and an
+//!    outer strip, extended past both ends to cover the corners, on the outside. Each is as wide
+//!    as the widest penumbra of that edge ([`Warp::ribbon_texels`]). A ribbon fragment at
+//!    distance `d` texels from the edge *segment* carries `c` (the edge's depth at the nearest
+//!    point) and `p_i = -/+ d * p_per_texel`; its depth-test key is the penumbra limit
+//!    `c + |p_i|` scaled by [`KEY_SCALE`] into the depth range `[0, 1]`, and the smallest key
+//!    wins ("highest penumbra limit wins"). Along a straight
+//!    edge `p_i` is the exact plane of section 2, so bilinear interpolation is exact.
+//! 3. Back faces to the lower limit, keeping only those deeper than the texel's `c` by more than
+//!    `layer_gap` texels (a surface must not clip its own soft shadow).
+
+use crate::combine::NO_EDGE;
+use crate::warp::Warp;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+use shadow_core::raster::{DepthPass, DepthTest, Faces, depth_map_filtered};
+use shadow_core::{Map2D, MapParams, View};
+use std::collections::HashMap;
+
+/// One mesh edge and the faces beside it, laid out as `Edge` in `silhouette.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct Edge {
+    /// One end (w = 1).
+    pub a: [f32; 4],
+    /// The other end (w = 1).
+    pub b: [f32; 4],
+    /// The vertex of face 0 opposite the edge (w = 1).
+    pub o0: [f32; 4],
+    /// The vertex of face 1 opposite the edge (w = 1), w = 0 on a border (one face).
+    pub o1: [f32; 4],
+    /// Unit normal of face 0 (its winding).
+    pub n0: [f32; 4],
+    /// Unit normal of face 1.
+    pub n1: [f32; 4],
+}
+
+/// A vertex position's bits: welds bit-identical vertices.
+type VertexKey = [u32; 3];
+
+fn key(p: Vec3) -> VertexKey {
+    p.to_array().map(f32::to_bits)
+}
+
+/// The edges of a triangle soup: vertices welded where bit-identical; an edge with exactly two
+/// faces is one [`Edge`], an edge of one face or of three and more is a border of each face.
+/// Zero-area triangles have no orientation and are skipped.
+pub fn edges(tris: &[[Vec3; 3]]) -> Vec<Edge> {
+    let mut by_edge: HashMap<(VertexKey, VertexKey), Vec<(usize, usize)>> = HashMap::new();
+    let normal = |t: &[Vec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
+    for (ti, t) in tris.iter().enumerate() {
+        if normal(t) == Vec3::ZERO {
+            continue;
+        }
+        for k in 0..3 {
+            let (ka, kb) = (key(t[k]), key(t[(k + 1) % 3]));
+            let e = if ka <= kb { (ka, kb) } else { (kb, ka) };
+            by_edge.entry(e).or_default().push((ti, k));
+        }
+    }
+    let mut keys: Vec<_> = by_edge.keys().copied().collect();
+    keys.sort_unstable();
+    let v4 = |p: Vec3, w: f32| p.extend(w).to_array();
+    let mut out = Vec::with_capacity(keys.len());
+    for k in keys {
+        let faces = &by_edge[&k];
+        let side = |&(ti, e): &(usize, usize)| {
+            let t = &tris[ti];
+            (t[e], t[(e + 1) % 3], t[(e + 2) % 3], normal(t))
+        };
+        if faces.len() == 2 {
+            let (a, b, o0, n0) = side(&faces[0]);
+            let (_, _, o1, n1) = side(&faces[1]);
+            out.push(Edge {
+                a: v4(a, 1.0),
+                b: v4(b, 1.0),
+                o0: v4(o0, 1.0),
+                o1: v4(o1, 1.0),
+                n0: v4(n0, 0.0),
+                n1: v4(n1, 0.0),
+            });
+        } else {
+            for f in faces {
+                let (a, b, o, n) = side(f);
+                out.push(Edge {
+                    a: v4(a, 1.0),
+                    b: v4(b, 1.0),
+                    o0: v4(o, 1.0),
+                    o1: [0.0; 4],
+                    n0: v4(n, 0.0),
+                    n1: [0.0; 4],
+                });
+            }
+        }
+    }
+    out
+}
+
+/// An edge projected into the map, as the ribbon fragments need it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ribbon {
+    /// Ends in texel coordinates.
+    pub a: Vec2,
+    /// See `a`.
+    pub b: Vec2,
+    /// Normalised depths of the ends.
+    pub ca: f32,
+    /// See `ca`.
+    pub cb: f32,
+    /// Unit normal towards the outside, in texels.
+    pub out: Vec2,
+    /// Half-widths in texels at the ends.
+    pub ha: f32,
+    /// See `ha`.
+    pub hb: f32,
+}
+
+fn project(m: &MapParams, p: Vec3) -> Option<Vec2> {
+    let clip = Mat4::from_cols_array(&m.view_proj) * p.extend(1.0);
+    if clip.w <= 0.0 {
+        return None;
+    }
+    let res = m.resolution as f32;
+    Some(Vec2::new(
+        (clip.x / clip.w * 0.5 + 0.5) * res,
+        (0.5 - clip.y / clip.w * 0.5) * res,
+    ))
+}
+
+/// Whether a face with normal `n` through `p` faces the light of map `m`.
+fn faces_light(m: &MapParams, n: Vec3, p: Vec3) -> bool {
+    let l = Vec4::from(m.light);
+    let to_light = if l.w == 1.0 {
+        l.truncate() - p
+    } else {
+        l.truncate()
+    };
+    n.dot(to_light) > 0.0
+}
+
+/// The ribbon of `e` in map `m`, or `None` when it is not a silhouette edge, lies behind the
+/// light, or is seen end-on.
+pub fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
+    let v = |a: [f32; 4]| Vec4::from(a).truncate();
+    let (a, b) = (v(e.a), v(e.b));
+    let border = e.o1[3] == 0.0;
+    let f0 = faces_light(m, v(e.n0), a);
+    let inner = if border {
+        v(e.o0)
+    } else {
+        let f1 = faces_light(m, v(e.n1), a);
+        if f0 == f1 {
+            return None;
+        }
+        if f0 { v(e.o0) } else { v(e.o1) }
+    };
+    let (sa, sb, so) = (project(m, a)?, project(m, b)?, project(m, inner)?);
+    let d = sb - sa;
+    let len = d.length();
+    if len.partial_cmp(&1e-6) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let mut out = Vec2::new(-d.y, d.x) / len;
+    if out.dot(so - sa) > 0.0 {
+        out = -out;
+    }
+    let (ca, cb) = (
+        warp.normalized(m.linear_depth(a)),
+        warp.normalized(m.linear_depth(b)),
+    );
+    let cap = 2.0 * m.resolution as f32;
+    Some(Ribbon {
+        a: sa,
+        b: sb,
+        ca,
+        cb,
+        out,
+        ha: warp.ribbon_texels(ca).min(cap),
+        hb: warp.ribbon_texels(cb).min(cap),
+    })
+}
+
+impl Ribbon {
+    /// The two quads (texel coordinates): the inner strip, then the outer strip with its caps.
+    pub fn quads(&self) -> [[Vec2; 4]; 2] {
+        let t = (self.b - self.a).normalize_or_zero();
+        let (a, b, o) = (self.a, self.b, self.out);
+        [
+            [a, b, b - o * self.hb, a - o * self.ha],
+            [
+                a - t * self.ha,
+                b + t * self.hb,
+                b + t * self.hb + o * self.hb,
+                a - t * self.ha + o * self.ha,
+            ],
+        ]
+    }
+
+    /// The fragment at texel centre `q`: `(key, c, p_i)` with `p_i` per texel `ppt`.
+    pub fn fragment(&self, q: Vec2, ppt: f32) -> (f32, f32, f32) {
+        let d = self.b - self.a;
+        let t = ((q - self.a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+        let dist = (q - (self.a + d * t)).length();
+        let c = self.ca + (self.cb - self.ca) * t;
+        let sign = if (q - self.a).dot(self.out) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        let p = (sign * dist * ppt).clamp(-crate::storage::MAX_P, crate::storage::MAX_P);
+        ((c + p.abs()) * KEY_SCALE, c, p)
+    }
+}
+
+/// Whether texel centre `q` lies inside the convex quad `v` (either winding, edges included).
+fn inside(v: &[Vec2; 4], q: Vec2) -> bool {
+    let mut sign = 0.0f32;
+    for i in 0..4 {
+        let (p0, p1) = (v[i], v[(i + 1) % 4]);
+        let e = (p1 - p0).perp_dot(q - p0);
+        if e != 0.0 {
+            if sign != 0.0 && e.signum() != sign {
+                return false;
+            }
+            sign = e.signum();
+        }
+    }
+    true
+}
+
+const BAND: u32 = 16;
+
+/// Scale of the depth-test key `c + |p_i|` (at most `1 + MAX_P`) into a depth in `[0, 1]`;
+/// 1 is "no ribbon" (the cleared depth), which a ribbon at `c = 1`, `|p_i| = MAX_P` never beats.
+pub const KEY_SCALE: f32 = 1.0 / (1.0 + crate::storage::MAX_P);
+
+/// Step 2 on the CPU: the winning `[c, p_i]` per texel ([`NO_EDGE`] where no ribbon reaches).
+pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 2]> {
+    let quads: Vec<(usize, [Vec2; 4])> = ribbons
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| r.quads().map(|q| (i, q)))
+        .collect();
+    let mut data = vec![NO_EDGE; res as usize * res as usize];
+    data.par_chunks_mut((res * BAND) as usize)
+        .enumerate()
+        .for_each(|(band, rows)| {
+            let y0 = band as u32 * BAND;
+            let mut keys = vec![1.0f32; rows.len()];
+            for (i, q) in &quads {
+                let (lo, hi) = q.iter().fold((Vec2::MAX, Vec2::MIN), |(lo, hi), v| {
+                    (lo.min(*v), hi.max(*v))
+                });
+                let ry0 = ((lo.y - 0.5).ceil().max(y0 as f32)) as u32;
+                let ry1 = (hi.y - 0.5).floor().min((y0 + BAND).min(res) as f32 - 1.0);
+                let rx0 = (lo.x - 0.5).ceil().max(0.0) as u32;
+                let rx1 = (hi.x - 0.5).floor().min(res as f32 - 1.0);
+                if ry1 < ry0 as f32 || rx1 < rx0 as f32 {
+                    continue;
+                }
+                for y in ry0..=ry1 as u32 {
+                    for x in rx0..=rx1 as u32 {
+                        let c = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                        if !inside(q, c) {
+                            continue;
+                        }
+                        let (k, cc, p) = ribbons[*i].fragment(c, ppt);
+                        let j = ((y - y0) * res + x) as usize;
+                        if k < keys[j] {
+                            keys[j] = k;
+                            rows[j] = [cc, p];
+                        }
+                    }
+                }
+            }
+        });
+    Map2D::from_vec(res, res, data).unwrap_or_else(|| Map2D::new(0, 0, NO_EDGE))
+}
+
+/// Step 3 on the CPU: normalised depth of the nearest back face deeper than the texel's edge
+/// depth by more than `layer_gap` texels ([`crate::warp::NONE_DEPTH`] where none).
+pub fn lower_limit(
+    view: &View,
+    warp: &Warp,
+    tris: &[[Vec3; 3]],
+    edge: &Map2D<[f32; 2]>,
+    layer_gap: f32,
+) -> Map2D<f32> {
+    let pass = DepthPass {
+        test: DepthTest::Nearest,
+        faces: Faces::Back,
+    };
+    let z = depth_map_filtered(view, edge.width(), tris, pass, |x, y, z| {
+        let e = *edge.get(x, y);
+        crate::combine::has_edge(e) && deeper_than_edge(warp, e[0], z, layer_gap)
+    });
+    z.map(|&z| warp.normalized(z))
+}
+
+/// Whether linear depth `z` lies more than `layer_gap` texels below the edge at normalised `c`.
+pub fn deeper_than_edge(warp: &Warp, c: f32, z: f32, layer_gap: f32) -> bool {
+    let zc = warp.linear(c);
+    warp.normalized(z) > c + warp.depth_gap(zc, layer_gap)
+}

@@ -1,0 +1,158 @@
+// requires: light_space.wgsl warp.wgsl
+// Silhouette extrusion (section 3.1), steps 2 and 3; mirrors penumbra_limit::silhouette.
+// Step 2 pulls each edge from a storage buffer, 12 vertices per edge (inner strip, then the
+// outer strip with its caps), degenerate when the edge is no silhouette; the fragment computes
+// (key, c, p_i) from the distance to the edge segment and writes key as its depth, so the depth
+// test (Less, cleared to 1) keeps the highest penumbra limit. Step 3 renders back faces, keeping
+// those deeper than the texel's edge by more than layer_gap texels; nearest wins (reversed Z).
+
+struct Edge {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    o0: vec4<f32>,
+    o1: vec4<f32>,
+    n0: vec4<f32>,
+    n1: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> gp: GenParams;
+@group(0) @binding(1) var<storage, read> edges: array<Edge>;
+@group(0) @binding(2) var edge_tex: texture_2d<f32>;
+
+struct Projected {
+    ok: bool,
+    q: vec2<f32>,
+};
+
+fn project(p: vec3<f32>) -> Projected {
+    var r: Projected;
+    let clip = gp.map.view_proj * vec4<f32>(p, 1.0);
+    r.ok = clip.w > 0.0;
+    let res = f32(gp.map.resolution);
+    r.q = vec2<f32>((clip.x / clip.w * 0.5 + 0.5) * res, (0.5 - clip.y / clip.w * 0.5) * res);
+    return r;
+}
+
+fn faces_light(n: vec3<f32>, p: vec3<f32>) -> bool {
+    var to_light = gp.map.light.xyz;
+    if gp.map.light.w == 1.0 {
+        to_light = gp.map.light.xyz - p;
+    }
+    return dot(n, to_light) > 0.0;
+}
+
+struct RibbonVarying {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) @interpolate(flat) a: vec2<f32>,
+    @location(1) @interpolate(flat) b: vec2<f32>,
+    @location(2) @interpolate(flat) c: vec2<f32>,
+    @location(3) @interpolate(flat) out_dir: vec2<f32>,
+};
+
+const KEY_SCALE: f32 = 1.0 / (1.0 + MAX_P);
+
+const CORNERS: array<u32, 6> = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u);
+
+@vertex
+fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
+    var v: RibbonVarying;
+    v.pos = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+    let e = edges[vi / 12u];
+    let k = vi % 12u;
+    let a = e.a.xyz;
+    let b = e.b.xyz;
+    let f0 = faces_light(e.n0.xyz, a);
+    var inner = e.o0.xyz;
+    if e.o1.w != 0.0 {
+        let f1 = faces_light(e.n1.xyz, a);
+        if f0 == f1 {
+            return v;
+        }
+        if !f0 {
+            inner = e.o1.xyz;
+        }
+    }
+    let pa = project(a);
+    let pb = project(b);
+    let po = project(inner);
+    if !(pa.ok && pb.ok && po.ok) {
+        return v;
+    }
+    let sa = pa.q;
+    let sb = pb.q;
+    let d = sb - sa;
+    let len = length(d);
+    if !(len > 1e-6) {
+        return v;
+    }
+    var o = vec2<f32>(-d.y, d.x) / len;
+    if dot(o, po.q - sa) > 0.0 {
+        o = -o;
+    }
+    let ca = normalized(gp.warp, linear_depth(gp.map, a));
+    let cb = normalized(gp.warp, linear_depth(gp.map, b));
+    let cap = 2.0 * f32(gp.map.resolution);
+    let ha = min(ribbon_texels(gp.warp, ca), cap);
+    let hb = min(ribbon_texels(gp.warp, cb), cap);
+    let t = d / len;
+    var quad: array<vec2<f32>, 4>;
+    if k < 6u {
+        quad = array<vec2<f32>, 4>(sa, sb, sb - o * hb, sa - o * ha);
+    } else {
+        quad = array<vec2<f32>, 4>(sa - t * ha, sb + t * hb, sb + t * hb + o * hb, sa - t * ha + o * ha);
+    }
+    let q = quad[CORNERS[k % 6u]];
+    let res = f32(gp.map.resolution);
+    v.pos = vec4<f32>(q.x / res * 2.0 - 1.0, 1.0 - q.y / res * 2.0, 0.5, 1.0);
+    v.a = sa;
+    v.b = sb;
+    v.c = vec2<f32>(ca, cb);
+    v.out_dir = o;
+    return v;
+}
+
+struct RibbonFragment {
+    @location(0) edge: vec2<f32>,
+    @builtin(frag_depth) key: f32,
+};
+
+@fragment
+fn fs_ribbon(v: RibbonVarying) -> RibbonFragment {
+    let q = v.pos.xy;
+    let d = v.b - v.a;
+    let t = clamp(dot(q - v.a, d) / dot(d, d), 0.0, 1.0);
+    let dist = length(q - (v.a + d * t));
+    let c = v.c.x + (v.c.y - v.c.x) * t;
+    var sgn = -1.0;
+    if dot(q - v.a, v.out_dir) >= 0.0 {
+        sgn = 1.0;
+    }
+    let p = clamp(sgn * dist * gp.warp.p_per_texel, -MAX_P, MAX_P);
+    var f: RibbonFragment;
+    f.edge = vec2<f32>(c, p);
+    f.key = (c + abs(p)) * KEY_SCALE;
+    return f;
+}
+
+struct LowerVarying {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) world: vec3<f32>,
+};
+
+@vertex
+fn vs_lower(@location(0) position: vec3<f32>) -> LowerVarying {
+    var v: LowerVarying;
+    v.pos = gp.map.view_proj * vec4<f32>(position, 1.0);
+    v.world = position;
+    return v;
+}
+
+@fragment
+fn fs_lower(v: LowerVarying) -> @location(0) vec4<f32> {
+    let e = textureLoad(edge_tex, vec2<i32>(v.pos.xy), 0).xy;
+    let z = normalized(gp.warp, linear_depth(gp.map, v.world));
+    if !has_edge(e) || !(z > e.x + depth_gap(gp.warp, linear(gp.warp, e.x), gp.layer_gap)) {
+        discard;
+    }
+    return vec4<f32>(z, 0.0, 0.0, 1.0);
+}

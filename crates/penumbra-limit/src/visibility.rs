@@ -1,0 +1,47 @@
+//! The visible fraction of the light: equation 1 (inside a soft shadow), the piecewise
+//! geometry-clamped `l_g` of section 2.1 and its branch-free form, equation 2.
+//!
+//! Depths here are the map's normalised depths (see [`crate::warp`]): `z` the receiver, `c` the
+//! occluder edge, `g` the upper and `b` the lower geometry limit, `p` the signed penumbra limit
+//! `p_i` (negative inside the silhouette, positive outside).
+
+/// Smallest `z - c` divided by; keeps `p / (z - c)` finite at `z = c` (a normal f32 on every GPU).
+pub const MIN_DEPTH_GAP: f32 = 1.0e-30;
+
+/// `sat(x)`: clamp to `[0, 1]`.
+pub fn sat(x: f32) -> f32 {
+    x.clamp(0.0, 1.0)
+}
+
+/// Equation 1, saturated: `sat(1/2 + 1/2 p / (z - c))`, the fraction of the light's diameter
+/// visible at depth `z` below an edge at depth `c` with signed penumbra limit `p`.
+///
+/// Only meaningful for `z >= c`. At `z = c` it is the limit from below the edge: 1 outside
+/// (`p > 0`), 0 inside (`p < 0`) and 1/2 on the edge (`p = 0`).
+pub fn edge_visibility(z: f32, c: f32, p: f32) -> f32 {
+    sat(0.5 + 0.5 * p / (z - c).max(MIN_DEPTH_GAP))
+}
+
+/// `l_g` as the paper writes it, case by case: 1 above the geometry, 0 between it and the edge,
+/// 0 below the lower limit, equation 1 otherwise.
+pub fn clamped_visibility_piecewise(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
+    if z < g {
+        1.0
+    } else if z < c || z > b {
+        0.0
+    } else {
+        edge_visibility(z, c, p)
+    }
+}
+
+/// Equation 2, branch-free: `sat(sat(l) + 4 (z < g) - 2 (z < c) + (z <= b) - 1)`.
+///
+/// The paper writes `(z < b)`, which disagrees with its own piecewise `l_g` at `z = b` exactly
+/// (it gives 0 where the cases give `l`); `(z <= b)` makes the two equal for every input.
+/// The step terms are summed first (an exact small integer `k`), so `sat(l + k)` is exactly
+/// `l`, 0 or 1 in floating point too: summed left to right, `l + 4` would round `l` away.
+pub fn clamped_visibility(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
+    let step = |t: bool| t as u32 as f32;
+    let k = 4.0 * step(z < g) - 2.0 * step(z < c) + step(z <= b) - 1.0;
+    sat(edge_visibility(z, c, p) + k)
+}

@@ -1,0 +1,115 @@
+//! Map coordinates in which every supported light is a distant light (the conclusion's
+//! perspective warp), and the normalised depths the map stores.
+//!
+//! - **Distant light** (orthographic map): depth `zeta = z`, the linear depth along the light;
+//!   horizontal units are world units; the light's half-angle `a` gives the depth rate
+//!   `r = 1 / tan(a)` (section 3).
+//! - **Local light** (perspective map from the light's centre): horizontal `X = x / z` (tangent
+//!   units) and depth `zeta = -1 / z`. A light point at offset `a` in the eye plane sends rays
+//!   that are straight lines `X = X0 - a zeta` here, so a disk of radius `R` facing the axis is
+//!   exactly a distant light of "half-angle tangent" `R`: `r = 1 / R`. Straight world edges stay
+//!   straight and planes stay planes (the map is a projective transform), so the straight-edge
+//!   construction and its bilinear exactness carry over. Spheres (their silhouette disc) and
+//!   rectangles (the disk of equal area) are modelled by a facing disk: an approximation.
+//!
+//! Both share `r = 2 / size` with [`Light::size`] (`2 tan(a)` or `2 R`). Stored depths are
+//! normalised: `n = (zeta - zeta(near)) / (zeta(far) - zeta(near)) * DEPTH_SPAN`, so every depth
+//! inside the frustum lies in `[0, DEPTH_SPAN]` and 1 means "nothing" (no occluder, no limit).
+
+use bytemuck::{Pod, Zeroable};
+use shadow_core::view::NO_OCCLUDER;
+use shadow_core::{Light, MapParams};
+
+/// Normalised depth of the far plane; 1 is kept for "none".
+pub const DEPTH_SPAN: f32 = 0.99;
+/// Normalised "none": no geometry, edge or lower limit in a texel.
+pub const NONE_DEPTH: f32 = 1.0;
+/// Depth rate used for a light of size 0 (a hard, antialiased edge).
+pub const MAX_RATE: f32 = 1.0e30;
+
+/// The warp of one map, laid out as `Warp` in the shaders.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct Warp {
+    /// 1 for an orthographic map (distant light).
+    pub ortho: u32,
+    /// `zeta` of the near plane.
+    pub zeta_near: f32,
+    /// `DEPTH_SPAN / (zeta(far) - zeta(near))`.
+    pub zeta_scale: f32,
+    /// Map units per texel.
+    pub unit: f32,
+    /// Depth rate `r = 2 / size` (zeta per map unit of horizontal distance from an edge).
+    pub rate: f32,
+    /// Normalised `p_i` per texel of distance from an edge: `unit * rate * zeta_scale`.
+    pub p_per_texel: f32,
+    /// Normalised depth of the far plane `zeta` (the deepest receiver).
+    pub far_norm: f32,
+    /// Padding to 16 bytes.
+    pub _pad: f32,
+}
+
+impl Warp {
+    /// The warp of map `m` for `light`.
+    pub fn new(m: &MapParams, light: &Light) -> Self {
+        let ortho = m.ortho;
+        let zeta = |z: f32| if ortho == 1 { z } else { -1.0 / z };
+        let zeta_near = zeta(m.near);
+        let zeta_scale = DEPTH_SPAN / (zeta(m.far) - zeta_near).max(f32::MIN_POSITIVE);
+        let unit = if ortho == 1 { m.texel_b } else { m.texel_a };
+        let size = light.size();
+        let rate = if size > 2.0 / MAX_RATE {
+            2.0 / size
+        } else {
+            MAX_RATE
+        };
+        Self {
+            ortho,
+            zeta_near,
+            zeta_scale,
+            unit,
+            rate,
+            p_per_texel: (unit * rate * zeta_scale).min(MAX_RATE),
+            far_norm: DEPTH_SPAN,
+            _pad: 0.0,
+        }
+    }
+
+    /// `zeta` of a linear depth.
+    pub fn zeta(&self, z: f32) -> f32 {
+        if self.ortho == 1 { z } else { -1.0 / z }
+    }
+
+    /// Normalised depth of a linear depth, at most [`NONE_DEPTH`] (a linear depth of
+    /// [`shadow_core::view::NO_OCCLUDER`] gives it).
+    pub fn normalized(&self, z: f32) -> f32 {
+        if z >= NO_OCCLUDER {
+            return NONE_DEPTH;
+        }
+        ((self.zeta(z) - self.zeta_near) * self.zeta_scale).min(NONE_DEPTH)
+    }
+
+    /// The linear depth of a normalised depth (inverse of [`Warp::normalized`] below 1).
+    pub fn linear(&self, n: f32) -> f32 {
+        let zeta = n / self.zeta_scale + self.zeta_near;
+        if self.ortho == 1 { zeta } else { -1.0 / zeta }
+    }
+
+    /// Normalised depth difference that `texels` texels of world size make at linear depth `z`
+    /// (tolerances: "near the edge", "a jump in depth").
+    pub fn depth_gap(&self, z: f32, texels: f32) -> f32 {
+        if self.ortho == 1 {
+            texels * self.unit * self.zeta_scale
+        } else {
+            // d zeta = dz / z^2 and a texel is unit * z wide: unit / z per texel.
+            texels * self.unit / z.max(f32::MIN_POSITIVE) * self.zeta_scale
+        }
+    }
+
+    /// Half-width in texels of the ribbon of an edge at normalised depth `c`: the widest penumbra
+    /// (at the far plane), plus two texels so bilinear neighbours of a penumbra texel carry it.
+    pub fn ribbon_texels(&self, c: f32) -> f32 {
+        let depth = (self.far_norm - c).max(0.0);
+        (depth / self.p_per_texel.max(f32::MIN_POSITIVE)).min(1.0e6) + 2.0
+    }
+}

@@ -1,0 +1,345 @@
+//! penumbra-limit against the paper's equations and closed forms (no GPU needed).
+
+use glam::Vec3;
+use penumbra_limit::silhouette::edges;
+use penumbra_limit::storage::MAX_P;
+use penumbra_limit::visibility::{clamped_visibility, clamped_visibility_piecewise};
+use penumbra_limit::{Generation, IlluminationTable, PenumbraLimit, Profile, Storage, Texel};
+use proptest::prelude::*;
+use shadow_core::{Aabb, Bias, DistantProfile, Light, Receivers, SceneGeometry, ShadowTechnique};
+
+/// `x` moved by `k` ulps (towards +inf for k > 0).
+fn ulps(x: f32, k: i32) -> f32 {
+    let mut v = x;
+    for _ in 0..k.abs() {
+        v = if k > 0 { v.next_up() } else { v.next_down() };
+    }
+    v
+}
+
+/// A receiver depth that is often exactly on, or one ulp beside, one of the limits.
+fn depth_near(c: f32, g: f32, b: f32, pick: u8, off: i32, free: f32) -> f32 {
+    match pick % 4 {
+        0 => ulps(c, off),
+        1 => ulps(g, off),
+        2 => ulps(b, off),
+        _ => free,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(4000))]
+
+    /// Equation 2 equals the piecewise `l_g` for every input, including `z = c`, `z = g`,
+    /// `z = b` and one ulp either side of each.
+    #[test]
+    fn equation_2_equals_the_piecewise_form(c in 0.0f32..1.0, g in 0.0f32..1.0, b in 0.0f32..1.0,
+                                            p in -MAX_P..MAX_P, pick: u8, off in -1i32..=1,
+                                            free in 0.0f32..1.0) {
+        let z = depth_near(c, g, b, pick, off, free);
+        let eq2 = clamped_visibility(z, c, g, b, p);
+        let cases = clamped_visibility_piecewise(z, c, g, b, p);
+        prop_assert_eq!(eq2, cases, "z {} c {} g {} b {} p {}", z, c, g, b, p);
+        prop_assert!(eq2.is_finite() && (0.0..=1.0).contains(&eq2));
+    }
+
+    /// Storage keeps every channel to its format's precision and is idempotent; f32 is exact.
+    #[test]
+    fn storage_round_trips(c in 0.0f32..1.0, g in 0.0f32..1.0, b in 0.0f32..1.0, p in -MAX_P..MAX_P) {
+        let t = Texel { c, g, b, p };
+        for s in Storage::ALL {
+            let r = t.stored(s);
+            let (depth_step, p_step) = match s {
+                Storage::F32 => (0.0, 0.0),
+                Storage::F16 => (1.0 / 2048.0, 4.0 / 2048.0),
+                Storage::Rgba8 => (0.5 / 255.0, 2.0 / 255.0),
+            };
+            for (a, e) in [(r.c, c), (r.g, g), (r.b, b)] {
+                prop_assert!((a - e).abs() <= depth_step, "{s:?}: {e} -> {a}");
+            }
+            // p goes through p / 4 + 1/2 and back: exact for f32 up to two roundings.
+            prop_assert!((r.p - p).abs() <= p_step + 4.0 * f32::EPSILON, "{s:?}: p {p} -> {}", r.p);
+            prop_assert_eq!(r.stored(s), r, "{:?} is not idempotent", s);
+        }
+    }
+
+    /// The table: monotone, odd-symmetric about (1/2, 1/2), endpoints 0 and 1, for any size.
+    #[test]
+    fn table_is_monotone_and_odd_symmetric(n in 2u32..2000, u in 0.0f32..=1.0, which: u8) {
+        let profile = match which % 3 {
+            0 => Profile::UniformDisk,
+            1 => Profile::LimbDarkened { u },
+            _ => Profile::Line,
+        };
+        let t = IlluminationTable::new(profile, n);
+        let v = &t.values;
+        prop_assert_eq!(v[0], 0.0);
+        prop_assert_eq!(v[v.len() - 1], 1.0);
+        for i in 0..v.len() {
+            // f(l) + f(1 - l) = 1 to the rounding of one f32 subtraction.
+            let sum = v[i] + v[v.len() - 1 - i];
+            prop_assert!((sum - 1.0).abs() <= f32::EPSILON, "not odd-symmetric at {i}: {sum}");
+            if i > 0 {
+                prop_assert!(v[i] > v[i - 1], "not increasing at {i}: {} {}", v[i - 1], v[i]);
+            }
+        }
+    }
+}
+
+/// Fraction of the unit disc with `x < t`, under emission `I(mu)`, by the midpoint rule over a
+/// fine grid: an independent check of the closed forms.
+fn disc_fraction(t: f64, emission: impl Fn(f64) -> f64) -> f64 {
+    let n = 800;
+    let (mut num, mut den) = (0.0, 0.0);
+    for i in 0..n {
+        for j in 0..n {
+            let x = -1.0 + (i as f64 + 0.5) * 2.0 / n as f64;
+            let y = -1.0 + (j as f64 + 0.5) * 2.0 / n as f64;
+            let r2 = x * x + y * y;
+            if r2 < 1.0 {
+                let w = emission((1.0 - r2).sqrt());
+                den += w;
+                if x < t {
+                    num += w;
+                }
+            }
+        }
+    }
+    num / den
+}
+
+/// The closed forms of appendix A against numerical integration over the disc.
+#[test]
+fn table_profiles_match_numerical_integration() {
+    let u = shadow_core::light::SUN_LIMB_DARKENING_U as f64;
+    for k in 0..=20 {
+        let l = k as f64 / 20.0;
+        let t = 2.0 * l - 1.0;
+        let disk = Profile::UniformDisk.illumination(l);
+        let limb = Profile::LimbDarkened { u: u as f32 }.illumination(l);
+        let disk_n = disc_fraction(t, |_| 1.0);
+        let limb_n = disc_fraction(t, |mu| 1.0 - u * (1.0 - mu));
+        assert!(
+            (disk - disk_n).abs() < 2e-3,
+            "disk f({l}) = {disk}, numeric {disk_n}"
+        );
+        assert!(
+            (limb - limb_n).abs() < 2e-3,
+            "limb f({l}) = {limb}, numeric {limb_n}"
+        );
+        assert_eq!(Profile::Line.illumination(l), l);
+        let table = IlluminationTable::new(Profile::UniformDisk, 512);
+        assert!((table.lookup(l as f32) as f64 - disk).abs() < 1e-3);
+    }
+}
+
+fn quad(x0: f32, x1: f32, y: f32, z: f32) -> [[Vec3; 3]; 2] {
+    let p = |x: f32, zz: f32| Vec3::new(x, y, zz);
+    [
+        [p(x0, -z), p(x0, z), p(x1, z)],
+        [p(x0, -z), p(x1, z), p(x1, -z)],
+    ]
+}
+
+/// A plate covering `x < edge` at height `h` over a 4 x 4 ground, both casting.
+fn plate_scene(edge: f32, h: f32) -> SceneGeometry {
+    let casters: Vec<[Vec3; 3]> = quad(-2.0, 2.0, 0.0, 2.0)
+        .into_iter()
+        .chain(quad(-2.0, edge, h, 2.0))
+        .collect();
+    SceneGeometry {
+        bounds: Aabb::of_triangles(&casters),
+        receivers: quad(-2.0, 2.0, 0.0, 2.0).to_vec(),
+        casters,
+    }
+}
+
+/// Height of the receivers above the ground: a receiver exactly on a caster is lit or not by
+/// rounding (that is what biases are for); 2 mm above it is unambiguous and enters the closed
+/// form exactly.
+const LIFT: f32 = 0.002;
+
+/// Visibility just above the ground beside the plate's edge, and the closed form: the fraction
+/// of the light disc (radius `R = (h - LIFT) tan(a/2)` on the plate's plane) beyond the edge,
+/// the circular-segment area of appendix A at `t = (x - edge) / R`.
+fn straight_edge(t: &PenumbraLimit, res: u32, edge: f32) -> Vec<(f32, f32, f32)> {
+    let h = 1.0;
+    let a = 0.3f32;
+    let light = Light::Distant {
+        direction: Vec3::Y,
+        angular_diameter: a,
+        profile: DistantProfile::UniformDisk,
+    };
+    let g = plate_scene(edge, h);
+    let maps = t.generate_cpu(&g, &light, res).unwrap();
+    let r = (h - LIFT) * (0.5 * a).tan();
+    let xs: Vec<f32> = (-40..=40).map(|i| edge + i as f32 * 0.005).collect();
+    let positions: Vec<Vec3> = xs.iter().map(|&x| Vec3::new(x, LIFT, 0.13)).collect();
+    let normals = vec![Vec3::Y; positions.len()];
+    let receivers = Receivers {
+        positions: &positions,
+        normals: &normals,
+    };
+    let v = t.evaluate_cpu(&maps, &receivers).unwrap();
+    xs.iter()
+        .zip(v)
+        .map(|(&x, v)| {
+            let s = ((x - edge) / r).clamp(-1.0, 1.0) as f64;
+            (
+                x,
+                v,
+                Profile::UniformDisk.illumination((s + 1.0) * 0.5) as f32,
+            )
+        })
+        .collect()
+}
+
+/// The straight edge of section 2, silhouette generator, f32: within 1/255 of the closed form at
+/// every resolution from 16 to 512 (the map is exact under bilinear interpolation), with the
+/// edge at an arbitrary sub-texel offset.
+#[test]
+fn straight_edge_matches_the_closed_form_at_every_resolution() {
+    let mut t = PenumbraLimit::new(Generation::Silhouette);
+    t.bias = Bias::new(0.0, 0.0, 0.0);
+    for res in [16, 32, 64, 128, 256, 512] {
+        for (x, v, e) in straight_edge(&t, res, 0.0371) {
+            assert!(
+                (v - e).abs() <= 1.0 / 255.0,
+                "res {res} x {x}: V {v}, closed form {e}"
+            );
+        }
+    }
+}
+
+/// The depth-image generator places the edge on the texel grid: its error is bounded by the
+/// closed form's change over half a texel, and is exact when the edge lies on a texel boundary
+/// (the plate spans the map's left half).
+#[test]
+fn depth_image_edge_is_within_half_a_texel() {
+    let mut t = PenumbraLimit::new(Generation::DepthImage);
+    t.bias = Bias::new(0.0, 0.0, 0.0);
+    let r = (1.0 - LIFT) * (0.15f32).tan();
+    for res in [16, 64, 256] {
+        let texel = 4.0 / res as f32;
+        for (x, v, e) in straight_edge(&t, res, 0.0) {
+            assert!(
+                (v - e).abs() <= 1.0 / 255.0,
+                "aligned, res {res} x {x}: V {v}, closed form {e}"
+            );
+        }
+        let edge = 0.0371;
+        for (x, v, e) in straight_edge(&t, res, edge) {
+            let f = |x: f32| {
+                let s = ((x - edge) / r).clamp(-1.0, 1.0) as f64;
+                Profile::UniformDisk.illumination((s + 1.0) * 0.5) as f32
+            };
+            let bound = (f(x + 0.5 * texel) - e)
+                .abs()
+                .max((f(x - 0.5 * texel) - e).abs())
+                + 1.0 / 255.0;
+            assert!(
+                (v - e).abs() <= bound,
+                "res {res} x {x}: V {v}, closed form {e}, bound {bound}"
+            );
+        }
+    }
+}
+
+/// Both generators, every storage format: far from the plate lit, under its middle umbra.
+#[test]
+fn lit_and_umbra_for_every_variant() {
+    let g = plate_scene(0.0, 1.0);
+    let light = Light::Distant {
+        direction: Vec3::Y,
+        angular_diameter: 0.3,
+        profile: DistantProfile::LimbDarkenedSun,
+    };
+    let positions = [
+        Vec3::new(1.5, 0.0, 0.0),
+        Vec3::new(-1.0, 0.0, 0.0),
+        Vec3::new(-1.0, 1.0, 0.0),
+    ];
+    let normals = [Vec3::Y; 3];
+    for t in PenumbraLimit::standard_set() {
+        let maps = t.generate_cpu(&g, &light, 64).unwrap();
+        let v = t
+            .evaluate_cpu(
+                &maps,
+                &Receivers {
+                    positions: &positions,
+                    normals: &normals,
+                },
+            )
+            .unwrap();
+        assert_eq!(v, vec![1.0, 0.0, 1.0], "{}", t.label());
+    }
+}
+
+/// Edge extraction: a closed tetrahedron has 6 two-faced edges; an open triangle 3 borders.
+#[test]
+fn edges_of_closed_and_open_meshes() {
+    let p = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+    let tet = vec![
+        [p[0], p[2], p[1]],
+        [p[0], p[1], p[3]],
+        [p[0], p[3], p[2]],
+        [p[1], p[2], p[3]],
+    ];
+    let e = edges(&tet);
+    assert_eq!(e.len(), 6);
+    assert!(e.iter().all(|e| e.o1[3] == 1.0));
+    let e = edges(&tet[..1]);
+    assert_eq!(e.len(), 3);
+    assert!(e.iter().all(|e| e.o1[3] == 0.0));
+    // Zero-area faces are skipped.
+    assert!(edges(&[[p[0], p[0], p[1]]]).is_empty());
+}
+
+/// Bad parameters and inputs get typed errors naming the problem, never a panic.
+#[test]
+fn bad_input_gets_typed_errors() {
+    use shadow_core::ShadowError;
+    let g = plate_scene(0.0, 1.0);
+    let sun = Light::Distant {
+        direction: Vec3::Y,
+        angular_diameter: 0.1,
+        profile: DistantProfile::UniformDisk,
+    };
+    let mut t = PenumbraLimit::new(Generation::Silhouette);
+    t.table_size = 1;
+    assert!(
+        matches!(t.generate_cpu(&g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("table_size"))
+    );
+    let mut t = PenumbraLimit::new(Generation::DepthImage);
+    t.profile = Profile::LimbDarkened { u: f32::NAN };
+    assert!(
+        matches!(t.generate_cpu(&g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("limb"))
+    );
+    let mut t = PenumbraLimit::new(Generation::DepthImage);
+    t.layer_gap = -1.0;
+    assert!(
+        matches!(t.generate_cpu(&g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("layer_gap"))
+    );
+    let t = PenumbraLimit::new(Generation::Silhouette);
+    assert!(matches!(
+        t.generate_cpu(&g, &sun, 0),
+        Err(ShadowError::InvalidResolution { requested: 0, .. })
+    ));
+    let segment = Light::Linear {
+        a: Vec3::new(-1.0, 3.0, 0.0),
+        b: Vec3::new(1.0, 3.0, 0.0),
+    };
+    assert!(matches!(
+        t.generate_cpu(&g, &segment, 64),
+        Err(ShadowError::UnsupportedLight { .. })
+    ));
+    let maps = t.generate_cpu(&g, &sun, 16).unwrap();
+    let bad = Receivers {
+        positions: &[Vec3::NAN],
+        normals: &[Vec3::Y],
+    };
+    assert!(matches!(
+        t.evaluate_cpu(&maps, &bad),
+        Err(ShadowError::InvalidReceivers(_))
+    ));
+}
