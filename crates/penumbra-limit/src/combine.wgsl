@@ -1,13 +1,32 @@
 // requires: light_space.wgsl warp.wgsl
 // The stored texel (c, g, b, p_i / 4 + 1/2); mirrors penumbra_limit::combine::combine_texel.
-// The storage format below (rgba32float) is replaced by the map's format when the pipeline is
-// built, so the hardware's conversion quantises exactly as penumbra_limit::storage does.
+// The storage format below (rgba32float) and STORAGE are replaced by the map's format when the
+// pipeline is built. Values are rounded to the format here (to nearest, ties to even, as
+// penumbra_limit::storage does), so the hardware's conversion, whose rounding mode varies
+// between drivers, only ever stores exactly representable values.
 
 @group(0) @binding(0) var<uniform> gp: GenParams;
 @group(0) @binding(1) var<storage, read> geom: array<f32>;
 @group(0) @binding(2) var edge_tex: texture_2d<f32>;
 @group(0) @binding(3) var lower_tex: texture_2d<f32>;
 @group(0) @binding(4) var map_out: texture_storage_2d<rgba32float, write>;
+
+// 0: f32, 1: f16, 2: 8-bit unorm.
+const STORAGE: u32 = 0u;
+
+fn quantize(v: f32) -> f32 {
+    if STORAGE == 1u {
+        if v < 6.103515625e-5 {
+            return round(v * 16777216.0) / 16777216.0;
+        }
+        let b = bitcast<u32>(v);
+        return bitcast<f32>((b + 0xfffu + ((b >> 13u) & 1u)) & 0xffffe000u);
+    }
+    if STORAGE == 2u {
+        return round(v * 255.0) / 255.0;
+    }
+    return v;
+}
 
 fn edge_at(x: i32, y: i32) -> vec2<f32> {
     let r = i32(gp.res) - 1;
@@ -42,5 +61,6 @@ fn combine(@builtin(global_invocation_id) gid: vec3<u32>) {
         t = vec4<f32>(c, g, select(lower, g, transition), p);
     }
     let raw = clamp(vec4<f32>(t.xyz, clamp(t.w, -MAX_P, MAX_P) * 0.25 + 0.5), vec4<f32>(0.0), vec4<f32>(1.0));
-    textureStore(map_out, vec2<i32>(x, y), raw);
+    let q = vec4<f32>(quantize(raw.x), quantize(raw.y), quantize(raw.z), quantize(raw.w));
+    textureStore(map_out, vec2<i32>(x, y), q);
 }

@@ -144,30 +144,36 @@ fn faces_light(m: &MapParams, n: Vec3, p: Vec3) -> bool {
     n.dot(to_light) > 0.0
 }
 
+/// Distance (texels) from the edge's line within which a face counts as seen edge-on.
+pub const MIN_FACE_TEXELS: f32 = 1.0e-3;
+
 /// The ribbon of `e` in map `m`, or `None` when it is not a silhouette edge, lies behind the
 /// light, or is seen end-on.
 pub fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
     let v = |a: [f32; 4]| Vec4::from(a).truncate();
     let (a, b) = (v(e.a), v(e.b));
     let border = e.o1[3] == 0.0;
-    let f0 = faces_light(m, v(e.n0), a);
-    let inner = if border {
-        v(e.o0)
-    } else {
-        let f1 = faces_light(m, v(e.n1), a);
-        if f0 == f1 {
-            return None;
-        }
-        if f0 { v(e.o0) } else { v(e.o1) }
-    };
-    let (sa, sb, so) = (project(m, a)?, project(m, b)?, project(m, inner)?);
+    if !border && faces_light(m, v(e.n0), a) == faces_light(m, v(e.n1), a) {
+        return None;
+    }
+    let (sa, sb) = (project(m, a)?, project(m, b)?);
     let d = sb - sa;
     let len = d.length();
     if len.partial_cmp(&1e-6) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
+    // The inside is where the faces project (both on one side of a silhouette edge); the
+    // opposite vertex farther from the edge's line decides, and a face seen edge-on (both
+    // within MIN_FACE_TEXELS of the line) casts no area, so no ribbon.
+    let side = |o: [f32; 4]| project(m, v(o)).map_or(0.0, |so| d.perp_dot(so - sa) / len);
+    let s0 = side(e.o0);
+    let s1 = if border { 0.0 } else { side(e.o1) };
+    let s = if s0.abs() >= s1.abs() { s0 } else { s1 };
+    if s.abs().partial_cmp(&MIN_FACE_TEXELS) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
     let mut out = Vec2::new(-d.y, d.x) / len;
-    if out.dot(so - sa) > 0.0 {
+    if s > 0.0 {
         out = -out;
     }
     let (ca, cb) = (
@@ -203,35 +209,69 @@ impl Ribbon {
     }
 
     /// The fragment at texel centre `q`: `(key, c, p_i)` with `p_i` per texel `ppt`.
-    pub fn fragment(&self, q: Vec2, ppt: f32) -> (f32, f32, f32) {
+    ///
+    /// `sign` is the strip's: -1 for the inner strip, +1 for the outer one (a texel on the edge's
+    /// line extension belongs to the strip that covers it, not to a rounding of its side).
+    pub fn fragment(&self, q: Vec2, ppt: f32, sign: f32) -> (f32, f32, f32) {
         let d = self.b - self.a;
         let t = ((q - self.a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
         let dist = (q - (self.a + d * t)).length();
         let c = self.ca + (self.cb - self.ca) * t;
-        let sign = if (q - self.a).dot(self.out) >= 0.0 {
-            1.0
-        } else {
-            -1.0
-        };
         let p = (sign * dist * ppt).clamp(-crate::storage::MAX_P, crate::storage::MAX_P);
         ((c + p.abs()) * KEY_SCALE, c, p)
     }
 }
 
-/// Whether texel centre `q` lies inside the convex quad `v` (either winding, edges included).
-fn inside(v: &[Vec2; 4], q: Vec2) -> bool {
-    let mut sign = 0.0f32;
-    for i in 0..4 {
-        let (p0, p1) = (v[i], v[(i + 1) % 4]);
-        let e = (p1 - p0).perp_dot(q - p0);
-        if e != 0.0 {
-            if sign != 0.0 && e.signum() != sign {
-                return false;
-            }
-            sign = e.signum();
+/// Sub-texel precision of ribbon vertices, as GPUs snap them (8 bits).
+const SUB: i64 = 256;
+
+/// A ribbon triangle snapped to the sub-texel grid, oriented, with its top-left edges.
+struct FixedTri {
+    x: [i64; 3],
+    y: [i64; 3],
+    top_left: [bool; 3],
+}
+
+impl FixedTri {
+    /// `None` for a zero-area triangle.
+    fn new(p: [Vec2; 3]) -> Option<Self> {
+        let snap = |v: f32| (v * SUB as f32).round() as i64;
+        let mut x = p.map(|q| snap(q.x));
+        let mut y = p.map(|q| snap(q.y));
+        let area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+        if area == 0 {
+            return None;
         }
+        if area < 0 {
+            x.swap(1, 2);
+            y.swap(1, 2);
+        }
+        let mut top_left = [false; 3];
+        for (i, tl) in top_left.iter_mut().enumerate() {
+            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+            *tl = (y[a] == y[b] && x[b] > x[a]) || y[b] < y[a];
+        }
+        Some(Self { x, y, top_left })
     }
-    true
+
+    /// Whether the centre of texel `(px, py)` is covered (top-left fill rule, as the GPU fills).
+    fn covers(&self, px: u32, py: u32) -> bool {
+        let (cx, cy) = (px as i64 * SUB + SUB / 2, py as i64 * SUB + SUB / 2);
+        (0..3).all(|i| {
+            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+            let e = (self.x[b] - self.x[a]) * (cy - self.y[a])
+                - (self.y[b] - self.y[a]) * (cx - self.x[a]);
+            e > 0 || (e == 0 && self.top_left[i])
+        })
+    }
+
+    /// Texel range `(x0, x1, y0, y1)` whose centres the bounding box may cover.
+    fn texel_box(&self) -> (i64, i64, i64, i64) {
+        let lo = |v: &[i64; 3]| (v.iter().min().copied().unwrap_or(0) - SUB / 2).div_euclid(SUB);
+        let hi =
+            |v: &[i64; 3]| (v.iter().max().copied().unwrap_or(0) - SUB / 2).div_euclid(SUB) + 1;
+        (lo(&self.x), hi(&self.x), lo(&self.y), hi(&self.y))
+    }
 }
 
 const BAND: u32 = 16;
@@ -242,35 +282,40 @@ pub const KEY_SCALE: f32 = 1.0 / (1.0 + crate::storage::MAX_P);
 
 /// Step 2 on the CPU: the winning `[c, p_i]` per texel ([`NO_EDGE`] where no ribbon reaches).
 pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 2]> {
-    let quads: Vec<(usize, [Vec2; 4])> = ribbons
+    // Each quad as the GPU draws it: triangles (0, 1, 2) and (0, 2, 3), inner strip first.
+    let tris: Vec<(usize, FixedTri, f32)> = ribbons
         .iter()
         .enumerate()
-        .flat_map(|(i, r)| r.quads().map(|q| (i, q)))
+        .flat_map(|(i, r)| {
+            let [inner, outer] = r.quads();
+            [(inner, -1.0), (outer, 1.0)]
+                .into_iter()
+                .flat_map(move |(q, sign)| {
+                    [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
+                        .into_iter()
+                        .filter_map(move |t| FixedTri::new(t).map(|t| (i, t, sign)))
+                })
+        })
         .collect();
     let mut data = vec![NO_EDGE; res as usize * res as usize];
     data.par_chunks_mut((res * BAND) as usize)
         .enumerate()
         .for_each(|(band, rows)| {
             let y0 = band as u32 * BAND;
+            let y1 = (y0 + BAND).min(res);
             let mut keys = vec![1.0f32; rows.len()];
-            for (i, q) in &quads {
-                let (lo, hi) = q.iter().fold((Vec2::MAX, Vec2::MIN), |(lo, hi), v| {
-                    (lo.min(*v), hi.max(*v))
-                });
-                let ry0 = ((lo.y - 0.5).ceil().max(y0 as f32)) as u32;
-                let ry1 = (hi.y - 0.5).floor().min((y0 + BAND).min(res) as f32 - 1.0);
-                let rx0 = (lo.x - 0.5).ceil().max(0.0) as u32;
-                let rx1 = (hi.x - 0.5).floor().min(res as f32 - 1.0);
-                if ry1 < ry0 as f32 || rx1 < rx0 as f32 {
-                    continue;
-                }
-                for y in ry0..=ry1 as u32 {
-                    for x in rx0..=rx1 as u32 {
-                        let c = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-                        if !inside(q, c) {
+            for (i, t, sign) in &tris {
+                let (bx0, bx1, by0, by1) = t.texel_box();
+                let (rx0, rx1) = (bx0.max(0), bx1.min(res as i64 - 1));
+                let (ry0, ry1) = (by0.max(y0 as i64), by1.min(y1 as i64 - 1));
+                for y in ry0..=ry1 {
+                    for x in rx0..=rx1 {
+                        let (x, y) = (x as u32, y as u32);
+                        if !t.covers(x, y) {
                             continue;
                         }
-                        let (k, cc, p) = ribbons[*i].fragment(c, ppt);
+                        let c = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                        let (k, cc, p) = ribbons[*i].fragment(c, ppt, *sign);
                         let j = ((y - y0) * res + x) as usize;
                         if k < keys[j] {
                             keys[j] = k;

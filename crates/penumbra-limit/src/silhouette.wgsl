@@ -2,7 +2,7 @@
 // Silhouette extrusion (section 3.1), steps 2 and 3; mirrors penumbra_limit::silhouette.
 // Step 2 pulls each edge from a storage buffer, 12 vertices per edge (inner strip, then the
 // outer strip with its caps), degenerate when the edge is no silhouette; the fragment computes
-// (key, c, p_i) from the distance to the edge segment and writes key as its depth, so the depth
+// (key, c, p_i) from the distance to the edge segment and the strip's sign and writes key as its depth, so the depth
 // test (Less, cleared to 1) keeps the highest penumbra limit. Step 3 renders back faces, keeping
 // those deeper than the texel's edge by more than layer_gap texels; nearest wins (reversed Z).
 
@@ -41,12 +41,24 @@ fn faces_light(n: vec3<f32>, p: vec3<f32>) -> bool {
     return dot(n, to_light) > 0.0;
 }
 
+const MIN_FACE_TEXELS: f32 = 1.0e-3;
+
+// Signed distance (texels) of the projected vertex `o` from the edge's line; 0 behind the light.
+fn side(o: vec3<f32>, sa: vec2<f32>, d: vec2<f32>, len: f32) -> f32 {
+    let po = project(o);
+    if !po.ok {
+        return 0.0;
+    }
+    let w = po.q - sa;
+    return (d.x * w.y - d.y * w.x) / len;
+}
+
 struct RibbonVarying {
     @builtin(position) pos: vec4<f32>,
     @location(0) @interpolate(flat) a: vec2<f32>,
     @location(1) @interpolate(flat) b: vec2<f32>,
     @location(2) @interpolate(flat) c: vec2<f32>,
-    @location(3) @interpolate(flat) out_dir: vec2<f32>,
+    @location(3) @interpolate(flat) sign: f32,
 };
 
 const KEY_SCALE: f32 = 1.0 / (1.0 + MAX_P);
@@ -61,21 +73,13 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
     let k = vi % 12u;
     let a = e.a.xyz;
     let b = e.b.xyz;
-    let f0 = faces_light(e.n0.xyz, a);
-    var inner = e.o0.xyz;
-    if e.o1.w != 0.0 {
-        let f1 = faces_light(e.n1.xyz, a);
-        if f0 == f1 {
-            return v;
-        }
-        if !f0 {
-            inner = e.o1.xyz;
-        }
+    let border = e.o1.w == 0.0;
+    if !border && faces_light(e.n0.xyz, a) == faces_light(e.n1.xyz, a) {
+        return v;
     }
     let pa = project(a);
     let pb = project(b);
-    let po = project(inner);
-    if !(pa.ok && pb.ok && po.ok) {
+    if !(pa.ok && pb.ok) {
         return v;
     }
     let sa = pa.q;
@@ -85,8 +89,17 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
     if !(len > 1e-6) {
         return v;
     }
+    let s0 = side(e.o0.xyz, sa, d, len);
+    var s1 = 0.0;
+    if !border {
+        s1 = side(e.o1.xyz, sa, d, len);
+    }
+    let s = select(s1, s0, abs(s0) >= abs(s1));
+    if !(abs(s) > MIN_FACE_TEXELS) {
+        return v;
+    }
     var o = vec2<f32>(-d.y, d.x) / len;
-    if dot(o, po.q - sa) > 0.0 {
+    if s > 0.0 {
         o = -o;
     }
     let ca = normalized(gp.warp, linear_depth(gp.map, a));
@@ -107,7 +120,7 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
     v.a = sa;
     v.b = sb;
     v.c = vec2<f32>(ca, cb);
-    v.out_dir = o;
+    v.sign = select(1.0, -1.0, k < 6u);
     return v;
 }
 
@@ -123,11 +136,7 @@ fn fs_ribbon(v: RibbonVarying) -> RibbonFragment {
     let t = clamp(dot(q - v.a, d) / dot(d, d), 0.0, 1.0);
     let dist = length(q - (v.a + d * t));
     let c = v.c.x + (v.c.y - v.c.x) * t;
-    var sgn = -1.0;
-    if dot(q - v.a, v.out_dir) >= 0.0 {
-        sgn = 1.0;
-    }
-    let p = clamp(sgn * dist * gp.warp.p_per_texel, -MAX_P, MAX_P);
+    let p = clamp(v.sign * dist * gp.warp.p_per_texel, -MAX_P, MAX_P);
     var f: RibbonFragment;
     f.edge = vec2<f32>(c, p);
     f.key = (c + abs(p)) * KEY_SCALE;

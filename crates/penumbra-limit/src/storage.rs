@@ -54,12 +54,13 @@ impl Storage {
         }
     }
 
-    /// Stores one channel value (already in `[0, 1]`) and reads it back.
+    /// Stores one channel value (already in `[0, 1]`) and reads it back: to nearest, ties to
+    /// even (`combine.wgsl` rounds the same way before the hardware conversion).
     pub fn round_trip(self, v: f32) -> f32 {
         match self {
             Storage::F32 => v,
             Storage::F16 => f16::from_f32(v).to_f32(),
-            Storage::Rgba8 => (v.clamp(0.0, 1.0) * 255.0).round() / 255.0,
+            Storage::Rgba8 => (v.clamp(0.0, 1.0) * 255.0).round_ties_even() / 255.0,
         }
     }
 }

@@ -12,6 +12,7 @@ use crate::scenes::{SceneSpec, catalogue, scene_file};
 use crate::setup::PreparedScene;
 use indicatif::{ProgressBar, ProgressStyle};
 use json::{Machine, ReferenceInfo, Report, Run};
+use penumbra_limit::PenumbraLimit;
 use shadow_core::{Backend, DynTechnique, GpuContext, Result, ShadowError};
 use shadow_width::ShadowWidth;
 use std::path::{Path, PathBuf};
@@ -58,7 +59,13 @@ pub fn all_techniques(quick: bool) -> Vec<Box<dyn DynTechnique>> {
     let shadow_width = ShadowWidth::standard_set()
         .into_iter()
         .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    baselines.chain(shadow_width).collect()
+    let penumbra_limit = PenumbraLimit::standard_set()
+        .into_iter()
+        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
+    baselines
+        .chain(shadow_width)
+        .chain(penumbra_limit)
+        .collect()
 }
 
 fn cpu_name() -> String {

@@ -36,10 +36,23 @@ fn quick_report_writes_the_contract() {
     }
     let runs = json["runs"].as_array().unwrap();
     let techniques = 4 + shadow_width::ShadowWidth::standard_set().len();
+    let penumbra = penumbra_limit::PenumbraLimit::standard_set().len();
     assert_eq!(
         runs.len(),
-        2 * techniques * 2,
-        "2 scenes x (4 baselines + shadow-width variants) x 2 resolutions"
+        (2 * techniques + penumbra) * 2,
+        "2 scenes x (4 baselines + shadow-width variants) x 2 resolutions, plus penumbra-limit \
+         on plane-occluder only (it reports a segment light as unsupported)"
+    );
+    assert!(
+        runs.iter()
+            .any(|r| r["technique"] == "penumbra-limit" && r["scene"] == "plane-occluder"),
+        "no penumbra-limit rows"
+    );
+    assert!(
+        !runs
+            .iter()
+            .any(|r| r["technique"] == "penumbra-limit" && r["scene"] == "linear-bar"),
+        "penumbra-limit does not model segment lights"
     );
     assert!(
         runs.iter().any(|r| r["technique"] == "shadow-width"),

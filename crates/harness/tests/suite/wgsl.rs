@@ -1,6 +1,6 @@
 //! Every `.wgsl` file of the workspace parses and validates with naga, on any machine.
-//! A file that starts with `// requires: light_space.wgsl` is validated as the GPU code builds it:
-//! after `shadow_core::gpu::LIGHT_SPACE_WGSL`.
+//! A file that starts with `// requires: light_space.wgsl [sibling.wgsl ...]` is validated as
+//! the GPU code builds it: after `shadow_core::gpu::LIGHT_SPACE_WGSL` and the named siblings.
 
 use std::path::{Path, PathBuf};
 
@@ -25,8 +25,22 @@ fn every_wgsl_file_validates() {
     assert!(files.len() >= 2, "found {files:?}");
     for f in files {
         let mut src = std::fs::read_to_string(&f).unwrap();
-        if src.starts_with("// requires: light_space.wgsl") {
-            src = format!("{}\n{src}", shadow_core::gpu::LIGHT_SPACE_WGSL);
+        // `// requires: light_space.wgsl [sibling.wgsl ...]`: prepended in that order.
+        if let Some(line) = src
+            .lines()
+            .next()
+            .and_then(|l| l.strip_prefix("// requires:"))
+        {
+            let mut head = String::new();
+            for dep in line.split_whitespace() {
+                if dep == "light_space.wgsl" {
+                    head.push_str(shadow_core::gpu::LIGHT_SPACE_WGSL);
+                } else {
+                    head.push_str(&std::fs::read_to_string(f.with_file_name(dep)).unwrap());
+                }
+                head.push('\n');
+            }
+            src = format!("{head}{src}");
         }
         let module = naga::front::wgsl::parse_str(&src)
             .unwrap_or_else(|e| panic!("{}: {}", f.display(), e.emit_to_string(&src)));

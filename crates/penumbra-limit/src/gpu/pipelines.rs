@@ -261,10 +261,16 @@ impl CombinePipelines {
     pub fn new(ctx: &GpuContext) -> Self {
         let (mut layouts, mut pipelines) = (Vec::new(), Vec::new());
         for s in Storage::ALL {
-            let src = include_str!("../combine.wgsl").replace(
-                "texture_storage_2d<rgba32float, write>",
-                &format!("texture_storage_2d<{}, write>", wgsl_format(s)),
-            );
+            let mode = CombinePipelines::index(s);
+            let src = include_str!("../combine.wgsl")
+                .replace(
+                    "texture_storage_2d<rgba32float, write>",
+                    &format!("texture_storage_2d<{}, write>", wgsl_format(s)),
+                )
+                .replace(
+                    "const STORAGE: u32 = 0u;",
+                    &format!("const STORAGE: u32 = {mode}u;"),
+                );
             let m = module(ctx, "penumbra combine", &src);
             let c = wgpu::ShaderStages::COMPUTE;
             let l = layout(
