@@ -1,6 +1,7 @@
 //! Generation cost per map resolution, CPU and GPU, for the baselines' depth maps
 //! (one map for hard/PCF/PCSS, 16 for accumulation), on the `torus` and `bunny` scenes, and for
-//! shadow-width (width map alone and full generation, every width method) on `torus`.
+//! shadow-width (width map alone and full generation, every width method) on `torus`, and for
+//! penumbra-limit (both generators, f32 and RGBA8 storage) on `torus`.
 //!
 //! `cargo bench -p shadow-benches`; GPU timings are submit-and-wait (the GPU path returns after
 //! the device has finished). Without a GPU adapter the GPU group is skipped with a message.
@@ -8,6 +9,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::baselines::{Filter, ShadowMapBaseline};
 use harness::scenes::catalogue::build;
+use penumbra_limit::{PenumbraLimit, Storage};
 use shadow_core::{Backend, DynTechnique, GpuContext};
 use shadow_width::width::width_map;
 use shadow_width::{DepthLayer, ShadowWidth, cpu};
@@ -90,5 +92,43 @@ fn shadow_width_generation(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, generation, shadow_width_generation);
+/// penumbra-limit on `torus`: full generation (depth pass, silhouette ribbons and back faces or
+/// depth-image propagation, combine) per resolution, both generators, CPU and GPU; f32 and the
+/// paper's RGBA8 storage.
+fn penumbra_limit_generation(c: &mut Criterion) {
+    let gpu = GpuContext::new().ok();
+    let spec = build("torus").expect("catalogue scene");
+    let geo = spec.to_scene().expect("scene").geometry();
+    for t in PenumbraLimit::standard_set()
+        .into_iter()
+        .filter(|t| t.storage != Storage::F16)
+    {
+        let mut group = c.benchmark_group(format!("penumbra-limit/torus/{}", t.label()));
+        group.sample_size(10);
+        for res in RESOLUTIONS {
+            group.bench_with_input(BenchmarkId::new("cpu", res), &res, |bch, &res| {
+                bch.iter(|| {
+                    t.generate(Backend::Cpu, None, &geo, &spec.light, res)
+                        .expect("cpu generation")
+                })
+            });
+            if let Some(g) = &gpu {
+                group.bench_with_input(BenchmarkId::new("gpu", res), &res, |bch, &res| {
+                    bch.iter(|| {
+                        t.generate(Backend::Gpu, Some(g), &geo, &spec.light, res)
+                            .expect("gpu generation")
+                    })
+                });
+            }
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(
+    benches,
+    generation,
+    shadow_width_generation,
+    penumbra_limit_generation
+);
 criterion_main!(benches);
