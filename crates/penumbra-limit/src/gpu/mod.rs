@@ -180,12 +180,12 @@ fn encode_silhouette(
     res: u32,
 ) {
     let pipes = ctx.cached(SilhouettePipelines::new);
-    let list = edges(&geometry.casters);
-    let data = if list.is_empty() {
-        vec![Edge::zeroed()]
-    } else {
-        list.clone()
-    };
+    let mut data = edges(&geometry.casters);
+    let edge_count = data.len() as u32;
+    if data.is_empty() {
+        // wgpu rejects empty bindings; nothing is drawn from this one.
+        data.push(Edge::zeroed());
+    }
     let eb = ctx.storage_buffer("penumbra edges", bytemuck::cast_slice(&data));
     let depth = texture(
         ctx,
@@ -236,7 +236,7 @@ fn encode_silhouette(
         );
         rp.set_pipeline(&pipes.ribbons);
         rp.set_bind_group(0, &ribbon_bind, &[]);
-        rp.draw(0..list.len() as u32 * 12, 0..1);
+        rp.draw(0..edge_count * 12, 0..1);
     }
     let lower_bind = bind(&edge_view);
     let none = wgpu::Color {
