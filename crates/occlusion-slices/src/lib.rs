@@ -1,4 +1,122 @@
-//! Eisemann & Décoret (2006), *Plausible Image Based Soft Shadows Using Occlusion Textures*.
+//! Eisemann & Décoret (2006), *Plausible Image Based Soft Shadows Using Occlusion Textures*, on
+//! the CPU and the GPU.
 //!
-//! This crate is a placeholder until its issue lands: it will hold the binary occlusion slices,
-//! their prefiltering (mipmaps, N-Buffers, summed-area tables) and the product combination.
+//! The scene is cut into 4 to 16 slices parallel to a rectangular light, each projected from a
+//! centre of projection behind the light onto a binary *occlusion texture* ([`frame`],
+//! [`slicing`]). A point `P` sees, through each slice between it and the light, the box of side
+//! `s(P) = d(P, slice) / d(P, light) * size(light)` (equation 4); its mean occupancy `I_k` is one
+//! prefiltered lookup ([`filters`]: mipmaps, N-Buffers or an exact summed-area table), and the
+//! slices combine by the probabilistic product `V = prod(1 - I_k)` (equation 5, [`combine`]).
+//! For a single planar occluder parallel to the light this is exact (section 3.1).
+//!
+//! - Lights: rectangles as in the paper. A disk is modelled as the square of equal area, a
+//!   sphere as its silhouette disc facing the scene, then that square (documented
+//!   approximations). Point, segment and distant lights are
+//!   [`shadow_core::ShadowError::UnsupportedLight`]: the frustum is fitted to the light's area.
+//! - Self-shadowing (section 3.4): the slice containing `P` is not used, and the slice above it
+//!   fades in linearly with `P`'s distance below that slice's lower plane ([`Frame::fade`]), so
+//!   `V` stays continuous where a surface crosses a plane and a receiver lying on a plane is not
+//!   shadowed by its own projection.
+//! - The thin-occluder fix (a fragment also fills the next slice) is an option.
+//!
+//! Modules, one concept each: [`params`], [`frame`] (COP, frustum, slice planes, kernels),
+//! [`slicing`] (CPU slicing pass), [`filters`] (the three box filters), [`combine`]
+//! (equation 5 and its alternatives), [`eval`] (shading one receiver), [`cpu`] and [`gpu`].
+//!
+//! ```no_run
+//! use occlusion_slices::{Filter, OcclusionSlices};
+//! use shadow_core::{Receivers, ShadowTechnique};
+//! # fn demo(geometry: &shadow_core::SceneGeometry, light: &shadow_core::Light,
+//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> shadow_core::Result<()> {
+//! let technique = OcclusionSlices::new(8, Filter::NBuffer);
+//! let maps = technique.generate_cpu(geometry, light, 256)?;
+//! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
+//! # Ok(()) }
+//! ```
+
+pub mod combine;
+pub mod cpu;
+pub mod eval;
+pub mod filters;
+pub mod frame;
+pub mod gpu;
+pub mod params;
+pub mod slicing;
+
+pub use frame::Frame;
+pub use params::{Combination, Filter, OcclusionSlices};
+
+use shadow_core::{
+    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+};
+
+/// Largest texture side: 8-bit prefiltered values are rounded from `u32` counts, exact up to
+/// 4096² texels.
+pub const MAX_RESOLUTION: u32 = 4096;
+
+impl ShadowTechnique for OcclusionSlices {
+    type CpuMaps = cpu::CpuSliceMaps;
+    type GpuMaps = gpu::GpuSliceMaps;
+
+    fn name(&self) -> &'static str {
+        "occlusion-slices"
+    }
+
+    fn variant(&self) -> String {
+        self.label()
+    }
+
+    /// Rect lights, and disk and sphere lights through their equal-area square.
+    fn models(&self, kind: LightKind) -> bool {
+        matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Sphere)
+    }
+
+    fn generate_cpu(
+        &self,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<cpu::CpuSliceMaps> {
+        self.validate()?;
+        self.check_inputs(geometry, light, resolution, MAX_RESOLUTION)?;
+        Ok(cpu::generate(self, geometry, light, resolution))
+    }
+
+    fn evaluate_cpu(&self, maps: &cpu::CpuSliceMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+        self.validate()?;
+        receivers.validate()?;
+        Ok(cpu::evaluate(self, maps, receivers))
+    }
+
+    fn generate_gpu(
+        &self,
+        gpu: &GpuContext,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<gpu::GpuSliceMaps> {
+        self.validate()?;
+        self.check_inputs(
+            geometry,
+            light,
+            resolution,
+            gpu.max_texture_size().saturating_sub(1).min(MAX_RESOLUTION),
+        )?;
+        gpu.checked("occlusion-slices generation", || {
+            gpu::generate(gpu, self, geometry, light, resolution)
+        })
+    }
+
+    fn evaluate_gpu(
+        &self,
+        gpu: &GpuContext,
+        maps: &gpu::GpuSliceMaps,
+        receivers: &Receivers,
+    ) -> Result<Vec<f32>> {
+        self.validate()?;
+        receivers.validate()?;
+        gpu.checked("occlusion-slices evaluation", || {
+            gpu::evaluate(gpu, self, maps, receivers)
+        })
+    }
+}

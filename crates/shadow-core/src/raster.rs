@@ -299,18 +299,14 @@ fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
     })
 }
 
-/// Rasterizes `tris` into the rows `row0..` of a band; `z_of` reads a texel's NDC depth and
-/// `shade` makes the texel of a fragment that passes `pass`'s depth test.
-#[allow(clippy::too_many_arguments)]
+/// Rasterizes `tris` into the rows `row0..` of a band; `write(texel, triangle, barycentrics,
+/// ndc_depth, x, y)` merges each covered fragment into its texel, in submission order.
 fn raster_band<T>(
     tris: &[ScreenTri],
     width: u32,
     row0: usize,
     rows: &mut [T],
-    pass: DepthPass,
-    z_of: impl Fn(&T) -> f32,
-    shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T,
-    accept: impl Fn(usize, usize, f32) -> bool,
+    write: impl Fn(&mut T, &ScreenTri, [f64; 3], f32, usize, usize),
 ) {
     let w = width as usize;
     let n_rows = rows.len() / w;
@@ -359,9 +355,7 @@ fn raster_band<T>(
                 };
                 let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
                 let texel = &mut rows[(py as usize - row0) * w + px as usize];
-                if pass.passes(z, z_of(texel)) && accept(px as usize, py as usize, z) {
-                    *texel = shade(t, l, z);
-                }
+                write(texel, t, l, z, px as usize, py as usize);
             }
         }
     }
@@ -415,10 +409,11 @@ where
                 width,
                 band * BAND_ROWS,
                 rows,
-                pass,
-                &target.z_of,
-                &target.shade,
-                &target.accept,
+                |texel: &mut T, t: &ScreenTri, l: [f64; 3], z: f32, x: usize, y: usize| {
+                    if pass.passes(z, (target.z_of)(texel)) && (target.accept)(x, y, z) {
+                        *texel = (target.shade)(t, l, z);
+                    }
+                },
             );
         });
     out
@@ -499,6 +494,37 @@ pub fn depth_map_filtered(
         .par_iter_mut()
         .for_each(|d| *d = pass.linear_depth(view, *d));
     z
+}
+
+/// Rasterizes `tris` through `view` with no depth test: every covered fragment calls
+/// `update(texel, linear_depth)` in submission order, starting from `empty` (as a render pass
+/// with an order-independent blend does, e.g. `Max` into slice masks).
+pub fn rasterize_fold<T: Clone + Send>(
+    view: &View,
+    resolution: u32,
+    tris: &[[Vec3; 3]],
+    empty: T,
+    update: impl Fn(&mut T, f32) + Sync,
+) -> Map2D<T> {
+    let screen = setup_world(view, resolution, resolution, tris, Faces::All);
+    let mut out = Map2D::new(resolution, resolution, empty);
+    let w = resolution as usize;
+    if w == 0 {
+        return out;
+    }
+    out.data_mut()
+        .par_chunks_mut(w * BAND_ROWS)
+        .enumerate()
+        .for_each(|(band, rows)| {
+            raster_band(
+                &screen,
+                resolution,
+                band * BAND_ROWS,
+                rows,
+                |texel, _, _, z, _, _| update(texel, view.linear_depth_from_ndc(z)),
+            );
+        });
+    out
 }
 
 /// One G-buffer texel: world position and unit normal facing the camera; `covered` false where empty.

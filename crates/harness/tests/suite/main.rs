@@ -3,6 +3,7 @@
 mod bad_input;
 mod gpu_agreement;
 mod ground_truth;
+mod occlusion_slices;
 mod penumbra_limit;
 mod report;
 mod shadow_width;

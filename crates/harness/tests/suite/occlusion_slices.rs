@@ -1,0 +1,198 @@
+//! occlusion-slices on the catalogue: the closed form on `plane-occluder`, CPU against GPU,
+//! hard cases, and the hard-shadow limit.
+
+use super::receivers;
+use glam::Vec3;
+use harness::baselines::{Filter as BaselineFilter, ShadowMapBaseline};
+use harness::metrics::rms_255;
+use harness::scenes::catalogue::{SCENE_NAMES, build};
+use occlusion_slices::{Filter, OcclusionSlices};
+use shadow_core::gpu::testing::gpu_for_test;
+use shadow_core::{Backend, DynTechnique, Light, Receivers as Recv, ShadowTechnique};
+
+/// Section 3.1's closed form for `plane-occluder`: the pyramid from `p` to the square light cut
+/// by the occluder's plane is a square; `V` is the fraction of it outside the occluder.
+fn plane_occluder_closed_form(light: &Light, p: Vec3) -> f32 {
+    let Light::Rect { center, u_half, .. } = *light else {
+        unreachable!("plane-occluder has a rect light")
+    };
+    let (occ_y, occ_half) = (1.0f32, 0.5f32);
+    if p.y >= occ_y - 1e-4 {
+        return 1.0;
+    }
+    let s = (occ_y - p.y) / (center.y - p.y);
+    let half = u_half.length() * s;
+    let (cx, cz) = (
+        p.x * (1.0 - s) + center.x * s,
+        p.z * (1.0 - s) + center.z * s,
+    );
+    let overlap = |c: f32| ((c + half).min(occ_half) - (c - half).max(-occ_half)).max(0.0);
+    1.0 - overlap(cx) * overlap(cz) / (4.0 * half * half)
+}
+
+/// `plane-occluder` at map resolution 512 with the exact (SAT) filter: within 2/255 RMS of the
+/// closed form, on both backends, for 4, 8 and 16 slices (section 3.1: exact up to the
+/// rasterization of the occluder's outline).
+#[test]
+fn occlusion_slices_sat_matches_the_closed_form_on_plane_occluder() {
+    let ctx = gpu_for_test("occlusion_slices_sat_matches_the_closed_form_on_plane_occluder");
+    let spec = build("plane-occluder").unwrap();
+    let r = receivers(&spec, 128);
+    let recv = Recv {
+        positions: &r.positions,
+        normals: &r.normals,
+    };
+    let exact: Vec<f32> = r
+        .positions
+        .iter()
+        .map(|&p| plane_occluder_closed_form(&spec.light, p))
+        .collect();
+    let penumbra = exact.iter().filter(|v| **v > 0.0 && **v < 1.0).count();
+    assert!(penumbra > 500, "only {penumbra} penumbra receivers");
+    for slices in [4, 8, 16] {
+        let t = OcclusionSlices::new(slices, Filter::Sat);
+        let mut backends = vec![Backend::Cpu];
+        if ctx.is_some() {
+            backends.push(Backend::Gpu);
+        }
+        for be in backends {
+            let maps = t
+                .generate(be, ctx.as_ref(), &r.geometry, &spec.light, 512)
+                .unwrap();
+            let v = t.evaluate(ctx.as_ref(), &maps, &recv).unwrap();
+            let rms = rms_255(&v, &exact);
+            println!("plane-occluder sat-{slices} {be:?} at 512: rms {rms:.3}/255");
+            assert!(
+                rms < 2.0,
+                "sat-{slices} {be:?}: rms {rms:.3} against the closed form"
+            );
+        }
+    }
+}
+
+/// Every variant, every catalogue scene whose light it models, two resolutions: RMS of
+/// `V * 255` between CPU and GPU below 1.0, and the binary slices equal but for at most 0.1%
+/// of texels (fragments within rounding of a slice plane).
+#[test]
+fn occlusion_slices_agree_between_cpu_and_gpu_on_every_scene() {
+    let Some(ctx) = gpu_for_test("occlusion_slices_agree_between_cpu_and_gpu_on_every_scene")
+    else {
+        return;
+    };
+    for name in SCENE_NAMES {
+        let spec = build(name).unwrap();
+        let r = receivers(&spec, 96);
+        let recv = Recv {
+            positions: &r.positions,
+            normals: &r.normals,
+        };
+        let mut set = OcclusionSlices::standard_set();
+        set.push(OcclusionSlices::new(8, Filter::NBuffer).with_thin_fix(true));
+        for t in set {
+            if !ShadowTechnique::models(&t, spec.light.kind()) {
+                continue;
+            }
+            for res in [64, 256] {
+                let cm = t.generate_cpu(&r.geometry, &spec.light, res).unwrap();
+                let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
+                let gs = gm.read_slices(&ctx).unwrap();
+                let differ: usize = cm
+                    .slices
+                    .iter()
+                    .zip(&gs)
+                    .map(|(a, b)| a.iter().zip(b).filter(|(x, y)| x != y).count())
+                    .sum();
+                let frac = differ as f64 / (res * res * t.slices) as f64;
+                assert!(
+                    frac <= 1e-3,
+                    "{name} {} {res}: {:.3}% of slice texels differ",
+                    t.label(),
+                    frac * 100.0
+                );
+                let cv = t.evaluate_cpu(&cm, &recv).unwrap();
+                let gv = t.evaluate_gpu(&ctx, &gm, &recv).unwrap();
+                let rms = rms_255(&cv, &gv);
+                assert!(
+                    rms < 1.0,
+                    "{name} {} {res}: CPU/GPU rms {rms:.3}",
+                    t.label()
+                );
+            }
+        }
+    }
+}
+
+/// Every hard-case scene, resolutions 16 and 256 with every variant and 2048 with each filter at
+/// 4 slices (with and without the thin-occluder fix), both backends: no NaN or Inf, `V` in [0, 1].
+#[test]
+fn occlusion_slices_hard_cases_stay_finite_and_in_range() {
+    let ctx = gpu_for_test("occlusion_slices_hard_cases_stay_finite_and_in_range");
+    let mut backends = vec![Backend::Cpu];
+    if ctx.is_some() {
+        backends.push(Backend::Gpu);
+    }
+    let big: Vec<OcclusionSlices> = Filter::ALL
+        .iter()
+        .flat_map(|&f| [false, true].map(|thin| OcclusionSlices::new(4, f).with_thin_fix(thin)))
+        .collect();
+    for name in SCENE_NAMES {
+        let spec = build(name).unwrap();
+        if !spec.hard_case {
+            continue;
+        }
+        let r = receivers(&spec, 48);
+        let recv = Recv {
+            positions: &r.positions,
+            normals: &r.normals,
+        };
+        let runs = OcclusionSlices::standard_set()
+            .into_iter()
+            .flat_map(|t| [(t.clone(), 16), (t, 256)])
+            .chain(big.iter().map(|t| (t.clone(), 2048)));
+        for (t, res) in runs {
+            if !ShadowTechnique::models(&t, spec.light.kind()) {
+                continue;
+            }
+            for &be in &backends {
+                let maps = t
+                    .generate(be, ctx.as_ref(), &r.geometry, &spec.light, res)
+                    .unwrap();
+                let v = t.evaluate(ctx.as_ref(), &maps, &recv).unwrap();
+                assert_eq!(v.len(), r.positions.len());
+                let bad = v
+                    .iter()
+                    .filter(|x| !(x.is_finite() && (0.0..=1.0).contains(*x)))
+                    .count();
+                assert_eq!(bad, 0, "{name} {} {res} {be:?}", t.label());
+            }
+        }
+    }
+}
+
+/// On `tiny-light` (a 0.2 mm light) the penumbra vanishes: every variant is the hard shadow map
+/// to RMS below 4/255 (they differ on the texels along the edge).
+#[test]
+fn occlusion_slices_converge_to_the_hard_shadow_on_tiny_light() {
+    let spec = build("tiny-light").unwrap();
+    let r = receivers(&spec, 96);
+    let recv = Recv {
+        positions: &r.positions,
+        normals: &r.normals,
+    };
+    let hard = ShadowMapBaseline::new(BaselineFilter::Hard);
+    let res = 512;
+    let hm = hard
+        .generate(Backend::Cpu, None, &r.geometry, &spec.light, res)
+        .unwrap();
+    let hv = hard.evaluate(None, &hm, &recv).unwrap();
+    for t in OcclusionSlices::standard_set() {
+        let m = t.generate_cpu(&r.geometry, &spec.light, res).unwrap();
+        let v = t.evaluate_cpu(&m, &recv).unwrap();
+        let rms = rms_255(&v, &hv);
+        assert!(
+            rms < 4.0,
+            "{}: rms {rms:.2} against the hard shadow",
+            t.label()
+        );
+    }
+}

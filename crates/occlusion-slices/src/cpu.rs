@@ -1,0 +1,47 @@
+//! The CPU path: slicing ([`crate::slicing`]), prefiltering ([`crate::filters`]) and evaluation
+//! ([`crate::eval`]) over plain Rust data.
+
+use crate::eval::visibility;
+use crate::filters::Filtered;
+use crate::frame::Frame;
+use crate::params::OcclusionSlices;
+use crate::slicing::slice;
+use rayon::prelude::*;
+use shadow_core::{Light, Receivers, SceneGeometry};
+
+/// The prefiltered occlusion textures of one light.
+#[derive(Clone, Debug)]
+pub struct CpuSliceMaps {
+    /// The slicing frame.
+    pub frame: Frame,
+    /// The binary slices (`res²` flags each), kept for tests and images.
+    pub slices: Vec<Vec<bool>>,
+    /// The filtered form the evaluation reads.
+    pub filtered: Filtered,
+}
+
+/// Slices and prefilters (inputs already checked).
+pub fn generate(
+    t: &OcclusionSlices,
+    geometry: &SceneGeometry,
+    light: &Light,
+    res: u32,
+) -> CpuSliceMaps {
+    let frame = Frame::fit(light, geometry, t.slices, res, t.thin_fix);
+    let slices = slice(&frame, geometry);
+    let filtered = Filtered::build(t.filter, res, &slices);
+    CpuSliceMaps {
+        frame,
+        slices,
+        filtered,
+    }
+}
+
+/// `V` per receiver (inputs already checked).
+pub fn evaluate(t: &OcclusionSlices, maps: &CpuSliceMaps, r: &Receivers) -> Vec<f32> {
+    r.positions
+        .par_iter()
+        .zip(r.normals.par_iter())
+        .map(|(&p, &n)| visibility(t, &maps.frame, p, n, |k, c, s| maps.filtered.mean(k, c, s)))
+        .collect()
+}

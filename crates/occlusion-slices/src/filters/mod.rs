@@ -1,0 +1,57 @@
+//! The three box filters of section 3.2 over binary slices: [`mipmap`], [`nbuffer`] and the exact
+//! [`sat`]. Each builds from the slice's summed-area table of integer counts and answers the
+//! mean occupancy over a square kernel; `evaluate.wgsl` holds the same lookups.
+
+pub mod mipmap;
+pub mod nbuffer;
+pub mod sat;
+
+use crate::params::Filter;
+use glam::Vec2;
+pub use mipmap::Mipmap;
+pub use nbuffer::NBuffer;
+pub use sat::Sat;
+
+/// Number of levels (mipmap or N-Buffer) of a `res`-wide slice: up to the first box of side
+/// `>= res`.
+pub fn level_count(res: u32) -> u32 {
+    32 - res.max(1).saturating_sub(1).leading_zeros() + 1
+}
+
+/// `count / area` rounded to the nearest 8-bit unorm (ties up), in integers: the same bits on
+/// every backend. `count * 255 + area / 2` fits `u32` for areas up to `2^24` (4096² texels).
+pub fn unorm8(count: u32, area: u64) -> u8 {
+    ((count as u64 * 255 + area / 2) / area) as u8
+}
+
+/// The prefiltered slices of one light, in the form the filter reads.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Filtered {
+    /// One pyramid per slice.
+    Mipmap(Vec<Mipmap>),
+    /// One set of levels per slice.
+    NBuffer(Vec<NBuffer>),
+    /// One table per slice.
+    Sat(Vec<Sat>),
+}
+
+impl Filtered {
+    /// Prefilters binary slices (`res²` each) with `filter`.
+    pub fn build(filter: Filter, res: u32, slices: &[Vec<bool>]) -> Filtered {
+        let sats = slices.iter().map(|s| Sat::new(res, s));
+        match filter {
+            Filter::Sat => Filtered::Sat(sats.collect()),
+            Filter::NBuffer => Filtered::NBuffer(sats.map(|s| NBuffer::new(&s)).collect()),
+            Filter::Mipmap => Filtered::Mipmap(sats.map(|s| Mipmap::new(&s)).collect()),
+        }
+    }
+
+    /// Mean occupancy of slice `k` over the square of side `size` texels centred at `c`.
+    pub fn mean(&self, k: usize, c: Vec2, size: f32) -> f32 {
+        match self {
+            Filtered::Mipmap(m) => m[k].mean(c, size),
+            Filtered::NBuffer(n) => n[k].mean(c, size),
+            Filtered::Sat(s) => s[k].mean(c, size),
+        }
+    }
+}

@@ -1,0 +1,93 @@
+//! N-Buffers (Décoret 2005) of a slice: level `l` holds, at full resolution, the mean of the
+//! `2^l x 2^l` box whose top-left texel is the texel itself (outside the slice counts as empty).
+//!
+//! Each level is computed from the exact summed-area table (four reads per texel, like the
+//! paper's doubling construction) and stored as 8-bit unorm, the paper's RGBA8 texels: the only
+//! error of a stored value is its rounding, at every level.
+
+use super::sat::Sat;
+use super::{level_count, unorm8};
+use glam::Vec2;
+use rayon::prelude::*;
+
+/// Every level of one slice, `res²` bytes each.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NBuffer {
+    /// Side in texels.
+    pub res: u32,
+    /// Level `l` at index `l`.
+    pub levels: Vec<Vec<u8>>,
+}
+
+impl NBuffer {
+    /// The levels `0..level_count(res)` of the slice whose table is `sat`.
+    pub fn new(sat: &Sat) -> NBuffer {
+        let res = sat.res;
+        let n = res as usize;
+        let levels = (0..level_count(res))
+            .map(|l| {
+                let s = 1i64 << l;
+                let area = 1u64 << (2 * l);
+                let mut out = vec![0u8; n * n];
+                out.par_chunks_mut(n.max(1))
+                    .enumerate()
+                    .for_each(|(y, row)| {
+                        for (x, v) in row.iter_mut().enumerate() {
+                            let (x, y) = (x as i64, y as i64);
+                            *v = unorm8(sat.count(x, y, x + s, y + s) as u32, area);
+                        }
+                    });
+                out
+            })
+            .collect();
+        NBuffer { res, levels }
+    }
+
+    /// Texel `(x, y)` of level `l` as a value in [0, 1]; 0 outside.
+    pub fn texel(&self, l: u32, x: i64, y: i64) -> f32 {
+        let r = self.res as i64;
+        if x < 0 || y < 0 || x >= r || y >= r {
+            return 0.0;
+        }
+        self.levels[l as usize][(y * r + x) as usize] as f32 / 255.0
+    }
+
+    /// The mean occupancy over the square of side `size` texels centred at `c`:
+    /// [`nbuffer_mean`] over these levels.
+    pub fn mean(&self, c: Vec2, size: f32) -> f32 {
+        nbuffer_mean(c, size, self.levels.len() as u32, |l, x, y| {
+            self.texel(l, x, y)
+        })
+    }
+}
+
+/// Linear interpolation of level `l` at the box start `b` (level texels are boxes anchored at
+/// their top-left corner).
+fn sample(b: Vec2, l: u32, texel: &impl Fn(u32, i64, i64) -> f32) -> f32 {
+    let f = b.floor();
+    let (x, y) = (f.x as i64, f.y as i64);
+    let t = b - f;
+    let top = texel(l, x, y) * (1.0 - t.x) + texel(l, x + 1, y) * t.x;
+    let bottom = texel(l, x, y + 1) * (1.0 - t.x) + texel(l, x + 1, y + 1) * t.x;
+    top * (1.0 - t.y) + bottom * t.y
+}
+
+/// `floor(log2(x))` for `x >= 1`, exact (read from the exponent bits, as the shader does).
+pub fn floor_log2(x: f32) -> u32 {
+    ((x.to_bits() >> 23) & 0xff).saturating_sub(127)
+}
+
+/// The N-Buffer lookup of section 3.2 (`WGSL: nbuffer_mean`): the two levels whose box sizes
+/// bracket `size`, each read at the box's start, interpolated linearly in the size.
+pub fn nbuffer_mean(c: Vec2, size: f32, levels: u32, texel: impl Fn(u32, i64, i64) -> f32) -> f32 {
+    let k = size.max(1.0);
+    let l = floor_log2(k).min(levels - 1);
+    let s = (1u32 << l) as f32;
+    let v0 = sample(c - Vec2::splat(0.5 * s), l, &texel);
+    let t = (k / s - 1.0).clamp(0.0, 1.0);
+    if t <= 0.0 || l + 1 >= levels {
+        return v0;
+    }
+    let v1 = sample(c - Vec2::splat(s), l + 1, &texel);
+    v0 + (v1 - v0) * t
+}

@@ -1,0 +1,105 @@
+//! Summed-area tables of integer counts (Crow 1984), the exact box filter.
+//!
+//! `S(i, j)` counts the occupied texels in `[0, i) x [0, j)`, so any box sum with integer corners
+//! is exact (four reads, wrapping `u32` arithmetic). A box with fractional corners splits, per
+//! axis, into the whole texels strictly inside and the two partial texels at its ends, so the
+//! integral of the piecewise-constant slice is a weighted sum of nine integer box counts: the
+//! weights carry the fractions, the counts stay exact. That is the "exact SAT" of the issue: its
+//! precision does not decay with resolution, unlike the paper's f32 table.
+
+use glam::Vec2;
+use rayon::prelude::*;
+
+/// The table of one slice: `(res + 1)²` counts, row-major, `S(i, j)` at `j * (res + 1) + i`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sat {
+    /// Side of the slice in texels.
+    pub res: u32,
+    /// The counts.
+    pub data: Vec<u32>,
+}
+
+impl Sat {
+    /// The table of a `res x res` binary slice (`occupied(x, y)`, row-major).
+    pub fn new(res: u32, occupied: &[bool]) -> Sat {
+        let n = res as usize;
+        let w = n + 1;
+        let mut data = vec![0u32; w * w];
+        // Row prefix sums in parallel, then a running sum down each column.
+        data[w..]
+            .par_chunks_mut(w)
+            .zip(occupied.par_chunks(n.max(1)))
+            .for_each(|(row, occ)| {
+                let mut s = 0u32;
+                for (i, &o) in occ.iter().enumerate() {
+                    s += o as u32;
+                    row[i + 1] = s;
+                }
+            });
+        for j in 1..w {
+            let (above, rest) = data.split_at_mut(j * w);
+            let prev = &above[(j - 1) * w..];
+            for (v, p) in rest[..w].iter_mut().zip(prev) {
+                *v = v.wrapping_add(*p);
+            }
+        }
+        Sat { res, data }
+    }
+
+    /// `S(i, j)` with indices clamped to `[0, res]`.
+    pub fn get(&self, i: i64, j: i64) -> u32 {
+        let r = self.res as i64;
+        let w = (self.res + 1) as usize;
+        self.data[j.clamp(0, r) as usize * w + i.clamp(0, r) as usize]
+    }
+
+    /// Occupied texels in `[x0, x1) x [y0, y1)` (signed: reversed ranges count negatively).
+    pub fn count(&self, x0: i64, y0: i64, x1: i64, y1: i64) -> i32 {
+        self.get(x1, y1)
+            .wrapping_sub(self.get(x0, y1))
+            .wrapping_sub(self.get(x1, y0))
+            .wrapping_add(self.get(x0, y0)) as i32
+    }
+
+    /// The mean occupancy over the square of side `size` texels centred at `c` (outside the
+    /// slice counts as empty). See [`box_mean`].
+    pub fn mean(&self, c: Vec2, size: f32) -> f32 {
+        box_mean(c, size, |x0, y0, x1, y1| self.count(x0, y0, x1, y1))
+    }
+}
+
+/// The mean of a binary slice over a square box, from exact integer box counts
+/// `count(x0, y0, x1, y1)` over `[x0, x1) x [y0, y1)`: `WGSL: sat_mean` in `evaluate.wgsl`.
+///
+/// A box too small to have an area in f32 reads the texel under its centre.
+pub fn box_mean(c: Vec2, size: f32, count: impl Fn(i64, i64, i64, i64) -> i32) -> f32 {
+    let half = 0.5 * size;
+    let lo = c - Vec2::splat(half);
+    let hi = c + Vec2::splat(half);
+    let area = (hi.x - lo.x) * (hi.y - lo.y);
+    if area <= 0.0 || !area.is_finite() {
+        let (x, y) = (c.x.floor() as i64, c.y.floor() as i64);
+        return count(x, y, x + 1, y + 1) as f32;
+    }
+    // Per axis: [floor(lo) + 1, floor(hi)) weight 1, [floor(hi), +1) weight frac(hi),
+    // [floor(lo), +1) weight 1 - frac(lo).
+    let split = |a: f32, b: f32| {
+        let (fa, fb) = (a.floor(), b.floor());
+        let (ia, ib) = (fa as i64, fb as i64);
+        [
+            (ia + 1, ib, 1.0),
+            (ib, ib + 1, b - fb),
+            (ia, ia + 1, 1.0 - (a - fa)),
+        ]
+    };
+    let (sx, sy) = (split(lo.x, hi.x), split(lo.y, hi.y));
+    let mut total = 0.0f32;
+    for &(y0, y1, wy) in &sy {
+        let mut row = 0.0f32;
+        for &(x0, x1, wx) in &sx {
+            row += wx * count(x0, y0, x1, y1) as f32;
+        }
+        total += wy * row;
+    }
+    (total / area).clamp(0.0, 1.0)
+}

@@ -1,0 +1,254 @@
+//! The slicing frame of section 3.4: a centre of projection (COP) at distance `d` behind the
+//! light, a frustum through the light's rectangle that contains the casters, and `n` slice planes
+//! parallel to the light.
+//!
+//! Coordinates: `h` is the distance from the light's plane along its emission normal, `x` and
+//! `y` run along the frustum's image axes from the light's centre. The frustum's half extents at
+//! depth `h` are `a (d + h) / d`, so the light's rectangle is exactly its cross-section at `h = 0`.
+//!
+//! Slice planes sit at `p_k = near + k t`, `k = 0..n`, with `p_0` the nearest caster and
+//! `p_{n-1}` the farthest. Slice `k` holds the geometry in `(p_{k-1}, p_k]`, projected through the
+//! COP onto its lower plane `p_k` (the one farther from the light), so a planar occluder at the
+//! nearest depth lands on its own plane and is filtered exactly (section 3.1).
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec2, Vec3};
+use shadow_core::light::orthonormal_basis;
+use shadow_core::view::{ProjectionKind, View};
+use shadow_core::{Light, SceneGeometry};
+
+/// Fraction of a slice's thickness beyond a plane that still counts as on it (rasterized
+/// depths carry rounding; a surface exactly on a plane must not flicker between two slices).
+pub const SLICE_TOLERANCE: f32 = 1e-3;
+
+/// Casters nearer the light's plane than this fraction of the farthest caster do not widen the
+/// frustum (a wall through the light's plane would otherwise ask for a 180-degree field of view).
+const FIT_FLOOR: f32 = 0.02;
+
+/// The slicing frame, laid out as `Frame` in `frame.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct Frame {
+    /// World to clip of the COP's view (reversed Z), column-major.
+    pub view_proj: [f32; 16],
+    /// Light centre (xyz).
+    pub center: [f32; 4],
+    /// Unit image x axis (xyz).
+    pub axis_x: [f32; 4],
+    /// Unit image y axis (xyz, up in the image).
+    pub axis_y: [f32; 4],
+    /// Unit emission normal (xyz), towards the scene.
+    pub normal: [f32; 4],
+    /// Light half extent along `axis_x`.
+    pub half_x: f32,
+    /// Light half extent along `axis_y`.
+    pub half_y: f32,
+    /// Distance of the COP behind the light's plane.
+    pub d: f32,
+    /// Depth `p_0` of the first slice plane.
+    pub near: f32,
+    /// Distance `t` between slice planes.
+    pub spacing: f32,
+    /// Number of slices.
+    pub slices: u32,
+    /// Texture side in texels.
+    pub resolution: u32,
+    /// 1 when the scene has casters in front of the light.
+    pub occupied: u32,
+    /// Near clip distance of the COP's view.
+    pub clip_near: f32,
+    /// Far clip distance of the COP's view.
+    pub clip_far: f32,
+    /// 1 with the thin-occluder fix: a fragment also fills the next slice.
+    pub thin_fix: u32,
+    /// Padding to 16 bytes.
+    pub _pad: u32,
+}
+
+/// World to view looking along unit `dir` with `up` (perpendicular to it) as the image's y axis.
+fn look_to(eye: Vec3, dir: Vec3, up: Vec3) -> Mat4 {
+    let s = dir.cross(up).normalize();
+    let u = s.cross(dir);
+    Mat4::from_cols(
+        s.extend(-s.dot(eye)),
+        u.extend(-u.dot(eye)),
+        (-dir).extend(dir.dot(eye)),
+        Vec3::ZERO.extend(1.0),
+    )
+    .transpose()
+}
+
+/// A receiver seen from the light: `x, y` along the image axes, `h` along the normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightCoord {
+    /// Along `axis_x`.
+    pub x: f32,
+    /// Along `axis_y`.
+    pub y: f32,
+    /// Distance from the light's plane.
+    pub h: f32,
+}
+
+/// The rectangle a light is sliced with: centre, normal and two half axes. A disk becomes the
+/// square of equal area, a sphere its silhouette disc facing the scene's centre, then that square.
+pub fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec3, Vec3)> {
+    let square = |center: Vec3, normal: Vec3, radius: f32| {
+        let (t, b) = orthonormal_basis(normal);
+        let half = 0.5 * radius * std::f32::consts::PI.sqrt();
+        (center, t * half, b * half)
+    };
+    match *light {
+        Light::Rect {
+            center,
+            u_half,
+            v_half,
+        } => Some((center, u_half, v_half)),
+        Light::Disk {
+            center,
+            normal,
+            radius,
+        } => Some(square(center, normal.normalize(), radius)),
+        Light::Sphere { center, radius } => Some(square(center, light.axis(scene_center), radius)),
+        _ => None,
+    }
+}
+
+impl Frame {
+    /// Fits the frame to `geometry`'s casters for `light` (a rect, disk or sphere).
+    pub fn fit(
+        light: &Light,
+        geometry: &SceneGeometry,
+        slices: u32,
+        resolution: u32,
+        thin_fix: bool,
+    ) -> Frame {
+        let (center, u_half, v_half) =
+            light_rect(light, geometry.bounds.center()).unwrap_or((Vec3::ZERO, Vec3::X, Vec3::Z));
+        let normal = u_half.cross(v_half).normalize();
+        let up = v_half.normalize();
+        let look = look_to(center, normal, up);
+        let axis_x = look.row(0).truncate();
+        let axis_y = look.row(1).truncate();
+        let half_x = u_half.dot(axis_x).abs() + v_half.dot(axis_x).abs();
+        let half_y = u_half.dot(axis_y).abs() + v_half.dot(axis_y).abs();
+        let depth = |p: Vec3| (p - center).dot(normal);
+        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        for t in &geometry.casters {
+            let h = t.map(depth);
+            let max = h[0].max(h[1]).max(h[2]);
+            if max > 0.0 {
+                hi = hi.max(max);
+                lo = lo.min(h[0].min(h[1]).min(h[2]));
+            }
+        }
+        let occupied = hi > 0.0 && hi.is_finite();
+        let (near, far) = if occupied {
+            (lo.max(1e-4 * hi), hi)
+        } else {
+            (1.0, 2.0)
+        };
+        let spacing = ((far - near) / (slices - 1) as f32).max(1e-6 * far);
+        // The largest d that keeps every caster vertex (beyond the floor) inside the frustum.
+        let mut d = 100.0 * far;
+        for p in geometry.casters.iter().flatten() {
+            let h = depth(*p);
+            if h < FIT_FLOOR * far {
+                continue;
+            }
+            let q = *p - center;
+            for (a, c) in [(half_x, q.dot(axis_x).abs()), (half_y, q.dot(axis_y).abs())] {
+                if c > a {
+                    d = d.min(a * h / (c - a));
+                }
+            }
+        }
+        let mut frame = Frame {
+            view_proj: [0.0; 16],
+            center: center.extend(1.0).to_array(),
+            axis_x: axis_x.extend(0.0).to_array(),
+            axis_y: axis_y.extend(0.0).to_array(),
+            normal: normal.extend(0.0).to_array(),
+            half_x,
+            half_y,
+            d: (0.98 * d).max(1e-4 * far),
+            near,
+            spacing,
+            slices,
+            resolution,
+            occupied: occupied as u32,
+            clip_near: 0.0,
+            clip_far: 0.0,
+            thin_fix: thin_fix as u32,
+            _pad: 0,
+        };
+        let first = (near - spacing).max(0.0);
+        frame.clip_near = (frame.d + first) * 0.999;
+        frame.clip_far = (frame.d + far + spacing) * 1.001;
+        frame.view_proj = frame.view().view_projection().to_cols_array();
+        frame
+    }
+
+    /// The COP's view, as the slicing pass rasterizes it.
+    pub fn view(&self) -> View {
+        let normal = Vec3::from_slice(&self.normal[..3]);
+        let cop = Vec3::from_slice(&self.center[..3]) - normal * self.d;
+        View {
+            view: look_to(cop, normal, Vec3::from_slice(&self.axis_y[..3])),
+            kind: ProjectionKind::Perspective {
+                fov: 2.0 * (self.half_y / self.d).atan(),
+            },
+            near: self.clip_near,
+            far: self.clip_far,
+            aspect: self.half_x / self.half_y,
+        }
+    }
+
+    /// Depth `p_k` of slice plane `k`.
+    pub fn plane(&self, k: u32) -> f32 {
+        self.near + k as f32 * self.spacing
+    }
+
+    /// The slice of a fragment at COP view depth `z` (`z = d + h`).
+    pub fn slice_of(&self, z: f32) -> u32 {
+        let h = z - self.d;
+        let k = ((h - self.near) / self.spacing - SLICE_TOLERANCE).ceil();
+        k.clamp(0.0, (self.slices - 1) as f32) as u32
+    }
+
+    /// A world point in light coordinates.
+    pub fn light_coord(&self, p: Vec3) -> LightCoord {
+        let q = p - Vec3::from_slice(&self.center[..3]);
+        LightCoord {
+            x: q.dot(Vec3::from_slice(&self.axis_x[..3])),
+            y: q.dot(Vec3::from_slice(&self.axis_y[..3])),
+            h: q.dot(Vec3::from_slice(&self.normal[..3])),
+        }
+    }
+
+    /// World size of a texel of the frustum at depth `h`.
+    pub fn texel_size(&self, h: f32) -> f32 {
+        2.0 * self.half_x * (self.d + h) / (self.d * self.resolution as f32)
+    }
+
+    /// The kernel of section 3.1 for a receiver at `c` on plane depth `p < c.h`: the centre in
+    /// continuous texel coordinates (texel `i` covers `[i, i + 1)`) and the side in texels of the
+    /// intersection of the plane with the pyramid from the receiver to the light.
+    pub fn kernel(&self, c: LightCoord, p: f32) -> (Vec2, f32) {
+        let along = p / c.h;
+        let z = self.d + p;
+        let res = self.resolution as f32;
+        let sx = self.d / (self.half_x * z);
+        let sy = self.d / (self.half_y * z);
+        let center = Vec2::new(
+            (c.x * along * sx * 0.5 + 0.5) * res,
+            (0.5 - c.y * along * sy * 0.5) * res,
+        );
+        (center, (1.0 - along) * self.d / z * res)
+    }
+
+    /// Weight of slice `k` for a receiver at depth `h`: 0 while the receiver lies above the
+    /// slice's lower plane (in it or nearer the light), rising linearly to 1 one slice beyond it.
+    pub fn fade(&self, k: u32, h: f32) -> f32 {
+        ((h - self.plane(k)) / self.spacing).clamp(0.0, 1.0)
+    }
+}

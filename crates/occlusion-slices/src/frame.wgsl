@@ -1,0 +1,70 @@
+// The slicing frame (frame.rs): COP view, light axes, slice planes. Prepended to every shader
+// of the crate.
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    center: vec4<f32>,
+    axis_x: vec4<f32>,
+    axis_y: vec4<f32>,
+    normal: vec4<f32>,
+    half_x: f32,
+    half_y: f32,
+    d: f32,
+    near: f32,
+    spacing: f32,
+    slices: u32,
+    resolution: u32,
+    occupied: u32,
+    clip_near: f32,
+    clip_far: f32,
+    thin_fix: u32,
+    _pad: u32,
+};
+
+const SLICE_TOLERANCE: f32 = 1e-3;
+
+// Frame::slice_of: the slice of a fragment at COP view depth z.
+fn slice_of(f: Frame, z: f32) -> u32 {
+    let h = z - f.d;
+    let k = ceil((h - f.near) / f.spacing - SLICE_TOLERANCE);
+    return u32(clamp(k, 0.0, f32(f.slices - 1u)));
+}
+
+// Frame::plane.
+fn plane(f: Frame, k: u32) -> f32 {
+    return f.near + f32(k) * f.spacing;
+}
+
+// Frame::fade.
+fn fade(f: Frame, k: u32, h: f32) -> f32 {
+    return clamp((h - plane(f, k)) / f.spacing, 0.0, 1.0);
+}
+
+// Frame::texel_size.
+fn texel_size(f: Frame, h: f32) -> f32 {
+    return 2.0 * f.half_x * (f.d + h) / (f.d * f32(f.resolution));
+}
+
+// Frame::light_coord: (x, y, h).
+fn light_coord(f: Frame, p: vec3<f32>) -> vec3<f32> {
+    let q = p - f.center.xyz;
+    return vec3<f32>(dot(q, f.axis_x.xyz), dot(q, f.axis_y.xyz), dot(q, f.normal.xyz));
+}
+
+struct Kernel {
+    center: vec2<f32>,
+    size: f32,
+};
+
+// Frame::kernel: the pyramid from c to the light cut by plane depth p, in texels.
+fn kernel(f: Frame, c: vec3<f32>, p: f32) -> Kernel {
+    let along = p / c.z;
+    let z = f.d + p;
+    let res = f32(f.resolution);
+    let sx = f.d / (f.half_x * z);
+    let sy = f.d / (f.half_y * z);
+    var k: Kernel;
+    k.center = vec2<f32>((c.x * along * sx * 0.5 + 0.5) * res, (0.5 - c.y * along * sy * 0.5) * res);
+    k.size = (1.0 - along) * f.d / z * res;
+    return k;
+}

@@ -1,0 +1,402 @@
+//! The GPU path. Generation records everything in one command buffer and reads nothing back:
+//!
+//! 1. the slicing render pass (`slicing.wgsl`): casters from the COP into `ceil(n / 4)` RGBA8
+//!    layers, four slices per texel, `Max`-blended;
+//! 2. the summed-area table of integer counts (`sat_rows.wgsl`, `sat_cols.wgsl`);
+//! 3. for N-Buffers and mipmaps, every level from the table (`levels.wgsl`), RGBA8.
+//!
+//! Evaluation is one compute pass (`evaluate.wgsl`).
+
+pub mod pipelines;
+
+use crate::filters::level_count;
+use crate::filters::mipmap::mip_size;
+use crate::frame::Frame;
+use crate::params::{Filter, OcclusionSlices};
+use bytemuck::{Pod, Zeroable};
+use pipelines::{
+    EvalPipeline, Kernel, LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT,
+    SlicingPipelines,
+};
+use shadow_core::gpu::GpuTriangles;
+use shadow_core::gpu::compute::{ReceiverBuffers, bind_group};
+use shadow_core::gpu::raster::read_texture;
+use shadow_core::{GpuContext, Light, Receivers, Result, SceneGeometry, ShadowError};
+
+/// The occlusion textures of one light, kept on the GPU.
+pub struct GpuSliceMaps {
+    /// The slicing frame.
+    pub frame: Frame,
+    /// The filter the maps were built for.
+    pub filter: Filter,
+    /// Groups of four slices (RGBA texels).
+    pub groups: u32,
+    /// Mipmap or N-Buffer levels.
+    pub levels: u32,
+    /// The binary slices: `groups` RGBA8 layers.
+    pub occupancy: wgpu::Texture,
+    /// The summed-area table (`res + 1` a side, `groups` layers of RGBA32Uint); kept for
+    /// [`Filter::Sat`], a 1x1 placeholder otherwise.
+    pub sat: wgpu::Texture,
+    /// N-Buffer levels (`levels * groups` layers) or the mip pyramid (`groups` layers, `levels`
+    /// mips); a 1x1 placeholder for [`Filter::Sat`].
+    pub filtered: wgpu::Texture,
+}
+
+impl GpuSliceMaps {
+    /// Reads the binary slices back (tests): `slices` maps of `res²` flags.
+    pub fn read_slices(&self, ctx: &GpuContext) -> Result<Vec<Vec<bool>>> {
+        let mut out = vec![Vec::new(); self.frame.slices as usize];
+        for g in 0..self.groups {
+            let texels: Vec<[u8; 4]> =
+                read_texture(ctx, &self.occupancy, g, wgpu::TextureAspect::All, 4)?;
+            for c in 0..4 {
+                let k = (g * 4 + c) as usize;
+                if k < out.len() {
+                    out[k] = texels.iter().map(|t| t[c as usize] > 127).collect();
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Per-level parameters, laid out as `Level` in `levels.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct LevelParams {
+    level: u32,
+    groups: u32,
+    size: u32,
+    _pad: u32,
+}
+
+/// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct EvalParams {
+    filter: u32,
+    combination: u32,
+    count: u32,
+    levels: u32,
+    normal_offset: f32,
+    groups: u32,
+    _pad: [u32; 2],
+}
+
+fn texture(
+    ctx: &GpuContext,
+    label: &str,
+    size: u32,
+    layers: u32,
+    mips: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: mips,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+fn array_view(t: &wgpu::Texture, mip: Option<u32>) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        base_mip_level: mip.unwrap_or(0),
+        mip_level_count: mip.map(|_| 1),
+        ..Default::default()
+    })
+}
+
+fn storage_usage() -> wgpu::TextureUsages {
+    wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING
+}
+
+fn dispatch(
+    enc: &mut wgpu::CommandEncoder,
+    k: &Kernel,
+    bind: &wgpu::BindGroup,
+    groups: (u32, u32, u32),
+) {
+    let mut pass = enc.begin_compute_pass(&Default::default());
+    pass.set_pipeline(&k.pipeline);
+    pass.set_bind_group(0, bind, &[]);
+    pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+}
+
+/// Step 1: the slicing render pass into the `groups` layers of `occupancy`.
+fn encode_slicing(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    geometry: &SceneGeometry,
+    uniform: &wgpu::Buffer,
+    occupancy: &wgpu::Texture,
+    groups: u32,
+) -> Result<()> {
+    let pipes = ctx.cached(SlicingPipelines::new);
+    let tris = GpuTriangles::new(ctx, &geometry.casters)?;
+    let views: Vec<wgpu::TextureView> = (0..groups)
+        .map(|g| {
+            occupancy.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: g,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    // Four slots, as the pipeline's targets: the unused ones are `None` on both sides.
+    let mut attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = views
+        .iter()
+        .map(|view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        })
+        .collect();
+    attachments.resize(4, None);
+    let bind = bind_group(
+        ctx,
+        "slicing",
+        &pipes.layout,
+        &[uniform.as_entire_binding()],
+    );
+    let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("slicing"),
+        color_attachments: &attachments,
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    if tris.vertex_count > 0 {
+        rp.set_pipeline(&pipes.pipelines[groups as usize - 1]);
+        rp.set_bind_group(0, &bind, &[]);
+        rp.set_vertex_buffer(0, tris.vertices.slice(..));
+        rp.draw(0..tris.vertex_count, 0..1);
+    }
+    Ok(())
+}
+
+/// Step 3: every level of `filtered` from the table.
+#[allow(clippy::too_many_arguments)]
+fn encode_levels(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    pre: &PrefilterPipelines,
+    uniform: &wgpu::Buffer,
+    sat_view: &wgpu::TextureView,
+    filtered: &wgpu::Texture,
+    filter: Filter,
+    res: u32,
+    groups: u32,
+) {
+    let whole = array_view(filtered, None);
+    for l in 0..level_count(res) {
+        let (kernel, size, out) = match filter {
+            Filter::NBuffer => (&pre.nbuffer_level, res, None),
+            _ => (
+                &pre.mip_level,
+                mip_size(res, l),
+                Some(array_view(filtered, Some(l))),
+            ),
+        };
+        let lp = LevelParams {
+            level: l,
+            groups,
+            size,
+            _pad: 0,
+        };
+        let lb = ctx.uniform_buffer("level", bytemuck::bytes_of(&lp));
+        let bind = bind_group(
+            ctx,
+            "level",
+            &kernel.layout,
+            &[
+                uniform.as_entire_binding(),
+                wgpu::BindingResource::TextureView(sat_view),
+                lb.as_entire_binding(),
+                wgpu::BindingResource::TextureView(out.as_ref().unwrap_or(&whole)),
+            ],
+        );
+        let g = size.div_ceil(8);
+        dispatch(enc, kernel, &bind, (g, g, groups));
+    }
+}
+
+/// Builds the occlusion textures on the GPU (inputs already checked), then waits for the GPU.
+pub fn generate(
+    ctx: &GpuContext,
+    t: &OcclusionSlices,
+    geometry: &SceneGeometry,
+    light: &Light,
+    res: u32,
+) -> Result<GpuSliceMaps> {
+    let limits = ctx.device.limits();
+    let levels = level_count(res);
+    let groups = t.slices.div_ceil(4);
+    if res + 1 > limits.max_texture_dimension_2d {
+        return Err(ShadowError::InvalidResolution {
+            requested: res,
+            max: limits.max_texture_dimension_2d - 1,
+        });
+    }
+    if levels * groups > limits.max_texture_array_layers {
+        return Err(ShadowError::Gpu(format!(
+            "{} N-Buffer layers exceed the device's {}",
+            levels * groups,
+            limits.max_texture_array_layers
+        )));
+    }
+    let frame = Frame::fit(light, geometry, t.slices, res, t.thin_fix);
+    let uniform = ctx.uniform_buffer("slicing frame", bytemuck::bytes_of(&frame));
+    let pre = ctx.cached(PrefilterPipelines::new);
+    let occupancy = texture(
+        ctx,
+        "occlusion textures",
+        res,
+        groups,
+        1,
+        OCCUPANCY_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+    );
+    let table = |label| texture(ctx, label, res + 1, groups, 1, SAT_FORMAT, storage_usage());
+    let (rows, sat) = (table("sat rows"), table("summed-area table"));
+    let filtered = match t.filter {
+        Filter::Sat => texture(ctx, "no levels", 1, 1, 1, LEVEL_FORMAT, storage_usage()),
+        Filter::NBuffer => texture(
+            ctx,
+            "n-buffers",
+            res,
+            levels * groups,
+            1,
+            LEVEL_FORMAT,
+            storage_usage(),
+        ),
+        Filter::Mipmap => texture(
+            ctx,
+            "mipmaps",
+            res,
+            groups,
+            levels,
+            LEVEL_FORMAT,
+            storage_usage(),
+        ),
+    };
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    encode_slicing(ctx, &mut enc, geometry, &uniform, &occupancy, groups)?;
+    let (occ_view, rows_view, sat_view) = (
+        array_view(&occupancy, None),
+        array_view(&rows, None),
+        array_view(&sat, None),
+    );
+    let scan_groups = (res + 1).div_ceil(64);
+    let bind = |k: &Kernel, src: &wgpu::TextureView, dst: &wgpu::TextureView| {
+        bind_group(
+            ctx,
+            "sat scan",
+            &k.layout,
+            &[
+                uniform.as_entire_binding(),
+                wgpu::BindingResource::TextureView(src),
+                wgpu::BindingResource::TextureView(dst),
+            ],
+        )
+    };
+    let b = bind(&pre.sat_rows, &occ_view, &rows_view);
+    dispatch(&mut enc, &pre.sat_rows, &b, (scan_groups, groups, 1));
+    let b = bind(&pre.sat_cols, &rows_view, &sat_view);
+    dispatch(&mut enc, &pre.sat_cols, &b, (scan_groups, groups, 1));
+    if t.filter != Filter::Sat {
+        encode_levels(
+            ctx, &mut enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,
+        );
+    }
+    ctx.queue.submit([enc.finish()]);
+    ctx.wait()?;
+    drop(rows);
+    let sat = if t.filter == Filter::Sat {
+        sat
+    } else {
+        texture(ctx, "no table", 1, 1, 1, SAT_FORMAT, storage_usage())
+    };
+    Ok(GpuSliceMaps {
+        frame,
+        filter: t.filter,
+        groups,
+        levels,
+        occupancy,
+        sat,
+        filtered,
+    })
+}
+
+/// `V` for every receiver, computed by `evaluate.wgsl`.
+pub fn evaluate(
+    ctx: &GpuContext,
+    t: &OcclusionSlices,
+    maps: &GpuSliceMaps,
+    r: &Receivers,
+) -> Result<Vec<f32>> {
+    if maps.filter != t.filter || maps.frame.slices != t.slices {
+        return Err(ShadowError::MapsMismatch(format!(
+            "maps hold {} {}-slice textures, the technique reads {} with {}",
+            maps.filter.name(),
+            maps.frame.slices,
+            t.filter.name(),
+            t.slices
+        )));
+    }
+    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
+        return Ok(Vec::new());
+    };
+    let pipe = ctx.cached(EvalPipeline::new);
+    let prm = EvalParams {
+        filter: t.filter.index(),
+        combination: t.combination.index(),
+        count: rb.count,
+        levels: maps.levels,
+        normal_offset: t.normal_offset,
+        groups: maps.groups,
+        _pad: [0; 2],
+    };
+    let fb = ctx.uniform_buffer("slicing frame", bytemuck::bytes_of(&maps.frame));
+    let eb = ctx.uniform_buffer("occlusion eval", bytemuck::bytes_of(&prm));
+    let (sat_view, levels_view) = (
+        array_view(&maps.sat, None),
+        array_view(&maps.filtered, None),
+    );
+    let bind = bind_group(
+        ctx,
+        "occlusion evaluate",
+        &pipe.0.layout,
+        &[
+            fb.as_entire_binding(),
+            eb.as_entire_binding(),
+            rb.positions.as_entire_binding(),
+            rb.normals.as_entire_binding(),
+            rb.visibility.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&sat_view),
+            wgpu::BindingResource::TextureView(&levels_view),
+        ],
+    );
+    rb.run(ctx, &pipe.0.pipeline, &bind)
+}

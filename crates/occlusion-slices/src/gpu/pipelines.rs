@@ -1,0 +1,243 @@
+//! The pipelines of the GPU path, built once per context: the slicing render pipelines
+//! (`slicing.wgsl`, one per number of targets), the prefiltering kernels (`sat_rows.wgsl`,
+//! `sat_cols.wgsl`, `levels.wgsl`) and evaluation (`evaluate.wgsl`).
+
+use shadow_core::GpuContext;
+use shadow_core::gpu::compute::{compute_pipelines, storage_entry, uniform_entry};
+
+/// `frame.wgsl`, prepended to every shader of the crate.
+pub const FRAME_WGSL: &str = include_str!("../frame.wgsl");
+
+/// Format of the occlusion textures: four slices per RGBA8 texel.
+pub const OCCUPANCY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Format of the summed-area tables: four slices of `u32` counts per texel.
+pub const SAT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// Format of N-Buffer and mipmap levels (the paper's RGBA8).
+pub const LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+fn module(ctx: &GpuContext, label: &str, source: &str) -> wgpu::ShaderModule {
+    ctx.device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(format!("{FRAME_WGSL}\n{source}").into()),
+        })
+}
+
+fn texture_array(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn storage_array(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2Array,
+        },
+        count: None,
+    }
+}
+
+fn layout(
+    ctx: &GpuContext,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries,
+        })
+}
+
+const FLOAT: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: false };
+const UINT: wgpu::TextureSampleType = wgpu::TextureSampleType::Uint;
+
+/// The slicing pass: `pipelines[g - 1]` draws into `g` targets.
+pub struct SlicingPipelines {
+    /// Bind group layout: the frame uniform.
+    pub layout: wgpu::BindGroupLayout,
+    /// One pipeline per target count 1..=4.
+    pub pipelines: [wgpu::RenderPipeline; 4],
+}
+
+impl SlicingPipelines {
+    /// Builds the pipelines.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let m = module(ctx, "slicing", include_str!("../slicing.wgsl"));
+        let mut uniform = uniform_entry(0);
+        uniform.visibility = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let layout = layout(ctx, "slicing", &[uniform]);
+        let pl = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("slicing"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let max = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Max,
+        };
+        let target = Some(wgpu::ColorTargetState {
+            format: OCCUPANCY_FORMAT,
+            blend: Some(wgpu::BlendState {
+                color: max,
+                alpha: max,
+            }),
+            write_mask: wgpu::ColorWrites::ALL,
+        });
+        let pipelines = [1usize, 2, 3, 4].map(|g| {
+            let mut targets = vec![None; 4];
+            for t in targets.iter_mut().take(g) {
+                *t = target.clone();
+            }
+            ctx.device
+                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("slicing"),
+                    layout: Some(&pl),
+                    vertex: wgpu::VertexState {
+                        module: &m,
+                        entry_point: Some("vs_slice"),
+                        compilation_options: Default::default(),
+                        buffers: &[Some(wgpu::VertexBufferLayout {
+                            array_stride: 12,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                        })],
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: None,
+                        ..Default::default()
+                    },
+                    depth_stencil: None,
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &m,
+                        entry_point: Some("fs_slice"),
+                        compilation_options: Default::default(),
+                        targets: &targets,
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+        });
+        Self { layout, pipelines }
+    }
+}
+
+/// One compute kernel with its own bind group layout.
+pub struct Kernel {
+    /// Its bind group layout.
+    pub layout: wgpu::BindGroupLayout,
+    /// The pipeline.
+    pub pipeline: wgpu::ComputePipeline,
+}
+
+impl Kernel {
+    fn new(
+        ctx: &GpuContext,
+        label: &str,
+        source: &str,
+        entry: &str,
+        entries: &[wgpu::BindGroupLayoutEntry],
+    ) -> Self {
+        let m = module(ctx, label, source);
+        let layout = layout(ctx, label, entries);
+        let [pipeline] = compute_pipelines(ctx, label, &m, &layout, [entry]);
+        Self { layout, pipeline }
+    }
+}
+
+/// The prefiltering kernels.
+pub struct PrefilterPipelines {
+    /// Occupancy to row prefix sums.
+    pub sat_rows: Kernel,
+    /// Row prefix sums to the summed-area table.
+    pub sat_cols: Kernel,
+    /// One N-Buffer level from the table.
+    pub nbuffer_level: Kernel,
+    /// One mip level from the table.
+    pub mip_level: Kernel,
+}
+
+impl PrefilterPipelines {
+    /// Builds the kernels.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let levels = include_str!("../levels.wgsl");
+        let level_entries = [
+            uniform_entry(0),
+            texture_array(1, UINT),
+            uniform_entry(2),
+            storage_array(3, LEVEL_FORMAT),
+        ];
+        Self {
+            sat_rows: Kernel::new(
+                ctx,
+                "sat rows",
+                include_str!("../sat_rows.wgsl"),
+                "sat_rows",
+                &[
+                    uniform_entry(0),
+                    texture_array(1, FLOAT),
+                    storage_array(2, SAT_FORMAT),
+                ],
+            ),
+            sat_cols: Kernel::new(
+                ctx,
+                "sat cols",
+                include_str!("../sat_cols.wgsl"),
+                "sat_cols",
+                &[
+                    uniform_entry(0),
+                    texture_array(1, UINT),
+                    storage_array(2, SAT_FORMAT),
+                ],
+            ),
+            nbuffer_level: Kernel::new(
+                ctx,
+                "nbuffer level",
+                levels,
+                "nbuffer_level",
+                &level_entries,
+            ),
+            mip_level: Kernel::new(ctx, "mip level", levels, "mip_level", &level_entries),
+        }
+    }
+}
+
+/// Evaluation: frame, parameters, receivers, output, the table and the level texture.
+pub struct EvalPipeline(pub Kernel);
+
+impl EvalPipeline {
+    /// Builds the kernel.
+    pub fn new(ctx: &GpuContext) -> Self {
+        Self(Kernel::new(
+            ctx,
+            "occlusion evaluate",
+            include_str!("../evaluate.wgsl"),
+            "evaluate",
+            &[
+                uniform_entry(0),
+                uniform_entry(1),
+                storage_entry(2, true),
+                storage_entry(3, true),
+                storage_entry(4, false),
+                texture_array(5, UINT),
+                texture_array(6, FLOAT),
+            ],
+        ))
+    }
+}

@@ -1,0 +1,160 @@
+//! The technique's parameters and their validation.
+
+use shadow_core::{Result, ShadowError};
+
+/// How an occlusion texture is box-filtered (section 3.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Filter {
+    /// A mipmap pyramid (dyadic 2x2 means), read trilinearly at the kernel's level.
+    Mipmap,
+    /// N-Buffers: level `l` holds the normalised `2^l x 2^l` box filter at full resolution; a
+    /// kernel between two levels interpolates linearly in its size.
+    NBuffer,
+    /// A summed-area table of integer counts: the exact box filter of the binary slice.
+    Sat,
+}
+
+impl Filter {
+    /// Every filter.
+    pub const ALL: [Filter; 3] = [Filter::Mipmap, Filter::NBuffer, Filter::Sat];
+
+    /// Short name used in variant labels.
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::Mipmap => "mipmap",
+            Filter::NBuffer => "nbuffer",
+            Filter::Sat => "sat",
+        }
+    }
+
+    /// Index shared with the shaders (`FILTER_*` in `frame.wgsl`).
+    pub fn index(self) -> u32 {
+        match self {
+            Filter::Mipmap => 0,
+            Filter::NBuffer => 1,
+            Filter::Sat => 2,
+        }
+    }
+}
+
+/// How the occlusions `I_k` of the slices between a point and the light combine (section 3.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Combination {
+    /// Equation 5: `V = prod(1 - I_k)`, slices as independent random occluders.
+    Product,
+    /// Additive, clamped: `V = 1 - min(1, sum I_k)` (shadow-volume wedges).
+    Sum,
+    /// The strongest slice only: `V = 1 - max I_k`.
+    Max,
+}
+
+impl Combination {
+    /// Every combination.
+    pub const ALL: [Combination; 3] = [Combination::Product, Combination::Sum, Combination::Max];
+
+    /// Short name used in variant labels.
+    pub fn name(self) -> &'static str {
+        match self {
+            Combination::Product => "product",
+            Combination::Sum => "sum",
+            Combination::Max => "max",
+        }
+    }
+
+    /// Index shared with the shaders (`COMBINE_*` in `evaluate.wgsl`).
+    pub fn index(self) -> u32 {
+        match self {
+            Combination::Product => 0,
+            Combination::Sum => 1,
+            Combination::Max => 2,
+        }
+    }
+}
+
+/// Fewest and most slices (section 3.4: "4 to 16 slices is a good tradeoff").
+pub const SLICE_RANGE: std::ops::RangeInclusive<u32> = 4..=16;
+
+/// Occlusion textures (Eisemann & Décoret 2006) with their parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OcclusionSlices {
+    /// Number of slices, in [`SLICE_RANGE`].
+    pub slices: u32,
+    /// Box filter of the occlusion textures.
+    pub filter: Filter,
+    /// How the slices' occlusions combine.
+    pub combination: Combination,
+    /// Section 3.4's light-leak fix for thin occluders: a fragment also fills the next slice
+    /// away from the light.
+    pub thin_fix: bool,
+    /// Receiver offset along its normal, in texels of the slice frustum at the receiver's depth,
+    /// against self-occlusion on curved surfaces.
+    pub normal_offset: f32,
+}
+
+impl OcclusionSlices {
+    /// `slices` slices with `filter`, the product combination and no thin-occluder fix.
+    pub fn new(slices: u32, filter: Filter) -> Self {
+        Self {
+            slices,
+            filter,
+            combination: Combination::Product,
+            thin_fix: false,
+            normal_offset: 1.0,
+        }
+    }
+
+    /// The same with `combination`.
+    pub fn with_combination(mut self, combination: Combination) -> Self {
+        self.combination = combination;
+        self
+    }
+
+    /// The same with the thin-occluder fix on or off.
+    pub fn with_thin_fix(mut self, on: bool) -> Self {
+        self.thin_fix = on;
+        self
+    }
+
+    /// The variants the report runs: every filter with 4, 8 and 16 slices (product), and the
+    /// sum and max combinations with the exact filter (SAT) and 8 slices, for the Figure 3 comparison.
+    pub fn standard_set() -> Vec<OcclusionSlices> {
+        let mut set: Vec<OcclusionSlices> = Filter::ALL
+            .iter()
+            .flat_map(|&f| [4, 8, 16].map(|n| OcclusionSlices::new(n, f)))
+            .collect();
+        for c in [Combination::Sum, Combination::Max] {
+            set.push(OcclusionSlices::new(8, Filter::Sat).with_combination(c));
+        }
+        set
+    }
+
+    /// Variant label: filter and slice count, plus the combination and the fix when not default.
+    pub fn label(&self) -> String {
+        let mut s = format!("{}-{}", self.filter.name(), self.slices);
+        if self.combination != Combination::Product {
+            s.push('-');
+            s.push_str(self.combination.name());
+        }
+        if self.thin_fix {
+            s.push_str("-thin");
+        }
+        s
+    }
+
+    /// Checks every parameter; the error names the first bad one.
+    pub fn validate(&self) -> Result<()> {
+        if !SLICE_RANGE.contains(&self.slices) {
+            return Err(ShadowError::InvalidParameter(format!(
+                "slices {} is outside {SLICE_RANGE:?}",
+                self.slices
+            )));
+        }
+        if !(self.normal_offset.is_finite() && self.normal_offset >= 0.0) {
+            return Err(ShadowError::InvalidParameter(format!(
+                "normal_offset must be finite and >= 0, got {}",
+                self.normal_offset
+            )));
+        }
+        Ok(())
+    }
+}

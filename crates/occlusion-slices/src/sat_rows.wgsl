@@ -1,0 +1,29 @@
+// requires: frame.wgsl
+// The row scan of the summed-area table (section 3.2), four slices per texel: each row of the
+// occupancy becomes its prefix sums of integer counts; row 0 of the table is all zeros.
+// sat_cols.wgsl completes the table, levels.wgsl derives the N-Buffers and mipmaps from it.
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+
+// --- sat_rows: occupancy -> row prefix sums, row 0 of the table all zeros.
+@group(0) @binding(1) var occupancy: texture_2d_array<f32>;
+@group(0) @binding(2) var rows_out: texture_storage_2d_array<rgba32uint, write>;
+
+@compute @workgroup_size(64)
+fn sat_rows(@builtin(global_invocation_id) id: vec3<u32>) {
+    let res = frame.resolution;
+    let r = id.x;
+    let g = i32(id.y);
+    if r > res {
+        return;
+    }
+    var s = vec4<u32>(0u);
+    textureStore(rows_out, vec2<u32>(0u, r), g, s);
+    for (var i = 0u; i < res; i++) {
+        if r > 0u {
+            let o = textureLoad(occupancy, vec2<u32>(i, r - 1u), g, 0);
+            s += vec4<u32>(o > vec4<f32>(0.5));
+        }
+        textureStore(rows_out, vec2<u32>(i + 1u, r), g, s);
+    }
+}

@@ -1,0 +1,236 @@
+//! Properties from the paper: the probabilistic combination's bounds (section 3.3) and the box
+//! filters of section 3.2 against brute-force box sums.
+
+use glam::Vec2;
+use occlusion_slices::combine::combine;
+use occlusion_slices::filters::{Mipmap, NBuffer, Sat};
+use occlusion_slices::{Combination, Filter, OcclusionSlices};
+use proptest::prelude::*;
+use shadow_core::{Light, SceneGeometry, ShadowError, ShadowTechnique};
+
+fn occlusions() -> impl Strategy<Value = Vec<f32>> {
+    prop::collection::vec(prop_oneof![Just(0.0f32), Just(1.0f32), 0.0f32..=1.0], 0..20)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// `max I_k <= 1 - prod(1 - I_k) <= min(1, sum I_k)`, and the result is in [0, 1].
+    #[test]
+    fn product_lies_between_max_and_sum(i in occlusions()) {
+        let occluded = 1.0 - combine(Combination::Product, &i);
+        let max = i.iter().cloned().fold(0.0f32, f32::max);
+        let sum: f32 = i.iter().sum();
+        // One f32 rounding per factor of the product.
+        let eps = 1e-6 * (i.len() as f32 + 1.0);
+        prop_assert!(max <= occluded + eps, "max {max} > {occluded}");
+        prop_assert!(occluded <= sum.min(1.0) + eps, "{occluded} > min(1, {sum})");
+        for how in Combination::ALL {
+            let v = combine(how, &i);
+            prop_assert!((0.0..=1.0).contains(&v));
+        }
+        prop_assert_eq!(combine(Combination::Max, &i), 1.0 - max);
+        prop_assert_eq!(combine(Combination::Sum, &i), 1.0 - sum.min(1.0));
+    }
+
+    /// Order does not matter (up to rounding), `I_k = 0` changes nothing, any `I_k = 1`
+    /// occludes the light entirely.
+    #[test]
+    fn product_ignores_order_and_zeros_and_saturates_on_one(
+        i in occlusions(),
+        seed in any::<u64>(),
+        at in any::<prop::sample::Index>(),
+    ) {
+        let v = combine(Combination::Product, &i);
+        let mut shuffled = i.clone();
+        let mut s = seed;
+        for k in (1..shuffled.len()).rev() {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            shuffled.swap(k, (s >> 33) as usize % (k + 1));
+        }
+        let eps = 1e-6 * (i.len() as f32 + 1.0);
+        prop_assert!((combine(Combination::Product, &shuffled) - v).abs() <= eps);
+        let mut with_zero = i.clone();
+        with_zero.insert(at.index(i.len() + 1), 0.0);
+        prop_assert_eq!(combine(Combination::Product, &with_zero), v);
+        let mut with_one = i.clone();
+        with_one.insert(at.index(i.len() + 1), 1.0);
+        prop_assert_eq!(combine(Combination::Product, &with_one), 0.0);
+    }
+
+    /// The summed-area table's box sums equal brute force exactly for random binary masks and
+    /// random integer rectangles, including rectangles clipped by the border.
+    #[test]
+    fn sat_box_counts_equal_brute_force(
+        res in 1u32..48,
+        density in 0.0f64..=1.0,
+        seed in any::<u64>(),
+        rects in prop::collection::vec((-10i64..60, -10i64..60, -10i64..60, -10i64..60), 1..20),
+    ) {
+        let mask = random_mask(res, density, seed);
+        let sat = Sat::new(res, &mask);
+        for (a, b, c, d) in rects {
+            let (x0, x1) = (a.min(c), a.max(c));
+            let (y0, y1) = (b.min(d), b.max(d));
+            prop_assert_eq!(sat.count(x0, y0, x1, y1) as i64, brute(&mask, res, x0, y0, x1, y1));
+        }
+    }
+
+    /// With fractional corners the SAT mean is the exact integral of the piecewise-constant
+    /// slice over the box (brute force in f64) to f32 rounding.
+    #[test]
+    fn sat_mean_is_the_exact_box_integral(
+        res in 1u32..40,
+        density in 0.0f64..=1.0,
+        seed in any::<u64>(),
+        boxes in prop::collection::vec((-5.0f32..45.0, -5.0f32..45.0, 0.01f32..50.0), 1..20),
+    ) {
+        let mask = random_mask(res, density, seed);
+        let sat = Sat::new(res, &mask);
+        for (cx, cy, size) in boxes {
+            let exact = integral(&mask, res, cx, cy, size);
+            let got = sat.mean(Vec2::new(cx, cy), size) as f64;
+            prop_assert!((got - exact).abs() < 2e-5, "{got} vs {exact}");
+        }
+    }
+}
+
+fn random_mask(res: u32, density: f64, seed: u64) -> Vec<bool> {
+    let mut s = seed | 1;
+    (0..res * res)
+        .map(|_| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            ((s >> 11) as f64 / (1u64 << 53) as f64) < density
+        })
+        .collect()
+}
+
+fn brute(mask: &[bool], res: u32, x0: i64, y0: i64, x1: i64, y1: i64) -> i64 {
+    let r = res as i64;
+    let mut n = 0;
+    for y in y0.max(0)..y1.min(r) {
+        for x in x0.max(0)..x1.min(r) {
+            n += mask[(y * r + x) as usize] as i64;
+        }
+    }
+    n
+}
+
+/// Exact mean over the square of side `size` at `(cx, cy)`, in f64 (outside empty).
+fn integral(mask: &[bool], res: u32, cx: f32, cy: f32, size: f32) -> f64 {
+    let h = 0.5 * size as f64;
+    let (lx, hx) = (cx as f64 - h, cx as f64 + h);
+    let (ly, hy) = (cy as f64 - h, cy as f64 + h);
+    let r = res as i64;
+    let mut sum = 0.0;
+    for y in 0..r {
+        let oy = (hy.min((y + 1) as f64) - ly.max(y as f64)).max(0.0);
+        if oy == 0.0 {
+            continue;
+        }
+        for x in 0..r {
+            if mask[(y * r + x) as usize] {
+                sum += oy * (hx.min((x + 1) as f64) - lx.max(x as f64)).max(0.0);
+            }
+        }
+    }
+    sum / ((hx - lx) * (hy - ly))
+}
+
+/// N-Buffers and mipmaps against the exact box filter on random masks and kernels: their mean
+/// absolute error is bounded (and printed, for the closing note), N-Buffers beat mipmaps, and at
+/// power-of-two kernels whose box starts on a texel corner the N-Buffer is exact to its 8-bit
+/// rounding.
+#[test]
+fn nbuffer_and_mipmap_errors_against_brute_force() {
+    let res = 64;
+    let (mut err_n, mut err_m, mut count) = (0.0f64, 0.0f64, 0);
+    let (mut max_n, mut max_m) = (0.0f64, 0.0f64);
+    for seed in 1..=20u64 {
+        let mask = random_mask(res, 0.05 * seed as f64, seed);
+        let sat = Sat::new(res, &mask);
+        let (nb, mm) = (NBuffer::new(&sat), Mipmap::new(&sat));
+        let mut s = seed;
+        for _ in 0..200 {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let u = |shift: u32| ((s >> shift) & 0xffff) as f32 / 65535.0;
+            let c = Vec2::new(8.0 + 48.0 * u(0), 8.0 + 48.0 * u(16));
+            let size = 1.0 + 15.0 * u(32);
+            let exact = integral(&mask, res, c.x, c.y, size);
+            let (n, m) = (nb.mean(c, size) as f64, mm.mean(c, size) as f64);
+            err_n += (n - exact).abs();
+            err_m += (m - exact).abs();
+            max_n = max_n.max((n - exact).abs());
+            max_m = max_m.max((m - exact).abs());
+            count += 1;
+        }
+        for l in 0..5u32 {
+            let side = (1u32 << l) as f32;
+            for (x, y) in [(3, 5), (20, 11), (40, 40)] {
+                let c = Vec2::new(x as f32 + 0.5 * side, y as f32 + 0.5 * side);
+                let exact = integral(&mask, res, c.x, c.y, side);
+                let n = nb.mean(c, side) as f64;
+                assert!(
+                    (n - exact).abs() <= 0.5 / 255.0 + 1e-6,
+                    "level {l}: {n} vs {exact}"
+                );
+            }
+        }
+    }
+    let (mean_n, mean_m) = (err_n / count as f64, err_m / count as f64);
+    println!(
+        "box filter error vs brute force over {count} kernels of 1..16 texels: \
+         N-Buffer mean {mean_n:.4} max {max_n:.4}; mipmap mean {mean_m:.4} max {max_m:.4}"
+    );
+    assert!(mean_n < 0.03, "N-Buffer mean error {mean_n}");
+    assert!(mean_m < 0.08, "mipmap mean error {mean_m}");
+    assert!(
+        mean_n < mean_m,
+        "N-Buffers {mean_n} should beat mipmaps {mean_m}"
+    );
+}
+
+/// Bad parameters and lights get typed errors that name the problem.
+#[test]
+fn bad_input_gets_typed_errors() {
+    let geometry = SceneGeometry::default();
+    let rect = Light::Rect {
+        center: glam::Vec3::Y,
+        u_half: glam::Vec3::X,
+        v_half: glam::Vec3::Z,
+    };
+    for slices in [0, 3, 17] {
+        let t = OcclusionSlices::new(slices, Filter::Sat);
+        match t.generate_cpu(&geometry, &rect, 64) {
+            Err(ShadowError::InvalidParameter(m)) => assert!(m.contains("slices")),
+            other => panic!("slices {slices}: {:?}", other.map(|_| ())),
+        }
+    }
+    let mut t = OcclusionSlices::new(8, Filter::Sat);
+    t.normal_offset = f32::NAN;
+    assert!(matches!(
+        t.generate_cpu(&geometry, &rect, 64),
+        Err(ShadowError::InvalidParameter(_))
+    ));
+    let t = OcclusionSlices::new(8, Filter::Sat);
+    let segment = Light::Linear {
+        a: glam::Vec3::ZERO,
+        b: glam::Vec3::X,
+    };
+    assert!(matches!(
+        t.generate_cpu(&geometry, &segment, 64),
+        Err(ShadowError::UnsupportedLight { .. })
+    ));
+    assert!(matches!(
+        t.generate_cpu(&geometry, &rect, 0),
+        Err(ShadowError::InvalidResolution { .. })
+    ));
+    assert!(matches!(
+        t.generate_cpu(&geometry, &rect, 8192),
+        Err(ShadowError::InvalidResolution { .. })
+    ));
+}
