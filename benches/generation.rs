@@ -1,7 +1,8 @@
 //! Generation cost per map resolution, CPU and GPU, for the baselines' depth maps
 //! (one map for hard/PCF/PCSS, 16 for accumulation), on the `torus` and `bunny` scenes, and for
 //! shadow-width (width map alone and full generation, every width method) on `torus`, and for
-//! penumbra-limit (both generators, f32 and RGBA8 storage) on `torus`.
+//! penumbra-limit (both generators, f32 and RGBA8 storage) on `torus`, and for occlusion-slices
+//! (slicing + prefiltering, every filter) on `foliage`.
 //!
 //! `cargo bench -p shadow-benches`; GPU timings are submit-and-wait (the GPU path returns after
 //! the device has finished). Without a GPU adapter the GPU group is skipped with a message.
@@ -9,6 +10,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::baselines::{Filter, ShadowMapBaseline};
 use harness::scenes::catalogue::build;
+use occlusion_slices::{Filter as SliceFilter, OcclusionSlices};
 use penumbra_limit::{PenumbraLimit, Storage};
 use shadow_core::{Backend, DynTechnique, GpuContext};
 use shadow_width::width::width_map;
@@ -125,10 +127,45 @@ fn penumbra_limit_generation(c: &mut Criterion) {
     }
 }
 
+/// occlusion-slices on `foliage` (3000 quads under a rect light): slicing plus prefiltering per
+/// resolution, every filter with 8 slices and N-Buffers with 16, CPU and GPU.
+fn occlusion_slices_generation(c: &mut Criterion) {
+    let gpu = GpuContext::new().ok();
+    let spec = build("foliage").expect("catalogue scene");
+    let geo = spec.to_scene().expect("scene").geometry();
+    let mut set: Vec<OcclusionSlices> = SliceFilter::ALL
+        .iter()
+        .map(|&f| OcclusionSlices::new(8, f))
+        .collect();
+    set.push(OcclusionSlices::new(16, SliceFilter::NBuffer));
+    for t in set {
+        let mut group = c.benchmark_group(format!("occlusion-slices/foliage/{}", t.label()));
+        group.sample_size(10);
+        for res in RESOLUTIONS {
+            group.bench_with_input(BenchmarkId::new("cpu", res), &res, |bch, &res| {
+                bch.iter(|| {
+                    t.generate(Backend::Cpu, None, &geo, &spec.light, res)
+                        .expect("cpu generation")
+                })
+            });
+            if let Some(g) = &gpu {
+                group.bench_with_input(BenchmarkId::new("gpu", res), &res, |bch, &res| {
+                    bch.iter(|| {
+                        t.generate(Backend::Gpu, Some(g), &geo, &spec.light, res)
+                            .expect("gpu generation")
+                    })
+                });
+            }
+        }
+        group.finish();
+    }
+}
+
 criterion_group!(
     benches,
     generation,
     shadow_width_generation,
-    penumbra_limit_generation
+    penumbra_limit_generation,
+    occlusion_slices_generation
 );
 criterion_main!(benches);

@@ -37,11 +37,17 @@ fn quick_report_writes_the_contract() {
     let runs = json["runs"].as_array().unwrap();
     let techniques = 4 + shadow_width::ShadowWidth::standard_set().len();
     let penumbra = penumbra_limit::PenumbraLimit::standard_set().len();
+    let slices = occlusion_slices::OcclusionSlices::standard_set().len();
     assert_eq!(
         runs.len(),
-        (2 * techniques + penumbra) * 2,
+        (2 * techniques + penumbra + slices) * 2,
         "2 scenes x (4 baselines + shadow-width variants) x 2 resolutions, plus penumbra-limit \
-         on plane-occluder only (it reports a segment light as unsupported)"
+         and occlusion-slices on plane-occluder only (both report a segment light as unsupported)"
+    );
+    assert!(
+        runs.iter()
+            .any(|r| r["technique"] == "occlusion-slices" && r["scene"] == "plane-occluder"),
+        "no occlusion-slices rows"
     );
     assert!(
         runs.iter()
