@@ -22,6 +22,7 @@ use shadow_core::gpu::GpuTriangles;
 use shadow_core::gpu::compute::{ReceiverBuffers, bind_group};
 use shadow_core::gpu::raster::read_texture;
 use shadow_core::{GpuContext, Light, Receivers, Result, SceneGeometry, ShadowError};
+use std::sync::Mutex;
 
 /// The occlusion textures of one light, kept on the GPU.
 pub struct GpuSliceMaps {
@@ -58,6 +59,27 @@ impl GpuSliceMaps {
             }
         }
         Ok(out)
+    }
+}
+
+/// The row-prefix table, a pure temporary of generation, kept between generations of the same
+/// size: allocating fresh GPU memory costs more than the prefiltering itself at 2048² (it
+/// scales with the bytes allocated; measured on an H100). It holds `(res + 1)² * groups * 16`
+/// bytes until a generation of another size replaces it.
+#[derive(Default)]
+struct RowsTexture(Mutex<Option<(u32, u32, wgpu::Texture)>>);
+
+impl RowsTexture {
+    fn get(&self, res: u32, groups: u32, make: impl FnOnce() -> wgpu::Texture) -> wgpu::Texture {
+        let mut slot = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        match &*slot {
+            Some((r, g, t)) if *r == res && *g == groups => t.clone(),
+            _ => {
+                let t = make();
+                *slot = Some((res, groups, t.clone()));
+                t
+            }
+        }
     }
 }
 
@@ -279,7 +301,10 @@ pub fn generate(
             | wgpu::TextureUsages::COPY_SRC,
     );
     let table = |label| texture(ctx, label, res + 1, groups, 1, SAT_FORMAT, storage_usage());
-    let (rows, sat) = (table("sat rows"), table("summed-area table"));
+    let rows = ctx
+        .cached(|_| RowsTexture::default())
+        .get(res, groups, || table("sat rows"));
+    let sat = table("summed-area table");
     let filtered = match t.filter {
         Filter::Sat => texture(ctx, "no levels", 1, 1, 1, LEVEL_FORMAT, storage_usage()),
         Filter::NBuffer => texture(
@@ -308,7 +333,7 @@ pub fn generate(
         array_view(&rows, None),
         array_view(&sat, None),
     );
-    let scan_groups = (res + 1).div_ceil(64);
+    // One workgroup (`SCAN_THREADS` in `scan.wgsl`) per table row, then per table column.
     let bind = |k: &Kernel, src: &wgpu::TextureView, dst: &wgpu::TextureView| {
         bind_group(
             ctx,
@@ -322,9 +347,9 @@ pub fn generate(
         )
     };
     let b = bind(&pre.sat_rows, &occ_view, &rows_view);
-    dispatch(&mut enc, &pre.sat_rows, &b, (scan_groups, groups, 1));
+    dispatch(&mut enc, &pre.sat_rows, &b, (res + 1, groups, 1));
     let b = bind(&pre.sat_cols, &rows_view, &sat_view);
-    dispatch(&mut enc, &pre.sat_cols, &b, (scan_groups, groups, 1));
+    dispatch(&mut enc, &pre.sat_cols, &b, (res + 1, groups, 1));
     if t.filter != Filter::Sat {
         encode_levels(
             ctx, &mut enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,
@@ -332,7 +357,6 @@ pub fn generate(
     }
     ctx.queue.submit([enc.finish()]);
     ctx.wait()?;
-    drop(rows);
     let sat = if t.filter == Filter::Sat {
         sat
     } else {
