@@ -2,7 +2,8 @@
 //! (one map for hard/PCF/PCSS, 16 for accumulation), on the `torus` and `bunny` scenes, and for
 //! shadow-width (width map alone and full generation, every width method) on `torus`, and for
 //! penumbra-limit (both generators, f32 and RGBA8 storage) on `torus`, and for occlusion-slices
-//! (slicing + prefiltering, every filter) on `foliage`.
+//! (slicing + prefiltering, every filter) on `foliage`, and for linear-light (N = 2, 3, 5) on
+//! `linear-bar`.
 //!
 //! `cargo bench -p shadow-benches`; GPU timings are submit-and-wait (the GPU path returns after
 //! the device has finished). Without a GPU adapter the GPU group is skipped with a message.
@@ -10,6 +11,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::baselines::{Filter, ShadowMapBaseline};
 use harness::scenes::catalogue::build;
+use linear_light::LinearLight;
 use occlusion_slices::{Filter as SliceFilter, OcclusionSlices};
 use penumbra_limit::{PenumbraLimit, Storage};
 use shadow_core::{Backend, DynTechnique, GpuContext};
@@ -161,11 +163,41 @@ fn occlusion_slices_generation(c: &mut Criterion) {
     }
 }
 
+/// linear-light on `linear-bar`: the N depth maps, edge detection and skins per resolution and
+/// per N (2, 3, 5), CPU and GPU.
+fn linear_light_generation(c: &mut Criterion) {
+    let gpu = GpuContext::new().ok();
+    let spec = build("linear-bar").expect("catalogue scene");
+    let geo = spec.to_scene().expect("scene").geometry();
+    for t in LinearLight::standard_set() {
+        let mut group = c.benchmark_group(format!("linear-light/linear-bar/{}", t.label()));
+        group.sample_size(10);
+        for res in RESOLUTIONS {
+            group.bench_with_input(BenchmarkId::new("cpu", res), &res, |bch, &res| {
+                bch.iter(|| {
+                    t.generate(Backend::Cpu, None, &geo, &spec.light, res)
+                        .expect("cpu generation")
+                })
+            });
+            if let Some(g) = &gpu {
+                group.bench_with_input(BenchmarkId::new("gpu", res), &res, |bch, &res| {
+                    bch.iter(|| {
+                        t.generate(Backend::Gpu, Some(g), &geo, &spec.light, res)
+                            .expect("gpu generation")
+                    })
+                });
+            }
+        }
+        group.finish();
+    }
+}
+
 criterion_group!(
     benches,
     generation,
     shadow_width_generation,
     penumbra_limit_generation,
-    occlusion_slices_generation
+    occlusion_slices_generation,
+    linear_light_generation
 );
 criterion_main!(benches);

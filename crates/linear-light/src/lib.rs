@@ -1,5 +1,123 @@
-//! Heidrich, Brabec & Seidel (2000), *Soft Shadow Maps for Linear Lights*.
+//! Heidrich, Brabec & Seidel (2000), *Soft Shadow Maps for Linear Lights*, on the CPU and the GPU.
 //!
-//! This crate is a placeholder until its issue lands: it will hold the per-sample depth maps with
-//! visibility channels built from depth-discontinuity skins, on CPU and GPU.
-//! The paper is the specification: `shared/papers/heidrich2000-soft-shadow-maps-linear-lights.txt`.
+//! `N >= 2` point samples along the segment each render an ordinary depth map ([`samples`]).
+//! Each map gets a second channel, its sample's share of the light as seen by the surface point
+//! of each texel (section 3.2): depth discontinuities of a neighbouring sample's map, triangulated
+//! into *skins* ([`skins`]) and warped into this sample's view ([`warp`]), cover exactly the
+//! points one sample sees and the other does not; Gouraud-shaded from 0 at the occluder to 1 at
+//! the receiver, they give the linear transition of section 3.1 across the penumbra. Points no
+//! skin covers keep the fully lit share, so a fully lit point sums to exactly 1 over the samples
+//! (section 3.3). Shading is the paper's `shade()` loop: per sample, the depth test and the
+//! channel, summed ([`eval`]).
+//!
+//! - Lights: segments. Other kinds are [`shadow_core::ShadowError::UnsupportedLight`]; a
+//!   triangle area light as three linear lights (section 4) is [`triangle`].
+//! - Modules, one concept each: [`params`], [`samples`], [`skins`], [`warp`], [`eval`], [`cpu`],
+//!   [`gpu`], [`triangle`].
+//!
+//! ```no_run
+//! use linear_light::LinearLight;
+//! use shadow_core::{Receivers, ShadowTechnique};
+//! # fn demo(geometry: &shadow_core::SceneGeometry, light: &shadow_core::Light,
+//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> shadow_core::Result<()> {
+//! let technique = LinearLight::new(3);
+//! let maps = technique.generate_cpu(geometry, light, 512)?;
+//! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
+//! # Ok(()) }
+//! ```
+
+pub mod cpu;
+pub mod eval;
+pub mod gpu;
+pub mod params;
+pub mod samples;
+pub mod skins;
+pub mod triangle;
+pub mod warp;
+
+pub use params::LinearLight;
+
+use glam::Vec3;
+use shadow_core::technique::MAX_CPU_RESOLUTION;
+use shadow_core::{
+    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowError, ShadowTechnique,
+};
+
+/// The segment's ends and the axis its maps look along.
+fn segment(light: &Light, geometry: &SceneGeometry) -> Result<(Vec3, Vec3, Vec3)> {
+    match *light {
+        Light::Linear { a, b } => Ok((a, b, light.axis(geometry.bounds.center()))),
+        _ => Err(ShadowError::UnsupportedLight {
+            technique: "linear-light".into(),
+            light: light.kind().name(),
+        }),
+    }
+}
+
+impl ShadowTechnique for LinearLight {
+    type CpuMaps = cpu::CpuLinearMaps;
+    type GpuMaps = gpu::GpuLinearMaps;
+
+    fn name(&self) -> &'static str {
+        "linear-light"
+    }
+
+    fn variant(&self) -> String {
+        self.label()
+    }
+
+    /// Segment lights only.
+    fn models(&self, kind: LightKind) -> bool {
+        kind == LightKind::Linear
+    }
+
+    fn generate_cpu(
+        &self,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<cpu::CpuLinearMaps> {
+        self.validate()?;
+        self.check_inputs(geometry, light, resolution, MAX_CPU_RESOLUTION)?;
+        Ok(cpu::generate(
+            self,
+            geometry,
+            segment(light, geometry)?,
+            resolution,
+        ))
+    }
+
+    fn evaluate_cpu(&self, maps: &cpu::CpuLinearMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+        self.validate()?;
+        receivers.validate()?;
+        Ok(cpu::evaluate(self, maps, receivers))
+    }
+
+    fn generate_gpu(
+        &self,
+        gpu: &GpuContext,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<gpu::GpuLinearMaps> {
+        self.validate()?;
+        self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
+        let seg = segment(light, geometry)?;
+        gpu.checked("linear-light generation", || {
+            gpu::generate(gpu, self, geometry, seg, resolution)
+        })
+    }
+
+    fn evaluate_gpu(
+        &self,
+        gpu: &GpuContext,
+        maps: &gpu::GpuLinearMaps,
+        receivers: &Receivers,
+    ) -> Result<Vec<f32>> {
+        self.validate()?;
+        receivers.validate()?;
+        gpu.checked("linear-light evaluation", || {
+            gpu::evaluate(gpu, self, maps, receivers)
+        })
+    }
+}

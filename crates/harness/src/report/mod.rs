@@ -12,6 +12,7 @@ use crate::scenes::{SceneSpec, catalogue, scene_file};
 use crate::setup::PreparedScene;
 use indicatif::{ProgressBar, ProgressStyle};
 use json::{Machine, ReferenceInfo, Report, Run};
+use linear_light::LinearLight;
 use occlusion_slices::OcclusionSlices;
 use penumbra_limit::PenumbraLimit;
 use shadow_core::{Backend, DynTechnique, GpuContext, Result, ShadowError};
@@ -66,10 +67,14 @@ pub fn all_techniques(quick: bool) -> Vec<Box<dyn DynTechnique>> {
     let occlusion_slices = OcclusionSlices::standard_set()
         .into_iter()
         .map(|t| Box::new(t) as Box<dyn DynTechnique>);
+    let linear_light = LinearLight::standard_set()
+        .into_iter()
+        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
     baselines
         .chain(shadow_width)
         .chain(penumbra_limit)
         .chain(occlusion_slices)
+        .chain(linear_light)
         .collect()
 }
 

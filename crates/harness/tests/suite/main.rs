@@ -3,6 +3,7 @@
 mod bad_input;
 mod gpu_agreement;
 mod ground_truth;
+mod linear_light;
 mod occlusion_slices;
 mod penumbra_limit;
 mod report;

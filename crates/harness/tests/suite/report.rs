@@ -38,11 +38,18 @@ fn quick_report_writes_the_contract() {
     let techniques = 4 + shadow_width::ShadowWidth::standard_set().len();
     let penumbra = penumbra_limit::PenumbraLimit::standard_set().len();
     let slices = occlusion_slices::OcclusionSlices::standard_set().len();
+    let linear = linear_light::LinearLight::standard_set().len();
     assert_eq!(
         runs.len(),
-        (2 * techniques + penumbra + slices) * 2,
+        (2 * techniques + penumbra + slices + linear) * 2,
         "2 scenes x (4 baselines + shadow-width variants) x 2 resolutions, plus penumbra-limit \
-         and occlusion-slices on plane-occluder only (both report a segment light as unsupported)"
+         and occlusion-slices on plane-occluder only (both report a segment light as unsupported) \
+         and linear-light on linear-bar only (segments only)"
+    );
+    assert!(
+        runs.iter()
+            .any(|r| r["technique"] == "linear-light" && r["scene"] == "linear-bar"),
+        "no linear-light rows"
     );
     assert!(
         runs.iter()

@@ -1,0 +1,96 @@
+//! The CPU path: one depth map per sample ([`shadow_core::raster`]), skins from each map
+//! ([`crate::skins`]), warped into the neighbours' views ([`crate::warp`]) to build their
+//! visibility channels, and the `shade()` loop ([`crate::eval`]).
+
+use crate::eval::visibility;
+use crate::params::LinearLight;
+use crate::samples::{lit_share, neighbours, piece_share, sample_views};
+use crate::skins::skins;
+use crate::warp::{NO_SKIN, Source, warp};
+use glam::Vec3;
+use rayon::prelude::*;
+use shadow_core::raster::depth_map;
+use shadow_core::{Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+
+/// The maps of one linear light.
+#[derive(Clone, Debug)]
+pub struct CpuLinearMaps {
+    /// One view per sample.
+    pub views: Vec<SampleView>,
+    /// Their shader-side parameters (`weight` is the lit share).
+    pub params: Vec<MapParams>,
+    /// Linear depth per sample.
+    pub depth: Vec<Map2D<f32>>,
+    /// Visibility channel per sample.
+    pub channel: Vec<Map2D<f32>>,
+}
+
+/// Builds the maps for the segment `a`-`b` seen along `axis` (inputs already checked).
+pub fn generate(
+    t: &LinearLight,
+    geometry: &SceneGeometry,
+    (a, b, axis): (Vec3, Vec3, Vec3),
+    res: u32,
+) -> CpuLinearMaps {
+    let n = t.samples;
+    let views = sample_views(a, b, n, axis, &geometry.bounds);
+    let params: Vec<MapParams> = views.iter().map(|v| v.params(res)).collect();
+    let depth: Vec<Map2D<f32>> = views
+        .iter()
+        .map(|v| depth_map(&v.view, res, &geometry.casters))
+        .collect();
+    let skin_sets: Vec<_> = views
+        .iter()
+        .zip(&depth)
+        .map(|(v, d)| skins(&v.view, d, t.edge_threshold))
+        .collect();
+    let s = piece_share(n);
+    let channel = (0..n)
+        .map(|i| {
+            let mut c = Map2D::new(res, res, lit_share(i, n));
+            for j in neighbours(i, n) {
+                let (i, j) = (i as usize, j as usize);
+                let src = Source {
+                    params: &params[j],
+                    depth: &depth[j],
+                    threshold: t.edge_threshold,
+                    piece: s,
+                };
+                let w = warp(&skin_sets[j], &views[i].view, &depth[i], &src);
+                c.data_mut()
+                    .par_iter_mut()
+                    .zip(w.data().par_iter())
+                    .for_each(|(c, &v)| {
+                        if v != NO_SKIN {
+                            *c += v;
+                        }
+                    });
+            }
+            c
+        })
+        .collect();
+    CpuLinearMaps {
+        views,
+        params,
+        depth,
+        channel,
+    }
+}
+
+/// `V` per receiver (inputs already checked).
+pub fn evaluate(t: &LinearLight, maps: &CpuLinearMaps, r: &Receivers) -> Vec<f32> {
+    r.positions
+        .par_iter()
+        .zip(r.normals.par_iter())
+        .map(|(&p, &n)| {
+            visibility(
+                &maps.params,
+                &t.bias,
+                p,
+                n,
+                |k, x, y| *maps.depth[k].get(x, y),
+                |k, x, y| *maps.channel[k].get(x, y),
+            )
+        })
+        .collect()
+}

@@ -1,0 +1,48 @@
+//! Shading one receiver: the `shade()` loop of section 3 over `N` samples, shared by the CPU
+//! path (`evaluate.wgsl` is the same on the GPU).
+//!
+//! For each sample: the receiver's depth against that sample's map and the visibility channel,
+//! both read at the four bilinear taps around the receiver, so `V += sum_tap w_tap * lit_tap *
+//! channel_tap`: the paper's per-sample test, antialiased like PCF over one texel. A receiver
+//! outside a sample's map sees that sample fully (its lit share).
+
+use glam::{Vec2, Vec3};
+use shadow_core::light_space::shadow_coord;
+use shadow_core::{Bias, MapParams};
+
+/// `V` at `p` (unit normal `n`): `depth(k, x, y)` and `channel(k, x, y)` read sample `k`'s
+/// linear depth and visibility at clamped texel `(x, y)`.
+pub fn visibility(
+    params: &[MapParams],
+    bias: &Bias,
+    p: Vec3,
+    n: Vec3,
+    depth: impl Fn(usize, u32, u32) -> f32,
+    channel: impl Fn(usize, u32, u32) -> f32,
+) -> f32 {
+    let mut v = 0.0f32;
+    for (k, m) in params.iter().enumerate() {
+        let Some(c) = shadow_coord(m, bias, p, n) else {
+            v += m.weight;
+            continue;
+        };
+        let last = m.resolution as i64 - 1;
+        let b = c.st - Vec2::splat(0.5);
+        let f = b.floor();
+        let t = b - f;
+        let z = c.z - c.slope;
+        for (dx, dy, w) in [
+            (0, 0, (1.0 - t.x) * (1.0 - t.y)),
+            (1, 0, t.x * (1.0 - t.y)),
+            (0, 1, (1.0 - t.x) * t.y),
+            (1, 1, t.x * t.y),
+        ] {
+            let x = (f.x as i64 + dx).clamp(0, last) as u32;
+            let y = (f.y as i64 + dy).clamp(0, last) as u32;
+            if z <= depth(k, x, y) {
+                v += w * channel(k, x, y);
+            }
+        }
+    }
+    v.clamp(0.0, 1.0)
+}

@@ -1,0 +1,58 @@
+// requires: light_space.wgsl sample.wgsl
+// The shade() loop of section 3 (eval.rs), one receiver per invocation.
+
+struct EvalParams {
+    bias: Bias,
+    count: u32,
+    samples_n: u32,
+    _pad0: u32,
+    _pad1: u32,
+};
+
+@group(0) @binding(0) var<uniform> ep: EvalParams;
+@group(0) @binding(1) var<storage, read> samples: array<Sample>;
+@group(0) @binding(2) var depth_maps: texture_depth_2d_array;
+@group(0) @binding(3) var channels: texture_2d_array<f32>;
+@group(0) @binding(4) var<storage, read> positions: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> normals: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> visibility: array<f32>;
+
+fn shade(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    var v = 0.0;
+    for (var k = 0u; k < ep.samples_n; k++) {
+        let m = samples[k].map;
+        let c = shadow_coord(m, ep.bias, p, n);
+        if !c.inside {
+            v += m.weight;
+            continue;
+        }
+        let last = i32(m.resolution) - 1;
+        let b = c.st - vec2<f32>(0.5);
+        let f = floor(b);
+        let t = b - f;
+        let z = c.z - c.slope;
+        let taps = array<vec3<f32>, 4>(
+            vec3<f32>(0.0, 0.0, (1.0 - t.x) * (1.0 - t.y)),
+            vec3<f32>(1.0, 0.0, t.x * (1.0 - t.y)),
+            vec3<f32>(0.0, 1.0, (1.0 - t.x) * t.y),
+            vec3<f32>(1.0, 1.0, t.x * t.y),
+        );
+        for (var i = 0; i < 4; i++) {
+            let xy = clamp(vec2<i32>(f + taps[i].xy), vec2<i32>(0), vec2<i32>(last));
+            let d = linear_from_ndc(m, textureLoad(depth_maps, xy, i32(k), 0));
+            if z <= d {
+                v += taps[i].z * textureLoad(channels, xy, i32(k), 0).x;
+            }
+        }
+    }
+    return clamp(v, 0.0, 1.0);
+}
+
+@compute @workgroup_size(64)
+fn evaluate(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= ep.count {
+        return;
+    }
+    visibility[i] = shade(positions[i].xyz, normals[i].xyz);
+}

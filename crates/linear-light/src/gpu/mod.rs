@@ -1,0 +1,360 @@
+//! The GPU path. Generation records everything in one command buffer:
+//!
+//! 1. one nearest-surface depth pass per sample (`shadow_core`'s rasterizer) into a depth array;
+//! 2. per sample, the skins of each neighbour warped into its view (`skins.wgsl`, a render pass
+//!    drawing `6 (res - 1)²` grid vertices of the neighbour's map);
+//! 3. the visibility channel from the warped values (`combine.wgsl`).
+//!
+//! Evaluation is one compute pass (`evaluate.wgsl`).
+
+pub mod pipelines;
+
+use crate::params::LinearLight;
+use crate::samples::{lit_share, piece_share, sample_views};
+use crate::skins::Unproject;
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use pipelines::{CombineKernel, EvalKernel, SkinPipeline, VALUE_FORMAT};
+use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
+use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
+use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
+use shadow_core::raster::DepthPass;
+use shadow_core::{
+    Bias, GpuContext, Map2D, MapParams, Receivers, Result, SceneGeometry, ShadowError,
+};
+
+/// One sample as the shaders read it (`Sample` in `sample.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct SampleGpu {
+    /// The sample's map.
+    pub map: MapParams,
+    /// View to world.
+    pub inv_view: [f32; 16],
+    /// Projection scale in x.
+    pub sx: f32,
+    /// Projection scale in y.
+    pub sy: f32,
+    /// [`LinearLight::edge_threshold`].
+    pub edge_threshold: f32,
+    /// Share of one piece of the segment.
+    pub piece: f32,
+}
+
+/// The maps of one linear light, kept on the GPU.
+pub struct GpuLinearMaps {
+    /// One entry per sample.
+    pub samples: Vec<SampleGpu>,
+    /// The depth maps, one layer per sample.
+    pub depth: wgpu::Texture,
+    /// The visibility channels, one R32Float layer per sample.
+    pub channel: wgpu::Texture,
+}
+
+impl GpuLinearMaps {
+    /// Reads the visibility channels back (tests).
+    pub fn read_channels(&self, ctx: &GpuContext) -> Result<Vec<Map2D<f32>>> {
+        let res = self.samples.first().map_or(0, |s| s.map.resolution);
+        (0..self.samples.len() as u32)
+            .map(|k| {
+                let v: Vec<f32> = read_texture(ctx, &self.channel, k, wgpu::TextureAspect::All, 4)?;
+                Map2D::from_vec(res, res, v)
+                    .ok_or_else(|| ShadowError::Gpu("channel readback size".into()))
+            })
+            .collect()
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Pair {
+    src: u32,
+    dst: u32,
+    _pad: [u32; 2],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct CombineParams {
+    layer: u32,
+    has_prev: u32,
+    has_next: u32,
+    lit: f32,
+    piece: f32,
+    res: u32,
+    _pad: [u32; 2],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct EvalParams {
+    bias: Bias,
+    count: u32,
+    samples: u32,
+    _pad: [u32; 2],
+}
+
+struct Raster(GpuRasterizer);
+
+fn texture(
+    ctx: &GpuContext,
+    label: &str,
+    res: u32,
+    layers: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: res,
+            height: res,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// Records the warp of sample `src`'s skins into sample `dst`'s view, into `value`.
+#[allow(clippy::too_many_arguments)]
+fn encode_warp(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    pipe: &SkinPipeline,
+    samples: &wgpu::Buffer,
+    depth_view: &wgpu::TextureView,
+    value: &wgpu::TextureView,
+    skin_depth: &wgpu::TextureView,
+    src: u32,
+    dst: u32,
+    res: u32,
+) {
+    let pair = Pair {
+        src,
+        dst,
+        _pad: [0; 2],
+    };
+    let ub = ctx.uniform_buffer("skin pair", bytemuck::bytes_of(&pair));
+    let bind = bind_group(
+        ctx,
+        "skins",
+        &pipe.layout,
+        &[
+            ub.as_entire_binding(),
+            samples.as_entire_binding(),
+            wgpu::BindingResource::TextureView(depth_view),
+        ],
+    );
+    let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("skins"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: value,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color {
+                    r: crate::warp::NO_SKIN as f64,
+                    g: 0.0,
+                    b: 0.0,
+                    a: 0.0,
+                }),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: skin_depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(0.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    if res >= 2 {
+        rp.set_pipeline(&pipe.pipeline);
+        rp.set_bind_group(0, &bind, &[]);
+        rp.draw(0..6 * (res - 1) * (res - 1), 0..1);
+    }
+}
+
+/// Builds the maps on the GPU (inputs already checked), then waits for the GPU.
+pub fn generate(
+    ctx: &GpuContext,
+    t: &LinearLight,
+    geometry: &SceneGeometry,
+    (a, b, axis): (Vec3, Vec3, Vec3),
+    res: u32,
+) -> Result<GpuLinearMaps> {
+    let n = t.samples;
+    let vertices = 6 * (res as u64 - 1).pow(2);
+    if vertices > u32::MAX as u64 {
+        return Err(ShadowError::InvalidResolution {
+            requested: res,
+            max: 26755,
+        });
+    }
+    let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
+    let skin_pipe = ctx.cached(SkinPipeline::new);
+    let comb = ctx.cached(CombineKernel::new);
+    let views = sample_views(a, b, n, axis, &geometry.bounds);
+    let piece = piece_share(n);
+    let samples: Vec<SampleGpu> = views
+        .iter()
+        .map(|v| {
+            let un = Unproject::new(&v.view, res);
+            SampleGpu {
+                map: v.params(res),
+                inv_view: un.inv_view.to_cols_array(),
+                sx: un.sx,
+                sy: un.sy,
+                edge_threshold: t.edge_threshold,
+                piece,
+            }
+        })
+        .collect();
+    let sb = ctx.storage_buffer("linear samples", bytemuck::cast_slice(&samples));
+    let tris = GpuTriangles::new(ctx, &geometry.casters)?;
+    let depth = GpuRasterizer::depth_array(ctx, res, n)?;
+    let depth_view = depth_array_view(&depth);
+    let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+    let values = [0, 1].map(|_| texture(ctx, "skin values", res, 1, VALUE_FORMAT, attach));
+    let skin_depth = texture(
+        ctx,
+        "skin depth",
+        res,
+        1,
+        DEPTH_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    );
+    let channel = texture(
+        ctx,
+        "visibility channels",
+        res,
+        n,
+        VALUE_FORMAT,
+        wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+    );
+    let value_views = values
+        .each_ref()
+        .map(|v| v.create_view(&Default::default()));
+    let skin_depth_view = skin_depth.create_view(&Default::default());
+    let channel_view = channel.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    for (k, v) in views.iter().enumerate() {
+        raster.0.encode_depth_pass(
+            ctx,
+            &mut enc,
+            &tris,
+            &v.view,
+            &depth,
+            k as u32,
+            DepthPass::NEAREST,
+        );
+    }
+    for i in 0..n {
+        let nbrs = [i.checked_sub(1), (i + 1 < n).then_some(i + 1)];
+        for (slot, j) in nbrs.iter().enumerate() {
+            if let Some(j) = j {
+                encode_warp(
+                    ctx,
+                    &mut enc,
+                    &skin_pipe,
+                    &sb,
+                    &depth_view,
+                    &value_views[slot],
+                    &skin_depth_view,
+                    *j,
+                    i,
+                    res,
+                );
+            }
+        }
+        let cp = CombineParams {
+            layer: i,
+            has_prev: nbrs[0].is_some() as u32,
+            has_next: nbrs[1].is_some() as u32,
+            lit: lit_share(i, n),
+            piece,
+            res,
+            _pad: [0; 2],
+        };
+        let ub = ctx.uniform_buffer("linear combine", bytemuck::bytes_of(&cp));
+        let bind = bind_group(
+            ctx,
+            "linear combine",
+            &comb.0.layout,
+            &[
+                ub.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&value_views[0]),
+                wgpu::BindingResource::TextureView(&value_views[1]),
+                wgpu::BindingResource::TextureView(&channel_view),
+            ],
+        );
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&comb.0.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        let g = res.div_ceil(8);
+        pass.dispatch_workgroups(g, g, 1);
+    }
+    ctx.queue.submit([enc.finish()]);
+    ctx.wait()?;
+    Ok(GpuLinearMaps {
+        samples,
+        depth,
+        channel,
+    })
+}
+
+/// `V` for every receiver, computed by `evaluate.wgsl`.
+pub fn evaluate(
+    ctx: &GpuContext,
+    t: &LinearLight,
+    maps: &GpuLinearMaps,
+    r: &Receivers,
+) -> Result<Vec<f32>> {
+    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
+        return Ok(Vec::new());
+    };
+    let k = ctx.cached(EvalKernel::new);
+    let prm = EvalParams {
+        bias: t.bias,
+        count: rb.count,
+        samples: maps.samples.len() as u32,
+        _pad: [0; 2],
+    };
+    let ub = ctx.uniform_buffer("linear eval", bytemuck::bytes_of(&prm));
+    let sb = ctx.storage_buffer("linear samples", bytemuck::cast_slice(&maps.samples));
+    let depth_view = depth_array_view(&maps.depth);
+    let channel_view = maps.channel.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let bind = bind_group(
+        ctx,
+        "linear evaluate",
+        &k.0.layout,
+        &[
+            ub.as_entire_binding(),
+            sb.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&depth_view),
+            wgpu::BindingResource::TextureView(&channel_view),
+            rb.positions.as_entire_binding(),
+            rb.normals.as_entire_binding(),
+            rb.visibility.as_entire_binding(),
+        ],
+    );
+    rb.run(ctx, &k.0.pipeline, &bind)
+}

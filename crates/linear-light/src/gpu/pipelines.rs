@@ -1,0 +1,217 @@
+//! The pipelines of the GPU path, built once per context: the skin warp render pipeline
+//! (`skins.wgsl`), the channel combine kernel (`combine.wgsl`) and evaluation (`evaluate.wgsl`).
+
+use shadow_core::GpuContext;
+use shadow_core::gpu::LIGHT_SPACE_WGSL;
+use shadow_core::gpu::compute::{compute_pipelines, storage_entry, uniform_entry};
+use shadow_core::gpu::raster::DEPTH_FORMAT;
+
+/// `sample.wgsl`, prepended after `light_space.wgsl` to every shader of the crate.
+pub const SAMPLE_WGSL: &str = include_str!("../sample.wgsl");
+
+/// Format of the warped skin values and of the visibility channels.
+pub const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+fn module(ctx: &GpuContext, label: &str, source: &str) -> wgpu::ShaderModule {
+    ctx.device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(
+                format!("{LIGHT_SPACE_WGSL}\n{SAMPLE_WGSL}\n{source}").into(),
+            ),
+        })
+}
+
+fn texture(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    sample_type: wgpu::TextureSampleType,
+    view_dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn layout(
+    ctx: &GpuContext,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries,
+        })
+}
+
+const FLOAT: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: false };
+
+/// Skins of one sample warped into a neighbour's view.
+pub struct SkinPipeline {
+    /// Pair uniform, samples, depth maps.
+    pub layout: wgpu::BindGroupLayout,
+    /// The render pipeline (R32Float value, reversed-Z depth).
+    pub pipeline: wgpu::RenderPipeline,
+}
+
+impl SkinPipeline {
+    /// Builds the pipeline.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let m = module(ctx, "skins", include_str!("../skins.wgsl"));
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let mut pair = uniform_entry(0);
+        pair.visibility = vf;
+        let mut samples = storage_entry(1, true);
+        samples.visibility = vf;
+        let layout = layout(
+            ctx,
+            "skins",
+            &[
+                pair,
+                samples,
+                texture(
+                    2,
+                    vf,
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+            ],
+        );
+        let pl = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("skins"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let pipeline = ctx
+            .device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("skins"),
+                layout: Some(&pl),
+                vertex: wgpu::VertexState {
+                    module: &m,
+                    entry_point: Some("vs_skin"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Greater),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &m,
+                    entry_point: Some("fs_skin"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: VALUE_FORMAT,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+        Self { layout, pipeline }
+    }
+}
+
+/// One compute kernel with its own bind group layout.
+pub struct Kernel {
+    /// Its bind group layout.
+    pub layout: wgpu::BindGroupLayout,
+    /// The pipeline.
+    pub pipeline: wgpu::ComputePipeline,
+}
+
+impl Kernel {
+    fn new(
+        ctx: &GpuContext,
+        label: &str,
+        source: &str,
+        entry: &str,
+        entries: &[wgpu::BindGroupLayoutEntry],
+    ) -> Self {
+        let m = module(ctx, label, source);
+        let layout = layout(ctx, label, entries);
+        let [pipeline] = compute_pipelines(ctx, label, &m, &layout, [entry]);
+        Self { layout, pipeline }
+    }
+}
+
+/// The channel combine kernel.
+pub struct CombineKernel(pub Kernel);
+
+impl CombineKernel {
+    /// Builds the kernel.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let c = wgpu::ShaderStages::COMPUTE;
+        Self(Kernel::new(
+            ctx,
+            "linear-light combine",
+            include_str!("../combine.wgsl"),
+            "combine",
+            &[
+                uniform_entry(0),
+                texture(1, c, FLOAT, wgpu::TextureViewDimension::D2),
+                texture(2, c, FLOAT, wgpu::TextureViewDimension::D2),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: c,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: VALUE_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                    },
+                    count: None,
+                },
+            ],
+        ))
+    }
+}
+
+/// The evaluation kernel.
+pub struct EvalKernel(pub Kernel);
+
+impl EvalKernel {
+    /// Builds the kernel.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let c = wgpu::ShaderStages::COMPUTE;
+        Self(Kernel::new(
+            ctx,
+            "linear-light evaluate",
+            include_str!("../evaluate.wgsl"),
+            "evaluate",
+            &[
+                uniform_entry(0),
+                storage_entry(1, true),
+                texture(
+                    2,
+                    c,
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                texture(3, c, FLOAT, wgpu::TextureViewDimension::D2Array),
+                storage_entry(4, true),
+                storage_entry(5, true),
+                storage_entry(6, false),
+            ],
+        ))
+    }
+}

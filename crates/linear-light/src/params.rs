@@ -1,0 +1,71 @@
+//! The technique's parameters and their validation.
+
+use shadow_core::{Bias, Result, ShadowError};
+
+/// Fewest and most point samples along the segment.
+pub const SAMPLE_RANGE: std::ops::RangeInclusive<u32> = 2..=64;
+
+/// Soft shadow maps for linear lights (Heidrich, Brabec & Seidel 2000) with their parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearLight {
+    /// Point samples along the segment, both ends included, in [`SAMPLE_RANGE`].
+    pub samples: u32,
+    /// Depth-discontinuity threshold: a texel is an edge where the Laplacian of inverse depth
+    /// exceeds this fraction of its inverse depth, and a grid triangle is a skin where its
+    /// farthest vertex lies beyond its nearest by more than this fraction.
+    pub edge_threshold: f32,
+    /// Receiver biases against self-shadowing (texels), as the shadow-map baselines use.
+    pub bias: Bias,
+}
+
+impl LinearLight {
+    /// `samples` samples with the default threshold (0.02) and biases.
+    pub fn new(samples: u32) -> Self {
+        Self {
+            samples,
+            edge_threshold: 0.02,
+            bias: Bias::default(),
+        }
+    }
+
+    /// The variants the report runs: the paper's 2 and 3 samples, and 5.
+    pub fn standard_set() -> Vec<LinearLight> {
+        [2, 3, 5].map(LinearLight::new).to_vec()
+    }
+
+    /// Variant label: `n<samples>`, plus the threshold when not default.
+    pub fn label(&self) -> String {
+        let mut s = format!("n{}", self.samples);
+        if self.edge_threshold != 0.02 {
+            s.push_str(&format!("-edge{}", self.edge_threshold));
+        }
+        s
+    }
+
+    /// Checks every parameter; the error names the first bad one.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: String| Err(ShadowError::InvalidParameter(what));
+        if !SAMPLE_RANGE.contains(&self.samples) {
+            return bad(format!(
+                "samples {} is outside {SAMPLE_RANGE:?}",
+                self.samples
+            ));
+        }
+        if !(self.edge_threshold.is_finite() && self.edge_threshold > 0.0) {
+            return bad(format!(
+                "edge_threshold must be finite and > 0, got {}",
+                self.edge_threshold
+            ));
+        }
+        for (name, v) in [
+            ("bias.normal_offset", self.bias.normal_offset),
+            ("bias.depth", self.bias.depth),
+            ("bias.slope", self.bias.slope),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return bad(format!("{name} must be finite and >= 0, got {v}"));
+            }
+        }
+        Ok(())
+    }
+}

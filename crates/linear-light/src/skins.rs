@@ -1,0 +1,145 @@
+//! Skins (section 3.2): the depth samples of one sample's map, triangulated as a grid, give
+//! "phantom" triangles wherever they span a depth discontinuity. Those skins connect an occluder
+//! edge to the receiver behind it, so, seen from a neighbouring sample, they cover exactly the
+//! points that one sample sees and the other does not: the penumbra of the piece between them.
+//!
+//! Discontinuities are found with a Laplacian of *inverse* depth (the paper uses a 3x3
+//! Laplacian-of-Gaussian of depth): `1 / z` is affine in the image over any plane, so planes,
+//! however steep, give no response, and an edge is where `|laplacian(1/z)| > t / z`. A grid
+//! triangle touching an edge texel is a skin when its farthest vertex lies beyond its nearest by
+//! more than the fraction `t`. Its vertices take 0 on the occluder side (nearer than the
+//! midpoint of the triangle's depth range) and 1 on the receiver side.
+//!
+//! `skins.wgsl` builds the same triangles in a vertex shader.
+
+use glam::{Mat4, Vec3};
+use rayon::prelude::*;
+use shadow_core::Map2D;
+use shadow_core::view::{NO_OCCLUDER, ProjectionKind, View};
+
+/// One skin triangle: world positions and the Gouraud values of its vertices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Skin {
+    /// World-space vertices.
+    pub vertices: [Vec3; 3],
+    /// 0 on the occluder, 1 on the receiver.
+    pub values: [f32; 3],
+}
+
+/// The grid triangles of a quad with top-left texel `(x, y)`: `(a, b, c)` and `(b, d, c)`.
+pub const QUAD_TRIANGLES: [[(u32, u32); 3]; 2] =
+    [[(0, 0), (1, 0), (0, 1)], [(1, 0), (1, 1), (0, 1)]];
+
+/// Unprojects texel centres of a map rendered through a view.
+#[derive(Clone, Copy, Debug)]
+pub struct Unproject {
+    /// View to world.
+    pub inv_view: Mat4,
+    /// `x_view = ndc_x * z / sx` (perspective) or `ndc_x / sx` (orthographic).
+    pub sx: f32,
+    /// Same for y.
+    pub sy: f32,
+    /// Whether the view is orthographic.
+    pub ortho: bool,
+    /// Map side.
+    pub res: u32,
+}
+
+impl Unproject {
+    /// The unprojection of `view` for a `res`-wide map.
+    pub fn new(view: &View, res: u32) -> Self {
+        let p = view.projection();
+        Self {
+            inv_view: view.view.inverse(),
+            sx: p.x_axis.x,
+            sy: p.y_axis.y,
+            ortho: matches!(view.kind, ProjectionKind::Orthographic { .. }),
+            res,
+        }
+    }
+
+    /// The world point of texel `(x, y)`'s centre at linear depth `z`.
+    pub fn point(&self, x: u32, y: u32, z: f32) -> Vec3 {
+        let r = self.res as f32;
+        let nx = (x as f32 + 0.5) / r * 2.0 - 1.0;
+        let ny = 1.0 - (y as f32 + 0.5) / r * 2.0;
+        let (vx, vy) = if self.ortho {
+            (nx / self.sx, ny / self.sy)
+        } else {
+            (nx * z / self.sx, ny * z / self.sy)
+        };
+        self.inv_view.transform_point3(Vec3::new(vx, vy, -z))
+    }
+}
+
+/// Edge flags of a linear depth map: `|4 w - sum of the 4 neighbours' w| > t w` with `w = 1/z`
+/// (empty texels have `w = 0`). A neighbour beyond the border is extrapolated linearly from the
+/// other side (`2 w - w_opposite`), so a plane stays free of edges up to the border.
+pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
+    let (w, h) = (depth.width() as i64, depth.height() as i64);
+    let inv = |x: i64, y: i64| {
+        let z = *depth.get_clamped(x, y);
+        if z >= NO_OCCLUDER { 0.0 } else { 1.0 / z }
+    };
+    let data = (0..w * h)
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            let c = inv(x, y);
+            // Both neighbours inside: their sum; one missing: extrapolated, the sum is 2c.
+            let pair = |inside: bool, lo: f32, hi: f32| if inside { lo + hi } else { 2.0 * c };
+            let sx = pair(x > 0 && x + 1 < w, inv(x - 1, y), inv(x + 1, y));
+            let sy = pair(y > 0 && y + 1 < h, inv(x, y - 1), inv(x, y + 1));
+            let lap = 4.0 * c - sx - sy;
+            c > 0.0 && lap.abs() > t * c
+        })
+        .collect();
+    Map2D::from_vec(w as u32, h as u32, data).unwrap_or_else(|| Map2D::new(0, 0, false))
+}
+
+/// The Gouraud values of a grid triangle with linear depths `z`, or `None` when it spans no
+/// discontinuity: `(max - min) > t * min`, vertices beyond the midpoint are the receiver (1).
+pub fn skin_values(z: [f32; 3], t: f32) -> Option<[f32; 3]> {
+    let lo = z[0].min(z[1]).min(z[2]);
+    let hi = z[0].max(z[1]).max(z[2]);
+    if hi - lo <= t * lo {
+        return None;
+    }
+    let mid = 0.5 * (lo + hi);
+    Some(z.map(|v| if v > mid { 1.0 } else { 0.0 }))
+}
+
+/// Every skin of the map `depth` seen through `view`.
+pub fn skins(view: &View, depth: &Map2D<f32>, t: f32) -> Vec<Skin> {
+    let res = depth.width();
+    if res < 2 {
+        return Vec::new();
+    }
+    let un = Unproject::new(view, res);
+    let edge = edges(depth, t);
+    (0..res - 1)
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let mut row = Vec::new();
+            for x in 0..res - 1 {
+                let quad = [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)];
+                if quad.iter().any(|&(u, v)| *depth.get(u, v) >= NO_OCCLUDER)
+                    || !quad.iter().any(|&(u, v)| *edge.get(u, v))
+                {
+                    continue;
+                }
+                for tri in &QUAD_TRIANGLES {
+                    let t3 = tri.map(|(dx, dy)| (x + dx, y + dy));
+                    let z = t3.map(|(u, v)| *depth.get(u, v));
+                    if let Some(values) = skin_values(z, t) {
+                        row.push(Skin {
+                            vertices: [0, 1, 2].map(|k| un.point(t3[k].0, t3[k].1, z[k])),
+                            values,
+                        });
+                    }
+                }
+            }
+            row
+        })
+        .collect()
+}

@@ -1,0 +1,159 @@
+//! Properties of the pieces: shares that sum to 1 (section 3.3), skins only across depth
+//! discontinuities (section 3.2), planes free of edges, typed errors on bad input, and the
+//! triangle light of section 4.
+
+use glam::Vec3;
+use linear_light::LinearLight;
+use linear_light::samples::{lit_share, neighbours, piece_share};
+use linear_light::skins::{edges, skin_values};
+use linear_light::triangle::{evaluate_triangle, generate_triangle};
+use proptest::prelude::*;
+use shadow_core::{Aabb, Light, Map2D, Receivers, SceneGeometry, ShadowError, ShadowTechnique};
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(500))]
+
+    /// The lit shares of N samples sum to 1, and each sample's share is half the pieces it ends.
+    #[test]
+    fn lit_shares_sum_to_one(n in 2u32..=64) {
+        let total: f32 = (0..n).map(|i| lit_share(i, n)).sum();
+        prop_assert!((total - 1.0).abs() <= 1e-5 * n as f32, "{total}");
+        for i in 0..n {
+            let pieces = neighbours(i, n).count() as f32;
+            prop_assert!((lit_share(i, n) - 0.5 * pieces * piece_share(n)).abs() <= 1e-7);
+        }
+    }
+
+    /// A grid triangle is a skin exactly when its depth range exceeds the threshold, and its
+    /// values mark the far vertices 1 and the near ones 0 (at least one of each).
+    #[test]
+    fn skins_span_discontinuities_only(
+        z in prop::array::uniform3(0.1f32..100.0),
+        t in 0.001f32..0.5,
+    ) {
+        let lo = z[0].min(z[1]).min(z[2]);
+        let hi = z[0].max(z[1]).max(z[2]);
+        match skin_values(z, t) {
+            None => prop_assert!(hi - lo <= t * lo),
+            Some(v) => {
+                prop_assert!(hi - lo > t * lo);
+                prop_assert!(v.contains(&0.0) && v.contains(&1.0));
+                for k in 0..3 {
+                    prop_assert_eq!(v[k] == 1.0, z[k] > 0.5 * (lo + hi));
+                }
+            }
+        }
+    }
+
+    /// Any plane seen in perspective has `1/z` affine in the image, so no interior texel is an
+    /// edge, however steep the plane.
+    #[test]
+    fn planes_have_no_edges(a in -0.02f32..0.02, b in -0.02f32..0.02, c in 0.2f32..2.0) {
+        let res = 32u32;
+        let w = |x: f32, y: f32| c + a * x + b * y;
+        // In front of the eye everywhere (1/z > 0 over the whole map).
+        prop_assume!([0.0, 31.0].iter().all(|&x| [0.0, 31.0].iter().all(|&y| w(x, y) > 0.01)));
+        let data: Vec<f32> = (0..res * res)
+            .map(|i| 1.0 / w((i % res) as f32, (i / res) as f32))
+            .collect();
+        let e = edges(&Map2D::from_vec(res, res, data).unwrap(), 0.02);
+        prop_assert!(!e.data().iter().any(|x| *x));
+    }
+}
+
+fn occluded_geometry() -> SceneGeometry {
+    let quad = |y: f32, h: f32| {
+        let p = |x: f32, z: f32| Vec3::new(x, y, z);
+        vec![
+            [p(-h, -h), p(h, -h), p(h, h)],
+            [p(-h, -h), p(h, h), p(-h, h)],
+        ]
+    };
+    let mut casters = quad(0.0, 3.0);
+    casters.extend(quad(1.0, 0.5));
+    let mut bounds = Aabb::EMPTY;
+    for p in casters.iter().flatten() {
+        bounds.grow(*p);
+    }
+    SceneGeometry {
+        receivers: casters.clone(),
+        casters,
+        bounds,
+    }
+}
+
+/// A triangle light as three linear lights: a point far from the occluder's shadow sees it
+/// whole (1), the point under the occluder's centre sees none of it (0).
+#[test]
+fn triangle_light_is_lit_outside_and_dark_under_the_occluder() {
+    let g = occluded_geometry();
+    let tri = [
+        Vec3::new(-0.2, 3.0, -0.2),
+        Vec3::new(0.25, 3.0, -0.1),
+        Vec3::new(0.0, 3.0, 0.2),
+    ];
+    let t = LinearLight::new(3);
+    let maps = generate_triangle(&t, &g, tri, 256).unwrap();
+    let positions = [Vec3::new(2.5, 0.0, 2.5), Vec3::new(0.0, 0.0, 0.0)];
+    let normals = [Vec3::Y; 2];
+    let v = evaluate_triangle(
+        &t,
+        &maps,
+        &Receivers {
+            positions: &positions,
+            normals: &normals,
+        },
+    )
+    .unwrap();
+    assert!((v[0] - 1.0).abs() < 1e-5, "lit point {}", v[0]);
+    assert_eq!(v[1], 0.0, "umbra point");
+    let degenerate = [tri[0], tri[0], tri[1]];
+    assert!(matches!(
+        generate_triangle(&t, &g, degenerate, 64),
+        Err(ShadowError::InvalidLight(_))
+    ));
+}
+
+/// Bad parameters and lights get typed errors that name the problem.
+#[test]
+fn bad_input_gets_typed_errors() {
+    let g = occluded_geometry();
+    let seg = Light::Linear {
+        a: Vec3::new(-0.5, 3.0, 0.0),
+        b: Vec3::new(0.5, 3.0, 0.0),
+    };
+    for n in [0, 1, 65] {
+        match LinearLight::new(n).generate_cpu(&g, &seg, 64) {
+            Err(ShadowError::InvalidParameter(m)) => assert!(m.contains("samples")),
+            other => panic!("samples {n}: {:?}", other.map(|_| ())),
+        }
+    }
+    let mut t = LinearLight::new(2);
+    t.edge_threshold = 0.0;
+    assert!(matches!(
+        t.generate_cpu(&g, &seg, 64),
+        Err(ShadowError::InvalidParameter(_))
+    ));
+    let t = LinearLight::new(2);
+    let rect = Light::Rect {
+        center: Vec3::Y * 3.0,
+        u_half: Vec3::X,
+        v_half: Vec3::Z,
+    };
+    assert!(matches!(
+        t.generate_cpu(&g, &rect, 64),
+        Err(ShadowError::UnsupportedLight { .. })
+    ));
+    assert!(matches!(
+        t.generate_cpu(&g, &seg, 0),
+        Err(ShadowError::InvalidResolution { .. })
+    ));
+    let zero = Light::Linear {
+        a: Vec3::Y,
+        b: Vec3::Y,
+    };
+    assert!(matches!(
+        t.generate_cpu(&g, &zero, 64),
+        Err(ShadowError::InvalidLight(_))
+    ));
+}
