@@ -1,52 +1,12 @@
-// requires: light_space.wgsl sample.wgsl
-// Skins warped into a neighbour's view (section 3.2): skins.rs and warp.rs on the GPU. The vertex
-// shader walks the grid triangles of the source map (6 vertices per quad); a triangle that spans
-// no depth discontinuity collapses to a point outside the clip volume. The fragment shader keeps
-// skin fragments in front of the destination's own depth map; the depth attachment keeps the
-// nearest; the value is interpolated linearly in screen space, and the fragment writes the
-// channel's change (s v - s / 2) (1 - lit) of warp.rs.
+// requires: light_space.wgsl sample.wgsl grid.wgsl
+// Skins warped into a neighbour's view (section 3.2): skins.rs and warp.rs on the GPU. The draw is
+// indirect: find_skins.wgsl listed the source's quads that hold a skin, 6 vertices each; a
+// triangle of such a quad that spans no discontinuity collapses outside the clip volume. The
+// fragment shader keeps skin fragments in front of the destination's own depth map; the depth
+// attachment keeps the nearest; the value is interpolated linearly in screen space, and the
+// fragment writes the channel's change (s v - s / 2) (1 - lit) of warp.rs.
 
-struct Pair {
-    src: u32,
-    dst: u32,
-    _pad0: u32,
-    _pad1: u32,
-};
-
-const SKIN_DEPTH_TOLERANCE: f32 = 1e-3;
-
-@group(0) @binding(0) var<uniform> pair: Pair;
-@group(0) @binding(1) var<storage, read> samples: array<Sample>;
-@group(0) @binding(2) var depth_maps: texture_depth_2d_array;
-
-fn depth_at(k: u32, x: i32, y: i32) -> f32 {
-    let last = i32(samples[k].map.resolution) - 1;
-    let xy = clamp(vec2<i32>(x, y), vec2<i32>(0), vec2<i32>(last));
-    return linear_from_ndc(samples[k].map, textureLoad(depth_maps, xy, i32(k), 0));
-}
-
-fn inv_depth(k: u32, x: i32, y: i32) -> f32 {
-    let z = depth_at(k, x, y);
-    return select(1.0 / z, 0.0, z >= NO_OCCLUDER);
-}
-
-// skins::edges at texel (x, y) of the source (a missing neighbour is extrapolated: the pair
-// sums to 2c).
-fn is_edge(x: i32, y: i32) -> bool {
-    let k = pair.src;
-    let last = i32(samples[k].map.resolution) - 1;
-    let c = inv_depth(k, x, y);
-    var sx = 2.0 * c;
-    if x > 0 && x < last {
-        sx = inv_depth(k, x - 1, y) + inv_depth(k, x + 1, y);
-    }
-    var sy = 2.0 * c;
-    if y > 0 && y < last {
-        sy = inv_depth(k, x, y - 1) + inv_depth(k, x, y + 1);
-    }
-    let lap = 4.0 * c - sx - sy;
-    return c > 0.0 && abs(lap) > samples[k].edge_threshold * c;
-}
+@group(0) @binding(3) var<storage, read> quads: array<u32>;
 
 struct Varying {
     @builtin(position) clip: vec4<f32>,
@@ -60,38 +20,19 @@ fn vs_skin(@builtin(vertex_index) vi: u32) -> Varying {
     out.value = 0.0;
     let src = samples[pair.src];
     let res = src.map.resolution;
-    let tri = vi / 3u;
+    let quad = quads[vi / 6u];
+    let half = (vi % 6u) / 3u;
     let corner = vi % 3u;
-    let quad = tri / 2u;
-    let half = tri % 2u;
     let qx = i32(quad % (res - 1u));
     let qy = i32(quad / (res - 1u));
-    // QUAD_TRIANGLES: (a, b, c) and (b, d, c).
-    var offs = array<vec2<i32>, 3>(vec2<i32>(0, 0), vec2<i32>(1, 0), vec2<i32>(0, 1));
-    if half == 1u {
-        offs = array<vec2<i32>, 3>(vec2<i32>(1, 0), vec2<i32>(1, 1), vec2<i32>(0, 1));
-    }
-    let quad_z = vec4<f32>(depth_at(pair.src, qx, qy), depth_at(pair.src, qx + 1, qy), depth_at(pair.src, qx, qy + 1), depth_at(pair.src, qx + 1, qy + 1));
-    if any(quad_z >= vec4<f32>(NO_OCCLUDER)) {
+    let t = grid_triangle(qx, qy, half);
+    if !t.skin {
         return out;
     }
-    if !(is_edge(qx, qy) || is_edge(qx + 1, qy) || is_edge(qx, qy + 1) || is_edge(qx + 1, qy + 1)) {
-        return out;
-    }
-    var z: array<f32, 3>;
-    for (var k = 0u; k < 3u; k++) {
-        z[k] = depth_at(pair.src, qx + offs[k].x, qy + offs[k].y);
-    }
-    let lo = min(min(z[0], z[1]), z[2]);
-    let hi = max(max(z[0], z[1]), z[2]);
-    if hi - lo <= src.edge_threshold * lo {
-        return out;
-    }
-    let mid = 0.5 * (lo + hi);
-    let o = offs[corner];
-    let world = unproject(src, u32(qx + o.x), u32(qy + o.y), z[corner]);
+    let o = quad_offset(half, corner);
+    let world = unproject(src, u32(qx + o.x), u32(qy + o.y), t.z[corner]);
     out.clip = samples[pair.dst].map.view_proj * vec4<f32>(world, 1.0);
-    out.value = select(0.0, 1.0, z[corner] > mid);
+    out.value = select(0.0, 1.0, t.z[corner] > t.mid);
     return out;
 }
 

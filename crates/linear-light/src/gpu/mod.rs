@@ -1,8 +1,9 @@
 //! The GPU path. Generation records everything in one command buffer:
 //!
 //! 1. one nearest-surface depth pass per sample (`shadow_core`'s rasterizer) into a depth array;
-//! 2. per sample, the skins of each neighbour warped into its view (`skins.wgsl`, a render pass
-//!    drawing `6 (res - 1)²` grid vertices of the neighbour's map);
+//! 2. per sample, the quads of its map that hold a skin (`find_skins.wgsl`, appended with an
+//!    atomic counter that doubles as an indirect draw's vertex count), then per sample the skins
+//!    of each neighbour warped into its view (`skins.wgsl`, an indirect draw of those quads);
 //! 3. the visibility channel from the warped values (`combine.wgsl`).
 //!
 //! Evaluation is one compute pass (`evaluate.wgsl`).
@@ -14,7 +15,7 @@ use crate::samples::{lit_share, piece_share, sample_views};
 use crate::skins::Unproject;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use pipelines::{CombineKernel, EvalKernel, SkinPipeline, VALUE_FORMAT};
+use pipelines::{CombineKernel, EvalKernel, FindSkinsKernel, Kernel, SkinPipeline, VALUE_FORMAT};
 use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
 use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
@@ -22,6 +23,7 @@ use shadow_core::raster::DepthPass;
 use shadow_core::{
     Bias, GpuContext, Map2D, MapParams, Receivers, Result, SceneGeometry, ShadowError,
 };
+use wgpu::util::DeviceExt;
 
 /// One sample as the shaders read it (`Sample` in `sample.wgsl`).
 #[repr(C)]
@@ -130,9 +132,9 @@ fn encode_warp(
     depth_view: &wgpu::TextureView,
     value: &wgpu::TextureView,
     skin_depth: &wgpu::TextureView,
+    list: &SkinList,
     src: u32,
     dst: u32,
-    res: u32,
 ) {
     let pair = Pair {
         src,
@@ -148,6 +150,7 @@ fn encode_warp(
             ub.as_entire_binding(),
             samples.as_entire_binding(),
             wgpu::BindingResource::TextureView(depth_view),
+            list.quads.as_entire_binding(),
         ],
     );
     let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -178,11 +181,68 @@ fn encode_warp(
         occlusion_query_set: None,
         multiview_mask: None,
     });
-    if res >= 2 {
-        rp.set_pipeline(&pipe.pipeline);
-        rp.set_bind_group(0, &bind, &[]);
-        rp.draw(0..6 * (res - 1) * (res - 1), 0..1);
-    }
+    rp.set_pipeline(&pipe.pipeline);
+    rp.set_bind_group(0, &bind, &[]);
+    rp.draw_indirect(&list.draw, 0);
+}
+
+/// The skin quads of one sample's map and the indirect draw of them.
+struct SkinList {
+    /// Quad indices `y (res - 1) + x`.
+    quads: wgpu::Buffer,
+    /// `[vertex_count, instance_count, first_vertex, first_instance]`.
+    draw: wgpu::Buffer,
+}
+
+/// Records `find_skins.wgsl` for sample `k`: its skin quads and their draw arguments.
+#[allow(clippy::too_many_arguments)]
+fn encode_find_skins(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    kernel: &Kernel,
+    samples: &wgpu::Buffer,
+    depth_view: &wgpu::TextureView,
+    k: u32,
+    res: u32,
+) -> SkinList {
+    let quads = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("skin quads"),
+        size: 4 * (res as u64 - 1).pow(2).max(1),
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    let draw = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("skin draw"),
+            contents: bytemuck::cast_slice(&[0u32, 1, 0, 0]),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+        });
+    let pair = Pair {
+        src: k,
+        dst: k,
+        _pad: [0; 2],
+    };
+    let ub = ctx.uniform_buffer("skin pair", bytemuck::bytes_of(&pair));
+    let bind = bind_group(
+        ctx,
+        "find skins",
+        &kernel.layout,
+        &[
+            ub.as_entire_binding(),
+            samples.as_entire_binding(),
+            wgpu::BindingResource::TextureView(depth_view),
+            quads.as_entire_binding(),
+            draw.as_entire_binding(),
+        ],
+    );
+    let mut pass = enc.begin_compute_pass(&Default::default());
+    pass.set_pipeline(&kernel.pipeline);
+    pass.set_bind_group(0, &bind, &[]);
+    let g = res.saturating_sub(1).div_ceil(8).max(1);
+    pass.dispatch_workgroups(g, g, 1);
+    drop(pass);
+    SkinList { quads, draw }
 }
 
 /// Builds the maps on the GPU (inputs already checked), then waits for the GPU.
@@ -194,16 +254,17 @@ pub fn generate(
     res: u32,
 ) -> Result<GpuLinearMaps> {
     let n = t.samples;
-    let vertices = 6 * (res as u64 - 1).pow(2);
-    if vertices > u32::MAX as u64 {
+    let limit = ctx.device.limits().max_storage_buffer_binding_size;
+    if 4 * (res as u64 - 1).pow(2) > limit {
         return Err(ShadowError::InvalidResolution {
             requested: res,
-            max: 26755,
+            max: ((limit / 4) as f64).sqrt() as u32,
         });
     }
     let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
     let skin_pipe = ctx.cached(SkinPipeline::new);
     let comb = ctx.cached(CombineKernel::new);
+    let find = ctx.cached(FindSkinsKernel::new);
     let views = sample_views(a, b, n, axis, &geometry.bounds);
     let piece = piece_share(n);
     let samples: Vec<SampleGpu> = views
@@ -264,6 +325,9 @@ pub fn generate(
             DepthPass::NEAREST,
         );
     }
+    let lists: Vec<SkinList> = (0..n)
+        .map(|k| encode_find_skins(ctx, &mut enc, &find.0, &sb, &depth_view, k, res))
+        .collect();
     for i in 0..n {
         let nbrs = [i.checked_sub(1), (i + 1 < n).then_some(i + 1)];
         for (slot, j) in nbrs.iter().enumerate() {
@@ -276,9 +340,9 @@ pub fn generate(
                     &depth_view,
                     &value_views[slot],
                     &skin_depth_view,
+                    &lists[*j as usize],
                     *j,
                     i,
-                    res,
                 );
             }
         }

@@ -9,6 +9,9 @@ use shadow_core::gpu::raster::DEPTH_FORMAT;
 /// `sample.wgsl`, prepended after `light_space.wgsl` to every shader of the crate.
 pub const SAMPLE_WGSL: &str = include_str!("../sample.wgsl");
 
+/// `grid.wgsl`, prepended to the skin shaders after `sample.wgsl`.
+pub const GRID_WGSL: &str = include_str!("../grid.wgsl");
+
 /// Format of the warped skin values and of the visibility channels.
 pub const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -65,12 +68,15 @@ pub struct SkinPipeline {
 impl SkinPipeline {
     /// Builds the pipeline.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = module(ctx, "skins", include_str!("../skins.wgsl"));
+        let m = module(
+            ctx,
+            "skins",
+            &format!("{GRID_WGSL}\n{}", include_str!("../skins.wgsl")),
+        );
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let mut pair = uniform_entry(0);
         pair.visibility = vf;
-        let mut samples = storage_entry(1, true);
-        samples.visibility = vf;
+        let samples = storage_entry_in(1, true, vf);
         let layout = layout(
             ctx,
             "skins",
@@ -83,6 +89,7 @@ impl SkinPipeline {
                     wgpu::TextureSampleType::Depth,
                     wgpu::TextureViewDimension::D2Array,
                 ),
+                storage_entry_in(3, true, vf),
             ],
         );
         let pl = ctx
@@ -152,6 +159,43 @@ impl Kernel {
         let layout = layout(ctx, label, entries);
         let [pipeline] = compute_pipelines(ctx, label, &m, &layout, [entry]);
         Self { layout, pipeline }
+    }
+}
+
+fn storage_entry_in(
+    binding: u32,
+    read_only: bool,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    let mut e = storage_entry(binding, read_only);
+    e.visibility = visibility;
+    e
+}
+
+/// The kernel that lists a source map's skin quads for the indirect skin draw.
+pub struct FindSkinsKernel(pub Kernel);
+
+impl FindSkinsKernel {
+    /// Builds the kernel.
+    pub fn new(ctx: &GpuContext) -> Self {
+        Self(Kernel::new(
+            ctx,
+            "find skins",
+            &format!("{GRID_WGSL}\n{}", include_str!("../find_skins.wgsl")),
+            "find_skins",
+            &[
+                uniform_entry(0),
+                storage_entry(1, true),
+                texture(
+                    2,
+                    wgpu::ShaderStages::COMPUTE,
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                storage_entry(3, false),
+                storage_entry(4, false),
+            ],
+        ))
     }
 }
 
