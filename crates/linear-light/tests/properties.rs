@@ -71,14 +71,10 @@ fn occluded_geometry() -> SceneGeometry {
     };
     let mut casters = quad(0.0, 3.0);
     casters.extend(quad(1.0, 0.5));
-    let mut bounds = Aabb::EMPTY;
-    for p in casters.iter().flatten() {
-        bounds.grow(*p);
-    }
     SceneGeometry {
+        bounds: Aabb::of_triangles(&casters),
         receivers: casters.clone(),
         casters,
-        bounds,
     }
 }
 

@@ -21,14 +21,10 @@ fn geometry(meshes: &[TriangleMesh]) -> SceneGeometry {
         .iter()
         .flat_map(|m| m.indices.iter().map(|t| t.map(|i| m.positions[i as usize])))
         .collect();
-    let mut bounds = Aabb::EMPTY;
-    for p in tris.iter().flatten() {
-        bounds.grow(*p);
-    }
     SceneGeometry {
+        bounds: Aabb::of_triangles(&tris),
         casters: tris.clone(),
         receivers: tris,
-        bounds,
     }
 }
 
@@ -96,29 +92,18 @@ fn linear_light_is_linear_across_a_straight_edge() {
 /// singularity.
 #[test]
 fn linear_light_on_a_tilted_receiver_stays_finite_at_the_light_line() {
-    let (mut g, light) = edge_scene(1.0, 0.5);
+    let (_, light) = edge_scene(1.0, 0.5);
     let plane = |x: f32, z: f32| Vec3::new(x, 1.2 * (x - 0.1) + 0.2, z);
-    let tilted = quad_grid(
-        "tilted",
-        plane(-1.0, -1.5),
-        Vec3::Z * 3.0,
-        plane(2.1, -1.5) - plane(-1.0, -1.5),
-        1,
-    );
-    g.casters.clear();
-    g.receivers.clear();
-    g.bounds = Aabb::EMPTY;
-    let occluder = horizontal_rect("occluder", Vec2::new(-1.5, 0.0), Vec2::new(-1.5, 1.5), 1.0);
-    for m in [&tilted, &occluder] {
-        for t in &m.indices {
-            let tri = t.map(|i| m.positions[i as usize]);
-            g.casters.push(tri);
-            g.receivers.push(tri);
-            for p in tri {
-                g.bounds.grow(p);
-            }
-        }
-    }
+    let g = geometry(&[
+        quad_grid(
+            "tilted",
+            plane(-1.0, -1.5),
+            Vec3::Z * 3.0,
+            plane(2.1, -1.5) - plane(-1.0, -1.5),
+            1,
+        ),
+        horizontal_rect("occluder", Vec2::new(-1.5, 0.0), Vec2::new(-1.5, 1.5), 1.0),
+    ]);
     let positions: Vec<Vec3> = (0..=265)
         .flat_map(|i| (0..3).map(move |k| plane(-0.6 + 0.01 * i as f32, -0.3 + 0.3 * k as f32)))
         .collect();
