@@ -333,7 +333,8 @@ pub fn generate(
         array_view(&rows, None),
         array_view(&sat, None),
     );
-    // One workgroup (`SCAN_THREADS` in `scan.wgsl`) per table row, then per table column.
+    // One invocation per table row, then per table column.
+    let scan_groups = (res + 1).div_ceil(64);
     let bind = |k: &Kernel, src: &wgpu::TextureView, dst: &wgpu::TextureView| {
         bind_group(
             ctx,
@@ -347,9 +348,9 @@ pub fn generate(
         )
     };
     let b = bind(&pre.sat_rows, &occ_view, &rows_view);
-    dispatch(&mut enc, &pre.sat_rows, &b, (res + 1, groups, 1));
+    dispatch(&mut enc, &pre.sat_rows, &b, (scan_groups, groups, 1));
     let b = bind(&pre.sat_cols, &rows_view, &sat_view);
-    dispatch(&mut enc, &pre.sat_cols, &b, (res + 1, groups, 1));
+    dispatch(&mut enc, &pre.sat_cols, &b, (scan_groups, groups, 1));
     if t.filter != Filter::Sat {
         encode_levels(
             ctx, &mut enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,

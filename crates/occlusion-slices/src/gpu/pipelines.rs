@@ -8,9 +8,6 @@ use shadow_core::gpu::compute::{compute_pipelines, storage_entry, uniform_entry}
 /// `frame.wgsl`, prepended to every shader of the crate.
 pub const FRAME_WGSL: &str = include_str!("../frame.wgsl");
 
-/// `scan.wgsl`, the workgroup prefix sum of the table scans.
-pub const SCAN_WGSL: &str = include_str!("../scan.wgsl");
-
 /// Format of the occlusion textures: four slices per RGBA8 texel.
 pub const OCCUPANCY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// Format of the summed-area tables: four slices of `u32` counts per texel.
@@ -190,7 +187,7 @@ impl PrefilterPipelines {
             sat_rows: Kernel::new(
                 ctx,
                 "sat rows",
-                &format!("{SCAN_WGSL}\n{}", include_str!("../sat_rows.wgsl")),
+                include_str!("../sat_rows.wgsl"),
                 "sat_rows",
                 &[
                     uniform_entry(0),
@@ -201,7 +198,7 @@ impl PrefilterPipelines {
             sat_cols: Kernel::new(
                 ctx,
                 "sat cols",
-                &format!("{SCAN_WGSL}\n{}", include_str!("../sat_cols.wgsl")),
+                include_str!("../sat_cols.wgsl"),
                 "sat_cols",
                 &[
                     uniform_entry(0),
