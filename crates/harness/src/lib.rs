@@ -4,6 +4,7 @@
 pub mod baselines;
 pub mod ground_truth;
 pub mod metrics;
+pub mod profile;
 pub mod report;
 pub mod scenes;
 pub mod setup;

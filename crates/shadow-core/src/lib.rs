@@ -12,6 +12,7 @@
 //! Conventions: right-handed, +Y up, metres; visibility `V` in `[0, 1]` (1 lit, 0 umbra).
 
 pub mod error;
+pub mod frame;
 pub mod gltf_import;
 pub mod gpu;
 pub mod jump_flood;

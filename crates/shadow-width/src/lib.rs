@@ -109,3 +109,15 @@ impl ShadowTechnique for ShadowWidth {
         })
     }
 }
+
+/// Registers this technique with a frame pipeline: its system set (which runs only while a
+/// light uses it) and its standard variants, which `Auto` choices may pick.
+pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+    frame.add_technique(
+        "shadow-width",
+        ShadowWidth::standard_set()
+            .into_iter()
+            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn shadow_core::DynTechnique>)
+            .collect(),
+    );
+}

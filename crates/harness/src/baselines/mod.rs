@@ -173,3 +173,17 @@ impl ShadowTechnique for ShadowMapBaseline {
         })
     }
 }
+
+/// Registers the baselines with a frame pipeline: the hard shadow map as the zero-size-light
+/// path, PCF, PCSS and 16-sample accumulation, each its own technique set.
+pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+    use std::sync::Arc;
+    frame.set_hard_path(Arc::new(ShadowMapBaseline::new(Filter::Hard)));
+    for b in ShadowMapBaseline::standard_set(&[16]) {
+        let name = ShadowTechnique::name(&b);
+        frame.add_technique(
+            name,
+            vec![Arc::new(b) as Arc<dyn shadow_core::DynTechnique>],
+        );
+    }
+}

@@ -1,6 +1,7 @@
 //! harness tests, one binary (each test binary links wgpu, which is slow on 2 cores).
 
 mod bad_input;
+mod frame;
 mod gpu_agreement;
 mod ground_truth;
 mod linear_light;

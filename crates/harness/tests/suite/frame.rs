@@ -1,0 +1,314 @@
+//! The frame pipeline (shadow_core::frame): only the work the scene calls for, proven by the
+//! frame statistics, and outputs equal to a from-scratch render.
+
+use glam::{Mat4, Vec2, Vec3};
+use harness::scenes::shapes::{cuboid, ground};
+use proptest::prelude::*;
+use shadow_core::frame::{
+    FramePipeline, FrameReceivers, FrameStats, LightState, ProfileEntry, ResolvedTechnique,
+    ShadowConfig, TechniqueProfile,
+};
+use shadow_core::scene::Transform;
+use shadow_core::{Backend, DynTechnique, Light, LightKind, Scene};
+use std::sync::Arc;
+
+fn pipeline() -> FramePipeline {
+    let mut p = FramePipeline::new();
+    harness::baselines::add_to(&mut p);
+    occlusion_slices::add_to(&mut p);
+    linear_light::add_to(&mut p);
+    penumbra_limit::add_to(&mut p);
+    shadow_width::add_to(&mut p);
+    p
+}
+
+struct Lab {
+    scene: Scene,
+    rect: bevy_ecs::entity::Entity,
+    segment: bevy_ecs::entity::Entity,
+    point: bevy_ecs::entity::Entity,
+    mover: bevy_ecs::entity::Entity,
+}
+
+/// Three lights 6 m apart with 3 m ranges: a rect (occlusion-slices), a segment
+/// (linear-light), a point (zero size: the hard path); a static box under the rect light and a
+/// box under the segment that the tests move.
+fn lab(mover_x: f32) -> Lab {
+    let mut scene = Scene::new();
+    scene
+        .add_mesh(Arc::new(ground(16.0, 0.0, 1)), Mat4::IDENTITY, true, true)
+        .unwrap();
+    let box_mesh = Arc::new(cuboid("box", Vec3::ZERO, Vec3::splat(0.3)));
+    scene
+        .add_mesh(
+            box_mesh.clone(),
+            Mat4::from_translation(Vec3::new(-5.0, 0.8, 0.0)),
+            true,
+            true,
+        )
+        .unwrap();
+    let mover = scene
+        .add_mesh(
+            box_mesh,
+            Mat4::from_translation(Vec3::new(mover_x, 0.8, 0.0)),
+            true,
+            true,
+        )
+        .unwrap();
+    let rect = scene
+        .add_light(Light::Rect {
+            center: Vec3::new(-5.0, 2.5, 0.0),
+            u_half: Vec3::X * 0.3,
+            v_half: Vec3::Z * 0.3,
+        })
+        .unwrap();
+    let segment = scene
+        .add_light(Light::Linear {
+            a: Vec3::new(4.5, 2.5, 0.0),
+            b: Vec3::new(5.5, 2.5, 0.0),
+        })
+        .unwrap();
+    let point = scene
+        .add_light(Light::Point {
+            position: Vec3::new(0.0, 2.5, 5.0),
+        })
+        .unwrap();
+    let cfg = |t: Arc<dyn DynTechnique>| ShadowConfig::explicit(t, 128).with_range(3.0);
+    let os: Arc<dyn DynTechnique> = Arc::new(occlusion_slices::OcclusionSlices::new(
+        8,
+        occlusion_slices::Filter::Sat,
+    ));
+    let ll: Arc<dyn DynTechnique> = Arc::new(linear_light::LinearLight::new(2));
+    let pcf: Arc<dyn DynTechnique> = Arc::new(harness::baselines::ShadowMapBaseline::new(
+        harness::baselines::Filter::Pcf { radius: 2 },
+    ));
+    scene.world.entity_mut(rect).insert(cfg(os));
+    scene.world.entity_mut(segment).insert(cfg(ll));
+    scene.world.entity_mut(point).insert(cfg(pcf));
+    let positions: Vec<Vec3> = (0..60 * 40)
+        .map(|i| {
+            let v = Vec2::new((i % 60) as f32, (i / 60) as f32) * 0.25;
+            Vec3::new(-7.5 + v.x, 0.0, -4.0 + v.y)
+        })
+        .collect();
+    let normals = vec![Vec3::Y; positions.len()];
+    scene
+        .world
+        .insert_resource(FrameReceivers { positions, normals });
+    Lab {
+        scene,
+        rect,
+        segment,
+        point,
+        mover,
+    }
+}
+
+fn visibility(lab: &Lab, e: bevy_ecs::entity::Entity) -> Vec<f32> {
+    lab.scene
+        .world
+        .get::<LightState>(e)
+        .unwrap()
+        .visibility
+        .clone()
+}
+
+fn resolved(lab: &Lab, e: bevy_ecs::entity::Entity) -> &ResolvedTechnique {
+    lab.scene.world.get::<ResolvedTechnique>(e).unwrap()
+}
+
+/// A static scene: frame 2 generates no map, reuses all three, evaluates the same receivers and
+/// gives the same visibilities; receivers outside every light's range are never evaluated.
+#[test]
+fn static_frames_reuse_every_map() {
+    let mut lab = lab(5.0);
+    let mut p = pipeline();
+    let s1 = p.run(&mut lab.scene.world);
+    let v1: Vec<_> = [lab.rect, lab.segment, lab.point]
+        .map(|e| visibility(&lab, e))
+        .to_vec();
+    let s2 = p.run(&mut lab.scene.world);
+    assert_eq!(
+        (s1.maps_generated, s1.maps_reused),
+        (3, 0),
+        "{}",
+        s1.summary()
+    );
+    assert_eq!(
+        (s2.maps_generated, s2.maps_reused),
+        (0, 3),
+        "{}",
+        s2.summary()
+    );
+    assert_eq!(s1.receivers_evaluated, s2.receivers_evaluated);
+    let total = lab.scene.world.resource::<FrameReceivers>().positions.len();
+    assert!(
+        s1.receivers_evaluated < 3 * total,
+        "ranges must cut receivers: {} of {}",
+        s1.receivers_evaluated,
+        3 * total
+    );
+    for (k, e) in [lab.rect, lab.segment, lab.point].into_iter().enumerate() {
+        assert_eq!(visibility(&lab, e), v1[k]);
+    }
+    // The point light took the hard path, though its config asked for PCF.
+    assert_eq!(
+        resolved(&lab, lab.point).technique.name(),
+        "hard-shadow-map"
+    );
+    assert!(resolved(&lab, lab.point).reason.contains("zero size"));
+}
+
+/// Moving the box under the segment regenerates exactly that light's maps (1 generated, 2
+/// reused), and every light's output equals a from-scratch render of the moved scene.
+#[test]
+fn a_moving_caster_regenerates_exactly_the_lights_it_reaches() {
+    let mut lab = lab(5.0);
+    let mut p = pipeline();
+    p.run(&mut lab.scene.world);
+    let moved = Mat4::from_translation(Vec3::new(5.3, 0.8, 0.2));
+    lab.scene.world.get_mut::<Transform>(lab.mover).unwrap().0 = moved;
+    let s = p.run(&mut lab.scene.world);
+    assert_eq!((s.maps_generated, s.maps_reused), (1, 2), "{}", s.summary());
+    assert_eq!(s.techniques["linear-light"].maps_generated, 1);
+    let mut fresh = lab_with_mover(moved);
+    pipeline().run(&mut fresh.scene.world);
+    for (a, b) in [
+        (lab.rect, fresh.rect),
+        (lab.segment, fresh.segment),
+        (lab.point, fresh.point),
+    ] {
+        assert_eq!(visibility(&lab, a), visibility(&fresh, b));
+    }
+}
+
+fn lab_with_mover(t: Mat4) -> Lab {
+    let mut l = lab(5.0);
+    l.scene.world.get_mut::<Transform>(l.mover).unwrap().0 = t;
+    l
+}
+
+/// Removing the only segment light removes linear-light's work: its system does not run (no
+/// time, no stats), and the other lights keep their maps.
+#[test]
+fn removing_every_light_of_a_kind_removes_its_techniques_work() {
+    let mut lab = lab(5.0);
+    let mut p = pipeline();
+    let s1 = p.run(&mut lab.scene.world);
+    assert!(s1.system_ms.contains_key("linear-light"));
+    lab.scene.world.despawn(lab.segment);
+    let s2 = p.run(&mut lab.scene.world);
+    assert!(
+        !s2.techniques.contains_key("linear-light"),
+        "{}",
+        s2.summary()
+    );
+    assert!(
+        !s2.system_ms.contains_key("linear-light"),
+        "{}",
+        s2.summary()
+    );
+    assert_eq!((s2.maps_generated, s2.maps_reused), (0, 2));
+    // Techniques no light uses never ran at all.
+    for idle in ["penumbra-limit", "shadow-width", "pcss", "accumulation"] {
+        assert!(!s1.system_ms.contains_key(idle), "{idle} ran");
+    }
+}
+
+/// A scene without casters does no shadow work at all.
+#[test]
+fn a_scene_without_casters_does_no_shadow_work() {
+    let mut lab = lab(5.0);
+    let casters: Vec<_> = lab
+        .scene
+        .world
+        .query_filtered::<bevy_ecs::entity::Entity, bevy_ecs::query::With<shadow_core::scene::ShadowCaster>>()
+        .iter(&lab.scene.world)
+        .collect();
+    for e in casters {
+        lab.scene
+            .world
+            .entity_mut(e)
+            .remove::<shadow_core::scene::ShadowCaster>();
+    }
+    let s = pipeline().run(&mut lab.scene.world);
+    assert_eq!(s.maps_generated + s.maps_reused + s.receivers_evaluated, 0);
+    assert!(s.system_ms.is_empty(), "{}", s.summary());
+}
+
+fn entry(t: &str, time_ms: f64, rms_255: f64) -> ProfileEntry {
+    ProfileEntry {
+        technique: t.into(),
+        variant: "v".into(),
+        light: LightKind::Rect,
+        backend: Backend::Cpu,
+        resolution: 256,
+        time_ms,
+        rms_255,
+    }
+}
+
+proptest! {
+    /// `Auto` never picks a configuration slower than the budget, and a larger budget never
+    /// picks a larger measured error.
+    #[test]
+    fn auto_respects_the_budget_and_error_falls_with_budget(
+        rows in prop::collection::vec((0.1f64..50.0, 0.0f64..100.0), 1..30),
+        b1 in 0.0f64..60.0,
+        extra in 0.0f64..60.0,
+    ) {
+        let profile = TechniqueProfile {
+            entries: rows.iter().enumerate().map(|(i, &(t, e))| entry(&format!("t{i}"), t, e)).collect(),
+        };
+        let b2 = b1 + extra;
+        let p1 = profile.pick(LightKind::Rect, Backend::Cpu, b1, |_, _| true);
+        let p2 = profile.pick(LightKind::Rect, Backend::Cpu, b2, |_, _| true);
+        if let Some(p) = p1 {
+            prop_assert!(p.time_ms <= b1);
+            let p2 = p2.expect("a larger budget keeps every candidate");
+            prop_assert!(p2.time_ms <= b2);
+            prop_assert!(p2.rms_255 <= p.rms_255);
+        } else {
+            prop_assert!(rows.iter().all(|&(t, _)| t > b1));
+        }
+    }
+}
+
+/// Through the pipeline: an `Auto` rect light picks from the built-in profile within its budget
+/// and says why; with no affordable configuration it casts no shadow and says that.
+#[test]
+fn auto_lights_say_what_they_picked_and_why() {
+    let mut lab = lab(5.0);
+    lab.scene
+        .world
+        .entity_mut(lab.rect)
+        .insert(ShadowConfig::auto(10.0).with_range(3.0));
+    let mut p = pipeline();
+    p.run(&mut lab.scene.world);
+    let r = resolved(&lab, lab.rect).clone();
+    let profile = TechniqueProfile::defaults();
+    let e = profile
+        .entries
+        .iter()
+        .find(|e| {
+            e.technique == r.technique.name()
+                && e.variant == r.technique.variant()
+                && e.light == LightKind::Rect
+                && e.backend == Backend::Cpu
+        })
+        .expect("picked from the profile");
+    assert!(e.time_ms <= 10.0);
+    assert!(r.reason.starts_with("auto:") && r.reason.contains(r.technique.name()));
+    lab.scene
+        .world
+        .entity_mut(lab.rect)
+        .insert(ShadowConfig::auto(0.01));
+    let s: FrameStats = p.run(&mut lab.scene.world);
+    assert!(lab.scene.world.get::<ResolvedTechnique>(lab.rect).is_none());
+    let state = lab.scene.world.get::<LightState>(lab.rect).unwrap();
+    assert!(state.error.as_deref().unwrap_or("").contains("fits"));
+    assert_eq!(
+        s.techniques.get(r.technique.name()).map_or(0, |t| t.lights),
+        0
+    );
+}

@@ -1,0 +1,158 @@
+//! What the frame pipeline keeps on light entities and in the world.
+
+use crate::GpuContext;
+use crate::light::{Light, LightKind};
+use crate::mesh::Aabb;
+use crate::technique::{AnyMaps, Backend, DynTechnique};
+use bevy_ecs::prelude::*;
+use glam::Vec3;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// How a light's technique is chosen.
+#[derive(Clone)]
+pub enum TechniqueChoice {
+    /// This technique, with these parameters.
+    Explicit(Arc<dyn DynTechnique>),
+    /// The configuration with the lowest measured error whose measured time (generation +
+    /// evaluation) fits `budget_ms`, from the pipeline's [`crate::frame::TechniqueProfile`].
+    Auto {
+        /// Time budget per light and frame, milliseconds.
+        budget_ms: f64,
+    },
+}
+
+/// Per-light settings of the frame pipeline; a light without it casts no shadows.
+#[derive(Component, Clone)]
+pub struct ShadowConfig {
+    /// The technique.
+    pub choice: TechniqueChoice,
+    /// Map resolution (an `Auto` choice overrides it with the profile's).
+    pub resolution: u32,
+    /// Radius of the light's influence around its centre: casters and receivers beyond it are
+    /// ignored. `f32::INFINITY` for none (distant lights always have none).
+    pub range: f32,
+}
+
+impl ShadowConfig {
+    /// An explicit technique at `resolution`, unlimited range.
+    pub fn explicit(t: Arc<dyn DynTechnique>, resolution: u32) -> Self {
+        Self {
+            choice: TechniqueChoice::Explicit(t),
+            resolution,
+            range: f32::INFINITY,
+        }
+    }
+
+    /// An automatic choice within `budget_ms`, unlimited range.
+    pub fn auto(budget_ms: f64) -> Self {
+        Self {
+            choice: TechniqueChoice::Auto { budget_ms },
+            resolution: 0,
+            range: f32::INFINITY,
+        }
+    }
+
+    /// The same with an influence radius.
+    pub fn with_range(mut self, range: f32) -> Self {
+        self.range = range;
+        self
+    }
+}
+
+/// The technique a light runs with, once chosen, and why.
+#[derive(Component, Clone)]
+pub struct ResolvedTechnique {
+    /// The technique.
+    pub technique: Arc<dyn DynTechnique>,
+    /// Map resolution.
+    pub resolution: u32,
+    /// One line saying why (explicit, zero-size light, or the profile entry and its numbers).
+    pub reason: String,
+}
+
+/// A light's cached maps and its latest visibilities.
+#[derive(Component, Default)]
+pub struct LightState {
+    /// Maps from the last generation (`None` before the first).
+    pub maps: Option<AnyMaps>,
+    /// Set when the light, its settings or a caster within its influence changed.
+    pub stale: bool,
+    /// `V` per frame receiver; 1 for receivers outside the light's influence.
+    pub visibility: Vec<f32>,
+    /// Receivers this light evaluated in the last frame.
+    pub evaluated: usize,
+    /// Why this light casts no shadows, when it does not (e.g. no technique fits the budget).
+    pub error: Option<String>,
+}
+
+/// The points the frame shades (e.g. the camera G-buffer), with unit normals.
+#[derive(Resource, Default, Clone)]
+pub struct FrameReceivers {
+    /// World-space positions.
+    pub positions: Vec<Vec3>,
+    /// Unit normals.
+    pub normals: Vec<Vec3>,
+}
+
+/// Where the frame runs its techniques.
+#[derive(Resource, Clone)]
+pub struct FrameBackend {
+    /// CPU or GPU.
+    pub backend: Backend,
+    /// The context for [`Backend::Gpu`].
+    pub gpu: Option<Arc<GpuContext>>,
+}
+
+impl Default for FrameBackend {
+    fn default() -> Self {
+        Self {
+            backend: Backend::Cpu,
+            gpu: None,
+        }
+    }
+}
+
+/// Frame settings.
+#[derive(Resource, Clone, Copy)]
+pub struct FrameSettings {
+    /// Reuse maps when nothing that affects them changed (off: every light regenerates every
+    /// frame, the baseline the caching is measured against).
+    pub caching: bool,
+}
+
+impl Default for FrameSettings {
+    fn default() -> Self {
+        Self { caching: true }
+    }
+}
+
+/// The technique zero-size (point) lights take: a hard shadow map.
+#[derive(Resource, Clone, Default)]
+pub struct HardShadowPath(pub Option<Arc<dyn DynTechnique>>);
+
+/// Last known world bounds of every caster entity, and the regions that changed this frame.
+#[derive(Resource, Default)]
+pub struct CasterIndex {
+    /// Bounds by entity.
+    pub bounds: HashMap<Entity, Aabb>,
+    /// Old and new bounds of casters that moved, changed mesh, appeared or disappeared.
+    pub changed: Vec<Aabb>,
+}
+
+/// The sphere a light influences: centre and radius (infinite for distant lights).
+pub fn influence(light: &Light, range: f32) -> (Vec3, f32) {
+    match light.center() {
+        crate::light::LightPoint::Position(p) if light.kind() != LightKind::Distant => (p, range),
+        _ => (Vec3::ZERO, f32::INFINITY),
+    }
+}
+
+/// Whether the box `b` reaches into the sphere `(c, r)`.
+pub fn box_in_sphere(b: &Aabb, c: Vec3, r: f32) -> bool {
+    if !r.is_finite() {
+        return true;
+    }
+    let q = c.clamp(b.min, b.max);
+    q.distance_squared(c) <= r * r
+}

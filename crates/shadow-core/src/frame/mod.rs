@@ -1,0 +1,145 @@
+//! The frame pipeline: simulate only the effects a scene calls for.
+//!
+//! Lights carry a [`ShadowConfig`] (an explicit technique, or `Auto` within a time budget);
+//! technique crates register one system set each ([`FramePipeline::add_technique`], called from
+//! their `add_to`), with a run condition: a technique no light uses, or a scene without casters,
+//! costs nothing. Every frame:
+//!
+//! 1. [`tracking::track_casters`]: old and new bounds of casters that moved, changed, appeared
+//!    or disappeared (`Changed`, `Added`, `RemovedComponents`);
+//! 2. [`tracking::resolve_techniques`]: the technique of lights whose light or settings changed
+//!    (zero-size lights take the hard-shadow path; `Auto` picks from a [`TechniqueProfile`] and
+//!    says why in [`ResolvedTechnique::reason`]);
+//! 3. [`tracking::mark_stale`]: lights whose influence a changed caster reaches;
+//! 4. per technique, [`technique_system::run_technique`]: regenerate stale lights' maps, reuse the
+//!    others, evaluate the receivers within each light's influence.
+//!
+//! [`FrameStats`] says what was done: maps generated and reused, receivers evaluated, time per
+//! system.
+
+pub mod components;
+pub mod profile;
+pub mod stats;
+pub mod technique_system;
+pub mod tracking;
+
+pub use components::*;
+pub use profile::{ProfileEntry, TechniqueProfile};
+pub use stats::{FrameStats, TechniqueStats};
+
+use crate::scene::ShadowCaster;
+use crate::technique::DynTechnique;
+use bevy_ecs::prelude::*;
+use std::sync::Arc;
+use technique_system::{CasterQuery, LightQuery, run_technique};
+
+/// Every technique instance registered with the pipeline (what `Auto` may pick from).
+#[derive(Resource, Clone, Default)]
+pub struct TechniqueRegistry(pub Vec<Arc<dyn DynTechnique>>);
+
+/// The core sets, in order; technique sets run after [`CoreSet::Stale`].
+#[derive(SystemSet, Debug, Clone, PartialEq, Eq, Hash)]
+pub enum CoreSet {
+    /// Caster tracking.
+    Track,
+    /// Technique resolution.
+    Resolve,
+    /// Staleness.
+    Stale,
+}
+
+/// The system set of one technique.
+#[derive(SystemSet, Debug, Clone, PartialEq, Eq, Hash)]
+pub struct TechniqueSet(pub &'static str);
+
+/// The frame schedule and what is registered with it.
+pub struct FramePipeline {
+    schedule: Schedule,
+    registry: TechniqueRegistry,
+    hard: HardShadowPath,
+    techniques: Vec<&'static str>,
+}
+
+impl Default for FramePipeline {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FramePipeline {
+    /// The core systems, no technique yet.
+    pub fn new() -> Self {
+        let mut schedule = Schedule::default();
+        schedule.configure_sets((CoreSet::Track, CoreSet::Resolve, CoreSet::Stale).chain());
+        schedule.add_systems((
+            tracking::track_casters.in_set(CoreSet::Track),
+            tracking::resolve_techniques.in_set(CoreSet::Resolve),
+            tracking::mark_stale.in_set(CoreSet::Stale),
+        ));
+        Self {
+            schedule,
+            registry: TechniqueRegistry::default(),
+            hard: HardShadowPath::default(),
+            techniques: Vec::new(),
+        }
+    }
+
+    /// Registers technique `name` with its instances: one system in [`TechniqueSet`]`(name)`
+    /// that runs only when a light uses it and the scene has casters.
+    pub fn add_technique(&mut self, name: &'static str, instances: Vec<Arc<dyn DynTechnique>>) {
+        self.registry.0.extend(instances);
+        if self.techniques.contains(&name) {
+            return;
+        }
+        self.techniques.push(name);
+        self.schedule
+            .configure_sets(TechniqueSet(name).after(CoreSet::Stale));
+        let system = move |lights: LightQuery,
+                           casters: CasterQuery,
+                           index: Res<CasterIndex>,
+                           frame: Res<FrameReceivers>,
+                           backend: Res<FrameBackend>,
+                           stats: ResMut<FrameStats>| {
+            run_technique(name, lights, casters, index, frame, backend, stats)
+        };
+        let used = move |lights: Query<&ResolvedTechnique>,
+                         casters: Query<(), With<ShadowCaster>>| {
+            !casters.is_empty() && lights.iter().any(|r| r.technique.name() == name)
+        };
+        self.schedule
+            .add_systems(system.in_set(TechniqueSet(name)).run_if(used));
+    }
+
+    /// The technique zero-size lights take (registered too).
+    pub fn set_hard_path(&mut self, t: Arc<dyn DynTechnique>) {
+        self.add_technique(t.name(), vec![Arc::clone(&t)]);
+        self.hard = HardShadowPath(Some(t));
+    }
+
+    /// The registered technique names.
+    pub fn techniques(&self) -> &[&'static str] {
+        &self.techniques
+    }
+
+    /// Runs one frame on `world` and returns its statistics (also left in the world as the
+    /// [`FrameStats`] resource). Missing resources get their defaults; a [`TechniqueProfile`]
+    /// defaults to [`TechniqueProfile::defaults`].
+    pub fn run(&mut self, world: &mut World) -> FrameStats {
+        world.insert_resource(self.registry.clone());
+        world.insert_resource(self.hard.clone());
+        world.init_resource::<CasterIndex>();
+        world.init_resource::<FrameReceivers>();
+        world.init_resource::<FrameBackend>();
+        world.init_resource::<FrameSettings>();
+        if !world.contains_resource::<TechniqueProfile>() {
+            world.insert_resource(TechniqueProfile::defaults());
+        }
+        let frame = world.get_resource::<FrameStats>().map_or(0, |s| s.frame) + 1;
+        world.insert_resource(FrameStats {
+            frame,
+            ..Default::default()
+        });
+        self.schedule.run(world);
+        world.resource::<FrameStats>().clone()
+    }
+}

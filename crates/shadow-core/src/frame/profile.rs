@@ -1,0 +1,114 @@
+//! Measured profiles for [`crate::frame::TechniqueChoice::Auto`]: per light kind and backend,
+//! each configuration's time (generation + evaluation) and error, from a `report.json` of this
+//! machine (the harness loads it) or the built-in defaults.
+
+use crate::light::LightKind;
+use crate::technique::Backend;
+
+/// One measured configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProfileEntry {
+    /// Technique name, as [`crate::DynTechnique::name`].
+    pub technique: String,
+    /// Variant label, as [`crate::DynTechnique::variant`].
+    pub variant: String,
+    /// Light kind the measurement is for.
+    pub light: LightKind,
+    /// Backend it ran on.
+    pub backend: Backend,
+    /// Map resolution.
+    pub resolution: u32,
+    /// Generation + evaluation, milliseconds (median over the profile's scenes of this kind).
+    pub time_ms: f64,
+    /// RMS of `V * 255` against the reference (mean over those scenes).
+    pub rms_255: f64,
+}
+
+/// A profile: every measured configuration.
+#[derive(bevy_ecs::resource::Resource, Clone, Debug, Default, PartialEq)]
+pub struct TechniqueProfile {
+    /// The entries.
+    pub entries: Vec<ProfileEntry>,
+}
+
+/// Built-in defaults: `report --quick` medians on a 2-core CPU (lavapipe for `gpu`), map
+/// resolution 256, one row per light kind and technique family. Used when no `report.json`
+/// profile is given.
+const DEFAULTS: &[(&str, &str, LightKind, f64, f64)] = &[
+    ("hard-shadow-map", "nearest", LightKind::Rect, 2.5, 15.0),
+    ("pcf", "r2", LightKind::Rect, 3.0, 12.0),
+    ("pcss", "7x7-9x9", LightKind::Rect, 5.0, 9.0),
+    ("accumulation", "n16", LightKind::Rect, 16.0, 6.0),
+    ("occlusion-slices", "sat-8", LightKind::Rect, 8.0, 4.2),
+    ("occlusion-slices", "nbuffer-8", LightKind::Rect, 30.0, 6.9),
+    ("hard-shadow-map", "nearest", LightKind::Linear, 2.5, 38.0),
+    ("pcss", "7x7-9x9", LightKind::Linear, 5.0, 12.2),
+    ("accumulation", "n16", LightKind::Linear, 16.0, 7.7),
+    ("linear-light", "n5", LightKind::Linear, 12.0, 9.2),
+    ("hard-shadow-map", "nearest", LightKind::Disk, 2.5, 30.0),
+    ("pcss", "7x7-9x9", LightKind::Disk, 5.0, 20.0),
+    (
+        "penumbra-limit",
+        "silhouette-f32",
+        LightKind::Disk,
+        6.0,
+        18.0,
+    ),
+    ("accumulation", "n16", LightKind::Disk, 16.0, 15.0),
+    ("hard-shadow-map", "nearest", LightKind::Sphere, 2.5, 35.0),
+    ("pcss", "7x7-9x9", LightKind::Sphere, 5.0, 31.5),
+    ("accumulation", "n16", LightKind::Sphere, 16.0, 30.4),
+    ("occlusion-slices", "sat-16", LightKind::Sphere, 13.0, 28.9),
+    ("hard-shadow-map", "nearest", LightKind::Distant, 2.5, 16.5),
+    ("pcf", "r2", LightKind::Distant, 3.0, 17.8),
+    (
+        "penumbra-limit",
+        "silhouette-f32",
+        LightKind::Distant,
+        4.0,
+        12.8,
+    ),
+    ("accumulation", "n16", LightKind::Distant, 16.0, 11.4),
+];
+
+impl TechniqueProfile {
+    /// The built-in defaults, for both backends.
+    pub fn defaults() -> Self {
+        let entries = DEFAULTS
+            .iter()
+            .flat_map(|&(t, v, light, time_ms, rms_255)| {
+                [Backend::Cpu, Backend::Gpu].map(|backend| ProfileEntry {
+                    technique: t.into(),
+                    variant: v.into(),
+                    light,
+                    backend,
+                    resolution: 256,
+                    time_ms,
+                    rms_255,
+                })
+            })
+            .collect();
+        Self { entries }
+    }
+
+    /// The entry with the lowest error among those for `light` on `backend` whose time fits
+    /// `budget_ms` and that `available(technique, variant)` accepts (ties: the faster one, then
+    /// the first); `None` when nothing fits.
+    pub fn pick(
+        &self,
+        light: LightKind,
+        backend: Backend,
+        budget_ms: f64,
+        available: impl Fn(&str, &str) -> bool,
+    ) -> Option<&ProfileEntry> {
+        self.entries
+            .iter()
+            .filter(|e| e.light == light && e.backend == backend && e.time_ms <= budget_ms)
+            .filter(|e| available(&e.technique, &e.variant))
+            .min_by(|a, b| {
+                a.rms_255
+                    .total_cmp(&b.rms_255)
+                    .then(a.time_ms.total_cmp(&b.time_ms))
+            })
+    }
+}

@@ -1,0 +1,146 @@
+//! The system one technique runs per frame, for the lights resolved to it: regenerate the maps
+//! of stale lights (from the casters within the light's influence), reuse the others, and
+//! evaluate the frame receivers within the influence.
+
+use super::components::*;
+use super::stats::FrameStats;
+use crate::SceneGeometry;
+use crate::mesh::Aabb;
+use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
+use crate::technique::Receivers;
+use bevy_ecs::prelude::*;
+use std::time::Instant;
+
+/// The lights a technique system reads and updates.
+pub type LightQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        &'static LightSource,
+        &'static ShadowConfig,
+        &'static ResolvedTechnique,
+        &'static mut LightState,
+    ),
+>;
+
+/// The caster instances.
+pub type CasterQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        &'static MeshHandle,
+        &'static Transform,
+        Option<&'static SpawnOrder>,
+    ),
+    With<ShadowCaster>,
+>;
+
+/// The casters within `(c, r)`, flattened in spawn order, and their bounds grown by the
+/// receivers in range.
+fn light_geometry(
+    casters: &CasterQuery,
+    index: &CasterIndex,
+    c: glam::Vec3,
+    r: f32,
+    receivers: &[glam::Vec3],
+) -> SceneGeometry {
+    let mut items: Vec<_> = casters
+        .iter()
+        .filter(|(e, ..)| index.bounds.get(e).is_some_and(|b| box_in_sphere(b, c, r)))
+        .map(|(e, m, t, o)| ((o.map_or(u64::MAX, |o| o.0), e), m, t))
+        .collect();
+    items.sort_by_key(|(k, ..)| *k);
+    let casters: Vec<[glam::Vec3; 3]> = items
+        .iter()
+        .flat_map(|(_, m, t)| m.0.world_triangles(t.0).collect::<Vec<_>>())
+        .collect();
+    let mut bounds = Aabb::of_triangles(&casters);
+    if !casters.is_empty() {
+        for p in receivers {
+            bounds.grow(*p);
+        }
+    }
+    SceneGeometry {
+        casters,
+        receivers: Vec::new(),
+        bounds,
+    }
+}
+
+/// One frame of technique `name`.
+pub fn run_technique(
+    name: &str,
+    mut lights: LightQuery,
+    casters: CasterQuery,
+    index: Res<CasterIndex>,
+    frame: Res<FrameReceivers>,
+    backend: Res<FrameBackend>,
+    mut stats: ResMut<FrameStats>,
+) {
+    let start = Instant::now();
+    let gpu = backend.gpu.as_deref();
+    for (light, config, resolved, mut state) in &mut lights {
+        if resolved.technique.name() != name {
+            continue;
+        }
+        let (c, r) = influence(&light.0, config.range);
+        let inside: Vec<usize> = (0..frame.positions.len())
+            .filter(|&i| !r.is_finite() || frame.positions[i].distance_squared(c) <= r * r)
+            .collect();
+        let positions: Vec<_> = inside.iter().map(|&i| frame.positions[i]).collect();
+        let normals: Vec<_> = inside.iter().map(|&i| frame.normals[i]).collect();
+        state.visibility = vec![1.0; frame.positions.len()];
+        state.evaluated = 0;
+        let generated = state.stale || state.maps.is_none();
+        if generated {
+            let g = light_geometry(&casters, &index, c, r, &positions);
+            state.maps = None;
+            if g.casters.is_empty() {
+                state.stale = false;
+                continue;
+            }
+            match resolved.technique.generate(
+                backend.backend,
+                gpu,
+                &g,
+                &light.0,
+                resolved.resolution,
+            ) {
+                Ok(m) => {
+                    state.maps = Some(m);
+                    state.error = None;
+                }
+                Err(e) => {
+                    state.error = Some(e.to_string());
+                    state.stale = false;
+                    continue;
+                }
+            }
+            state.stale = false;
+        }
+        let Some(maps) = state.maps.as_ref() else {
+            continue;
+        };
+        let recv = Receivers {
+            positions: &positions,
+            normals: &normals,
+        };
+        match resolved.technique.evaluate(gpu, maps, &recv) {
+            Ok(v) => {
+                for (&i, x) in inside.iter().zip(v) {
+                    state.visibility[i] = x;
+                }
+                state.evaluated = inside.len();
+            }
+            Err(e) => state.error = Some(e.to_string()),
+        }
+        let evaluated = state.evaluated;
+        stats.record(name, generated, evaluated);
+    }
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    *stats.system_ms.entry(name.to_string()).or_default() += ms;
+    if let Some(t) = stats.techniques.get_mut(name) {
+        t.ms += ms;
+    }
+}
