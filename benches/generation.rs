@@ -3,17 +3,19 @@
 //! shadow-width (width map alone and full generation, every width method) on `torus`, and for
 //! penumbra-limit (both generators, f32 and RGBA8 storage) on `torus`, and for occlusion-slices
 //! (slicing + prefiltering, every filter) on `foliage`, and for linear-light (N = 2, 3, 5) on
-//! `linear-bar`.
+//! `linear-bar`; and the frame pipeline's 100-frame animated scene with and without map caching.
 //!
 //! `cargo bench -p shadow-benches`; GPU timings are submit-and-wait (the GPU path returns after
 //! the device has finished). Without a GPU adapter the GPU group is skipped with a message.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use harness::animated::{self, AnimatedScene};
 use harness::baselines::{Filter, ShadowMapBaseline};
 use harness::scenes::catalogue::build;
 use linear_light::LinearLight;
 use occlusion_slices::{Filter as SliceFilter, OcclusionSlices};
 use penumbra_limit::{PenumbraLimit, Storage};
+use shadow_core::frame::FrameSettings;
 use shadow_core::{Backend, DynTechnique, GpuContext};
 use shadow_width::width::width_map;
 use shadow_width::{DepthLayer, ShadowWidth, cpu};
@@ -192,12 +194,35 @@ fn linear_light_generation(c: &mut Criterion) {
     }
 }
 
+/// The frame pipeline on `harness::animated` (96² receivers, maps of 128): 100 frames, the box
+/// moving for the first 50, with map caching and without (every light regenerated each frame).
+fn frame_caching(c: &mut Criterion) {
+    let mut group = c.benchmark_group("frame/animated-100");
+    group.sample_size(10);
+    for caching in [true, false] {
+        let id = if caching { "cached" } else { "uncached" };
+        group.bench_function(id, |bch| {
+            bch.iter(|| {
+                let mut lab = AnimatedScene::new(96, 128).expect("animated scene");
+                lab.scene.world.insert_resource(FrameSettings { caching });
+                let mut p = animated::pipeline();
+                for f in 0..100 {
+                    lab.step(f, 100);
+                    p.run(&mut lab.scene.world);
+                }
+            })
+        });
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
     generation,
     shadow_width_generation,
     penumbra_limit_generation,
     occlusion_slices_generation,
-    linear_light_generation
+    linear_light_generation,
+    frame_caching
 );
 criterion_main!(benches);

@@ -2,25 +2,16 @@
 //! frame statistics, and outputs equal to a from-scratch render.
 
 use glam::{Mat4, Vec2, Vec3};
+use harness::animated::pipeline;
 use harness::scenes::shapes::{cuboid, ground};
 use proptest::prelude::*;
 use shadow_core::frame::{
-    FramePipeline, FrameReceivers, FrameStats, LightState, ProfileEntry, ResolvedTechnique,
-    ShadowConfig, TechniqueProfile,
+    FrameReceivers, FrameStats, LightState, ProfileEntry, ResolvedTechnique, ShadowConfig,
+    TechniqueProfile,
 };
 use shadow_core::scene::Transform;
 use shadow_core::{Backend, DynTechnique, Light, LightKind, Scene};
 use std::sync::Arc;
-
-fn pipeline() -> FramePipeline {
-    let mut p = FramePipeline::new();
-    harness::baselines::add_to(&mut p);
-    occlusion_slices::add_to(&mut p);
-    linear_light::add_to(&mut p);
-    penumbra_limit::add_to(&mut p);
-    shadow_width::add_to(&mut p);
-    p
-}
 
 struct Lab {
     scene: Scene,

@@ -1,0 +1,154 @@
+//! The animated demo scene of the frame pipeline, shared by `examples/animated.rs`, the
+//! `frame_caching` bench and tests: five lights of different kinds (rect, segment, disk, sphere,
+//! and a point that takes the hard-shadow path), a static torus and a box that orbits between the
+//! lights for the first half of the frames, then rests.
+
+use crate::scenes::shapes::{cuboid, ground, torus};
+use bevy_ecs::change_detection::DetectChangesMut;
+use bevy_ecs::entity::Entity;
+use glam::{Mat4, Vec3};
+use shadow_core::frame::{FramePipeline, FrameReceivers, ShadowConfig};
+use shadow_core::raster::{GBufferTexel, gbuffer};
+use shadow_core::scene::Transform;
+use shadow_core::{Camera, DynTechnique, Light, Map2D, Result, Scene};
+use std::sync::Arc;
+
+/// A frame pipeline with every technique crate and the baselines registered.
+pub fn pipeline() -> FramePipeline {
+    let mut p = FramePipeline::new();
+    crate::baselines::add_to(&mut p);
+    occlusion_slices::add_to(&mut p);
+    linear_light::add_to(&mut p);
+    penumbra_limit::add_to(&mut p);
+    shadow_width::add_to(&mut p);
+    p
+}
+
+/// The scene, its light entities, the moving caster and the camera G-buffer its receivers come
+/// from.
+pub struct AnimatedScene {
+    /// The ECS scene (frame receivers already inserted).
+    pub scene: Scene,
+    /// The light entities, in the order above.
+    pub lights: Vec<Entity>,
+    /// The orbiting box.
+    pub mover: Entity,
+    /// The camera G-buffer (`size²`).
+    pub gbuffer: Map2D<GBufferTexel>,
+    /// G-buffer indices of the frame receivers.
+    pub pixels: Vec<usize>,
+}
+
+impl AnimatedScene {
+    /// Builds the scene with `size²` camera receivers and maps of `resolution`.
+    pub fn new(size: u32, resolution: u32) -> Result<Self> {
+        let mut scene = Scene::new();
+        scene.add_mesh(Arc::new(ground(14.0, 0.0, 1)), Mat4::IDENTITY, true, true)?;
+        scene.add_mesh(
+            Arc::new(torus(Vec3::new(-3.0, 0.9, -3.0), 0.6, 0.2, 32, 12)),
+            Mat4::IDENTITY,
+            true,
+            true,
+        )?;
+        let mover = scene.add_mesh(
+            Arc::new(cuboid("mover", Vec3::ZERO, Vec3::splat(0.35))),
+            Mat4::IDENTITY,
+            true,
+            true,
+        )?;
+        let lights = [
+            (
+                Light::Rect {
+                    center: Vec3::new(-3.0, 3.0, -3.0),
+                    u_half: Vec3::X * 0.4,
+                    v_half: Vec3::Z * 0.4,
+                },
+                Arc::new(occlusion_slices::OcclusionSlices::new(
+                    8,
+                    occlusion_slices::Filter::Sat,
+                )) as Arc<dyn DynTechnique>,
+            ),
+            (
+                Light::Linear {
+                    a: Vec3::new(2.4, 3.0, -3.0),
+                    b: Vec3::new(3.6, 3.0, -3.0),
+                },
+                Arc::new(linear_light::LinearLight::new(3)),
+            ),
+            (
+                Light::Disk {
+                    center: Vec3::new(3.0, 3.0, 3.0),
+                    normal: Vec3::NEG_Y,
+                    radius: 0.4,
+                },
+                Arc::new(penumbra_limit::PenumbraLimit::new(
+                    penumbra_limit::Generation::Silhouette,
+                )),
+            ),
+            (
+                Light::Sphere {
+                    center: Vec3::new(-3.0, 3.0, 3.0),
+                    radius: 0.3,
+                },
+                Arc::new(shadow_width::ShadowWidth::standard_set().remove(0)),
+            ),
+            (
+                Light::Point {
+                    position: Vec3::new(0.0, 3.5, 0.0),
+                },
+                Arc::new(crate::baselines::ShadowMapBaseline::new(
+                    crate::baselines::Filter::Hard,
+                )),
+            ),
+        ];
+        let mut ids = Vec::new();
+        for (light, t) in lights {
+            let e = scene.add_light(light)?;
+            scene
+                .world
+                .entity_mut(e)
+                .insert(ShadowConfig::explicit(t, resolution).with_range(4.5));
+            ids.push(e);
+        }
+        let camera = Camera {
+            eye: Vec3::new(0.0, 12.0, 7.0),
+            target: Vec3::ZERO,
+            fov_y: 55f32.to_radians(),
+            near: 0.1,
+            far: 50.0,
+        };
+        scene.set_camera(camera);
+        let geo = scene.geometry();
+        let gb = gbuffer(
+            &camera.view(size, size),
+            camera.eye,
+            size,
+            size,
+            &geo.receivers,
+        );
+        let pixels: Vec<usize> = (0..gb.data().len())
+            .filter(|&i| gb.data()[i].covered)
+            .collect();
+        scene.world.insert_resource(FrameReceivers {
+            positions: pixels.iter().map(|&i| gb.data()[i].position).collect(),
+            normals: pixels.iter().map(|&i| gb.data()[i].normal).collect(),
+        });
+        Ok(Self {
+            scene,
+            lights: ids,
+            mover,
+            gbuffer: gb,
+            pixels,
+        })
+    }
+
+    /// Places the box for frame `f` of `frames`: it orbits the centre for the first half, then
+    /// rests. An unchanged transform is not written (`set_if_neq`), so it is not a change.
+    pub fn step(&mut self, f: u32, frames: u32) {
+        let t = (f.min(frames / 2) as f32) * 0.25;
+        let at = Vec3::new(3.0 * t.cos(), 0.9, 3.0 * t.sin());
+        if let Some(mut tr) = self.scene.world.get_mut::<Transform>(self.mover) {
+            tr.set_if_neq(Transform(Mat4::from_translation(at)));
+        }
+    }
+}
