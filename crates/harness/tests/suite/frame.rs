@@ -303,3 +303,34 @@ fn auto_lights_say_what_they_picked_and_why() {
         0
     );
 }
+
+/// A `report.json` becomes a profile: runs grouped by technique, variant, backend, resolution
+/// and the light kind of their scene; time is the median of generate + evaluate, error the mean
+/// rms; runs on unknown scenes are skipped; a malformed file is a typed error.
+#[test]
+fn a_report_json_becomes_a_profile() {
+    let run = |scene: &str, g: f64, rms: f64| {
+        format!(
+            r#"{{"scene":"{scene}","technique":"pcf","variant":"r2","backend":"cpu","resolution":256,
+            "generate_ms":{g},"evaluate_ms":1.0,"rms_255":{rms}}}"#
+        )
+    };
+    let text = format!(
+        r#"{{"version":1,"runs":[{},{},{},{}]}}"#,
+        run("plane-occluder", 1.0, 4.0),
+        run("overlap", 3.0, 8.0),
+        run("contact", 9.0, 6.0),
+        run("my-own-scene", 1.0, 1.0)
+    );
+    let p = harness::profile::from_report_json(&text).unwrap();
+    assert_eq!(p.entries.len(), 1, "{p:?}");
+    let e = &p.entries[0];
+    assert_eq!(
+        (e.light, e.backend, e.resolution),
+        (LightKind::Rect, Backend::Cpu, 256)
+    );
+    assert_eq!(e.time_ms, 4.0, "median of 2, 4 and 10");
+    assert_eq!(e.rms_255, 6.0);
+    assert!(harness::profile::from_report_json("{\"runs\": 3}").is_err());
+    assert!(harness::profile::from_report_json("not json").is_err());
+}
