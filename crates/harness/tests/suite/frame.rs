@@ -173,6 +173,21 @@ fn a_moving_caster_regenerates_exactly_the_lights_it_reaches() {
     }
 }
 
+/// A caster behind the rect light's emitting plane (above it) cannot shadow anything for it:
+/// moving it there regenerates nothing, though it is within the light's range.
+#[test]
+fn a_caster_behind_a_one_sided_light_does_not_make_it_stale() {
+    let mut lab = lab(5.0);
+    let above = Mat4::from_translation(Vec3::new(-5.0, 3.4, 0.0));
+    lab.scene.world.get_mut::<Transform>(lab.mover).unwrap().0 = above;
+    let mut p = pipeline();
+    p.run(&mut lab.scene.world);
+    lab.scene.world.get_mut::<Transform>(lab.mover).unwrap().0 =
+        Mat4::from_translation(Vec3::new(-5.2, 3.5, 0.3));
+    let s = p.run(&mut lab.scene.world);
+    assert_eq!((s.maps_generated, s.maps_reused), (0, 3), "{}", s.summary());
+}
+
 fn lab_with_mover(t: Mat4) -> Lab {
     let mut l = lab(5.0);
     l.scene.world.get_mut::<Transform>(l.mover).unwrap().0 = t;

@@ -36,18 +36,23 @@ pub type CasterQuery<'w, 's> = Query<
     With<ShadowCaster>,
 >;
 
-/// The casters within `(c, r)`, flattened in spawn order, and their bounds grown by the
+/// The casters that reach `light` ([`caster_reaches`]), flattened in spawn order, and their bounds grown by the
 /// receivers in range.
 fn light_geometry(
     casters: &CasterQuery,
     index: &CasterIndex,
-    c: glam::Vec3,
-    r: f32,
+    light: &crate::Light,
+    range: f32,
     receivers: &[glam::Vec3],
 ) -> SceneGeometry {
     let mut items: Vec<_> = casters
         .iter()
-        .filter(|(e, ..)| index.bounds.get(e).is_some_and(|b| box_in_sphere(b, c, r)))
+        .filter(|(e, ..)| {
+            index
+                .bounds
+                .get(e)
+                .is_some_and(|b| caster_reaches(light, range, b))
+        })
         .map(|(e, m, t, o)| ((o.map_or(u64::MAX, |o| o.0), e), m, t))
         .collect();
     items.sort_by_key(|(k, ..)| *k);
@@ -94,7 +99,7 @@ pub fn run_technique(
         state.evaluated = 0;
         let generated = state.stale || state.maps.is_none();
         if generated {
-            let g = light_geometry(&casters, &index, c, r, &positions);
+            let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
             state.maps = None;
             if g.casters.is_empty() {
                 state.stale = false;

@@ -171,8 +171,8 @@ pub fn resolve_techniques(
     }
 }
 
-/// Marks stale every light whose influence a changed caster region reaches (every light, with
-/// caching off).
+/// Marks stale every light that a changed caster region reaches ([`caster_reaches`]; every
+/// light, with caching off).
 pub fn mark_stale(
     index: Res<CasterIndex>,
     settings: Res<FrameSettings>,
@@ -183,8 +183,11 @@ pub fn mark_stale(
             state.stale = true;
             continue;
         }
-        let (c, r) = influence(&light.0, config.range);
-        if index.changed.iter().any(|b| box_in_sphere(b, c, r)) {
+        if index
+            .changed
+            .iter()
+            .any(|b| caster_reaches(&light.0, config.range, b))
+        {
             state.stale = true;
         }
     }
