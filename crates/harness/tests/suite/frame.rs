@@ -349,3 +349,46 @@ fn a_report_json_becomes_a_profile() {
     assert!(harness::profile::from_report_json("{\"runs\": 3}").is_err());
     assert!(harness::profile::from_report_json("not json").is_err());
 }
+
+/// Bad frame input is reported on the lights, never a panic: mismatched receiver arrays, a NaN
+/// receiver, a map resolution of 0.
+#[test]
+fn bad_frame_input_is_reported_not_panicked() {
+    let mut l = lab(5.0);
+    let mut p = pipeline();
+    l.scene.world.resource_mut::<FrameReceivers>().normals.pop();
+    p.run(&mut l.scene.world);
+    let err = |lab: &Lab, e| {
+        lab.scene
+            .world
+            .get::<LightState>(e)
+            .unwrap()
+            .error
+            .clone()
+            .unwrap_or_default()
+    };
+    assert!(err(&l, l.rect).contains("normals"), "{}", err(&l, l.rect));
+    let mut l = lab(5.0);
+    l.scene.world.resource_mut::<FrameReceivers>().positions[0] = Vec3::NAN;
+    p.run(&mut l.scene.world);
+    assert!(
+        err(&l, l.rect).contains("not finite"),
+        "{}",
+        err(&l, l.rect)
+    );
+    let mut l = lab(5.0);
+    let os: Arc<dyn DynTechnique> = Arc::new(occlusion_slices::OcclusionSlices::new(
+        8,
+        occlusion_slices::Filter::Sat,
+    ));
+    l.scene
+        .world
+        .entity_mut(l.rect)
+        .insert(ShadowConfig::explicit(os, 0).with_range(3.0));
+    pipeline().run(&mut l.scene.world);
+    assert!(
+        err(&l, l.rect).contains("resolution"),
+        "{}",
+        err(&l, l.rect)
+    );
+}

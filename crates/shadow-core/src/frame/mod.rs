@@ -53,8 +53,12 @@ pub enum CoreSet {
 pub struct TechniqueSet(pub &'static str);
 
 /// The frame schedule and what is registered with it.
+///
+/// A `bevy_ecs` schedule belongs to the world it first ran on; running the pipeline on another
+/// world rebuilds it for that world (its caches and change ticks live in the world).
 pub struct FramePipeline {
     schedule: Schedule,
+    world: Option<bevy_ecs::world::WorldId>,
     registry: TechniqueRegistry,
     hard: HardShadowPath,
     techniques: Vec<&'static str>,
@@ -69,15 +73,9 @@ impl Default for FramePipeline {
 impl FramePipeline {
     /// The core systems, no technique yet.
     pub fn new() -> Self {
-        let mut schedule = Schedule::default();
-        schedule.configure_sets((CoreSet::Track, CoreSet::Resolve, CoreSet::Stale).chain());
-        schedule.add_systems((
-            tracking::track_casters.in_set(CoreSet::Track),
-            tracking::resolve_techniques.in_set(CoreSet::Resolve),
-            tracking::mark_stale.in_set(CoreSet::Stale),
-        ));
         Self {
-            schedule,
+            schedule: core_schedule(),
+            world: None,
             registry: TechniqueRegistry::default(),
             hard: HardShadowPath::default(),
             techniques: Vec::new(),
@@ -92,22 +90,7 @@ impl FramePipeline {
             return;
         }
         self.techniques.push(name);
-        self.schedule
-            .configure_sets(TechniqueSet(name).after(CoreSet::Stale));
-        let system = move |lights: LightQuery,
-                           casters: CasterQuery,
-                           index: Res<CasterIndex>,
-                           frame: Res<FrameReceivers>,
-                           backend: Res<FrameBackend>,
-                           stats: ResMut<FrameStats>| {
-            run_technique(name, lights, casters, index, frame, backend, stats)
-        };
-        let used = move |lights: Query<&ResolvedTechnique>,
-                         casters: Query<(), With<ShadowCaster>>| {
-            !casters.is_empty() && lights.iter().any(|r| r.technique.name() == name)
-        };
-        self.schedule
-            .add_systems(system.in_set(TechniqueSet(name)).run_if(used));
+        add_technique_system(&mut self.schedule, name);
     }
 
     /// The technique zero-size lights take (registered too).
@@ -125,6 +108,13 @@ impl FramePipeline {
     /// [`FrameStats`] resource). Missing resources get their defaults; a [`TechniqueProfile`]
     /// defaults to [`TechniqueProfile::defaults`].
     pub fn run(&mut self, world: &mut World) -> FrameStats {
+        if self.world.is_some_and(|id| id != world.id()) {
+            self.schedule = core_schedule();
+            for name in &self.techniques {
+                add_technique_system(&mut self.schedule, name);
+            }
+        }
+        self.world = Some(world.id());
         world.insert_resource(self.registry.clone());
         world.insert_resource(self.hard.clone());
         world.init_resource::<CasterIndex>();
@@ -142,4 +132,33 @@ impl FramePipeline {
         self.schedule.run(world);
         world.resource::<FrameStats>().clone()
     }
+}
+
+/// The core sets and systems.
+fn core_schedule() -> Schedule {
+    let mut schedule = Schedule::default();
+    schedule.configure_sets((CoreSet::Track, CoreSet::Resolve, CoreSet::Stale).chain());
+    schedule.add_systems((
+        tracking::track_casters.in_set(CoreSet::Track),
+        tracking::resolve_techniques.in_set(CoreSet::Resolve),
+        tracking::mark_stale.in_set(CoreSet::Stale),
+    ));
+    schedule
+}
+
+/// Technique `name`'s system in its set, after the core sets, run only when used.
+fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
+    schedule.configure_sets(TechniqueSet(name).after(CoreSet::Stale));
+    let system = move |lights: LightQuery,
+                       casters: CasterQuery,
+                       index: Res<CasterIndex>,
+                       frame: Res<FrameReceivers>,
+                       backend: Res<FrameBackend>,
+                       stats: ResMut<FrameStats>| {
+        run_technique(name, lights, casters, index, frame, backend, stats)
+    };
+    let used = move |lights: Query<&ResolvedTechnique>, casters: Query<(), With<ShadowCaster>>| {
+        !casters.is_empty() && lights.iter().any(|r| r.technique.name() == name)
+    };
+    schedule.add_systems(system.in_set(TechniqueSet(name)).run_if(used));
 }

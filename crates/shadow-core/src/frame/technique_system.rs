@@ -85,8 +85,21 @@ pub fn run_technique(
 ) {
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
+    // Bad receivers are every light's error (a NaN point must not pass as "out of range").
+    let mismatch = Receivers {
+        positions: &frame.positions,
+        normals: &frame.normals,
+    }
+    .validate()
+    .err()
+    .map(|e| format!("FrameReceivers: {e}"));
     for (light, config, resolved, mut state) in &mut lights {
         if resolved.technique.name() != name {
+            continue;
+        }
+        if let Some(m) = &mismatch {
+            state.error = Some(m.clone());
+            state.visibility.clear();
             continue;
         }
         let (c, r) = influence(&light.0, config.range);
