@@ -45,6 +45,8 @@ pub struct Machine {
 pub struct ReferenceInfo {
     /// Scene name.
     pub scene: String,
+    /// The kind of the scene's light (`"rect"`, `"linear"`, ...).
+    pub light: String,
     /// `"monte-carlo"`.
     pub method: String,
     /// Samples per receiver in penumbra (the pilot's 64 elsewhere).

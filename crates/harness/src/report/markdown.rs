@@ -1,6 +1,7 @@
 //! `report.md`: the tables a person reads.
 
 use super::json::Report;
+use super::summary::{BUDGETS_MS, lines, scaling_exponents};
 use std::fmt::Write;
 
 /// Renders the report as Markdown.
@@ -12,6 +13,7 @@ pub fn render(report: &Report) -> String {
         "Machine: {} ({} threads); GPU: {}.\n\nErrors are on `V * 255` against a ray-traced reference; times are medians in ms.\n",
         report.machine.cpu, report.machine.threads, report.machine.gpu_adapter
     );
+    summary(&mut s, report);
     let _ = writeln!(
         s,
         "## References\n\n| scene | samples/px (penumbra) | std error (255, penumbra RMS) | max std error (255) | receivers | penumbra | time ms |\n|---|---:|---:|---:|---:|---:|---:|"
@@ -67,4 +69,52 @@ pub fn render(report: &Report) -> String {
         let _ = writeln!(s, "\n![pareto {scene}](pareto-{scene}.png)");
     }
     s
+}
+
+/// The summary table: per light kind and budget, the best configuration here and its margin
+/// over the best baseline; then the generation scaling exponents.
+fn summary(s: &mut String, report: &Report) {
+    let _ = writeln!(
+        s,
+        "## Summary\n\nPer light kind and per-light budget (generation + evaluation, mean over the \
+         scenes of that kind), the configuration with the lowest mean `rms_255` here, and the best \
+         baseline (hard shadow map, PCF, PCSS, accumulation) in the same budget. Budgets: {:?} ms.\n",
+        BUDGETS_MS
+    );
+    let _ = writeln!(
+        s,
+        "| light | budget ms | best here | rms | ms | best baseline | rms | better by |\n|---|---:|---|---:|---:|---|---:|---:|"
+    );
+    for l in lines(report) {
+        let cell = |c: &Option<super::summary::Config>| match c {
+            Some(c) => format!("{} | {:.2} | {:.2}", c.label, c.rms_255, c.time_ms),
+            None => "none fits | | ".to_string(),
+        };
+        let margin = match (&l.best, &l.baseline) {
+            (Some(b), Some(base)) => format!("{:.2}", base.rms_255 - b.rms_255),
+            _ => String::new(),
+        };
+        let best = cell(&l.best);
+        let base = match &l.baseline {
+            Some(c) => format!("{} | {:.2}", c.label, c.rms_255),
+            None => "none fits | ".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {best} | {base} | {margin} |",
+            l.light, l.budget_ms
+        );
+    }
+    let exps = scaling_exponents(report);
+    if !exps.is_empty() {
+        let _ = writeln!(
+            s,
+            "\n## Scaling\n\nSlope of log(generation time) against log(texels) over the resolutions \
+             256..2048 measured (1 = linear in texels).\n\n| configuration | exponent | resolutions |\n|---|---:|---:|"
+        );
+        for (k, e, n) in exps {
+            let _ = writeln!(s, "| {k} | {e:.2} | {n} |");
+        }
+    }
+    s.push('\n');
 }

@@ -1,9 +1,11 @@
 //! The `report` subcommand: every technique on every scene against the ground truth, with times.
 
+pub mod html;
 pub mod images;
 pub mod json;
 pub mod markdown;
 pub mod pareto;
+pub mod summary;
 
 use crate::baselines::ShadowMapBaseline;
 use crate::ground_truth::GroundTruthSettings;
@@ -254,6 +256,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
             .count();
         report.references.push(ReferenceInfo {
             scene: name.clone(),
+            light: p.spec.light.kind().name().into(),
             method: "monte-carlo".into(),
             samples_per_pixel: settings.samples_per_pixel(),
             std_error_255: p.std_error_255(),
@@ -368,7 +371,9 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         &serde_json::to_string_pretty(&report)
             .map_err(|e| ShadowError::InvalidScene(e.to_string()))?,
     )?;
-    write_text(&opts.out.join("report.md"), &markdown::render(&report))?;
+    let md = markdown::render(&report);
+    write_text(&opts.out.join("report.md"), &md)?;
+    write_text(&opts.out.join("index.html"), &html::render(&md))?;
     Ok(report)
 }
 

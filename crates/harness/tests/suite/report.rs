@@ -1,6 +1,6 @@
 //! The report on a few scenes: files written, contract fields present, numbers sane.
 
-use harness::report::{BackendChoice, ReportOptions, run};
+use harness::report::{BackendChoice, ReportOptions, run, summary};
 
 #[test]
 fn quick_report_writes_the_contract() {
@@ -11,7 +11,7 @@ fn quick_report_writes_the_contract() {
         out: dir.clone(),
         scenes: Some(vec!["plane-occluder".into(), "linear-bar".into()]),
         techniques: None,
-        resolutions: Some(vec![64, 256]),
+        resolutions: Some(vec![64, 256, 512]),
         backend: BackendChoice::Cpu,
         scene_files: Vec::new(),
         size: Some(64),
@@ -20,6 +20,7 @@ fn quick_report_writes_the_contract() {
     for f in [
         "report.json",
         "report.md",
+        "index.html",
         "pareto.png",
         "plane-occluder.png",
         "pareto-linear-bar.png",
@@ -41,8 +42,8 @@ fn quick_report_writes_the_contract() {
     let linear = linear_light::LinearLight::standard_set().len();
     assert_eq!(
         runs.len(),
-        (2 * techniques + penumbra + slices + linear) * 2,
-        "2 scenes x (4 baselines + shadow-width variants) x 2 resolutions, plus penumbra-limit \
+        (2 * techniques + penumbra + slices + linear) * 3,
+        "2 scenes x (4 baselines + shadow-width variants) x 3 resolutions, plus penumbra-limit \
          and occlusion-slices on plane-occluder only (both report a segment light as unsupported) \
          and linear-light on linear-bar only (segments only)"
     );
@@ -109,4 +110,42 @@ fn quick_report_writes_the_contract() {
             .rms_255
     };
     assert!(rms("accumulation") < rms("hard-shadow-map"));
+    // The summary: per light kind and budget, the best configuration fits the budget, is the
+    // minimum error among those that fit, and is never worse than the best baseline.
+    let configs = summary::configs(&report);
+    assert_eq!(
+        configs.keys().cloned().collect::<Vec<_>>(),
+        vec!["linear".to_string(), "rect".to_string()]
+    );
+    for l in summary::lines(&report) {
+        let fits: Vec<_> = configs[&l.light]
+            .iter()
+            .filter(|c| c.time_ms <= l.budget_ms)
+            .collect();
+        match &l.best {
+            None => assert!(fits.is_empty()),
+            Some(b) => {
+                assert!(b.time_ms <= l.budget_ms);
+                assert!(fits.iter().all(|c| b.rms_255 <= c.rms_255));
+                if let Some(base) = &l.baseline {
+                    assert!(b.rms_255 <= base.rms_255);
+                    assert!(summary::BASELINES.contains(&base.technique.as_str()));
+                }
+            }
+        }
+    }
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        md.contains("## Summary") && md.contains("| rect | 2 |"),
+        "{md}"
+    );
+    assert!(md.contains("## Scaling"));
+    let exps = summary::scaling_exponents(&report);
+    assert!(!exps.is_empty() && exps.iter().all(|(_, e, n)| e.is_finite() && *n == 2));
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    assert!(html.contains("<table>") && html.contains("<img src=\"plane-occluder.png\""));
+    assert_eq!(
+        html.matches("<table>").count(),
+        md.matches("\n|---").count()
+    );
 }

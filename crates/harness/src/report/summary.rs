@@ -1,0 +1,143 @@
+//! The one-screen summary that opens `report.md`: for each light kind and time budget, the best
+//! configuration measured here and its margin over the best baseline within the same budget; and
+//! each configuration's generation-time scaling exponent.
+
+use super::json::Report;
+use std::collections::BTreeMap;
+
+/// Per-frame budgets of the summary (generation + evaluation), milliseconds.
+pub const BUDGETS_MS: [f64; 4] = [2.0, 8.0, 32.0, 128.0];
+
+/// The techniques that stand for what engines ship today.
+pub const BASELINES: [&str; 4] = ["hard-shadow-map", "pcf", "pcss", "accumulation"];
+
+/// One configuration averaged over the scenes of one light kind.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Config {
+    /// `technique variant backend resolution`.
+    pub label: String,
+    /// Technique name.
+    pub technique: String,
+    /// Mean `generate_ms + evaluate_ms` over the scenes.
+    pub time_ms: f64,
+    /// Mean `rms_255` over the scenes.
+    pub rms_255: f64,
+}
+
+/// One line of the summary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Line {
+    /// Light kind.
+    pub light: String,
+    /// Budget.
+    pub budget_ms: f64,
+    /// The lowest-error configuration within the budget.
+    pub best: Option<Config>,
+    /// The lowest-error baseline within the budget.
+    pub baseline: Option<Config>,
+}
+
+/// Configurations per light kind: runs grouped by technique/variant/backend/resolution and
+/// averaged over the scenes of that kind (a configuration missing a scene of the kind is kept
+/// with the scenes it has).
+pub fn configs(report: &Report) -> BTreeMap<String, Vec<Config>> {
+    let kind: BTreeMap<&str, &str> = report
+        .references
+        .iter()
+        .map(|r| (r.scene.as_str(), r.light.as_str()))
+        .collect();
+    let mut groups: BTreeMap<(String, String), (String, f64, f64, u32)> = BTreeMap::new();
+    for r in &report.runs {
+        let Some(&light) = kind.get(r.scene.as_str()) else {
+            continue;
+        };
+        let label = format!(
+            "{} {} {} {}",
+            r.technique, r.variant, r.backend, r.resolution
+        );
+        let g = groups
+            .entry((light.to_string(), label))
+            .or_insert_with(|| (r.technique.clone(), 0.0, 0.0, 0));
+        g.1 += r.generate_ms + r.evaluate_ms;
+        g.2 += r.errors.rms_255;
+        g.3 += 1;
+    }
+    let mut out: BTreeMap<String, Vec<Config>> = BTreeMap::new();
+    for ((light, label), (technique, t, e, n)) in groups {
+        out.entry(light).or_default().push(Config {
+            label,
+            technique,
+            time_ms: t / n as f64,
+            rms_255: e / n as f64,
+        });
+    }
+    out
+}
+
+fn best<'a>(c: impl Iterator<Item = &'a Config>, budget: f64) -> Option<Config> {
+    c.filter(|c| c.time_ms <= budget)
+        .min_by(|a, b| {
+            a.rms_255
+                .total_cmp(&b.rms_255)
+                .then(a.time_ms.total_cmp(&b.time_ms))
+        })
+        .cloned()
+}
+
+/// The summary lines, light kinds in name order, budgets ascending.
+pub fn lines(report: &Report) -> Vec<Line> {
+    let mut out = Vec::new();
+    for (light, cs) in configs(report) {
+        for budget_ms in BUDGETS_MS {
+            out.push(Line {
+                light: light.clone(),
+                budget_ms,
+                best: best(cs.iter(), budget_ms),
+                baseline: best(
+                    cs.iter()
+                        .filter(|c| BASELINES.contains(&c.technique.as_str())),
+                    budget_ms,
+                ),
+            });
+        }
+    }
+    out
+}
+
+/// Least-squares slope of `log(generate_ms)` against `log(texels)` per technique/variant/backend
+/// over the resolutions 256..=2048 present (at least two), using the median time per resolution
+/// over scenes. Linear cost in texels is 1.
+pub fn scaling_exponents(report: &Report) -> Vec<(String, f64, usize)> {
+    let mut per: BTreeMap<String, BTreeMap<u32, Vec<f64>>> = BTreeMap::new();
+    for r in report
+        .runs
+        .iter()
+        .filter(|r| (256..=2048).contains(&r.resolution))
+    {
+        per.entry(format!("{} {} {}", r.technique, r.variant, r.backend))
+            .or_default()
+            .entry(r.resolution)
+            .or_default()
+            .push(r.generate_ms.max(1e-6));
+    }
+    per.into_iter()
+        .filter(|(_, m)| m.len() >= 2)
+        .map(|(k, m)| {
+            let pts: Vec<(f64, f64)> = m
+                .into_iter()
+                .map(|(res, t)| {
+                    let x = ((res as f64) * (res as f64)).ln();
+                    (x, crate::metrics::median(&t).ln())
+                })
+                .collect();
+            let n = pts.len() as f64;
+            let (mx, my) = (
+                pts.iter().map(|p| p.0).sum::<f64>() / n,
+                pts.iter().map(|p| p.1).sum::<f64>() / n,
+            );
+            let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+            let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+            (k, sxy / sxx, pts.len())
+        })
+        .collect()
+}
