@@ -22,6 +22,9 @@ pub struct Errors {
     pub out_of_range: u64,
     /// Number of receivers in the penumbra band.
     pub penumbra_pixels: u64,
+    /// Receivers the reference sees lit (`V_ref >= 0.98`) that come out below 0.98: false
+    /// shadows, shadow acne on the `acne` scene.
+    pub false_shadow_pixels: u64,
 }
 
 /// Compares `v` with `reference` (same length).
@@ -43,6 +46,9 @@ pub fn errors(v: &[f32], reference: &[f32]) -> Errors {
         if r > PENUMBRA_LO && r < PENUMBRA_HI {
             psum += d * d;
             pn += 1;
+        }
+        if r >= PENUMBRA_HI && x < PENUMBRA_HI {
+            e.false_shadow_pixels += 1;
         }
     }
     e.rms_255 = if n > 0 { (sum / n as f64).sqrt() } else { 0.0 };

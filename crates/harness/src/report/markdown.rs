@@ -47,13 +47,13 @@ pub fn render(report: &Report) -> String {
         );
         let _ = writeln!(
             s,
-            "| technique | variant | backend | res | gen ms | eval ms | rms | penumbra rms | max abs | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|"
+            "| technique | variant | backend | res | gen ms | eval ms | rms | penumbra rms | max abs | false-shadow px | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"
         );
         for r in report.runs.iter().filter(|r| r.scene == scene) {
             let e = &r.errors;
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {} |",
+                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {} | {} |",
                 r.technique,
                 r.variant,
                 r.backend,
@@ -63,6 +63,7 @@ pub fn render(report: &Report) -> String {
                 e.rms_255,
                 e.penumbra_rms_255,
                 e.max_abs_255,
+                e.false_shadow_pixels,
                 e.nonfinite
             );
         }

@@ -84,6 +84,7 @@ fn quick_report_writes_the_contract() {
             "rms_255",
             "penumbra_rms_255",
             "max_abs_255",
+            "false_shadow_pixels",
             "nonfinite",
         ] {
             assert!(!r[key].is_null(), "run field {key}");
@@ -148,4 +149,14 @@ fn quick_report_writes_the_contract() {
         html.matches("<table>").count(),
         md.matches("\n|---").count()
     );
+}
+
+/// False shadows (the acne measure): receivers the reference sees lit (>= 0.98) that come out
+/// below 0.98; penumbra and umbra receivers never count.
+#[test]
+fn false_shadow_pixels_count_only_lit_receivers_made_dark() {
+    let reference = [1.0, 1.0, 0.5, 0.99, 0.0, 0.98];
+    let v = [0.97, 1.0, 0.1, 0.5, 0.9, 0.979];
+    let e = harness::metrics::errors(&v, &reference);
+    assert_eq!(e.false_shadow_pixels, 3);
 }
