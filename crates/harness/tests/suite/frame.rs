@@ -392,3 +392,36 @@ fn bad_frame_input_is_reported_not_panicked() {
         err(&l, l.rect)
     );
 }
+
+/// The pipeline on the GPU backend gives the CPU's visibilities (RMS of `V * 255` below 1.0 per
+/// light) and the same bookkeeping.
+#[test]
+fn the_frame_pipeline_agrees_between_cpu_and_gpu() {
+    let Some(ctx) =
+        shadow_core::gpu::testing::gpu_for_test("the_frame_pipeline_agrees_between_cpu_and_gpu")
+    else {
+        return;
+    };
+    let mut cpu = lab(5.0);
+    let sc = pipeline().run(&mut cpu.scene.world);
+    let mut gpu = lab(5.0);
+    gpu.scene
+        .world
+        .insert_resource(shadow_core::frame::FrameBackend {
+            backend: Backend::Gpu,
+            gpu: Some(Arc::new(ctx)),
+        });
+    let sg = pipeline().run(&mut gpu.scene.world);
+    assert_eq!(
+        (sc.maps_generated, sc.receivers_evaluated),
+        (sg.maps_generated, sg.receivers_evaluated)
+    );
+    for (a, b) in [
+        (cpu.rect, gpu.rect),
+        (cpu.segment, gpu.segment),
+        (cpu.point, gpu.point),
+    ] {
+        let rms = harness::metrics::rms_255(&visibility(&cpu, a), &visibility(&gpu, b));
+        assert!(rms < 1.0, "CPU/GPU rms {rms:.3}");
+    }
+}
