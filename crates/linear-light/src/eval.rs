@@ -6,8 +6,9 @@
 //! channel_tap`: the paper's per-sample test, antialiased like PCF over one texel. A receiver
 //! outside a sample's map sees that sample fully (its lit share).
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use shadow_core::light_space::shadow_coord;
+use shadow_core::map2d::bilinear_texels;
 use shadow_core::{Bias, MapParams};
 
 /// `V` at `p` (unit normal `n`): `depth(k, x, y)` and `channel(k, x, y)` read sample `k`'s
@@ -26,19 +27,8 @@ pub fn visibility(
             v += m.weight;
             continue;
         };
-        let last = m.resolution as i64 - 1;
-        let b = c.st - Vec2::splat(0.5);
-        let f = b.floor();
-        let t = b - f;
         let z = c.z - c.slope;
-        for (dx, dy, w) in [
-            (0, 0, (1.0 - t.x) * (1.0 - t.y)),
-            (1, 0, t.x * (1.0 - t.y)),
-            (0, 1, (1.0 - t.x) * t.y),
-            (1, 1, t.x * t.y),
-        ] {
-            let x = (f.x as i64 + dx).clamp(0, last) as u32;
-            let y = (f.y as i64 + dy).clamp(0, last) as u32;
+        for (x, y, w) in bilinear_texels(c.st, m.resolution, m.resolution) {
             if z <= depth(k, x, y) {
                 v += w * channel(k, x, y);
             }

@@ -16,6 +16,7 @@
 
 use crate::skins::{Skin, Unproject};
 use glam::{DVec2, Vec3};
+use shadow_core::map2d::bilinear_texels;
 use shadow_core::raster::rasterize;
 use shadow_core::view::{NO_OCCLUDER, View};
 use shadow_core::{Map2D, MapParams};
@@ -39,22 +40,12 @@ pub fn lit_fraction(m: &MapParams, depth: &Map2D<f32>, p: Vec3, t: f32) -> f32 {
         return 1.0;
     }
     let r = m.resolution as f32;
-    let last = m.resolution as i64 - 1;
-    let b = glam::Vec2::new((nx * 0.5 + 0.5) * r - 0.5, (0.5 - ny * 0.5) * r - 0.5);
-    let f = b.floor();
-    let w = b - f;
+    let st = glam::Vec2::new((nx * 0.5 + 0.5) * r, (0.5 - ny * 0.5) * r);
     let z = m.linear_depth(p);
     let mut lit = 0.0;
-    for (dx, dy, k) in [
-        (0, 0, (1.0 - w.x) * (1.0 - w.y)),
-        (1, 0, w.x * (1.0 - w.y)),
-        (0, 1, (1.0 - w.x) * w.y),
-        (1, 1, w.x * w.y),
-    ] {
-        let x = (f.x as i64 + dx).clamp(0, last) as u32;
-        let y = (f.y as i64 + dy).clamp(0, last) as u32;
+    for (x, y, w) in bilinear_texels(st, m.resolution, m.resolution) {
         if z <= *depth.get(x, y) * (1.0 + t) {
-            lit += k;
+            lit += w;
         }
     }
     lit

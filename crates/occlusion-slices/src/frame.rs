@@ -12,9 +12,9 @@
 //! nearest depth lands on its own plane and is filtered exactly (section 3.1).
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use shadow_core::light::orthonormal_basis;
-use shadow_core::view::{ProjectionKind, View};
+use shadow_core::view::{ProjectionKind, View, look_to_up};
 use shadow_core::{Light, SceneGeometry};
 
 /// Fraction of a slice's thickness beyond a plane that still counts as on it (rasterized
@@ -65,19 +65,6 @@ pub struct Frame {
     pub _pad: u32,
 }
 
-/// World to view looking along unit `dir` with `up` (perpendicular to it) as the image's y axis.
-fn look_to(eye: Vec3, dir: Vec3, up: Vec3) -> Mat4 {
-    let s = dir.cross(up).normalize();
-    let u = s.cross(dir);
-    Mat4::from_cols(
-        s.extend(-s.dot(eye)),
-        u.extend(-u.dot(eye)),
-        (-dir).extend(dir.dot(eye)),
-        Vec3::ZERO.extend(1.0),
-    )
-    .transpose()
-}
-
 /// A receiver seen from the light: `x, y` along the image axes, `h` along the normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightCoord {
@@ -126,7 +113,7 @@ impl Frame {
             light_rect(light, geometry.bounds.center()).unwrap_or((Vec3::ZERO, Vec3::X, Vec3::Z));
         let normal = u_half.cross(v_half).normalize();
         let up = v_half.normalize();
-        let look = look_to(center, normal, up);
+        let look = look_to_up(center, normal, up);
         let axis_x = look.row(0).truncate();
         let axis_y = look.row(1).truncate();
         let half_x = u_half.dot(axis_x).abs() + v_half.dot(axis_x).abs();
@@ -193,7 +180,7 @@ impl Frame {
         let normal = Vec3::from_slice(&self.normal[..3]);
         let cop = Vec3::from_slice(&self.center[..3]) - normal * self.d;
         View {
-            view: look_to(cop, normal, Vec3::from_slice(&self.axis_y[..3])),
+            view: look_to_up(cop, normal, Vec3::from_slice(&self.axis_y[..3])),
             kind: ProjectionKind::Perspective {
                 fov: 2.0 * (self.half_y / self.d).atan(),
             },

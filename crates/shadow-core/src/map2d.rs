@@ -84,16 +84,7 @@ impl<T> Map2D<T> {
     /// The four texels around texel coordinate `st` (texel centres at +0.5, clamp-to-edge) with
     /// their bilinear weights, top-left first.
     pub fn bilinear_taps(&self, st: Vec2) -> [(&T, f32); 4] {
-        let u = st - Vec2::splat(0.5);
-        let i = u.floor();
-        let (fx, fy) = (u.x - i.x, u.y - i.y);
-        let (x0, y0) = (i.x as i64, i.y as i64);
-        [
-            (self.get_clamped(x0, y0), (1.0 - fx) * (1.0 - fy)),
-            (self.get_clamped(x0 + 1, y0), fx * (1.0 - fy)),
-            (self.get_clamped(x0, y0 + 1), (1.0 - fx) * fy),
-            (self.get_clamped(x0 + 1, y0 + 1), fx * fy),
-        ]
+        bilinear_texels(st, self.width, self.height).map(|(x, y, w)| (self.get(x, y), w))
     }
 
     /// Maps every texel.
@@ -119,4 +110,21 @@ impl Map2D<f32> {
         let bottom = t(0, 1) * (1.0 - fx) + t(1, 1) * fx;
         top * (1.0 - fy) + bottom * fy
     }
+}
+
+/// The four texels around texel coordinate `st` of a `width x height` map (texel centres at
+/// +0.5, clamped to the edge) with their bilinear weights, top-left first.
+pub fn bilinear_texels(st: Vec2, width: u32, height: u32) -> [(u32, u32, f32); 4] {
+    let u = st - Vec2::splat(0.5);
+    let i = u.floor();
+    let (fx, fy) = (u.x - i.x, u.y - i.y);
+    let (x0, y0) = (i.x as i64, i.y as i64);
+    let cx = |x: i64| x.clamp(0, width as i64 - 1) as u32;
+    let cy = |y: i64| y.clamp(0, height as i64 - 1) as u32;
+    [
+        (cx(x0), cy(y0), (1.0 - fx) * (1.0 - fy)),
+        (cx(x0 + 1), cy(y0), fx * (1.0 - fy)),
+        (cx(x0), cy(y0 + 1), (1.0 - fx) * fy),
+        (cx(x0 + 1), cy(y0 + 1), fx * fy),
+    ]
 }

@@ -48,14 +48,19 @@ fn look_to(eye: Vec3, axis: Vec3) -> Mat4 {
     } else {
         Vec3::Y
     };
-    let f = axis.normalize();
-    let s = f.cross(up).normalize();
-    let u = s.cross(f);
+    look_to_up(eye, axis.normalize(), up)
+}
+
+/// World to view for an eye at `eye` looking along unit `dir`, with `up` (not parallel to `dir`)
+/// giving the image's y axis: view x is `dir x up` normalised, view y is `x x dir`.
+pub fn look_to_up(eye: Vec3, dir: Vec3, up: Vec3) -> Mat4 {
+    let s = dir.cross(up).normalize();
+    let u = s.cross(dir);
     Mat4::from_cols(
-        Vec4::new(s.x, u.x, -f.x, 0.0),
-        Vec4::new(s.y, u.y, -f.y, 0.0),
-        Vec4::new(s.z, u.z, -f.z, 0.0),
-        Vec4::new(-s.dot(eye), -u.dot(eye), f.dot(eye), 1.0),
+        Vec4::new(s.x, u.x, -dir.x, 0.0),
+        Vec4::new(s.y, u.y, -dir.y, 0.0),
+        Vec4::new(s.z, u.z, -dir.z, 0.0),
+        Vec4::new(-s.dot(eye), -u.dot(eye), dir.dot(eye), 1.0),
     )
 }
 

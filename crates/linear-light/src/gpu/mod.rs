@@ -15,9 +15,10 @@ use crate::samples::{lit_share, piece_share, sample_views};
 use crate::skins::Unproject;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use pipelines::{CombineKernel, EvalKernel, FindSkinsKernel, Kernel, SkinPipeline, VALUE_FORMAT};
+use pipelines::{CombineKernel, EvalKernel, FindSkinsKernel, SkinPipeline, VALUE_FORMAT};
 use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
+use shadow_core::gpu::resources::{Kernel, texture_2d};
 use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
 use shadow_core::raster::DepthPass;
 use shadow_core::{
@@ -97,30 +98,6 @@ struct EvalParams {
 }
 
 struct Raster(GpuRasterizer);
-
-fn texture(
-    ctx: &GpuContext,
-    label: &str,
-    res: u32,
-    layers: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: res,
-            height: res,
-            depth_or_array_layers: layers,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
 
 /// Records the warp of sample `src`'s skins into sample `dst`'s view, into `value`.
 #[allow(clippy::too_many_arguments)]
@@ -286,20 +263,20 @@ pub fn generate(
     let depth = GpuRasterizer::depth_array(ctx, res, n)?;
     let depth_view = depth_array_view(&depth);
     let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-    let values = [0, 1].map(|_| texture(ctx, "skin values", res, 1, VALUE_FORMAT, attach));
-    let skin_depth = texture(
+    let values = [0, 1].map(|_| texture_2d(ctx, "skin values", res, (1, 1), VALUE_FORMAT, attach));
+    let skin_depth = texture_2d(
         ctx,
         "skin depth",
         res,
-        1,
+        (1, 1),
         DEPTH_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT,
     );
-    let channel = texture(
+    let channel = texture_2d(
         ctx,
         "visibility channels",
         res,
-        n,
+        (n, 1),
         VALUE_FORMAT,
         wgpu::TextureUsages::STORAGE_BINDING
             | wgpu::TextureUsages::TEXTURE_BINDING

@@ -3,8 +3,11 @@
 
 use shadow_core::GpuContext;
 use shadow_core::gpu::LIGHT_SPACE_WGSL;
-use shadow_core::gpu::compute::{compute_pipelines, storage_entry, uniform_entry};
+use shadow_core::gpu::compute::{storage_entry, uniform_entry};
 use shadow_core::gpu::raster::DEPTH_FORMAT;
+use shadow_core::gpu::resources::{
+    FLOAT, Kernel, layout, storage_texture_entry, texture_entry, wgsl_module,
+};
 
 /// `sample.wgsl`, prepended after `light_space.wgsl` to every shader of the crate.
 pub const SAMPLE_WGSL: &str = include_str!("../sample.wgsl");
@@ -15,47 +18,12 @@ pub const GRID_WGSL: &str = include_str!("../grid.wgsl");
 /// Format of the warped skin values and of the visibility channels.
 pub const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-fn module(ctx: &GpuContext, label: &str, source: &str) -> wgpu::ShaderModule {
-    ctx.device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(
-                format!("{LIGHT_SPACE_WGSL}\n{SAMPLE_WGSL}\n{source}").into(),
-            ),
-        })
+/// The crate's prelude (`light_space.wgsl`, `sample.wgsl`) followed by `parts`.
+fn sources<'a>(parts: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![LIGHT_SPACE_WGSL, SAMPLE_WGSL];
+    v.extend_from_slice(parts);
+    v
 }
-
-fn texture(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    sample_type: wgpu::TextureSampleType,
-    view_dimension: wgpu::TextureViewDimension,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn layout(
-    ctx: &GpuContext,
-    label: &str,
-    entries: &[wgpu::BindGroupLayoutEntry],
-) -> wgpu::BindGroupLayout {
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label),
-            entries,
-        })
-}
-
-const FLOAT: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: false };
 
 /// Skins of one sample warped into a neighbour's view.
 pub struct SkinPipeline {
@@ -68,10 +36,10 @@ pub struct SkinPipeline {
 impl SkinPipeline {
     /// Builds the pipeline.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = module(
+        let m = wgsl_module(
             ctx,
             "skins",
-            &format!("{GRID_WGSL}\n{}", include_str!("../skins.wgsl")),
+            &sources(&[GRID_WGSL, include_str!("../skins.wgsl")]),
         );
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let mut pair = uniform_entry(0);
@@ -83,7 +51,7 @@ impl SkinPipeline {
             &[
                 pair,
                 samples,
-                texture(
+                texture_entry(
                     2,
                     vf,
                     wgpu::TextureSampleType::Depth,
@@ -139,29 +107,6 @@ impl SkinPipeline {
     }
 }
 
-/// One compute kernel with its own bind group layout.
-pub struct Kernel {
-    /// Its bind group layout.
-    pub layout: wgpu::BindGroupLayout,
-    /// The pipeline.
-    pub pipeline: wgpu::ComputePipeline,
-}
-
-impl Kernel {
-    fn new(
-        ctx: &GpuContext,
-        label: &str,
-        source: &str,
-        entry: &str,
-        entries: &[wgpu::BindGroupLayoutEntry],
-    ) -> Self {
-        let m = module(ctx, label, source);
-        let layout = layout(ctx, label, entries);
-        let [pipeline] = compute_pipelines(ctx, label, &m, &layout, [entry]);
-        Self { layout, pipeline }
-    }
-}
-
 fn storage_entry_in(
     binding: u32,
     read_only: bool,
@@ -181,12 +126,12 @@ impl FindSkinsKernel {
         Self(Kernel::new(
             ctx,
             "find skins",
-            &format!("{GRID_WGSL}\n{}", include_str!("../find_skins.wgsl")),
+            &sources(&[GRID_WGSL, include_str!("../find_skins.wgsl")]),
             "find_skins",
             &[
                 uniform_entry(0),
                 storage_entry(1, true),
-                texture(
+                texture_entry(
                     2,
                     wgpu::ShaderStages::COMPUTE,
                     wgpu::TextureSampleType::Depth,
@@ -209,22 +154,13 @@ impl CombineKernel {
         Self(Kernel::new(
             ctx,
             "linear-light combine",
-            include_str!("../combine.wgsl"),
+            &sources(&[include_str!("../combine.wgsl")]),
             "combine",
             &[
                 uniform_entry(0),
-                texture(1, c, FLOAT, wgpu::TextureViewDimension::D2),
-                texture(2, c, FLOAT, wgpu::TextureViewDimension::D2),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: c,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: VALUE_FORMAT,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                    },
-                    count: None,
-                },
+                texture_entry(1, c, FLOAT, wgpu::TextureViewDimension::D2),
+                texture_entry(2, c, FLOAT, wgpu::TextureViewDimension::D2),
+                storage_texture_entry(3, VALUE_FORMAT, wgpu::TextureViewDimension::D2Array),
             ],
         ))
     }
@@ -240,18 +176,18 @@ impl EvalKernel {
         Self(Kernel::new(
             ctx,
             "linear-light evaluate",
-            include_str!("../evaluate.wgsl"),
+            &sources(&[include_str!("../evaluate.wgsl")]),
             "evaluate",
             &[
                 uniform_entry(0),
                 storage_entry(1, true),
-                texture(
+                texture_entry(
                     2,
                     c,
                     wgpu::TextureSampleType::Depth,
                     wgpu::TextureViewDimension::D2Array,
                 ),
-                texture(3, c, FLOAT, wgpu::TextureViewDimension::D2Array),
+                texture_entry(3, c, FLOAT, wgpu::TextureViewDimension::D2Array),
                 storage_entry(4, true),
                 storage_entry(5, true),
                 storage_entry(6, false),

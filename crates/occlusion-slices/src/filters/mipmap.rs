@@ -4,7 +4,7 @@
 
 use super::nbuffer::floor_log2;
 use super::sat::Sat;
-use super::{level_count, unorm8};
+use super::{bilinear, level_count, unorm8};
 use glam::Vec2;
 use rayon::prelude::*;
 
@@ -64,14 +64,10 @@ impl Mipmap {
 }
 
 /// Bilinear read of level `l` at level-0 texel position `c` (texel centres at +0.5).
-fn bilinear(c: Vec2, l: u32, texel: &impl Fn(u32, i64, i64) -> f32) -> f32 {
-    let p = c / (1u32 << l) as f32 - Vec2::splat(0.5);
-    let f = p.floor();
-    let (x, y) = (f.x as i64, f.y as i64);
-    let t = p - f;
-    let top = texel(l, x, y) * (1.0 - t.x) + texel(l, x + 1, y) * t.x;
-    let bottom = texel(l, x, y + 1) * (1.0 - t.x) + texel(l, x + 1, y + 1) * t.x;
-    top * (1.0 - t.y) + bottom * t.y
+fn level_bilinear(c: Vec2, l: u32, texel: &impl Fn(u32, i64, i64) -> f32) -> f32 {
+    bilinear(c / (1u32 << l) as f32 - Vec2::splat(0.5), |x, y| {
+        texel(l, x, y)
+    })
 }
 
 /// Trilinear mipmapping (`WGSL: mip_mean`): level of detail `log2(size)`, bilinear in the two
@@ -81,10 +77,10 @@ pub fn mip_mean(c: Vec2, size: f32, levels: u32, texel: impl Fn(u32, i64, i64) -
     let k = size.max(1.0);
     let l = floor_log2(k);
     if l + 1 >= levels {
-        return bilinear(c, levels - 1, &texel);
+        return level_bilinear(c, levels - 1, &texel);
     }
     let t = (k / (1u32 << l) as f32).log2().clamp(0.0, 1.0);
-    let v0 = bilinear(c, l, &texel);
-    let v1 = bilinear(c, l + 1, &texel);
+    let v0 = level_bilinear(c, l, &texel);
+    let v1 = level_bilinear(c, l + 1, &texel);
     v0 + (v1 - v0) * t
 }

@@ -24,6 +24,18 @@ pub fn unorm8(count: u32, area: u64) -> u8 {
     ((count as u64 * 255 + area / 2) / area) as u8
 }
 
+/// Bilinear interpolation of `texel(x, y)` (0 outside, the caller's choice) at the continuous
+/// index position `p`: `texel(floor(p))` has weight 1 at `p = floor(p)`. The N-Buffer reads at
+/// box starts, the mipmap at `c / 2^l - 1/2` (texel centres).
+pub fn bilinear(p: Vec2, texel: impl Fn(i64, i64) -> f32) -> f32 {
+    let f = p.floor();
+    let (x, y) = (f.x as i64, f.y as i64);
+    let t = p - f;
+    let top = texel(x, y) * (1.0 - t.x) + texel(x + 1, y) * t.x;
+    let bottom = texel(x, y + 1) * (1.0 - t.x) + texel(x + 1, y + 1) * t.x;
+    top * (1.0 - t.y) + bottom * t.y
+}
+
 /// The prefiltered slices of one light, in the form the filter reads.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Filtered {

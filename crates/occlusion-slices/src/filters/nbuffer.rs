@@ -6,7 +6,7 @@
 //! error of a stored value is its rounding, at every level.
 
 use super::sat::Sat;
-use super::{level_count, unorm8};
+use super::{bilinear, level_count, unorm8};
 use glam::Vec2;
 use rayon::prelude::*;
 
@@ -64,12 +64,7 @@ impl NBuffer {
 /// Linear interpolation of level `l` at the box start `b` (level texels are boxes anchored at
 /// their top-left corner).
 fn sample(b: Vec2, l: u32, texel: &impl Fn(u32, i64, i64) -> f32) -> f32 {
-    let f = b.floor();
-    let (x, y) = (f.x as i64, f.y as i64);
-    let t = b - f;
-    let top = texel(l, x, y) * (1.0 - t.x) + texel(l, x + 1, y) * t.x;
-    let bottom = texel(l, x, y + 1) * (1.0 - t.x) + texel(l, x + 1, y + 1) * t.x;
-    top * (1.0 - t.y) + bottom * t.y
+    bilinear(b, |x, y| texel(l, x, y))
 }
 
 /// `floor(log2(x))` for `x >= 1`, exact (read from the exponent bits, as the shader does).

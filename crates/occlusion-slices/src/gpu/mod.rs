@@ -15,12 +15,12 @@ use crate::frame::Frame;
 use crate::params::{Filter, OcclusionSlices};
 use bytemuck::{Pod, Zeroable};
 use pipelines::{
-    EvalPipeline, Kernel, LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT,
-    SlicingPipelines,
+    EvalPipeline, LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT, SlicingPipelines,
 };
 use shadow_core::gpu::GpuTriangles;
 use shadow_core::gpu::compute::{ReceiverBuffers, bind_group};
 use shadow_core::gpu::raster::read_texture;
+use shadow_core::gpu::resources::{Kernel, texture_2d};
 use shadow_core::{GpuContext, Light, Receivers, Result, SceneGeometry, ShadowError};
 use std::sync::Mutex;
 
@@ -104,31 +104,6 @@ struct EvalParams {
     normal_offset: f32,
     groups: u32,
     _pad: [u32; 2],
-}
-
-fn texture(
-    ctx: &GpuContext,
-    label: &str,
-    size: u32,
-    layers: u32,
-    mips: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: size,
-            height: size,
-            depth_or_array_layers: layers,
-        },
-        mip_level_count: mips,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
 }
 
 fn array_view(t: &wgpu::Texture, mip: Option<u32>) -> wgpu::TextureView {
@@ -289,39 +264,45 @@ pub fn generate(
     let frame = Frame::fit(light, geometry, t.slices, res, t.thin_fix);
     let uniform = ctx.uniform_buffer("slicing frame", bytemuck::bytes_of(&frame));
     let pre = ctx.cached(PrefilterPipelines::new);
-    let occupancy = texture(
+    let occupancy = texture_2d(
         ctx,
         "occlusion textures",
         res,
-        groups,
-        1,
+        (groups, 1),
         OCCUPANCY_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC,
     );
-    let table = |label| texture(ctx, label, res + 1, groups, 1, SAT_FORMAT, storage_usage());
+    let table = |label| {
+        texture_2d(
+            ctx,
+            label,
+            res + 1,
+            (groups, 1),
+            SAT_FORMAT,
+            storage_usage(),
+        )
+    };
     let rows = ctx
         .cached(|_| RowsTexture::default())
         .get(res, groups, || table("sat rows"));
     let sat = table("summed-area table");
     let filtered = match t.filter {
-        Filter::Sat => texture(ctx, "no levels", 1, 1, 1, LEVEL_FORMAT, storage_usage()),
-        Filter::NBuffer => texture(
+        Filter::Sat => texture_2d(ctx, "no levels", 1, (1, 1), LEVEL_FORMAT, storage_usage()),
+        Filter::NBuffer => texture_2d(
             ctx,
             "n-buffers",
             res,
-            levels * groups,
-            1,
+            (levels * groups, 1),
             LEVEL_FORMAT,
             storage_usage(),
         ),
-        Filter::Mipmap => texture(
+        Filter::Mipmap => texture_2d(
             ctx,
             "mipmaps",
             res,
-            groups,
-            levels,
+            (groups, levels),
             LEVEL_FORMAT,
             storage_usage(),
         ),
@@ -361,7 +342,7 @@ pub fn generate(
     let sat = if t.filter == Filter::Sat {
         sat
     } else {
-        texture(ctx, "no table", 1, 1, 1, SAT_FORMAT, storage_usage())
+        texture_2d(ctx, "no table", 1, (1, 1), SAT_FORMAT, storage_usage())
     };
     Ok(GpuSliceMaps {
         frame,

@@ -3,7 +3,10 @@
 //! `sat_cols.wgsl`, `levels.wgsl`) and evaluation (`evaluate.wgsl`).
 
 use shadow_core::GpuContext;
-use shadow_core::gpu::compute::{compute_pipelines, storage_entry, uniform_entry};
+use shadow_core::gpu::compute::{storage_entry, uniform_entry};
+use shadow_core::gpu::resources::{
+    FLOAT, Kernel, layout, storage_texture_entry, texture_entry, wgsl_module,
+};
 
 /// `frame.wgsl`, prepended to every shader of the crate.
 pub const FRAME_WGSL: &str = include_str!("../frame.wgsl");
@@ -15,54 +18,24 @@ pub const SAT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of N-Buffer and mipmap levels (the paper's RGBA8).
 pub const LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
+const UINT: wgpu::TextureSampleType = wgpu::TextureSampleType::Uint;
+
 fn module(ctx: &GpuContext, label: &str, source: &str) -> wgpu::ShaderModule {
-    ctx.device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(format!("{FRAME_WGSL}\n{source}").into()),
-        })
+    wgsl_module(ctx, label, &[FRAME_WGSL, source])
 }
 
 fn texture_array(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
+    texture_entry(
         binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2Array,
-            multisampled: false,
-        },
-        count: None,
-    }
+        wgpu::ShaderStages::COMPUTE,
+        sample_type,
+        wgpu::TextureViewDimension::D2Array,
+    )
 }
 
 fn storage_array(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: wgpu::TextureViewDimension::D2Array,
-        },
-        count: None,
-    }
+    storage_texture_entry(binding, format, wgpu::TextureViewDimension::D2Array)
 }
-
-fn layout(
-    ctx: &GpuContext,
-    label: &str,
-    entries: &[wgpu::BindGroupLayoutEntry],
-) -> wgpu::BindGroupLayout {
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label),
-            entries,
-        })
-}
-
-const FLOAT: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: false };
-const UINT: wgpu::TextureSampleType = wgpu::TextureSampleType::Uint;
 
 /// The slicing pass: `pipelines[g - 1]` draws into `g` targets.
 pub struct SlicingPipelines {
@@ -138,29 +111,6 @@ impl SlicingPipelines {
     }
 }
 
-/// One compute kernel with its own bind group layout.
-pub struct Kernel {
-    /// Its bind group layout.
-    pub layout: wgpu::BindGroupLayout,
-    /// The pipeline.
-    pub pipeline: wgpu::ComputePipeline,
-}
-
-impl Kernel {
-    fn new(
-        ctx: &GpuContext,
-        label: &str,
-        source: &str,
-        entry: &str,
-        entries: &[wgpu::BindGroupLayoutEntry],
-    ) -> Self {
-        let m = module(ctx, label, source);
-        let layout = layout(ctx, label, entries);
-        let [pipeline] = compute_pipelines(ctx, label, &m, &layout, [entry]);
-        Self { layout, pipeline }
-    }
-}
-
 /// The prefiltering kernels.
 pub struct PrefilterPipelines {
     /// Occupancy to row prefix sums.
@@ -187,7 +137,7 @@ impl PrefilterPipelines {
             sat_rows: Kernel::new(
                 ctx,
                 "sat rows",
-                include_str!("../sat_rows.wgsl"),
+                &[FRAME_WGSL, include_str!("../sat_rows.wgsl")],
                 "sat_rows",
                 &[
                     uniform_entry(0),
@@ -198,7 +148,7 @@ impl PrefilterPipelines {
             sat_cols: Kernel::new(
                 ctx,
                 "sat cols",
-                include_str!("../sat_cols.wgsl"),
+                &[FRAME_WGSL, include_str!("../sat_cols.wgsl")],
                 "sat_cols",
                 &[
                     uniform_entry(0),
@@ -209,11 +159,17 @@ impl PrefilterPipelines {
             nbuffer_level: Kernel::new(
                 ctx,
                 "nbuffer level",
-                levels,
+                &[FRAME_WGSL, levels],
                 "nbuffer_level",
                 &level_entries,
             ),
-            mip_level: Kernel::new(ctx, "mip level", levels, "mip_level", &level_entries),
+            mip_level: Kernel::new(
+                ctx,
+                "mip level",
+                &[FRAME_WGSL, levels],
+                "mip_level",
+                &level_entries,
+            ),
         }
     }
 }
@@ -227,7 +183,7 @@ impl EvalPipeline {
         Self(Kernel::new(
             ctx,
             "occlusion evaluate",
-            include_str!("../evaluate.wgsl"),
+            &[FRAME_WGSL, include_str!("../evaluate.wgsl")],
             "evaluate",
             &[
                 uniform_entry(0),

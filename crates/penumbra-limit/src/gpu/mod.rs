@@ -24,6 +24,7 @@ use pipelines::{
 };
 use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
+use shadow_core::gpu::resources::texture_2d;
 use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuTriangles};
 use shadow_core::raster::DepthPass;
 use shadow_core::{
@@ -87,29 +88,6 @@ fn buffer(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
         size: bytes.max(4),
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
-    })
-}
-
-fn texture(
-    ctx: &GpuContext,
-    label: &str,
-    res: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: res,
-            height: res,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
     })
 }
 
@@ -187,17 +165,19 @@ fn encode_silhouette(
         data.push(Edge::zeroed());
     }
     let eb = ctx.storage_buffer("penumbra edges", bytemuck::cast_slice(&data));
-    let depth = texture(
+    let depth = texture_2d(
         ctx,
         "penumbra ribbon depth",
         res,
+        (1, 1),
         DEPTH_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT,
     );
-    let dummy = texture(
+    let dummy = texture_2d(
         ctx,
         "penumbra no edges",
         1,
+        (1, 1),
         EDGE_FORMAT,
         wgpu::TextureUsages::TEXTURE_BINDING,
     );
@@ -299,12 +279,27 @@ pub fn generate(
     };
     let geom = buffer(ctx, "penumbra geometry", texels * 4);
     let seeds = [0, 1, 2, 3].map(|_| buffer(ctx, "penumbra seeds", seeds_bytes));
-    let edge = texture(ctx, "penumbra edge", res, EDGE_FORMAT, layer_usage());
-    let lower = texture(ctx, "penumbra lower", res, LOWER_FORMAT, layer_usage());
-    let map = texture(
+    let edge = texture_2d(
+        ctx,
+        "penumbra edge",
+        res,
+        (1, 1),
+        EDGE_FORMAT,
+        layer_usage(),
+    );
+    let lower = texture_2d(
+        ctx,
+        "penumbra lower",
+        res,
+        (1, 1),
+        LOWER_FORMAT,
+        layer_usage(),
+    );
+    let map = texture_2d(
         ctx,
         "penumbra limit map",
         res,
+        (1, 1),
         t.storage.texture_format(),
         wgpu::TextureUsages::STORAGE_BINDING
             | wgpu::TextureUsages::TEXTURE_BINDING

@@ -9,6 +9,9 @@ use shadow_core::gpu::compute::{
     compute_pipelines, depth_array_entry, storage_entry, uniform_entry,
 };
 use shadow_core::gpu::raster::DEPTH_FORMAT;
+use shadow_core::gpu::resources::{
+    FLOAT, layout, storage_texture_entry, texture_entry, wgsl_module,
+};
 
 /// `warp.wgsl`, prepended after `light_space.wgsl` to every shader of the crate.
 pub const WARP_WGSL: &str = include_str!("../warp.wgsl");
@@ -19,62 +22,15 @@ pub const EDGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 pub const LOWER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 fn module(ctx: &GpuContext, label: &str, source: &str) -> wgpu::ShaderModule {
-    ctx.device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(
-                format!("{LIGHT_SPACE_WGSL}\n{WARP_WGSL}\n{source}").into(),
-            ),
-        })
-}
-
-fn entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    ty: wgpu::BindingType,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty,
-        count: None,
-    }
+    wgsl_module(ctx, label, &[LIGHT_SPACE_WGSL, WARP_WGSL, source])
 }
 
 fn texture(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    entry(
-        binding,
-        visibility,
-        wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-    )
+    texture_entry(binding, visibility, FLOAT, wgpu::TextureViewDimension::D2)
 }
 
 fn storage_texture(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
-    entry(
-        binding,
-        wgpu::ShaderStages::COMPUTE,
-        wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
-    )
-}
-
-fn layout(
-    ctx: &GpuContext,
-    label: &str,
-    entries: &[wgpu::BindGroupLayoutEntry],
-) -> wgpu::BindGroupLayout {
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label),
-            entries,
-        })
+    storage_texture_entry(binding, format, wgpu::TextureViewDimension::D2)
 }
 
 /// Silhouette extrusion, steps 2 and 3.
@@ -96,24 +52,14 @@ impl SilhouettePipelines {
             include_str!("../silhouette.wgsl"),
         );
         let vf = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
-        let uniform = wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        };
-        let edges = wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        };
+        let mut uniform = uniform_entry(0);
+        uniform.visibility = vf;
+        let mut edges = storage_entry(1, true);
+        edges.visibility = wgpu::ShaderStages::VERTEX;
         let layout = layout(
             ctx,
             "penumbra silhouette",
-            &[
-                entry(0, vf, uniform),
-                entry(1, wgpu::ShaderStages::VERTEX, edges),
-                texture(2, wgpu::ShaderStages::FRAGMENT),
-            ],
+            &[uniform, edges, texture(2, wgpu::ShaderStages::FRAGMENT)],
         );
         let pl = ctx
             .device

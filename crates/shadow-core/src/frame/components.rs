@@ -95,6 +95,11 @@ pub struct FrameReceivers {
     pub normals: Vec<Vec3>,
 }
 
+/// Why this frame's [`FrameReceivers`] cannot be shaded (`None` when they are valid), checked
+/// once per frame by [`crate::frame::tracking::check_receivers`].
+#[derive(Resource, Default, Clone)]
+pub struct ReceiversError(pub Option<String>);
+
 /// Where the frame runs its techniques.
 #[derive(Resource, Clone)]
 pub struct FrameBackend {

@@ -6,7 +6,8 @@
 //! costs nothing. Every frame:
 //!
 //! 1. [`tracking::track_casters`]: old and new bounds of casters that moved, changed, appeared
-//!    or disappeared (`Changed`, `Added`, `RemovedComponents`);
+//!    or disappeared (`Changed`, `Added`, `RemovedComponents`); [`tracking::check_receivers`]:
+//!    the frame receivers validated once;
 //! 2. [`tracking::resolve_techniques`]: the technique of lights whose light or settings changed
 //!    (zero-size lights take the hard-shadow path; `Auto` picks from a [`TechniqueProfile`] and
 //!    says why in [`ResolvedTechnique::reason`]);
@@ -119,6 +120,7 @@ impl FramePipeline {
         world.insert_resource(self.hard.clone());
         world.init_resource::<CasterIndex>();
         world.init_resource::<FrameReceivers>();
+        world.init_resource::<ReceiversError>();
         world.init_resource::<FrameBackend>();
         world.init_resource::<FrameSettings>();
         if !world.contains_resource::<TechniqueProfile>() {
@@ -139,7 +141,7 @@ fn core_schedule() -> Schedule {
     let mut schedule = Schedule::default();
     schedule.configure_sets((CoreSet::Track, CoreSet::Resolve, CoreSet::Stale).chain());
     schedule.add_systems((
-        tracking::track_casters.in_set(CoreSet::Track),
+        (tracking::track_casters, tracking::check_receivers).in_set(CoreSet::Track),
         tracking::resolve_techniques.in_set(CoreSet::Resolve),
         tracking::mark_stale.in_set(CoreSet::Stale),
     ));
@@ -153,9 +155,19 @@ fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
                        casters: CasterQuery,
                        index: Res<CasterIndex>,
                        frame: Res<FrameReceivers>,
+                       receivers_error: Res<ReceiversError>,
                        backend: Res<FrameBackend>,
                        stats: ResMut<FrameStats>| {
-        run_technique(name, lights, casters, index, frame, backend, stats)
+        run_technique(
+            name,
+            lights,
+            casters,
+            index,
+            frame,
+            receivers_error,
+            backend,
+            stats,
+        )
     };
     let used = move |lights: Query<&ResolvedTechnique>, casters: Query<(), With<ShadowCaster>>| {
         !casters.is_empty() && lights.iter().any(|r| r.technique.name() == name)

@@ -74,30 +74,24 @@ fn light_geometry(
 }
 
 /// One frame of technique `name`.
+#[allow(clippy::too_many_arguments)]
 pub fn run_technique(
     name: &str,
     mut lights: LightQuery,
     casters: CasterQuery,
     index: Res<CasterIndex>,
     frame: Res<FrameReceivers>,
+    receivers_error: Res<ReceiversError>,
     backend: Res<FrameBackend>,
     mut stats: ResMut<FrameStats>,
 ) {
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
-    // Bad receivers are every light's error (a NaN point must not pass as "out of range").
-    let mismatch = Receivers {
-        positions: &frame.positions,
-        normals: &frame.normals,
-    }
-    .validate()
-    .err()
-    .map(|e| format!("FrameReceivers: {e}"));
     for (light, config, resolved, mut state) in &mut lights {
         if resolved.technique.name() != name {
             continue;
         }
-        if let Some(m) = &mismatch {
+        if let Some(m) = &receivers_error.0 {
             state.error = Some(m.clone());
             state.visibility.clear();
             continue;

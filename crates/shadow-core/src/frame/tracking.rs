@@ -11,8 +11,11 @@ use std::sync::Arc;
 
 /// World bounds of a caster instance.
 fn caster_bounds(mesh: &MeshHandle, t: &Transform) -> Aabb {
-    let tris: Vec<_> = mesh.0.world_triangles(t.0).collect();
-    Aabb::of_triangles(&tris)
+    let mut b = Aabb::EMPTY;
+    for p in mesh.0.world_triangles(t.0).flatten() {
+        b.grow(p);
+    }
+    b
 }
 
 /// Casters whose transform or mesh changed, or that just became casters.
@@ -46,6 +49,21 @@ pub fn track_casters(
         if let Some(old) = index.bounds.remove(&e) {
             index.changed.push(old);
         }
+    }
+}
+
+/// Validates the frame receivers once per frame (equal lengths, finite values): bad receivers
+/// become every light's error, and a NaN point never passes as "out of range".
+pub fn check_receivers(frame: Res<FrameReceivers>, mut error: ResMut<ReceiversError>) {
+    let e = crate::Receivers {
+        positions: &frame.positions,
+        normals: &frame.normals,
+    }
+    .validate()
+    .err()
+    .map(|e| format!("FrameReceivers: {e}"));
+    if error.0 != e {
+        error.0 = e;
     }
 }
 

@@ -4,6 +4,7 @@ pub mod compute;
 mod context;
 pub mod jump_flood;
 pub mod raster;
+pub mod resources;
 pub mod testing;
 
 pub use context::GpuContext;

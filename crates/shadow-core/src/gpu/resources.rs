@@ -1,0 +1,118 @@
+//! Small constructors every technique's GPU path uses: shader modules assembled from WGSL
+//! parts, bind group layouts and their texture entries, 2D (array) textures, and compute
+//! kernels that own their layout.
+
+use super::GpuContext;
+use super::compute::compute_pipelines;
+
+/// Non-filterable float textures (read with `textureLoad`).
+pub const FLOAT: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: false };
+
+/// A shader module whose source is `parts` joined in order (shared WGSL first, then the file
+/// that `// requires:` them).
+pub fn wgsl_module(ctx: &GpuContext, label: &str, parts: &[&str]) -> wgpu::ShaderModule {
+    ctx.device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(parts.join("\n").into()),
+        })
+}
+
+/// A bind group layout of `entries`.
+pub fn layout(
+    ctx: &GpuContext,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries,
+        })
+}
+
+/// A sampled-texture entry.
+pub fn texture_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    sample_type: wgpu::TextureSampleType,
+    view_dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+/// A write-only storage-texture entry visible to compute.
+pub fn storage_texture_entry(
+    binding: u32,
+    format: wgpu::TextureFormat,
+    view_dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension,
+        },
+        count: None,
+    }
+}
+
+/// A square 2D texture of side `size` with `layers` array layers and `mips` mip levels.
+pub fn texture_2d(
+    ctx: &GpuContext,
+    label: &str,
+    size: u32,
+    (layers, mips): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: mips,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// One compute kernel with its own bind group layout.
+pub struct Kernel {
+    /// Its bind group layout.
+    pub layout: wgpu::BindGroupLayout,
+    /// The pipeline.
+    pub pipeline: wgpu::ComputePipeline,
+}
+
+impl Kernel {
+    /// Entry point `entry` of the module built from `parts`, with a layout of `entries`.
+    pub fn new(
+        ctx: &GpuContext,
+        label: &str,
+        parts: &[&str],
+        entry: &str,
+        entries: &[wgpu::BindGroupLayoutEntry],
+    ) -> Self {
+        let m = wgsl_module(ctx, label, parts);
+        let layout = layout(ctx, label, entries);
+        let [pipeline] = compute_pipelines(ctx, label, &m, &layout, [entry]);
+        Self { layout, pipeline }
+    }
+}
