@@ -1,5 +1,5 @@
 //! `harness` CLI: `harness report [--quick] [--out DIR] [--scenes a,b] [--techniques x,y]
-//! [--resolutions 64,256,1024] [--backend cpu|gpu|all] [--scene-file FILE]...`
+//! [--resolutions 16,128,512,2048] [--backend cpu|gpu|all] [--scene-file FILE]...`
 
 use clap::{Parser, Subcommand, ValueEnum};
 use harness::report::{BackendChoice, ReportOptions, run};
@@ -48,7 +48,7 @@ enum Command {
         /// A user scene (TOML); repeatable.
         #[arg(long = "scene-file")]
         scene_file: Vec<PathBuf>,
-        /// G-buffer side in pixels (default 512, quick 128).
+        /// G-buffer side in pixels (default 256, quick 128).
         #[arg(long)]
         size: Option<u32>,
     },

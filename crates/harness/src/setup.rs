@@ -4,8 +4,36 @@ use crate::ground_truth::{GroundTruthSettings, RayTracer, Reference};
 use crate::scenes::SceneSpec;
 use glam::Vec3;
 use shadow_core::raster::{GBufferTexel, gbuffer};
-use shadow_core::{Map2D, Receivers, Result, SceneGeometry, ShadowError};
+use shadow_core::{Light, Map2D, Receivers, Result, SceneGeometry, ShadowError};
 use std::time::Instant;
+
+/// The receivers of a scene without its reference (cheap): flattened geometry and the positions
+/// and normals of the covered pixels of the camera's `size²` CPU G-buffer, row-major, as
+/// [`PreparedScene`] takes them.
+pub fn scene_receivers(
+    spec: &SceneSpec,
+    size: u32,
+) -> Result<(SceneGeometry, Vec<Vec3>, Vec<Vec3>)> {
+    let mut scene = spec.to_scene()?;
+    let geometry = scene.geometry();
+    let camera = scene
+        .camera()
+        .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
+    let gb = gbuffer(
+        &camera.view(size, size),
+        camera.eye,
+        size,
+        size,
+        &geometry.receivers,
+    );
+    let (positions, normals) = gb
+        .data()
+        .iter()
+        .filter(|t| t.covered && t.normal != Vec3::ZERO)
+        .map(|t| (t.position, t.normal))
+        .unzip();
+    Ok((geometry, positions, normals))
+}
 
 /// A scene with its G-buffer and reference visibilities.
 pub struct PreparedScene {
@@ -78,6 +106,15 @@ impl PreparedScene {
             positions: &self.positions,
             normals: &self.normals,
         }
+    }
+
+    /// Reference visibilities of the same receivers under another light (same sampling settings).
+    pub fn reference_under(&self, light: &Light) -> Vec<f32> {
+        RayTracer::new(&self.geometry.casters)
+            .references(light, &self.positions, &self.normals, &self.settings)
+            .iter()
+            .map(|r| r.visibility)
+            .collect()
     }
 
     /// Reference visibilities.

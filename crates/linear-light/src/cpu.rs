@@ -42,7 +42,7 @@ pub fn generate(
     let skin_sets: Vec<_> = views
         .iter()
         .zip(&depth)
-        .map(|(v, d)| skins(&v.view, d, t.edge_threshold))
+        .map(|(v, d)| skins(&v.view, d, t.edge_threshold_at(res)))
         .collect();
     let s = piece_share(n);
     let channel = (0..n)
@@ -53,7 +53,7 @@ pub fn generate(
                 let src = Source {
                     params: &params[j],
                     depth: &depth[j],
-                    threshold: t.edge_threshold,
+                    threshold: t.edge_threshold_at(res),
                     piece: s,
                 };
                 let w = warp(&skin_sets[j], &views[i].view, &depth[i], &src);

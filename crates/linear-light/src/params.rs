@@ -12,13 +12,30 @@ pub struct LinearLight {
     pub samples: u32,
     /// Depth-discontinuity threshold: a texel is an edge where the Laplacian of inverse depth
     /// exceeds this fraction of its inverse depth, and a grid triangle is a skin where its
-    /// farthest vertex lies beyond its nearest by more than this fraction.
+    /// farthest vertex lies beyond its nearest by more than this fraction. Maps smaller than
+    /// [`THRESHOLD_REFERENCE_SIDE`] use a larger one ([`LinearLight::edge_threshold_at`]).
     pub edge_threshold: f32,
     /// Receiver biases against self-shadowing (texels), as the shadow-map baselines use.
     pub bias: Bias,
 }
 
+/// Map side from which [`LinearLight::edge_threshold`] applies as given.
+pub const THRESHOLD_REFERENCE_SIDE: u32 = 64;
+
 impl LinearLight {
+    /// The edge threshold used for maps of side `resolution`: [`edge_threshold`](Self::edge_threshold)
+    /// scaled by `(64 / resolution)²` below [`THRESHOLD_REFERENCE_SIDE`].
+    ///
+    /// The Laplacian of a smooth curved surface's inverse depth grows with the texel's area, while
+    /// a true discontinuity's does not: on coarse maps curvature alone passes the base threshold
+    /// and grows false skins over lit receivers. Measured on the `acne` scene (recast under a
+    /// segment): with the base 0.02 a 16² map put 454 of 30,095 unoccluded receivers below
+    /// `V = 0.98` for N = 2; scaled, none.
+    pub fn edge_threshold_at(&self, resolution: u32) -> f32 {
+        let r = resolution.clamp(1, THRESHOLD_REFERENCE_SIDE) as f32;
+        self.edge_threshold * (THRESHOLD_REFERENCE_SIDE as f32 / r).powi(2)
+    }
+
     /// `samples` samples with the default threshold (0.02) and biases.
     pub fn new(samples: u32) -> Self {
         Self {

@@ -291,6 +291,23 @@ impl Light {
         }
     }
 
+    /// The same light moved by `offset` (a distant light has no position and is returned as is).
+    pub fn translated(&self, offset: Vec3) -> Light {
+        let mut l = *self;
+        match &mut l {
+            Light::Point { position: p }
+            | Light::Rect { center: p, .. }
+            | Light::Disk { center: p, .. }
+            | Light::Sphere { center: p, .. } => *p += offset,
+            Light::Linear { a, b } => {
+                *a += offset;
+                *b += offset;
+            }
+            Light::Distant { .. } => {}
+        }
+        l
+    }
+
     /// Dimension of the light's sample domain: 0 (point), 1 (segment) or 2.
     pub fn sample_dimension(&self) -> u32 {
         match self {

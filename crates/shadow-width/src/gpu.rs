@@ -194,7 +194,7 @@ impl Kernels<'_> {
         ];
         resources.extend(d.buffers.iter().map(|b| b.as_entire_binding()));
         let bind = bind_group(self.ctx, "shadow width", &self.pipes.layout, &resources);
-        let mut pass = enc.begin_compute_pass(&Default::default());
+        let mut pass = self.ctx.begin_compute_pass(enc, "shadow width");
         pass.set_pipeline(d.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         if d.lines {

@@ -91,3 +91,45 @@ pub fn write_exr_scalar(path: &Path, size: u32, values: &[Option<f32>]) -> Resul
         .collect();
     write_exr_rgb(path, size, rgb)
 }
+
+/// Writes a scene's raw data: G-buffer positions and normals (NaN where uncovered), the
+/// reference `V` and its standard error.
+pub fn write_scene_exr(dir: &Path, size: u32, p: &crate::setup::PreparedScene) -> Result<()> {
+    let pos: Vec<f32> = p
+        .gbuffer
+        .data()
+        .iter()
+        .flat_map(|t| {
+            if t.covered {
+                t.position.to_array()
+            } else {
+                [f32::NAN; 3]
+            }
+        })
+        .collect();
+    let nrm: Vec<f32> = p
+        .gbuffer
+        .data()
+        .iter()
+        .flat_map(|t| {
+            if t.covered {
+                t.normal.to_array()
+            } else {
+                [f32::NAN; 3]
+            }
+        })
+        .collect();
+    write_exr_rgb(&dir.join("gbuffer-position.exr"), size, pos)?;
+    write_exr_rgb(&dir.join("gbuffer-normal.exr"), size, nrm)?;
+    write_exr_scalar(
+        &dir.join("reference.exr"),
+        size,
+        &scatter(size, &p.pixels, &p.reference_v()),
+    )?;
+    let se: Vec<f32> = p.reference.iter().map(|r| r.std_error).collect();
+    write_exr_scalar(
+        &dir.join("reference-std-error.exr"),
+        size,
+        &scatter(size, &p.pixels, &se),
+    )
+}

@@ -47,6 +47,10 @@ pub struct ReferenceInfo {
     pub scene: String,
     /// The kind of the scene's light (`"rect"`, `"linear"`, ...).
     pub light: String,
+    /// For a hard case recast under another light (`acne@rect`): the scene it comes from. Only
+    /// the techniques that do not model the original light run on it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub relit_from: Option<String>,
     /// `"monte-carlo"`.
     pub method: String,
     /// Samples per receiver in penumbra (the pilot's 64 elsewhere).
@@ -83,6 +87,11 @@ pub struct Run {
     /// Errors against the reference.
     #[serde(flatten)]
     pub errors: Errors,
+    /// Mean excess frame-to-frame change of `V` over the reference's, times 255, with the light
+    /// moving by small steps (see [`super::flicker`]); on `torus` and `overlap` at the flicker
+    /// resolution only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flicker_255: Option<f64>,
 }
 
 impl Run {

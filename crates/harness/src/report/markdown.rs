@@ -1,7 +1,9 @@
 //! `report.md`: the tables a person reads.
 
 use super::json::Report;
-use super::summary::{BUDGETS_MS, lines, scaling_exponents};
+use super::pareto::front_membership;
+use super::stability::{ACNE, acne_rows, flicker_rows};
+use super::summary::{BUDGETS_MS, SCALING_LIMIT, lines, scaling_cause, scaling_exponents};
 use std::fmt::Write;
 
 /// Renders the report as Markdown.
@@ -16,13 +18,14 @@ pub fn render(report: &Report) -> String {
     summary(&mut s, report);
     let _ = writeln!(
         s,
-        "## References\n\n| scene | samples/px (penumbra) | std error (255, penumbra RMS) | max std error (255) | receivers | penumbra | time ms |\n|---|---:|---:|---:|---:|---:|---:|"
+        "## References\n\n`scene@kind` is a hard case recast under a light of that kind, for the techniques that do not model its own light (see `harness::scenes::relight`).\n\n| scene | light | samples/px (penumbra) | std error (255, penumbra RMS) | max std error (255) | receivers | penumbra | time ms |\n|---|---|---:|---:|---:|---:|---:|---:|"
     );
     for r in &report.references {
         let _ = writeln!(
             s,
-            "| {} | {} | {:.3} | {:.3} | {} | {} | {:.0} |",
+            "| {} | {} | {} | {:.3} | {:.3} | {} | {} | {:.0} |",
             r.scene,
+            r.light,
             r.samples_per_pixel,
             r.std_error_255,
             r.max_std_error_255,
@@ -47,13 +50,13 @@ pub fn render(report: &Report) -> String {
         );
         let _ = writeln!(
             s,
-            "| technique | variant | backend | res | gen ms | eval ms | rms | penumbra rms | max abs | false-shadow px | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+            "| technique | variant | backend | res | gen ms | eval ms | rms | penumbra rms | max abs | false-shadow px | flicker | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
         );
         for r in report.runs.iter().filter(|r| r.scene == scene) {
             let e = &r.errors;
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {} | {} |",
+                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {} | {} | {} |",
                 r.technique,
                 r.variant,
                 r.backend,
@@ -64,6 +67,7 @@ pub fn render(report: &Report) -> String {
                 e.penumbra_rms_255,
                 e.max_abs_255,
                 e.false_shadow_pixels,
+                r.flicker_255.map(|f| format!("{f:.2}")).unwrap_or_default(),
                 e.nonfinite
             );
         }
@@ -106,16 +110,90 @@ fn summary(s: &mut String, report: &Report) {
             l.light, l.budget_ms
         );
     }
-    let exps = scaling_exponents(report);
-    if !exps.is_empty() {
+    stability(s, report);
+    fronts(s, report);
+    scaling(s, report);
+    s.push('\n');
+}
+
+/// Flicker and acne tables.
+fn stability(s: &mut String, report: &Report) {
+    let rows = flicker_rows(report);
+    if !rows.is_empty() {
+        let scenes = super::flicker::SCENES;
         let _ = writeln!(
             s,
-            "\n## Scaling\n\nSlope of log(generation time) against log(texels) over the resolutions \
-             256..2048 measured (1 = linear in texels).\n\n| configuration | exponent | resolutions |\n|---|---:|---:|"
+            "\n## Temporal stability\n\n`flicker_255`: the light moves {} cm per frame; the mean \
+             excess frame-to-frame change of `V` over the reference's own change, times 255 (0 = \
+             follows the light exactly).\n\n| configuration | {} |\n|---|{}",
+            super::flicker::STEP * 100.0,
+            scenes.join(" | "),
+            "---:|".repeat(scenes.len())
         );
-        for (k, e, n) in exps {
-            let _ = writeln!(s, "| {k} | {e:.2} | {n} |");
+        for (k, v) in rows {
+            let cells: Vec<String> = v
+                .iter()
+                .map(|f| f.map(|f| format!("{f:.2}")).unwrap_or_default())
+                .collect();
+            let _ = writeln!(s, "| {k} | {} |", cells.join(" | "));
         }
     }
-    s.push('\n');
+    let acne = acne_rows(report);
+    if !acne.is_empty() {
+        let _ = writeln!(
+            s,
+            "\n## Acne\n\nOn `{ACNE}` (unoccluded receivers at grazing light; `{ACNE}@kind`: the \
+             same under a recast light for techniques that do not model a distant one), the \
+             largest count over resolutions and backends of receivers the reference sees lit \
+             (`V_ref >= 0.98`) that come out below 0.98. Every entry should be 0.\n\n\
+             | technique variant | false-shadow px (worst) | worst on | runs |\n|---|---:|---|---:|"
+        );
+        for (k, (n, scene, runs)) in acne {
+            let _ = writeln!(s, "| {k} | {n} | {scene} | {runs} |");
+        }
+    }
+}
+
+/// Which scenes' Pareto fronts each technique reaches.
+fn fronts(s: &mut String, report: &Report) {
+    let m = front_membership(report);
+    if m.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "\n## Pareto fronts\n\nPer technique, the scenes where one of its runs (any variant, \
+         backend, resolution) is on the front of error against total time: nothing else is both \
+         faster and more accurate there.\n\n| technique | on the front of | scenes |\n|---|---|---:|"
+    );
+    for (t, scenes) in m {
+        let list = if scenes.is_empty() {
+            "never".to_string()
+        } else {
+            scenes.join(", ")
+        };
+        let _ = writeln!(s, "| {t} | {list} | {} |", scenes.len());
+    }
+}
+
+/// Generation-time exponents, with the cause of any above [`SCALING_LIMIT`].
+fn scaling(s: &mut String, report: &Report) {
+    let exps = scaling_exponents(report);
+    if exps.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "\n## Scaling\n\nSlope of log(generation time) against log(texels) over the resolutions \
+         256..2048 measured (1 = linear in texels; fixed costs pull it below 1). Above \
+         {SCALING_LIMIT}, the cause.\n\n| configuration | exponent | resolutions | why above {SCALING_LIMIT} |\n|---|---:|---:|---|"
+    );
+    for (k, e, n) in exps {
+        let why = if e > SCALING_LIMIT {
+            scaling_cause(&k)
+        } else {
+            ""
+        };
+        let _ = writeln!(s, "| {k} | {e:.2} | {n} | {why} |");
+    }
 }

@@ -1,84 +1,26 @@
 //! The `report` subcommand: every technique on every scene against the ground truth, with times.
 
+pub mod flicker;
 pub mod html;
 pub mod images;
 pub mod json;
 pub mod markdown;
+pub mod measure;
+pub mod options;
 pub mod pareto;
+pub mod stability;
 pub mod summary;
 
-use crate::baselines::ShadowMapBaseline;
 use crate::ground_truth::GroundTruthSettings;
-use crate::metrics::{errors, median};
+use crate::metrics::errors;
 use crate::scenes::{SceneSpec, catalogue, scene_file};
 use crate::setup::PreparedScene;
 use indicatif::{ProgressBar, ProgressStyle};
 use json::{Machine, ReferenceInfo, Report, Run};
-use linear_light::LinearLight;
-use occlusion_slices::OcclusionSlices;
-use penumbra_limit::PenumbraLimit;
+pub use options::{BackendChoice, ReportOptions, all_techniques};
 use shadow_core::{Backend, DynTechnique, GpuContext, Result, ShadowError};
-use shadow_width::ShadowWidth;
-use std::path::{Path, PathBuf};
-use std::time::Instant;
-
-/// Which backends to run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BackendChoice {
-    /// CPU only.
-    Cpu,
-    /// GPU only (an error without an adapter).
-    Gpu,
-    /// Both; without an adapter, CPU only with a warning.
-    All,
-}
-
-/// Options of `report`, as the CLI flags of the guide.
-#[derive(Clone, Debug)]
-pub struct ReportOptions {
-    /// `--quick`: 128² G-buffer, resolution 256, fewer variants; under 2 minutes on 2 cores.
-    pub quick: bool,
-    /// `--out`.
-    pub out: PathBuf,
-    /// `--scenes` (built-in names); `None` = all.
-    pub scenes: Option<Vec<String>>,
-    /// `--techniques` (technique names); `None` = all.
-    pub techniques: Option<Vec<String>>,
-    /// `--resolutions`; `None` = 64,256,1024 (quick: 256).
-    pub resolutions: Option<Vec<u32>>,
-    /// `--backend`.
-    pub backend: BackendChoice,
-    /// `--scene-file`, repeatable.
-    pub scene_files: Vec<PathBuf>,
-    /// `--size`: G-buffer side; `None` = 512 (quick: 128).
-    pub size: Option<u32>,
-}
-
-/// Every technique the report knows, for `--techniques`.
-pub fn all_techniques(quick: bool) -> Vec<Box<dyn DynTechnique>> {
-    let accumulation: &[u32] = if quick { &[16] } else { &[4, 16, 64, 256] };
-    let baselines = ShadowMapBaseline::standard_set(accumulation)
-        .into_iter()
-        .map(|b| Box::new(b) as Box<dyn DynTechnique>);
-    let shadow_width = ShadowWidth::standard_set()
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    let penumbra_limit = PenumbraLimit::standard_set()
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    let occlusion_slices = OcclusionSlices::standard_set()
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    let linear_light = LinearLight::standard_set()
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    baselines
-        .chain(shadow_width)
-        .chain(penumbra_limit)
-        .chain(occlusion_slices)
-        .chain(linear_light)
-        .collect()
-}
+use std::collections::HashSet;
+use std::path::Path;
 
 fn cpu_name() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
@@ -111,47 +53,6 @@ fn select_scenes(opts: &ReportOptions) -> Result<Vec<SceneSpec>> {
     Ok(specs)
 }
 
-struct Measured {
-    generate_ms: f64,
-    evaluate_ms: f64,
-    v: Vec<f32>,
-}
-
-fn measure(
-    t: &dyn DynTechnique,
-    backend: Backend,
-    gpu: Option<&GpuContext>,
-    p: &PreparedScene,
-    res: u32,
-) -> Result<Measured> {
-    let light = &p.spec.light;
-    if backend == Backend::Gpu {
-        // Warm-up: pipelines are compiled on first use and cached per device.
-        let maps = t.generate(backend, gpu, &p.geometry, light, res)?;
-        t.evaluate(gpu, &maps, &p.receivers())?;
-    }
-    let (mut gen_t, mut eval_t) = (Vec::new(), Vec::new());
-    let start = Instant::now();
-    let mut v = Vec::new();
-    for _ in 0..3 {
-        let t0 = Instant::now();
-        let maps = t.generate(backend, gpu, &p.geometry, light, res)?;
-        let t1 = Instant::now();
-        v = t.evaluate(gpu, &maps, &p.receivers())?;
-        let t2 = Instant::now();
-        gen_t.push((t1 - t0).as_secs_f64() * 1e3);
-        eval_t.push((t2 - t1).as_secs_f64() * 1e3);
-        if start.elapsed().as_secs_f64() > 2.0 {
-            break;
-        }
-    }
-    Ok(Measured {
-        generate_ms: median(&gen_t),
-        evaluate_ms: median(&eval_t),
-        v,
-    })
-}
-
 fn create_dir(path: &Path) -> Result<()> {
     std::fs::create_dir_all(path).map_err(|source| ShadowError::Io {
         path: path.display().to_string(),
@@ -159,36 +60,289 @@ fn create_dir(path: &Path) -> Result<()> {
     })
 }
 
-/// Runs the report and writes `report.json`, `report.md`, PNG strips, Pareto charts and EXR data into `opts.out`.
-pub fn run(opts: &ReportOptions) -> Result<Report> {
-    let quick = opts.quick;
-    let size = opts.size.unwrap_or(if quick { 128 } else { 512 });
-    if size == 0 || size > 4096 {
-        return Err(ShadowError::InvalidResolution {
-            requested: size,
-            max: 4096,
-        });
-    }
-    let settings = if quick {
-        GroundTruthSettings {
-            strata_side: 32,
-            replicates: 4,
+fn write_text(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|source| ShadowError::Io {
+        path: path.display().to_string(),
+        source,
+    })
+}
+
+/// One scene of the run and the techniques (indices) it runs: all of them, or, for a hard case
+/// recast under another light ([`SceneSpec::relit`]), those that do not model its own light.
+struct Job {
+    spec: SceneSpec,
+    techniques: Vec<usize>,
+    relit_from: Option<String>,
+}
+
+fn jobs(specs: Vec<SceneSpec>, techniques: &[Box<dyn DynTechnique>]) -> Result<Vec<Job>> {
+    let mut out = Vec::new();
+    for spec in specs {
+        let mut relit: Vec<Job> = Vec::new();
+        if spec.hard_case {
+            for (i, t) in techniques.iter().enumerate() {
+                let Some(r) = spec.relit(|k| t.models(k))? else {
+                    continue;
+                };
+                match relit.iter_mut().find(|j| j.spec.name == r.name) {
+                    Some(j) => j.techniques.push(i),
+                    None => relit.push(Job {
+                        spec: r,
+                        techniques: vec![i],
+                        relit_from: Some(spec.name.clone()),
+                    }),
+                }
+            }
         }
-    } else {
-        GroundTruthSettings::default()
-    };
-    let resolutions = opts.resolutions.clone().unwrap_or(if quick {
-        vec![256]
-    } else {
-        vec![64, 256, 1024]
-    });
-    if let Some(&bad) = resolutions.iter().find(|&&r| r == 0) {
-        return Err(ShadowError::InvalidResolution {
-            requested: bad,
-            max: shadow_core::technique::MAX_CPU_RESOLUTION,
+        out.push(Job {
+            spec,
+            techniques: (0..techniques.len()).collect(),
+            relit_from: None,
         });
+        out.extend(relit);
     }
-    let mut techniques = all_techniques(quick);
+    Ok(out)
+}
+
+/// What every scene of one report shares.
+struct Runner<'a> {
+    opts: &'a ReportOptions,
+    size: u32,
+    settings: GroundTruthSettings,
+    resolutions: Vec<u32>,
+    techniques: Vec<Box<dyn DynTechnique>>,
+    backends: Vec<Backend>,
+    gpu: Option<GpuContext>,
+    bar: ProgressBar,
+    /// Techniques already warmed up on the GPU.
+    warmed: HashSet<usize>,
+}
+
+/// A strip column: label, resolution, backend, `V`.
+type StripColumn = (String, u32, Backend, Vec<f32>);
+
+impl Runner<'_> {
+    fn runs_per_scene(&self, job: &Job) -> u64 {
+        let flicker = if flicker::SCENES.contains(&job.spec.name.as_str()) {
+            job.techniques.len() * self.backends.len()
+        } else {
+            0
+        };
+        1 + (job.techniques.len() * self.resolutions.len() * self.backends.len() + flicker) as u64
+    }
+
+    /// Measures every technique of `job` and writes its strip, Pareto chart and EXR data.
+    fn scene(&mut self, job: Job, report: &mut Report) -> Result<()> {
+        let name = job.spec.name.clone();
+        self.bar.set_message(format!("{name}: reference"));
+        let p = PreparedScene::new(job.spec, self.size, self.settings)?;
+        let reference = p.reference_v();
+        let penumbra = reference
+            .iter()
+            .filter(|&&r| r > crate::metrics::PENUMBRA_LO && r < crate::metrics::PENUMBRA_HI)
+            .count();
+        report.references.push(ReferenceInfo {
+            scene: name.clone(),
+            light: p.spec.light.kind().name().into(),
+            relit_from: job.relit_from.clone(),
+            method: "monte-carlo".into(),
+            samples_per_pixel: self.settings.samples_per_pixel(),
+            std_error_255: p.std_error_255(),
+            max_std_error_255: p.max_std_error_255(),
+            receivers: p.positions.len(),
+            penumbra_receivers: penumbra,
+            time_ms: p.reference_ms,
+        });
+        self.bar.inc(1);
+        let exr_dir = self.opts.out.join("exr").join(&name);
+        create_dir(&exr_dir)?;
+        images::write_scene_exr(&exr_dir, self.size, &p)?;
+        let mut strip: Vec<StripColumn> = Vec::new();
+        for &ti in &job.techniques {
+            for ri in 0..self.resolutions.len() {
+                for bi in 0..self.backends.len() {
+                    let (res, backend) = (self.resolutions[ri], self.backends[bi]);
+                    if let Some(run) = self.run(ti, backend, res, &p, &reference, &mut strip)? {
+                        report.runs.push(run);
+                    }
+                    self.bar.inc(1);
+                }
+            }
+        }
+        if flicker::SCENES.contains(&name.as_str()) {
+            self.flicker(&job.techniques, &p, &mut report.runs)?;
+        }
+        self.write_strip(&name, &p, &reference, &strip, report)
+    }
+
+    /// One configuration; `None` (after a printed line) when the technique cannot run it.
+    fn run(
+        &mut self,
+        ti: usize,
+        backend: Backend,
+        res: u32,
+        p: &PreparedScene,
+        reference: &[f32],
+        strip: &mut Vec<StripColumn>,
+    ) -> Result<Option<Run>> {
+        let t = self.techniques[ti].as_ref();
+        let name = &p.spec.name;
+        self.bar.set_message(format!(
+            "{name}: {} {} {} {res}",
+            t.name(),
+            t.variant(),
+            backend.name()
+        ));
+        let warm_up = backend == Backend::Gpu && self.warmed.insert(ti);
+        let reps = if self.opts.quick {
+            measure::QUICK_MAX_REPS
+        } else {
+            measure::MAX_REPS
+        };
+        let m = match measure::measure(t, backend, self.gpu.as_ref(), p, res, reps, warm_up) {
+            Ok(m) => m,
+            Err(
+                e @ (ShadowError::InvalidResolution { .. } | ShadowError::UnsupportedLight { .. }),
+            ) => {
+                self.bar.println(format!(
+                    "skipped {name} {} {} {res}: {e}",
+                    t.name(),
+                    backend.name()
+                ));
+                return Ok(None);
+            }
+            Err(e) => return Err(e),
+        };
+        let run = Run {
+            scene: name.clone(),
+            technique: t.name().to_string(),
+            variant: t.variant(),
+            backend: backend.name().to_string(),
+            resolution: res,
+            generate_ms: m.generate_ms,
+            evaluate_ms: m.evaluate_ms,
+            errors: errors(&m.v, reference),
+            flicker_255: None,
+        };
+        let file = self.opts.out.join("exr").join(name).join(format!(
+            "{}-{}-{}-{res}.exr",
+            run.technique, run.variant, run.backend
+        ));
+        images::write_exr_scalar(
+            &file,
+            self.size,
+            &images::scatter(self.size, &p.pixels, &m.v),
+        )?;
+        // The strip shows each variant once: its highest resolution, CPU on ties.
+        let label = format!("{}/{}", run.technique, run.variant);
+        match strip.iter_mut().find(|s| s.0 == label) {
+            Some(s) if (res, backend == Backend::Cpu) > (s.1, s.2 == Backend::Cpu) => {
+                *s = (label, res, backend, m.v)
+            }
+            Some(_) => {}
+            None => strip.push((label, res, backend, m.v)),
+        }
+        Ok(Some(run))
+    }
+
+    /// `flicker_255` of every technique and backend at the flicker resolution, stored on the
+    /// matching runs.
+    fn flicker(&mut self, techniques: &[usize], p: &PreparedScene, runs: &mut [Run]) -> Result<()> {
+        let Some(res) = self.opts.flicker_resolution() else {
+            return Ok(());
+        };
+        self.bar
+            .set_message(format!("{}: flicker references", p.spec.name));
+        let frames = if self.opts.quick {
+            flicker::QUICK_FRAMES
+        } else {
+            flicker::FRAMES
+        };
+        let refs = flicker::references(p, frames);
+        for &ti in techniques {
+            let t = self.techniques[ti].as_ref();
+            for &backend in &self.backends {
+                self.bar.set_message(format!(
+                    "{}: flicker {} {} {}",
+                    p.spec.name,
+                    t.name(),
+                    t.variant(),
+                    backend.name()
+                ));
+                let run = runs.iter_mut().find(|r| {
+                    r.scene == p.spec.name
+                        && r.technique == t.name()
+                        && r.variant == t.variant()
+                        && r.backend == backend.name()
+                        && r.resolution == res
+                });
+                if let Some(run) = run {
+                    run.flicker_255 = Some(flicker::measure(
+                        t,
+                        backend,
+                        self.gpu.as_ref(),
+                        p,
+                        res,
+                        &refs,
+                    )?);
+                }
+                self.bar.inc(1);
+            }
+        }
+        Ok(())
+    }
+
+    fn write_strip(
+        &self,
+        name: &str,
+        p: &PreparedScene,
+        reference: &[f32],
+        strip: &[StripColumn],
+        report: &mut Report,
+    ) -> Result<()> {
+        let out = &self.opts.out;
+        let reference_img = images::scatter(self.size, &p.pixels, reference);
+        let runs_img: Vec<Vec<Option<f32>>> = strip
+            .iter()
+            .map(|s| images::scatter(self.size, &p.pixels, &s.3))
+            .collect();
+        images::write_strip(
+            &out.join(format!("{name}.png")),
+            self.size,
+            &reference_img,
+            &runs_img,
+        )?;
+        let scene_runs: Vec<Run> = report
+            .runs
+            .iter()
+            .filter(|r| r.scene == name)
+            .cloned()
+            .collect();
+        pareto::draw(
+            &out.join(format!("pareto-{name}.png")),
+            &format!("{name}: error vs time"),
+            &scene_runs,
+        )?;
+        let mut columns = vec![format!(
+            "reference (monte-carlo, {} spp in penumbra)",
+            self.settings.samples_per_pixel()
+        )];
+        columns.extend(
+            strip
+                .iter()
+                .map(|s| format!("{} ({} {})", s.0, s.2.name(), s.1)),
+        );
+        report.strips.push(json::Strip {
+            scene: name.to_string(),
+            file: format!("{name}.png"),
+            columns,
+        });
+        Ok(())
+    }
+}
+
+fn select_techniques(opts: &ReportOptions) -> Result<Vec<Box<dyn DynTechnique>>> {
+    let mut techniques = all_techniques(opts.quick);
     if let Some(names) = &opts.techniques {
         for n in names {
             if !techniques.iter().any(|t| t.name() == n) {
@@ -201,7 +355,11 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         }
         techniques.retain(|t| names.iter().any(|n| n == t.name()));
     }
-    let (gpu, gpu_adapter) = match opts.backend {
+    Ok(techniques)
+}
+
+fn select_gpu(choice: BackendChoice) -> Result<(Option<GpuContext>, String)> {
+    Ok(match choice {
         BackendChoice::Cpu => (None, "not used (--backend cpu)".to_string()),
         BackendChoice::Gpu => {
             let g = GpuContext::new()?;
@@ -218,7 +376,36 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
                 (None, format!("none: {e}"))
             }
         },
+    })
+}
+
+/// Runs the report and writes `report.json`, `report.md`, `index.html`, PNG strips, Pareto
+/// charts and EXR data into `opts.out`.
+pub fn run(opts: &ReportOptions) -> Result<Report> {
+    let size = opts.size();
+    if size == 0 || size > 4096 {
+        return Err(ShadowError::InvalidResolution {
+            requested: size,
+            max: 4096,
+        });
+    }
+    let settings = if opts.quick {
+        GroundTruthSettings {
+            strata_side: 32,
+            replicates: 4,
+        }
+    } else {
+        GroundTruthSettings::default()
     };
+    let resolutions = opts.resolutions();
+    if let Some(&bad) = resolutions.iter().find(|&&r| r == 0) {
+        return Err(ShadowError::InvalidResolution {
+            requested: bad,
+            max: shadow_core::technique::MAX_CPU_RESOLUTION,
+        });
+    }
+    let techniques = select_techniques(opts)?;
+    let (gpu, gpu_adapter) = select_gpu(opts.backend)?;
     let mut backends = Vec::new();
     if opts.backend != BackendChoice::Gpu {
         backends.push(Backend::Cpu);
@@ -226,11 +413,22 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     if gpu.is_some() {
         backends.push(Backend::Gpu);
     }
-    let specs = select_scenes(opts)?;
+    let jobs = jobs(select_scenes(opts)?, &techniques)?;
     create_dir(&opts.out)?;
-    let per_scene = 1 + (techniques.len() * resolutions.len() * backends.len()) as u64;
-    let bar = ProgressBar::new(per_scene * specs.len() as u64);
-    bar.set_style(
+    let mut runner = Runner {
+        opts,
+        size,
+        settings,
+        resolutions,
+        techniques,
+        backends,
+        gpu,
+        bar: ProgressBar::hidden(),
+        warmed: HashSet::new(),
+    };
+    let total: u64 = jobs.iter().map(|j| runner.runs_per_scene(j)).sum();
+    runner.bar = ProgressBar::new(total);
+    runner.bar.set_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
@@ -245,126 +443,14 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         runs: Vec::new(),
         strips: Vec::new(),
     };
-    for spec in specs {
-        bar.set_message(format!("{}: reference", spec.name));
-        let name = spec.name.clone();
-        let p = PreparedScene::new(spec, size, settings)?;
-        let reference = p.reference_v();
-        let penumbra = reference
-            .iter()
-            .filter(|&&r| r > crate::metrics::PENUMBRA_LO && r < crate::metrics::PENUMBRA_HI)
-            .count();
-        report.references.push(ReferenceInfo {
-            scene: name.clone(),
-            light: p.spec.light.kind().name().into(),
-            method: "monte-carlo".into(),
-            samples_per_pixel: settings.samples_per_pixel(),
-            std_error_255: p.std_error_255(),
-            max_std_error_255: p.max_std_error_255(),
-            receivers: p.positions.len(),
-            penumbra_receivers: penumbra,
-            time_ms: p.reference_ms,
-        });
-        bar.inc(1);
-        let exr_dir = opts.out.join("exr").join(&name);
-        create_dir(&exr_dir)?;
-        write_scene_exr(&exr_dir, size, &p)?;
-        let mut strip: Vec<(String, u32, Backend, Vec<f32>)> = Vec::new();
-        for t in &techniques {
-            for &res in &resolutions {
-                for &backend in &backends {
-                    bar.set_message(format!(
-                        "{name}: {} {} {} {res}",
-                        t.name(),
-                        t.variant(),
-                        backend.name()
-                    ));
-                    let m = match measure(t.as_ref(), backend, gpu.as_ref(), &p, res) {
-                        Ok(m) => m,
-                        Err(
-                            e @ (ShadowError::InvalidResolution { .. }
-                            | ShadowError::UnsupportedLight { .. }),
-                        ) => {
-                            bar.println(format!(
-                                "skipped {name} {} {} {res}: {e}",
-                                t.name(),
-                                backend.name()
-                            ));
-                            bar.inc(1);
-                            continue;
-                        }
-                        Err(e) => return Err(e),
-                    };
-                    let run = Run {
-                        scene: name.clone(),
-                        technique: t.name().to_string(),
-                        variant: t.variant(),
-                        backend: backend.name().to_string(),
-                        resolution: res,
-                        generate_ms: m.generate_ms,
-                        evaluate_ms: m.evaluate_ms,
-                        errors: errors(&m.v, &reference),
-                    };
-                    let file = exr_dir.join(format!(
-                        "{}-{}-{}-{res}.exr",
-                        run.technique, run.variant, run.backend
-                    ));
-                    images::write_exr_scalar(&file, size, &images::scatter(size, &p.pixels, &m.v))?;
-                    let label = format!("{}/{}", run.technique, run.variant);
-                    match strip.iter_mut().find(|s| s.0 == label) {
-                        Some(s) if (res, backend == Backend::Cpu) > (s.1, s.2 == Backend::Cpu) => {
-                            *s = (label, res, backend, m.v)
-                        }
-                        Some(_) => {}
-                        None => strip.push((label, res, backend, m.v)),
-                    }
-                    report.runs.push(run);
-                    bar.inc(1);
-                }
-            }
-        }
-        let reference_img = images::scatter(size, &p.pixels, &reference);
-        let runs_img: Vec<Vec<Option<f32>>> = strip
-            .iter()
-            .map(|s| images::scatter(size, &p.pixels, &s.3))
-            .collect();
-        images::write_strip(
-            &opts.out.join(format!("{name}.png")),
-            size,
-            &reference_img,
-            &runs_img,
-        )?;
-        let scene_runs: Vec<Run> = report
-            .runs
-            .iter()
-            .filter(|r| r.scene == name)
-            .cloned()
-            .collect();
-        pareto::draw(
-            &opts.out.join(format!("pareto-{name}.png")),
-            &format!("{name}: error vs time"),
-            &scene_runs,
-        )?;
-        let mut columns = vec![format!(
-            "reference (monte-carlo, {} spp in penumbra)",
-            settings.samples_per_pixel()
-        )];
-        columns.extend(
-            strip
-                .iter()
-                .map(|s| format!("{} ({} {})", s.0, s.2.name(), s.1)),
-        );
-        report.strips.push(json::Strip {
-            scene: name.clone(),
-            file: format!("{name}.png"),
-            columns,
-        });
+    for job in jobs {
+        runner.scene(job, &mut report)?;
     }
-    bar.finish_with_message("done");
+    runner.bar.finish_with_message("done");
     pareto::draw(
         &opts.out.join("pareto.png"),
         "all scenes: mean error vs mean time",
-        &scene_means(&report.runs),
+        &pareto::scene_means(&report.runs),
     )?;
     write_text(
         &opts.out.join("report.json"),
@@ -375,80 +461,4 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     write_text(&opts.out.join("report.md"), &md)?;
     write_text(&opts.out.join("index.html"), &html::render(&md))?;
     Ok(report)
-}
-
-/// One point per technique/variant/backend/resolution: the mean over scenes of time and error.
-fn scene_means(runs: &[Run]) -> Vec<Run> {
-    let mut out: Vec<(Run, u32)> = Vec::new();
-    for r in runs {
-        match out
-            .iter_mut()
-            .find(|(o, _)| o.series() == r.series() && o.resolution == r.resolution)
-        {
-            Some((o, n)) => {
-                o.generate_ms += r.generate_ms;
-                o.evaluate_ms += r.evaluate_ms;
-                o.errors.rms_255 += r.errors.rms_255;
-                *n += 1;
-            }
-            None => out.push((r.clone(), 1)),
-        }
-    }
-    out.into_iter()
-        .map(|(mut o, n)| {
-            let k = n as f64;
-            o.generate_ms /= k;
-            o.evaluate_ms /= k;
-            o.errors.rms_255 /= k;
-            o.scene = "all".into();
-            o
-        })
-        .collect()
-}
-
-fn write_text(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|source| ShadowError::Io {
-        path: path.display().to_string(),
-        source,
-    })
-}
-
-fn write_scene_exr(dir: &Path, size: u32, p: &PreparedScene) -> Result<()> {
-    let pos: Vec<f32> = p
-        .gbuffer
-        .data()
-        .iter()
-        .flat_map(|t| {
-            if t.covered {
-                t.position.to_array()
-            } else {
-                [f32::NAN; 3]
-            }
-        })
-        .collect();
-    let nrm: Vec<f32> = p
-        .gbuffer
-        .data()
-        .iter()
-        .flat_map(|t| {
-            if t.covered {
-                t.normal.to_array()
-            } else {
-                [f32::NAN; 3]
-            }
-        })
-        .collect();
-    images::write_exr_rgb(&dir.join("gbuffer-position.exr"), size, pos)?;
-    images::write_exr_rgb(&dir.join("gbuffer-normal.exr"), size, nrm)?;
-    images::write_exr_scalar(
-        &dir.join("reference.exr"),
-        size,
-        &images::scatter(size, &p.pixels, &p.reference_v()),
-    )?;
-    let se: Vec<f32> = p.reference.iter().map(|r| r.std_error).collect();
-    images::write_exr_scalar(
-        &dir.join("reference-std-error.exr"),
-        size,
-        &images::scatter(size, &p.pixels, &se),
-    )
 }

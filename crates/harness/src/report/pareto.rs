@@ -11,6 +11,14 @@ use std::sync::Once;
 type ResolutionPoint = (u32, (f64, f64));
 
 static FONT: Once = Once::new();
+/// Width of the plot, pixels.
+const PLOT_WIDTH: u32 = 1000;
+/// Width of the legend column, pixels.
+const LEGEND_WIDTH: u32 = 420;
+/// First legend line's baseline, pixels from the top.
+const LEGEND_TOP: u32 = 60;
+/// Legend line height, pixels.
+const LEGEND_LINE: u32 = 16;
 const DEJAVU: &[u8] = include_bytes!("../../../../assets/DejaVuSans.ttf");
 
 fn register_font() {
@@ -40,13 +48,40 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
         .collect()
 }
 
+/// Chart coordinates of a run: (total ms, rms), clamped away from 0 for the log axes.
+fn point(r: &Run) -> (f64, f64) {
+    (r.total_ms().max(1e-3), r.errors.rms_255.max(1e-2))
+}
+
+/// Per technique, the scenes on whose Pareto front (over every run of the scene: variants,
+/// backends, resolutions) at least one of its runs lies; an empty list for a technique never on
+/// one. Relit hard cases (`scene@kind`) are left out: only some techniques run there.
+pub fn front_membership(report: &super::json::Report) -> BTreeMap<String, Vec<String>> {
+    let mut out: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for reference in report.references.iter().filter(|r| r.relit_from.is_none()) {
+        let runs: Vec<&Run> = report
+            .runs
+            .iter()
+            .filter(|r| r.scene == reference.scene)
+            .collect();
+        for r in &runs {
+            out.entry(r.technique.clone()).or_default();
+        }
+        let pts: Vec<(f64, f64)> = runs.iter().map(|r| point(r)).collect();
+        for i in pareto_front(&pts) {
+            let scenes = out.entry(runs[i].technique.clone()).or_default();
+            if !scenes.contains(&reference.scene) {
+                scenes.push(reference.scene.clone());
+            }
+        }
+    }
+    out
+}
+
 /// Draws `runs` (one scene, or scene-averaged points) to `path`.
 pub fn draw(path: &Path, title: &str, runs: &[Run]) -> Result<()> {
     register_font();
-    let pts: Vec<(f64, f64)> = runs
-        .iter()
-        .map(|r| (r.total_ms().max(1e-3), r.errors.rms_255.max(1e-2)))
-        .collect();
+    let pts: Vec<(f64, f64)> = runs.iter().map(point).collect();
     if pts.is_empty() {
         return Ok(());
     }
@@ -59,9 +94,19 @@ pub fn draw(path: &Path, title: &str, runs: &[Run]) -> Result<()> {
         .iter()
         .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
     let (xpad, ypad) = (0.1 + 0.05 * (xmax - xmin), 0.1 + 0.05 * (ymax - ymin));
-    let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
+    let mut series: BTreeMap<String, Vec<ResolutionPoint>> = BTreeMap::new();
+    for (r, p) in runs.iter().zip(&lg) {
+        series
+            .entry(r.series())
+            .or_default()
+            .push((r.resolution, *p));
+    }
+    // The legend gets its own column right of the plot, one line per series.
+    let height = (700u32).max(LEGEND_TOP + LEGEND_LINE * (series.len() as u32 + 2));
+    let root = BitMapBackend::new(path, (PLOT_WIDTH + LEGEND_WIDTH, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let mut chart = ChartBuilder::on(&root)
+    let (plot, legend) = root.split_horizontally(PLOT_WIDTH);
+    let mut chart = ChartBuilder::on(&plot)
         .caption(title, ("sans-serif", 24))
         .margin(15)
         .x_label_area_size(45)
@@ -76,24 +121,25 @@ pub fn draw(path: &Path, title: &str, runs: &[Run]) -> Result<()> {
         .y_label_formatter(&|v| format!("{:.2}", 10f64.powf(*v)))
         .draw()
         .map_err(|e| plot_err(path, e))?;
-    let mut series: BTreeMap<String, Vec<ResolutionPoint>> = BTreeMap::new();
-    for (r, p) in runs.iter().zip(&lg) {
-        series
-            .entry(r.series())
-            .or_default()
-            .push((r.resolution, *p));
-    }
+    let font = ("sans-serif", 13).into_font();
+    let entry_y = |k: usize| (LEGEND_TOP + LEGEND_LINE * k as u32) as i32;
     for (k, (name, mut v)) in series.into_iter().enumerate() {
         v.sort_by_key(|x| x.0);
         let color = Palette99::pick(k).to_rgba();
         let line: Vec<(f64, f64)> = v.iter().map(|x| x.1).collect();
         chart
             .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
-            .map_err(|e| plot_err(path, e))?
-            .label(name)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-            });
+            .map_err(|e| plot_err(path, e))?;
+        let y = entry_y(k);
+        legend
+            .draw(&PathElement::new(
+                vec![(8, y), (30, y)],
+                color.stroke_width(3),
+            ))
+            .map_err(|e| plot_err(path, e))?;
+        legend
+            .draw(&Text::new(name, (36, y - 7), font.clone()))
+            .map_err(|e| plot_err(path, e))?;
         chart
             .draw_series(line.iter().map(|p| Circle::new(*p, 3, color.filled())))
             .map_err(|e| plot_err(path, e))?;
@@ -105,15 +151,57 @@ pub fn draw(path: &Path, title: &str, runs: &[Run]) -> Result<()> {
                 .iter()
                 .map(|&i| Circle::new(lg[i], 8, BLACK.stroke_width(2))),
         )
-        .map_err(|e| plot_err(path, e))?
-        .label("Pareto front")
-        .legend(|(x, y)| Circle::new((x + 9, y), 5, BLACK.stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    let y = entry_y(0) - LEGEND_LINE as i32;
+    legend
+        .draw(&Circle::new((19, y), 6, BLACK.stroke_width(2)))
+        .map_err(|e| plot_err(path, e))?;
+    legend
+        .draw(&Text::new("Pareto front (ringed)", (36, y - 7), font))
         .map_err(|e| plot_err(path, e))?;
     root.present().map_err(|e| plot_err(path, e))
+}
+
+/// One point per technique/variant/backend/resolution: the mean over scenes of time and error.
+pub fn scene_means(runs: &[Run]) -> Vec<Run> {
+    let mut out: Vec<(Run, u32)> = Vec::new();
+    for r in runs {
+        match out
+            .iter_mut()
+            .find(|(o, _)| o.series() == r.series() && o.resolution == r.resolution)
+        {
+            Some((o, n)) => {
+                o.generate_ms += r.generate_ms;
+                o.evaluate_ms += r.evaluate_ms;
+                o.errors.rms_255 += r.errors.rms_255;
+                *n += 1;
+            }
+            None => out.push((r.clone(), 1)),
+        }
+    }
+    out.into_iter()
+        .map(|(mut o, n)| {
+            let k = n as f64;
+            o.generate_ms /= k;
+            o.evaluate_ms /= k;
+            o.errors.rms_255 /= k;
+            o.scene = "all".into();
+            o
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pareto_front;
+
+    #[test]
+    fn the_front_holds_exactly_the_undominated_points() {
+        // (time, error): (3, 6) is dominated by (2, 5), (5, 1) by (4, 1); ties on one axis
+        // dominate only when strictly better on the other.
+        let pts = [(1.0, 10.0), (2.0, 5.0), (3.0, 6.0), (4.0, 1.0), (5.0, 1.0)];
+        assert_eq!(pareto_front(&pts), [0, 1, 3]);
+        // Identical points do not dominate each other.
+        assert_eq!(pareto_front(&[(1.0, 1.0), (1.0, 1.0)]), [0, 1]);
+    }
 }

@@ -44,6 +44,7 @@ pub fn configs(report: &Report) -> BTreeMap<String, Vec<Config>> {
     let kind: BTreeMap<&str, &str> = report
         .references
         .iter()
+        .filter(|r| r.relit_from.is_none())
         .map(|r| (r.scene.as_str(), r.light.as_str()))
         .collect();
     let mut groups: BTreeMap<(String, String), (String, f64, f64, u32)> = BTreeMap::new();
@@ -140,4 +141,39 @@ pub fn scaling_exponents(report: &Report) -> Vec<(String, f64, usize)> {
             (k, sxy / sxx, pts.len())
         })
         .collect()
+}
+
+/// Exponents above this are explained in the report.
+pub const SCALING_LIMIT: f64 = 1.2;
+
+/// Why a configuration's generation time grows faster than its texel count: the causes measured
+/// for each technique (`key` is `technique variant backend`, as [`scaling_exponents`] names it).
+pub fn scaling_cause(key: &str) -> &'static str {
+    let technique = key.split(' ').next().unwrap_or("");
+    let backend = key.rsplit(' ').next().unwrap_or("");
+    match (technique, backend) {
+        ("occlusion-slices", "cpu") => {
+            "one u32 summed-area table per slice, (side+1)² x 4 bytes: 16 MiB per slice at 2048 \
+             against 1 MiB at 512, so 8 or 16 slices (128-256 MiB) leave the last-level cache \
+             and every texel of the scans and level builds costs a memory access"
+        }
+        ("occlusion-slices", _) => {
+            "N-Buffers keep log2(side) full-resolution levels per slice group (O(n log n)) and \
+             every level is a fresh texture"
+        }
+        ("shadow-width", _) => {
+            "the width map's propagation runs log2(side) passes over every texel (O(n log n))"
+        }
+        ("penumbra-limit", _) => {
+            "the depth-image generator's jump flood runs log2(side) passes (O(n log n))"
+        }
+        (_, "gpu") => {
+            "fresh textures per call: at 2048 allocation and first touch of the maps dominate the \
+             device work (no texture pool yet)"
+        }
+        _ => {
+            "maps outgrow the CPU caches (16 MiB per f32 map at 2048) and every call first-touches \
+             freshly allocated pages"
+        }
+    }
 }

@@ -1,11 +1,12 @@
 //! The scene catalogue of the guide: built-in, deterministic scenes, plus user scenes from TOML.
 
 pub mod catalogue;
+pub mod relight;
 pub mod scene_file;
 pub mod shapes;
 
 use glam::Mat4;
-use shadow_core::{Camera, Light, Result, Scene, TriangleMesh};
+use shadow_core::{Camera, Light, LightKind, Result, Scene, TriangleMesh};
 use std::sync::Arc;
 
 /// One mesh instance of a scene description.
@@ -48,5 +49,27 @@ impl SceneSpec {
         scene.add_light(self.light)?;
         scene.set_camera(self.camera);
         Ok(scene)
+    }
+
+    /// This scene under the nearest light `models` accepts ([`relight::relight`]), named
+    /// `name@kind`; `None` when the scene's own light is modelled or no recast one is.
+    pub fn relit(&self, models: impl Fn(LightKind) -> bool) -> Result<Option<SceneSpec>> {
+        if models(self.light.kind()) {
+            return Ok(None);
+        }
+        let bounds = self.to_scene()?.geometry().bounds;
+        Ok(
+            relight::relight(&self.light, &bounds, models).map(|light| SceneSpec {
+                name: format!("{}@{}", self.name, light.kind().name()),
+                description: format!(
+                    "{} (relit: the {} light recast as a {} light)",
+                    self.description,
+                    self.light.kind().name(),
+                    light.kind().name()
+                ),
+                light,
+                ..self.clone()
+            }),
+        )
     }
 }

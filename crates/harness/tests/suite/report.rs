@@ -160,3 +160,83 @@ fn false_shadow_pixels_count_only_lit_receivers_made_dark() {
     let e = harness::metrics::errors(&v, &reference);
     assert_eq!(e.false_shadow_pixels, 3);
 }
+
+/// Hard cases recast for the techniques that do not model their light, flicker on the flicker
+/// scenes only, and the stability sections of `report.md`.
+#[test]
+fn report_recasts_hard_cases_and_measures_flicker() {
+    let dir = std::env::temp_dir().join(format!("harness-report-relit-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = ReportOptions {
+        quick: true,
+        out: dir.clone(),
+        scenes: Some(vec!["acne".into(), "overlap".into()]),
+        techniques: Some(vec![
+            "pcf".into(),
+            "occlusion-slices".into(),
+            "linear-light".into(),
+        ]),
+        resolutions: Some(vec![64]),
+        backend: BackendChoice::Cpu,
+        scene_files: Vec::new(),
+        size: Some(48),
+    };
+    let report = run(&opts).expect("report runs");
+    let names: Vec<(&str, Option<&str>)> = report
+        .references
+        .iter()
+        .map(|r| (r.scene.as_str(), r.relit_from.as_deref()))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("acne", None),
+            ("acne@rect", Some("acne")),
+            ("acne@linear", Some("acne")),
+            ("overlap", None),
+        ],
+        "overlap is no hard case: nothing is recast there"
+    );
+    let techniques_on = |scene: &str| -> Vec<String> {
+        let mut t: Vec<String> = report
+            .runs
+            .iter()
+            .filter(|r| r.scene == scene)
+            .map(|r| r.technique.clone())
+            .collect();
+        t.dedup();
+        t
+    };
+    assert_eq!(techniques_on("acne"), ["pcf"]);
+    assert_eq!(techniques_on("acne@rect"), ["occlusion-slices"]);
+    assert_eq!(techniques_on("acne@linear"), ["linear-light"]);
+    for r in &report.runs {
+        match r.scene.as_str() {
+            "overlap" => {
+                let f = r.flicker_255.expect("flicker on overlap");
+                assert!(f.is_finite() && f >= 0.0, "{f}");
+            }
+            _ => assert_eq!(r.flicker_255, None, "{}: no flicker", r.scene),
+        }
+        if r.scene.starts_with("acne") {
+            assert_eq!(
+                r.errors.false_shadow_pixels,
+                0,
+                "{} {}",
+                r.scene,
+                r.series()
+            );
+        }
+    }
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    for section in [
+        "## Summary",
+        "## Temporal stability",
+        "## Acne",
+        "## Pareto fronts",
+        "## acne@rect",
+    ] {
+        assert!(md.contains(section), "report.md lacks {section}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

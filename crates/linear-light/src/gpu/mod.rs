@@ -19,6 +19,7 @@ use pipelines::{CombineKernel, EvalKernel, FindSkinsKernel, SkinPipeline, VALUE_
 use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
 use shadow_core::gpu::resources::{Kernel, texture_2d};
+use shadow_core::gpu::timer::PassSlot;
 use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
 use shadow_core::raster::DepthPass;
 use shadow_core::{
@@ -130,6 +131,7 @@ fn encode_warp(
             list.quads.as_entire_binding(),
         ],
     );
+    let slot = ctx.pass_slot();
     let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("skins"),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -154,7 +156,7 @@ fn encode_warp(
             }),
             stencil_ops: None,
         }),
-        timestamp_writes: None,
+        timestamp_writes: slot.as_ref().map(PassSlot::render_writes),
         occlusion_query_set: None,
         multiview_mask: None,
     });
@@ -213,7 +215,7 @@ fn encode_find_skins(
             draw.as_entire_binding(),
         ],
     );
-    let mut pass = enc.begin_compute_pass(&Default::default());
+    let mut pass = ctx.begin_compute_pass(enc, "find skins");
     pass.set_pipeline(&kernel.pipeline);
     pass.set_bind_group(0, &bind, &[]);
     let g = res.saturating_sub(1).div_ceil(8).max(1);
@@ -253,7 +255,7 @@ pub fn generate(
                 inv_view: un.inv_view.to_cols_array(),
                 sx: un.sx,
                 sy: un.sy,
-                edge_threshold: t.edge_threshold,
+                edge_threshold: t.edge_threshold_at(res),
                 piece,
             }
         })
@@ -344,7 +346,7 @@ pub fn generate(
                 wgpu::BindingResource::TextureView(&channel_view),
             ],
         );
-        let mut pass = enc.begin_compute_pass(&Default::default());
+        let mut pass = ctx.begin_compute_pass(&mut enc, "linear combine");
         pass.set_pipeline(&comb.0.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         let g = res.div_ceil(8);

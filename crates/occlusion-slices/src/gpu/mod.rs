@@ -18,9 +18,10 @@ use pipelines::{
     EvalPipeline, LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT, SlicingPipelines,
 };
 use shadow_core::gpu::GpuTriangles;
-use shadow_core::gpu::compute::{ReceiverBuffers, bind_group};
+use shadow_core::gpu::compute::{self, ReceiverBuffers, bind_group};
 use shadow_core::gpu::raster::read_texture;
 use shadow_core::gpu::resources::{Kernel, texture_2d};
+use shadow_core::gpu::timer::PassSlot;
 use shadow_core::{GpuContext, Light, Receivers, Result, SceneGeometry, ShadowError};
 use std::sync::Mutex;
 
@@ -119,18 +120,6 @@ fn storage_usage() -> wgpu::TextureUsages {
     wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING
 }
 
-fn dispatch(
-    enc: &mut wgpu::CommandEncoder,
-    k: &Kernel,
-    bind: &wgpu::BindGroup,
-    groups: (u32, u32, u32),
-) {
-    let mut pass = enc.begin_compute_pass(&Default::default());
-    pass.set_pipeline(&k.pipeline);
-    pass.set_bind_group(0, bind, &[]);
-    pass.dispatch_workgroups(groups.0, groups.1, groups.2);
-}
-
 /// Step 1: the slicing render pass into the `groups` layers of `occupancy`.
 fn encode_slicing(
     ctx: &GpuContext,
@@ -174,11 +163,12 @@ fn encode_slicing(
         &pipes.layout,
         &[uniform.as_entire_binding()],
     );
+    let slot = ctx.pass_slot();
     let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("slicing"),
         color_attachments: &attachments,
         depth_stencil_attachment: None,
-        timestamp_writes: None,
+        timestamp_writes: slot.as_ref().map(PassSlot::render_writes),
         occlusion_query_set: None,
         multiview_mask: None,
     });
@@ -233,7 +223,7 @@ fn encode_levels(
             ],
         );
         let g = size.div_ceil(8);
-        dispatch(enc, kernel, &bind, (g, g, groups));
+        compute::dispatch(ctx, enc, "level", &kernel.pipeline, &bind, (g, g, groups));
     }
 }
 
@@ -329,9 +319,23 @@ pub fn generate(
         )
     };
     let b = bind(&pre.sat_rows, &occ_view, &rows_view);
-    dispatch(&mut enc, &pre.sat_rows, &b, (scan_groups, groups, 1));
+    compute::dispatch(
+        ctx,
+        &mut enc,
+        "sat rows",
+        &pre.sat_rows.pipeline,
+        &b,
+        (scan_groups, groups, 1),
+    );
     let b = bind(&pre.sat_cols, &rows_view, &sat_view);
-    dispatch(&mut enc, &pre.sat_cols, &b, (scan_groups, groups, 1));
+    compute::dispatch(
+        ctx,
+        &mut enc,
+        "sat cols",
+        &pre.sat_cols.pipeline,
+        &b,
+        (scan_groups, groups, 1),
+    );
     if t.filter != Filter::Sat {
         encode_levels(
             ctx, &mut enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,

@@ -22,9 +22,10 @@ use pipelines::{
     CombinePipelines, DepthImagePipelines, EDGE_FORMAT, EvalPipeline, LOWER_FORMAT,
     SilhouettePipelines,
 };
-use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
+use shadow_core::gpu::compute::{self, ReceiverBuffers, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
 use shadow_core::gpu::resources::texture_2d;
+use shadow_core::gpu::timer::PassSlot;
 use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuTriangles};
 use shadow_core::raster::DepthPass;
 use shadow_core::{
@@ -98,21 +99,21 @@ fn layer_usage() -> wgpu::TextureUsages {
         | wgpu::TextureUsages::COPY_SRC
 }
 
+/// One 8x8-workgroup dispatch over a `res²` map.
 fn dispatch(
+    ctx: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::ComputePipeline,
     bind: &wgpu::BindGroup,
     res: u32,
 ) {
-    let mut pass = enc.begin_compute_pass(&Default::default());
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, bind, &[]);
     let g = res.div_ceil(8);
-    pass.dispatch_workgroups(g, g, 1);
+    compute::dispatch(ctx, enc, "penumbra limit", pipeline, bind, (g, g, 1));
 }
 
 /// A render pass into `color` (cleared to `clear`) with depth `depth` cleared to `clear_depth`.
 fn render_pass<'a>(
+    ctx: &GpuContext,
     enc: &'a mut wgpu::CommandEncoder,
     label: &str,
     color: &'a wgpu::TextureView,
@@ -120,6 +121,7 @@ fn render_pass<'a>(
     depth: &'a wgpu::TextureView,
     clear_depth: f32,
 ) -> wgpu::RenderPass<'a> {
+    let slot = ctx.pass_slot();
     enc.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -139,7 +141,7 @@ fn render_pass<'a>(
             }),
             stencil_ops: None,
         }),
-        timestamp_writes: None,
+        timestamp_writes: slot.as_ref().map(PassSlot::render_writes),
         occlusion_query_set: None,
         multiview_mask: None,
     })
@@ -207,6 +209,7 @@ fn encode_silhouette(
     };
     {
         let mut rp = render_pass(
+            ctx,
             enc,
             "penumbra ribbons",
             &edge_view,
@@ -224,6 +227,7 @@ fn encode_silhouette(
         ..wgpu::Color::BLACK
     };
     let mut rp = render_pass(
+        ctx,
         enc,
         "penumbra lower limit",
         &lower_view,
@@ -336,19 +340,31 @@ pub fn generate(
         0,
         DepthPass::NEAREST,
     );
-    dispatch(&mut enc, &di.geometry, &di_bind(&seeds[0], &seeds[1]), res);
+    dispatch(
+        ctx,
+        &mut enc,
+        &di.geometry,
+        &di_bind(&seeds[0], &seeds[1]),
+        res,
+    );
     match t.generation {
         Generation::Silhouette => {
             encode_silhouette(ctx, &mut enc, geometry, &tris, &uniform, &edge, &lower, res);
         }
         Generation::DepthImage => {
-            dispatch(&mut enc, &di.seeds, &di_bind(&seeds[0], &seeds[1]), res);
+            dispatch(
+                ctx,
+                &mut enc,
+                &di.seeds,
+                &di_bind(&seeds[0], &seeds[1]),
+                res,
+            );
             let flood = ctx.cached(GpuJumpFlood::new);
             let ia = flood.encode(ctx, &mut enc, [&seeds[0], &seeds[2]], res);
             let ib = flood.encode(ctx, &mut enc, [&seeds[1], &seeds[3]], res);
             let a = if ia == 0 { &seeds[0] } else { &seeds[2] };
             let b = if ib == 0 { &seeds[1] } else { &seeds[3] };
-            dispatch(&mut enc, &di.limits, &di_bind(a, b), res);
+            dispatch(ctx, &mut enc, &di.limits, &di_bind(a, b), res);
         }
     }
     let k = CombinePipelines::index(t.storage);
@@ -365,7 +381,7 @@ pub fn generate(
             wgpu::BindingResource::TextureView(&map_view),
         ],
     );
-    dispatch(&mut enc, &comb.pipelines[k], &cb, res);
+    dispatch(ctx, &mut enc, &comb.pipelines[k], &cb, res);
     ctx.queue.submit([enc.finish()]);
     ctx.wait()?;
     Ok(GpuPenumbraMaps {

@@ -176,7 +176,7 @@ impl ReceiverBuffers {
     ) -> Result<Vec<f32>> {
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         {
-            let mut pass = enc.begin_compute_pass(&Default::default());
+            let mut pass = ctx.begin_compute_pass(&mut enc, "evaluate");
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(self.groups, 1, 1);
@@ -185,4 +185,20 @@ impl ReceiverBuffers {
         let bytes = ctx.read_buffer(&self.visibility, self.count as u64 * 4)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
+}
+
+/// Records one compute pass (timed under [`GpuContext::gpu_time`]) that dispatches `groups`
+/// workgroups of `pipeline` with `bind` at group 0.
+pub fn dispatch(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    bind: &wgpu::BindGroup,
+    groups: (u32, u32, u32),
+) {
+    let mut pass = ctx.begin_compute_pass(enc, label);
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, bind, &[]);
+    pass.dispatch_workgroups(groups.0, groups.1, groups.2);
 }

@@ -26,6 +26,8 @@ pub struct GpuContext {
     /// Adapter name, backend and driver.
     pub info: wgpu::AdapterInfo,
     cache: Cache,
+    /// The timing in progress ([`GpuContext::gpu_time`]), if any.
+    pub(super) timer: Mutex<Option<Arc<super::timer::TimerState>>>,
 }
 
 impl GpuContext {
@@ -65,7 +67,8 @@ impl GpuContext {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("shadow-core"),
-                required_features: wgpu::Features::empty(),
+                // Timestamps where the adapter has them: GpuContext::gpu_time measures device time.
+                required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
                 required_limits: limits,
                 ..Default::default()
             })
@@ -78,6 +81,7 @@ impl GpuContext {
             queue,
             info,
             cache: Mutex::new(HashMap::new()),
+            timer: Mutex::new(None),
         })
     }
 

@@ -68,7 +68,7 @@ impl GpuJumpFlood {
                     buffers[1 - cur].as_entire_binding(),
                 ],
             );
-            let mut pass = enc.begin_compute_pass(&Default::default());
+            let mut pass = ctx.begin_compute_pass(enc, "jump flood");
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups(groups, groups, 1);

@@ -6,6 +6,7 @@ pub mod jump_flood;
 pub mod raster;
 pub mod resources;
 pub mod testing;
+pub mod timer;
 
 pub use context::GpuContext;
 pub use jump_flood::GpuJumpFlood;

@@ -4,6 +4,7 @@
 //! test, no culling, row 0 at the top. Tests check both against the CPU rasterizer.
 
 use super::GpuContext;
+use super::timer::PassSlot;
 use crate::error::{Result, ShadowError};
 use crate::map2d::Map2D;
 use crate::raster::{DepthPass, DepthTest, Faces, GBufferTexel, facing_normal};
@@ -277,11 +278,12 @@ impl GpuRasterizer {
             array_layer_count: Some(1),
             ..Default::default()
         });
+        let slot = ctx.pass_slot();
         let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("depth"),
             color_attachments: &[],
             depth_stencil_attachment: cleared_depth(&tv, pass),
-            timestamp_writes: None,
+            timestamp_writes: slot.as_ref().map(PassSlot::render_writes),
             occlusion_query_set: None,
             multiview_mask: None,
         });
@@ -426,11 +428,12 @@ impl GpuRasterizer {
                     },
                 })
             };
+            let slot = ctx.pass_slot();
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("gbuffer"),
                 color_attachments: &[attach(&pv), attach(&nv)],
                 depth_stencil_attachment: cleared_depth(&dv, DepthPass::NEAREST),
-                timestamp_writes: None,
+                timestamp_writes: slot.as_ref().map(PassSlot::render_writes),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });

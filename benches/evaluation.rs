@@ -1,0 +1,59 @@
+//! Evaluation cost per receiver for every technique, variant and baseline of the report: `V` for
+//! the receivers of a 512² G-buffer of its bench scene, from maps of 1024², on the CPU, the GPU
+//! by wall time (upload, dispatch, read back) and the GPU by device time (the evaluation pass,
+//! from timestamp queries). Criterion prints the throughput in elements (receivers) per second:
+//! the cost per million receivers is 10^6 divided by it.
+//!
+//! `cargo bench -p shadow-benches --bench evaluation [-- <regex>]`; see `benches/README.md`.
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use harness::setup::scene_receivers;
+use shadow_benches::{configs, gpu, iter_device_time};
+use shadow_core::{Backend, Receivers};
+use std::time::Duration;
+
+/// G-buffer side: the receivers.
+const SIZE: u32 = 512;
+/// Map resolution the receivers are evaluated against.
+const RESOLUTION: u32 = 1024;
+
+fn evaluation(c: &mut Criterion) {
+    let gpu = gpu();
+    for cfg in configs() {
+        let (_, positions, normals) = scene_receivers(&cfg.spec, SIZE).expect("receivers");
+        let recv = Receivers {
+            positions: &positions,
+            normals: &normals,
+        };
+        let (t, geo, light) = (&cfg.technique, &cfg.geometry, &cfg.spec.light);
+        let mut group = c.benchmark_group(format!("evaluate/{}/{}", cfg.spec.name, cfg.label()));
+        group
+            .sample_size(10)
+            .warm_up_time(Duration::from_secs(1))
+            .measurement_time(Duration::from_secs(2))
+            .throughput(Throughput::Elements(positions.len() as u64));
+        let maps = t
+            .generate(Backend::Cpu, None, geo, light, RESOLUTION)
+            .expect("cpu generation");
+        group.bench_function("cpu", |b| {
+            b.iter(|| t.evaluate(None, &maps, &recv).expect("cpu evaluation"))
+        });
+        if let Some(g) = &gpu {
+            let maps = t
+                .generate(Backend::Gpu, Some(g), geo, light, RESOLUTION)
+                .expect("gpu generation");
+            group.bench_function("gpu-wall", |b| {
+                b.iter(|| t.evaluate(Some(g), &maps, &recv).expect("gpu evaluation"))
+            });
+            if g.has_timestamps() {
+                group.bench_function("gpu-device", |b| {
+                    iter_device_time(b, g, || t.evaluate(Some(g), &maps, &recv))
+                });
+            }
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, evaluation);
+criterion_main!(benches);

@@ -1,0 +1,64 @@
+//! Timing one configuration: median generation and evaluation times and the last `V`.
+
+use crate::metrics::median;
+use crate::setup::PreparedScene;
+use shadow_core::{Backend, DynTechnique, GpuContext, Result};
+use std::time::Instant;
+
+/// Most repetitions of one configuration in the full run.
+pub const MAX_REPS: usize = 3;
+/// Most repetitions with `--quick`.
+pub const QUICK_MAX_REPS: usize = 2;
+
+/// No further repetition once a configuration has taken this long (seconds): slow
+/// configurations are timed once, fast ones three times.
+pub const REP_BUDGET_S: f64 = 0.4;
+
+/// One configuration's timings (medians over the repetitions, ms) and visibilities.
+pub struct Measured {
+    /// Median generation time.
+    pub generate_ms: f64,
+    /// Median evaluation time.
+    pub evaluate_ms: f64,
+    /// `V` per receiver from the last repetition.
+    pub v: Vec<f32>,
+}
+
+/// Generates and evaluates `t` on `p` at `res`, `reps` times or until
+/// [`REP_BUDGET_S`] is spent. On the GPU one unmeasured warm-up run comes first when
+/// `warm_up` is set (pipelines compile on first use and are cached per device).
+pub fn measure(
+    t: &dyn DynTechnique,
+    backend: Backend,
+    gpu: Option<&GpuContext>,
+    p: &PreparedScene,
+    res: u32,
+    reps: usize,
+    warm_up: bool,
+) -> Result<Measured> {
+    let light = &p.spec.light;
+    if backend == Backend::Gpu && warm_up {
+        let maps = t.generate(backend, gpu, &p.geometry, light, res)?;
+        t.evaluate(gpu, &maps, &p.receivers())?;
+    }
+    let (mut gen_t, mut eval_t) = (Vec::new(), Vec::new());
+    let start = Instant::now();
+    let mut v = Vec::new();
+    for _ in 0..reps.max(1) {
+        let t0 = Instant::now();
+        let maps = t.generate(backend, gpu, &p.geometry, light, res)?;
+        let t1 = Instant::now();
+        v = t.evaluate(gpu, &maps, &p.receivers())?;
+        let t2 = Instant::now();
+        gen_t.push((t1 - t0).as_secs_f64() * 1e3);
+        eval_t.push((t2 - t1).as_secs_f64() * 1e3);
+        if start.elapsed().as_secs_f64() > REP_BUDGET_S {
+            break;
+        }
+    }
+    Ok(Measured {
+        generate_ms: median(&gen_t),
+        evaluate_ms: median(&eval_t),
+        v,
+    })
+}

@@ -1,0 +1,197 @@
+//! A light recast as a kind a technique models, for the hard cases.
+//!
+//! occlusion-slices models area lights with a position (rect, disk, sphere) and linear-light
+//! models segments only, so the hard cases lit by a distant or rect light would say nothing about
+//! them. The stability suite and the report run such a technique under the nearest light it does
+//! model, with its own reference:
+//!
+//! - **rect** from a distant light: a square of the same solid angle, facing the scene from
+//!   [`DISTANCE_FACTOR`] scene diagonals along the light's direction; from a disk: the square of
+//!   equal area in the disk's plane; from a sphere: that of its disc facing the scene; from a
+//!   segment: a rect along it, 1% as wide as it is long; from a point: a 0.1 mm square.
+//! - **segment** from a rect: its longer mid-line; from a disk or sphere: the diameter across the
+//!   direction to the scene; from a distant light: the segment of the same angular length across
+//!   the direction, at [`DISTANCE_FACTOR`] scene diagonals; from a point: 0.1 mm long.
+
+use glam::Vec3;
+use shadow_core::light::orthonormal_basis;
+use shadow_core::{Aabb, Light, LightKind};
+
+/// Distance of a recast distant light, in scene diagonals.
+pub const DISTANCE_FACTOR: f32 = 10.0;
+
+/// Side of the recast point light, world units.
+const POINT_SIZE: f32 = 1e-4;
+
+/// The kinds tried, in order, when the light's own kind is not modelled.
+const PREFERENCE: [LightKind; 2] = [LightKind::Rect, LightKind::Linear];
+
+/// `light` itself when `models(light.kind())`, else the first of rect and segment that `models`
+/// accepts, recast as the module describes; `None` when neither is modelled.
+pub fn relight(light: &Light, bounds: &Aabb, models: impl Fn(LightKind) -> bool) -> Option<Light> {
+    if models(light.kind()) {
+        return Some(*light);
+    }
+    PREFERENCE.iter().find(|&&k| models(k)).map(|&k| match k {
+        LightKind::Rect => as_rect(light, bounds),
+        _ => as_segment(light, bounds),
+    })
+}
+
+/// The light's centre, a distant light placed at [`DISTANCE_FACTOR`] diagonals from `bounds`.
+fn anchor(light: &Light, bounds: &Aabb) -> Vec3 {
+    match *light {
+        Light::Distant { direction, .. } => {
+            bounds.center() + direction.normalize() * DISTANCE_FACTOR * bounds.diagonal().max(1e-3)
+        }
+        Light::Point { position } => position,
+        Light::Linear { a, b } => 0.5 * (a + b),
+        Light::Rect { center, .. } | Light::Disk { center, .. } | Light::Sphere { center, .. } => {
+            center
+        }
+    }
+}
+
+/// Unit vector from the light's centre towards the scene.
+fn towards_scene(light: &Light, bounds: &Aabb) -> Vec3 {
+    light.axis(bounds.center()).normalize_or(Vec3::NEG_Y)
+}
+
+/// A square of half side `half` at `center`, emitting along `facing`.
+fn square(center: Vec3, facing: Vec3, half: f32) -> Light {
+    let (u, _) = orthonormal_basis(facing);
+    // u x v = facing.
+    let v = facing.cross(u);
+    Light::Rect {
+        center,
+        u_half: u * half,
+        v_half: v * half,
+    }
+}
+
+fn as_rect(light: &Light, bounds: &Aabb) -> Light {
+    let center = anchor(light, bounds);
+    let facing = towards_scene(light, bounds);
+    let sqrt_pi = std::f32::consts::PI.sqrt();
+    match *light {
+        Light::Distant {
+            angular_diameter, ..
+        } => {
+            let distance = (center - bounds.center()).length();
+            // A disc of radius r has the area of a square of half side r sqrt(pi) / 2.
+            let r = distance * (0.5 * angular_diameter).tan();
+            square(center, facing, 0.5 * sqrt_pi * r)
+        }
+        Light::Disk { radius, .. } | Light::Sphere { radius, .. } => {
+            square(center, facing, 0.5 * sqrt_pi * radius)
+        }
+        Light::Linear { a, b } => {
+            let along = (b - a).normalize_or(Vec3::X);
+            let across = facing.cross(along).normalize_or(orthonormal_basis(along).0);
+            let half = 0.5 * (b - a).length();
+            // u x v must face the scene: (along x across) = facing when across = facing x along.
+            Light::Rect {
+                center,
+                u_half: along * half,
+                v_half: -across * (0.01 * half),
+            }
+        }
+        Light::Point { .. } | Light::Rect { .. } => square(center, facing, 0.5 * POINT_SIZE),
+    }
+}
+
+fn as_segment(light: &Light, bounds: &Aabb) -> Light {
+    let center = anchor(light, bounds);
+    let facing = towards_scene(light, bounds);
+    let half = match *light {
+        Light::Rect { u_half, v_half, .. } => {
+            let long = if u_half.length() >= v_half.length() {
+                u_half
+            } else {
+                v_half
+            };
+            return Light::Linear {
+                a: center - long,
+                b: center + long,
+            };
+        }
+        Light::Disk { radius, .. } | Light::Sphere { radius, .. } => radius,
+        Light::Distant {
+            angular_diameter, ..
+        } => (center - bounds.center()).length() * (0.5 * angular_diameter).tan(),
+        Light::Point { .. } | Light::Linear { .. } => 0.5 * POINT_SIZE,
+    };
+    let (across, _) = orthonormal_basis(facing);
+    Light::Linear {
+        a: center - across * half,
+        b: center + across * half,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_box() -> Aabb {
+        Aabb {
+            min: Vec3::splat(-1.0),
+            max: Vec3::splat(1.0),
+        }
+    }
+
+    #[test]
+    fn a_modelled_light_is_kept() {
+        let l = Light::Sphere {
+            center: Vec3::Y * 3.0,
+            radius: 0.2,
+        };
+        assert_eq!(relight(&l, &unit_box(), |_| true), Some(l));
+        assert_eq!(relight(&l, &unit_box(), |_| false), None);
+    }
+
+    #[test]
+    fn a_distant_light_becomes_a_square_of_the_same_solid_angle_facing_the_scene() {
+        let dir = Vec3::new(1.0, 1.0, 0.0).normalize();
+        let theta = 0.05f32;
+        let l = Light::Distant {
+            direction: dir,
+            angular_diameter: theta,
+            profile: shadow_core::DistantProfile::UniformDisk,
+        };
+        let b = unit_box();
+        let r = relight(&l, &b, |k| k == LightKind::Rect).unwrap();
+        r.validate().unwrap();
+        let Light::Rect {
+            center,
+            u_half,
+            v_half,
+        } = r
+        else {
+            panic!("{r:?}")
+        };
+        let d = (center - b.center()).length();
+        assert!((d - DISTANCE_FACTOR * b.diagonal()).abs() < 1e-3 * d);
+        assert!(u_half.cross(v_half).normalize().dot(-dir) > 0.9999);
+        // Solid angle of the square (area / d^2) against the cone's pi (theta / 2)^2.
+        let omega = 4.0 * u_half.length() * v_half.length() / (d * d);
+        let cone = std::f32::consts::PI * (0.5 * theta).tan().powi(2);
+        assert!((omega / cone - 1.0).abs() < 1e-3, "{omega} vs {cone}");
+    }
+
+    #[test]
+    fn a_rect_becomes_its_longer_mid_line() {
+        let l = Light::Rect {
+            center: Vec3::Y * 3.0,
+            u_half: Vec3::X * 0.5,
+            v_half: Vec3::Z * 0.2,
+        };
+        let s = relight(&l, &unit_box(), |k| k == LightKind::Linear).unwrap();
+        assert_eq!(
+            s,
+            Light::Linear {
+                a: Vec3::new(-0.5, 3.0, 0.0),
+                b: Vec3::new(0.5, 3.0, 0.0)
+            }
+        );
+    }
+}

@@ -1,0 +1,39 @@
+//! Helpers shared by the harness test binaries (`suite`, `stability`).
+
+#![allow(dead_code)]
+
+use glam::Vec3;
+use harness::scenes::SceneSpec;
+use shadow_core::SceneGeometry;
+
+/// Geometry and G-buffer receivers of a scene, without the reference (cheap).
+pub struct Receivers {
+    /// Flattened geometry.
+    pub geometry: SceneGeometry,
+    /// Receiver positions.
+    pub positions: Vec<Vec3>,
+    /// Receiver normals.
+    pub normals: Vec<Vec3>,
+}
+
+/// Renders the CPU G-buffer of `spec` at `size²` and returns its receivers.
+pub fn receivers(spec: &SceneSpec, size: u32) -> Receivers {
+    let (geometry, positions, normals) =
+        harness::setup::scene_receivers(spec, size).expect("catalogue scene builds");
+    Receivers {
+        geometry,
+        positions,
+        normals,
+    }
+}
+
+/// The same receivers as the techniques take them.
+impl Receivers {
+    /// Borrowed as [`shadow_core::Receivers`].
+    pub fn as_receivers(&self) -> shadow_core::Receivers<'_> {
+        shadow_core::Receivers {
+            positions: &self.positions,
+            normals: &self.normals,
+        }
+    }
+}

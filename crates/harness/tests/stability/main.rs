@@ -1,0 +1,98 @@
+//! The stability suite: hard cases stay numerically stable for every technique.
+//!
+//! - `hard_cases`: every technique and variant (the baselines too) x every hard-case scene x map
+//!   resolutions {16, 256, 2048} x both backends: no NaN or Inf, `V` in [0, 1], one value per
+//!   receiver.
+//! - `acne`: on `acne`, no receiver the reference sees lit comes out below 0.98, for every
+//!   technique, resolution and backend.
+//! - `tiny_light`: as the light shrinks to 0.2 mm every technique converges to the hard shadow.
+//! - `random_scenes`: proptest scenes of random triangles and lights at scales 1e-3..1e4, with
+//!   the assertions of `hard_cases`.
+//!
+//! A technique that does not model a scene's light kind runs under the nearest light it does
+//! model (`harness::scenes::relight`): occlusion-slices under a distant light's equal square,
+//! linear-light under a rect's mid-line. With `CI` set a missing GPU adapter fails the suite;
+//! elsewhere the GPU half is skipped with one line.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod acne;
+mod hard_cases;
+mod random_scenes;
+mod tiny_light;
+
+use harness::report::all_techniques;
+use harness::scenes::SceneSpec;
+use shadow_core::gpu::testing::gpu_for_test;
+use shadow_core::{Backend, DynTechnique, GpuContext};
+use std::sync::OnceLock;
+
+/// Map resolutions of the hard cases.
+pub const RESOLUTIONS: [u32; 3] = [16, 256, 2048];
+
+/// Every technique and variant the report runs (accumulation with 16 samples).
+pub fn techniques() -> Vec<Box<dyn DynTechnique>> {
+    all_techniques(true)
+}
+
+/// One GPU context for the whole binary (pipelines compile once), or `None` outside CI without
+/// an adapter.
+pub fn gpu() -> Option<&'static GpuContext> {
+    static GPU: OnceLock<Option<GpuContext>> = OnceLock::new();
+    GPU.get_or_init(|| gpu_for_test("stability suite")).as_ref()
+}
+
+/// The CPU backend, and the GPU one when there is an adapter.
+pub fn backends() -> Vec<Backend> {
+    let mut b = vec![Backend::Cpu];
+    if gpu().is_some() {
+        b.push(Backend::Gpu);
+    }
+    b
+}
+
+/// `spec` itself when `t` models its light, else `spec` under the nearest light `t` models.
+pub fn scene_for(t: &dyn DynTechnique, spec: &SceneSpec) -> SceneSpec {
+    spec.relit(|k| t.models(k))
+        .expect("catalogue scene builds")
+        .unwrap_or_else(|| spec.clone())
+}
+
+/// `label` of a configuration, for assertion messages.
+pub fn label(t: &dyn DynTechnique, scene: &str, res: u32, backend: Backend) -> String {
+    format!(
+        "{scene} {} {} {res} {}",
+        t.name(),
+        t.variant(),
+        backend.name()
+    )
+}
+
+/// Generates `t`'s maps on `backend` and evaluates `V` for `r`; panics naming `what` on an error.
+pub fn visibility(
+    t: &dyn DynTechnique,
+    backend: Backend,
+    r: &common::Receivers,
+    light: &shadow_core::Light,
+    res: u32,
+    what: &str,
+) -> Vec<f32> {
+    let maps = t
+        .generate(backend, gpu(), &r.geometry, light, res)
+        .unwrap_or_else(|e| panic!("{what}: generate: {e}"));
+    t.evaluate(gpu(), &maps, &r.as_receivers())
+        .unwrap_or_else(|e| panic!("{what}: evaluate: {e}"))
+}
+
+/// Asserts the stability contract on `v`: one value per receiver, all finite, all in [0, 1].
+pub fn assert_stable(v: &[f32], receivers: usize, what: &str) {
+    assert_eq!(v.len(), receivers, "{what}: one V per receiver");
+    let nonfinite = v.iter().filter(|x| !x.is_finite()).count();
+    let out = v
+        .iter()
+        .filter(|x| x.is_finite() && !(0.0..=1.0).contains(*x))
+        .count();
+    assert_eq!(nonfinite, 0, "{what}: {nonfinite} non-finite outputs");
+    assert_eq!(out, 0, "{what}: {out} outputs outside [0, 1]");
+}
