@@ -80,8 +80,9 @@ fn jobs(specs: Vec<SceneSpec>, techniques: &[Box<dyn DynTechnique>]) -> Result<V
     for spec in specs {
         let mut relit: Vec<Job> = Vec::new();
         if spec.hard_case {
+            let bounds = spec.to_scene()?.geometry().bounds;
             for (i, t) in techniques.iter().enumerate() {
-                let Some(r) = spec.relit(|k| t.models(k))? else {
+                let Some(r) = spec.relit(&bounds, |k| t.models(k)) else {
                     continue;
                 };
                 match relit.iter_mut().find(|j| j.spec.name == r.name) {

@@ -32,7 +32,7 @@ pub fn acne_rows(report: &Report) -> BTreeMap<String, (u64, String, usize)> {
     for r in report
         .runs
         .iter()
-        .filter(|r| r.scene == ACNE || r.scene.starts_with(&format!("{ACNE}@")))
+        .filter(|r| r.scene.split('@').next() == Some(ACNE))
     {
         let e = rows
             .entry(format!("{} {}", r.technique, r.variant))

@@ -6,7 +6,7 @@ pub mod scene_file;
 pub mod shapes;
 
 use glam::Mat4;
-use shadow_core::{Camera, Light, LightKind, Result, Scene, TriangleMesh};
+use shadow_core::{Aabb, Camera, Light, LightKind, Result, Scene, TriangleMesh};
 use std::sync::Arc;
 
 /// One mesh instance of a scene description.
@@ -51,25 +51,23 @@ impl SceneSpec {
         Ok(scene)
     }
 
-    /// This scene under the nearest light `models` accepts ([`relight::relight`]), named
-    /// `name@kind`; `None` when the scene's own light is modelled or no recast one is.
-    pub fn relit(&self, models: impl Fn(LightKind) -> bool) -> Result<Option<SceneSpec>> {
+    /// This scene (whose geometry spans `bounds`) under the nearest light `models` accepts
+    /// ([`relight::relight`]), named `name@kind`; `None` when the scene's own light is modelled
+    /// or no recast one is.
+    pub fn relit(&self, bounds: &Aabb, models: impl Fn(LightKind) -> bool) -> Option<SceneSpec> {
         if models(self.light.kind()) {
-            return Ok(None);
+            return None;
         }
-        let bounds = self.to_scene()?.geometry().bounds;
-        Ok(
-            relight::relight(&self.light, &bounds, models).map(|light| SceneSpec {
-                name: format!("{}@{}", self.name, light.kind().name()),
-                description: format!(
-                    "{} (relit: the {} light recast as a {} light)",
-                    self.description,
-                    self.light.kind().name(),
-                    light.kind().name()
-                ),
-                light,
-                ..self.clone()
-            }),
-        )
+        relight::relight(&self.light, bounds, models).map(|light| SceneSpec {
+            name: format!("{}@{}", self.name, light.kind().name()),
+            description: format!(
+                "{} (relit: the {} light recast as a {} light)",
+                self.description,
+                self.light.kind().name(),
+                light.kind().name()
+            ),
+            light,
+            ..self.clone()
+        })
     }
 }

@@ -54,8 +54,12 @@ pub fn backends() -> Vec<Backend> {
 
 /// `spec` itself when `t` models its light, else `spec` under the nearest light `t` models.
 pub fn scene_for(t: &dyn DynTechnique, spec: &SceneSpec) -> SceneSpec {
-    spec.relit(|k| t.models(k))
+    let bounds = spec
+        .to_scene()
         .expect("catalogue scene builds")
+        .geometry()
+        .bounds;
+    spec.relit(&bounds, |k| t.models(k))
         .unwrap_or_else(|| spec.clone())
 }
 

@@ -91,14 +91,16 @@ impl GpuContext {
         if !self.has_timestamps() {
             return work().map(|t| (t, None));
         }
-        let state = Arc::new(TimerState {
-            set: self.device.create_query_set(&wgpu::QuerySetDescriptor {
+        // One query set per context, reused by every timing.
+        let state = self.cached(|c| TimerState {
+            set: c.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass timestamps"),
                 ty: wgpu::QueryType::Timestamp,
                 count: MAX_TIMED_PASSES * 2,
             }),
             next: AtomicU32::new(0),
         });
+        state.next.store(0, Ordering::Relaxed);
         *self.timer.lock().unwrap_or_else(|e| e.into_inner()) = Some(state.clone());
         let out = work();
         *self.timer.lock().unwrap_or_else(|e| e.into_inner()) = None;
