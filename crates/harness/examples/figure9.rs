@@ -59,14 +59,7 @@ fn main() -> shadow_core::Result<()> {
     } else {
         Backend::Cpu
     };
-    let prep = PreparedScene::new(
-        build("linear-bar")?,
-        256,
-        GroundTruthSettings {
-            strata_side: 32,
-            replicates: 4,
-        },
-    )?;
+    let prep = PreparedScene::new(build("linear-bar")?, 256, GroundTruthSettings::default())?;
     let reference = prep.reference_v();
     let g = gpu.as_ref();
     let ours = measure(&LinearLight::new(2), backend, g, &prep, &reference)?;

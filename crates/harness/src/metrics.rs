@@ -27,11 +27,15 @@ pub struct Errors {
     pub false_shadow_pixels: u64,
 }
 
-/// Compares `v` with `reference` (same length).
+/// Compares `v` with `reference` (same length). A NaN reference marks an unlit receiver
+/// (visibility v2): it takes no part in any metric.
 pub fn errors(v: &[f32], reference: &[f32]) -> Errors {
     let mut e = Errors::default();
     let (mut sum, mut n, mut psum, mut pn) = (0.0f64, 0u64, 0.0f64, 0u64);
     for (&x, &r) in v.iter().zip(reference) {
+        if r.is_nan() {
+            continue;
+        }
         if !x.is_finite() {
             e.nonfinite += 1;
             continue;
@@ -61,17 +65,16 @@ pub fn errors(v: &[f32], reference: &[f32]) -> Errors {
     e
 }
 
-/// RMS of `(a - b) * 255`.
+/// RMS of `(a - b) * 255` over the pairs where `b` is not NaN (NaN: unlit).
 pub fn rms_255(a: &[f32], b: &[f32]) -> f64 {
-    if a.is_empty() {
-        return 0.0;
-    }
-    let s: f64 = a
+    let (s, n) = a
         .iter()
         .zip(b)
-        .map(|(x, y)| ((*x as f64 - *y as f64) * 255.0).powi(2))
-        .sum();
-    (s / a.len() as f64).sqrt()
+        .filter(|(_, y)| !y.is_nan())
+        .fold((0.0f64, 0usize), |(s, n), (x, y)| {
+            (s + ((*x as f64 - *y as f64) * 255.0).powi(2), n + 1)
+        });
+    if n == 0 { 0.0 } else { (s / n as f64).sqrt() }
 }
 
 /// Median of a non-empty slice (0 for an empty one).

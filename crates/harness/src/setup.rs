@@ -43,11 +43,14 @@ pub struct PreparedScene {
     pub geometry: SceneGeometry,
     /// The camera G-buffer.
     pub gbuffer: Map2D<GBufferTexel>,
-    /// Index into the G-buffer of every covered pixel, in row-major order.
+    /// Index into the G-buffer of every covered pixel the light reaches, in row-major order.
     pub pixels: Vec<usize>,
-    /// Receiver positions (covered pixels).
+    /// Index into the G-buffer of every covered pixel no light point reaches (visibility v2:
+    /// unlit; not evaluated, in no error metric, drawn apart in the strips).
+    pub unlit_pixels: Vec<usize>,
+    /// Receiver positions (covered pixels the light reaches).
     pub positions: Vec<Vec3>,
-    /// Receiver normals (covered pixels).
+    /// Receiver normals (covered pixels the light reaches).
     pub normals: Vec<Vec3>,
     /// Reference per receiver.
     pub reference: Vec<Reference>,
@@ -68,30 +71,52 @@ impl PreparedScene {
             .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
         let view = camera.view(size, size);
         let gb = gbuffer(&view, camera.eye, size, size, &geometry.receivers);
-        let pixels: Vec<usize> = gb
+        let covered: Vec<usize> = gb
             .data()
             .iter()
             .enumerate()
             .filter(|(_, t)| t.covered && t.normal != Vec3::ZERO)
             .map(|(i, _)| i)
             .collect();
-        if pixels.is_empty() {
+        if covered.is_empty() {
             return Err(ShadowError::InvalidScene(format!(
                 "{}: the camera sees no receiver",
                 spec.name
             )));
         }
-        let positions: Vec<Vec3> = pixels.iter().map(|&i| gb.data()[i].position).collect();
-        let normals: Vec<Vec3> = pixels.iter().map(|&i| gb.data()[i].normal).collect();
+        let all_positions: Vec<Vec3> = covered.iter().map(|&i| gb.data()[i].position).collect();
+        let all_normals: Vec<Vec3> = covered.iter().map(|&i| gb.data()[i].normal).collect();
         let t = Instant::now();
         let tracer = RayTracer::new(&geometry.casters);
-        let reference = tracer.references(&spec.light, &positions, &normals, &settings);
+        let all = tracer.references(&spec.light, &all_positions, &all_normals, &settings);
         let reference_ms = t.elapsed().as_secs_f64() * 1e3;
+        let (mut pixels, mut unlit_pixels) = (Vec::new(), Vec::new());
+        let (mut positions, mut normals, mut reference) = (Vec::new(), Vec::new(), Vec::new());
+        for (k, r) in all.into_iter().enumerate() {
+            match r {
+                Some(r) => {
+                    pixels.push(covered[k]);
+                    positions.push(all_positions[k]);
+                    normals.push(all_normals[k]);
+                    reference.push(r);
+                }
+                None => unlit_pixels.push(covered[k]),
+            }
+        }
+        if pixels.is_empty() {
+            return Err(ShadowError::InvalidScene(format!(
+                "{}: the light reaches none of the {} receivers the camera sees (all unlit: \
+                 check the light's position and direction)",
+                spec.name,
+                covered.len()
+            )));
+        }
         Ok(Self {
             spec,
             geometry,
             gbuffer: gb,
             pixels,
+            unlit_pixels,
             positions,
             normals,
             reference,
@@ -108,12 +133,13 @@ impl PreparedScene {
         }
     }
 
-    /// Reference visibilities of the same receivers under another light (same sampling settings).
+    /// Reference visibilities of the same receivers under another light (same sampling
+    /// settings); NaN where that light leaves a receiver unlit.
     pub fn reference_under(&self, light: &Light) -> Vec<f32> {
         RayTracer::new(&self.geometry.casters)
             .references(light, &self.positions, &self.normals, &self.settings)
             .iter()
-            .map(|r| r.visibility)
+            .map(|r| r.map_or(f32::NAN, |r| r.visibility))
             .collect()
     }
 

@@ -33,7 +33,8 @@ pub fn generate(
     res: u32,
 ) -> CpuLinearMaps {
     let n = t.samples;
-    let views = sample_views(a, b, n, axis, &geometry.bounds);
+    let coverage = shadow_core::Coverage::new(geometry, &shadow_core::Light::Linear { a, b });
+    let views = sample_views(a, b, n, axis, &coverage);
     let params: Vec<MapParams> = views.iter().map(|v| v.params(res)).collect();
     let depth: Vec<Map2D<f32>> = views
         .iter()

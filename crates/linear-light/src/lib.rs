@@ -46,7 +46,11 @@ use shadow_core::{
 /// The segment's ends and the axis its maps look along.
 fn segment(light: &Light, geometry: &SceneGeometry) -> Result<(Vec3, Vec3, Vec3)> {
     match *light {
-        Light::Linear { a, b } => Ok((a, b, light.axis(geometry.bounds.center()))),
+        Light::Linear { a, b } => Ok((
+            a,
+            b,
+            light.axis(shadow_core::Coverage::new(geometry, light).center()),
+        )),
         _ => Err(ShadowError::UnsupportedLight {
             technique: "linear-light".into(),
             light: light.kind().name(),

@@ -5,7 +5,7 @@
 //! `s / 2` and an interior sample, shared by two pieces, `s`: a fully lit point sums to 1.
 
 use glam::Vec3;
-use shadow_core::mesh::Aabb;
+use shadow_core::Coverage;
 use shadow_core::{LightPoint, SampleView};
 
 /// Share `s = 1 / (N - 1)` of one piece of the segment.
@@ -27,12 +27,12 @@ pub fn neighbours(i: u32, n: u32) -> impl Iterator<Item = u32> {
 }
 
 /// One perspective view per sample, `a + (b - a) i / (N - 1)`, all looking along `axis` and
-/// fitted to `bounds`; the weight of a view is its lit share.
-pub fn sample_views(a: Vec3, b: Vec3, n: u32, axis: Vec3, bounds: &Aabb) -> Vec<SampleView> {
+/// covering `coverage`; the weight of a view is its lit share.
+pub fn sample_views(a: Vec3, b: Vec3, n: u32, axis: Vec3, coverage: &Coverage) -> Vec<SampleView> {
     (0..n)
         .map(|i| {
             let q = a + (b - a) * (i as f32 / (n - 1) as f32);
-            SampleView::new(LightPoint::Position(q), lit_share(i, n), axis, bounds)
+            SampleView::new(LightPoint::Position(q), lit_share(i, n), axis, coverage)
         })
         .collect()
 }

@@ -52,7 +52,7 @@ pub fn generate_triangle(
             resolution,
             shadow_core::technique::MAX_CPU_RESOLUTION,
         )?;
-        let axis = light.axis(geometry.bounds.center());
+        let axis = light.axis(shadow_core::Coverage::new(geometry, &light).center());
         edges.push(generate(
             t,
             geometry,

@@ -109,8 +109,11 @@ impl Frame {
         resolution: u32,
         thin_fix: bool,
     ) -> Frame {
-        let (center, u_half, v_half) =
-            light_rect(light, geometry.bounds.center()).unwrap_or((Vec3::ZERO, Vec3::X, Vec3::Z));
+        let (center, u_half, v_half) = light_rect(
+            light,
+            shadow_core::Coverage::new(geometry, light).center(),
+        )
+        .unwrap_or((Vec3::ZERO, Vec3::X, Vec3::Z));
         let normal = u_half.cross(v_half).normalize();
         let up = v_half.normalize();
         let look = look_to_up(center, normal, up);

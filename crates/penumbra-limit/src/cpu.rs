@@ -59,7 +59,7 @@ pub fn generate(
     light: &Light,
     resolution: u32,
 ) -> CpuPenumbraMaps {
-    let view = SampleView::center(light, &geometry.bounds);
+    let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
     let warp = Warp::new(&params, light);
     let l = layers(t, &view, &warp, &geometry.casters, resolution);

@@ -71,7 +71,7 @@ pub fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n: Vec3) 
     let Some(co) = shadow_coord(&prm.map, &prm.bias, p, n) else {
         return 1.0;
     };
-    let z = (prm.warp.normalized(co.z) - prm.tolerance).min(DEPTH_SPAN);
+    let z = (prm.warp.receiver_depth(co.z) - prm.tolerance).min(DEPTH_SPAN);
     let t = bilinear_texel(map, co.st);
     clamped_visibility(z, t.c, t.g, t.b, t.p)
 }

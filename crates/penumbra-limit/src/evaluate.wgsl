@@ -63,7 +63,7 @@ fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let co = shadow_coord(prm.map, prm.bias, positions[i].xyz, normals[i].xyz);
     var l = 1.0;
     if co.inside {
-        let z = min(normalized(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
+        let z = min(receiver_depth(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
         let t = bilinear(co.st);
         l = clamped_visibility(z, t.x, t.y, t.z, t.w);
     }

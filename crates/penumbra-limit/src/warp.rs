@@ -24,6 +24,10 @@ use shadow_core::{Light, MapParams};
 pub const DEPTH_SPAN: f32 = 0.99;
 /// Normalised "none": no geometry, edge or lower limit in a texel.
 pub const NONE_DEPTH: f32 = 1.0;
+/// Normalised depth of anything in front of the near plane, or at or behind a perspective
+/// map's eye plane (linear depth `z <= 0`, where `-1/z` would wrap to the far side): nearer than
+/// every occluder, so never shadowed by the map.
+pub const FRONT_DEPTH: f32 = -1.0;
 /// Depth rate used for a light of size 0 (a hard, antialiased edge).
 pub const MAX_RATE: f32 = 1.0e30;
 
@@ -81,12 +85,24 @@ impl Warp {
     }
 
     /// Normalised depth of a linear depth, at most [`NONE_DEPTH`] (a linear depth of
-    /// [`shadow_core::view::NO_OCCLUDER`] gives it).
+    /// [`shadow_core::view::NO_OCCLUDER`] gives it). For caster depths, which lie beyond the near
+    /// plane; a receiver's depth goes through [`Warp::receiver_depth`].
     pub fn normalized(&self, z: f32) -> f32 {
         if z >= NO_OCCLUDER {
             return NONE_DEPTH;
         }
         ((self.zeta(z) - self.zeta_near) * self.zeta_scale).min(NONE_DEPTH)
+    }
+
+    /// Normalised depth of a receiver's biased linear depth, in `[FRONT_DEPTH, NONE_DEPTH]`. On a
+    /// perspective map a depth at or behind the eye's plane (`z <= 0`: a receiver beside the
+    /// light, or pushed there by a bias) is in front of everything: [`FRONT_DEPTH`], not the far
+    /// plane that `-1/z` would wrap it to (a false umbra).
+    pub fn receiver_depth(&self, z: f32) -> f32 {
+        if self.ortho == 0 && z <= 0.0 {
+            return FRONT_DEPTH;
+        }
+        self.normalized(z).max(FRONT_DEPTH)
     }
 
     /// The linear depth of a normalised depth (inverse of [`Warp::normalized`] below 1).

@@ -15,6 +15,7 @@ struct Warp {
 
 const DEPTH_SPAN: f32 = 0.99;
 const NONE_DEPTH: f32 = 1.0;
+const FRONT_DEPTH: f32 = -1.0;
 const MAX_P: f32 = 2.0;
 
 fn zeta(w: Warp, z: f32) -> f32 {
@@ -29,6 +30,15 @@ fn normalized(w: Warp, z: f32) -> f32 {
         return NONE_DEPTH;
     }
     return min((zeta(w, z) - w.zeta_near) * w.zeta_scale, NONE_DEPTH);
+}
+
+// A receiver's biased depth: at or behind a perspective map's eye plane it is in front of
+// everything (see Warp::receiver_depth in warp.rs).
+fn receiver_depth(w: Warp, z: f32) -> f32 {
+    if w.ortho == 0u && z <= 0.0 {
+        return FRONT_DEPTH;
+    }
+    return max(normalized(w, z), FRONT_DEPTH);
 }
 
 fn linear(w: Warp, n: f32) -> f32 {

@@ -11,6 +11,7 @@
 //!
 //! Conventions: right-handed, +Y up, metres; visibility `V` in `[0, 1]` (1 lit, 0 umbra).
 
+pub mod coverage;
 pub mod error;
 pub mod frame;
 pub mod gltf_import;
@@ -25,6 +26,7 @@ pub mod scene;
 pub mod technique;
 pub mod view;
 
+pub use coverage::Coverage;
 pub use error::{Result, ShadowError};
 pub use gpu::GpuContext;
 pub use light::{DistantProfile, Light, LightKind, LightPoint};

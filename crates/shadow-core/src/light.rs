@@ -308,6 +308,142 @@ impl Light {
         l
     }
 
+    /// Whether the light emits towards `p` at all: a rect or a disk emits only towards its
+    /// front (`u x v`, `normal`); every other kind emits all around.
+    pub fn emits_towards(&self, p: Vec3) -> bool {
+        match *self {
+            Light::Rect {
+                center,
+                u_half,
+                v_half,
+            } => (p - center).dot(u_half.cross(v_half)) > 0.0,
+            Light::Disk { center, normal, .. } => (p - center).dot(normal) > 0.0,
+            _ => true,
+        }
+    }
+
+    /// Whether the light point `q` *reaches* the receiver `p` with normal `n` (visibility v2 of
+    /// the guide): `q` lies strictly above `p`'s tangent plane (`n . (q - p) > 0`, or
+    /// `n . d > 0` for a direction) and `p` is on the light's emitting side. Points that do not
+    /// reach are the unshadowed lighting term's business (horizon clipping), not the shadow's.
+    pub fn reaches(&self, q: LightPoint, p: Vec3, n: Vec3) -> bool {
+        self.emits_towards(p)
+            && match q {
+                LightPoint::Position(x) => n.dot(x - p) > 0.0,
+                LightPoint::Direction(d) => n.dot(d) > 0.0,
+            }
+    }
+
+    /// Whether any point of the light reaches `p` with normal `n` ([`Light::reaches`]); a
+    /// receiver with none is *unlit*: it has no `V` and takes no part in any error.
+    pub fn reaches_any(&self, p: Vec3, n: Vec3) -> bool {
+        if !self.emits_towards(p) {
+            return false;
+        }
+        // Largest height above the tangent plane over a disc of centre `c`, unit axis `w`, radius `r`.
+        let disc = |c: Vec3, w: Vec3, r: f32| {
+            n.dot(c - p) + r * (n.length_squared() - n.dot(w).powi(2)).max(0.0).sqrt()
+        };
+        match *self {
+            Light::Point { position } => n.dot(position - p) > 0.0,
+            Light::Linear { a, b } => n.dot(a - p).max(n.dot(b - p)) > 0.0,
+            Light::Rect {
+                center,
+                u_half,
+                v_half,
+            } => {
+                let h = n.dot(center - p);
+                h + n.dot(u_half).abs() + n.dot(v_half).abs() > 0.0
+            }
+            Light::Disk {
+                center,
+                normal,
+                radius,
+            } => disc(center, normal.normalize(), radius) > 0.0,
+            Light::Sphere { center, radius } => {
+                let to_center = center - p;
+                let dist = to_center.length();
+                if dist <= radius * 1.0001 {
+                    return n.dot(to_center) > 0.0;
+                }
+                let w = to_center / dist;
+                let disc_center = center - w * (radius * radius / dist);
+                let disc_radius = radius * (1.0 - (radius / dist).powi(2)).max(0.0).sqrt();
+                disc(disc_center, w, disc_radius) > 0.0
+            }
+            Light::Distant {
+                direction,
+                angular_diameter,
+                ..
+            } => {
+                let a = direction.normalize();
+                let half = 0.5 * angular_diameter;
+                disc(p + a * half.cos(), a, half.sin()) > 0.0
+            }
+        }
+    }
+
+    /// A convex outline that contains every point of the light seen from `p`: the light's own
+    /// vertices (point, segment, rect), a regular octagon circumscribing the disk or the sphere's
+    /// silhouette disc, or for a distant light the octagon of directions circumscribing its cone.
+    /// Used to prove a receiver fully lit: if nothing crosses the hull of `p` and the outline,
+    /// nothing blocks any light point.
+    pub fn outline(&self, p: Vec3) -> Vec<LightPoint> {
+        let octagon = |c: Vec3, w: Vec3, r: f32| -> Vec<Vec3> {
+            let (t, b) = orthonormal_basis(w);
+            let rr = r / (std::f32::consts::PI / 8.0).cos();
+            (0..8)
+                .map(|i| {
+                    let phi = std::f32::consts::TAU * i as f32 / 8.0;
+                    c + (t * phi.cos() + b * phi.sin()) * rr
+                })
+                .collect()
+        };
+        let pos = |v: Vec<Vec3>| v.into_iter().map(LightPoint::Position).collect();
+        match *self {
+            Light::Point { position } => vec![LightPoint::Position(position)],
+            Light::Linear { a, b } => pos(vec![a, b]),
+            Light::Rect {
+                center,
+                u_half,
+                v_half,
+            } => pos(vec![
+                center - u_half - v_half,
+                center + u_half - v_half,
+                center + u_half + v_half,
+                center - u_half + v_half,
+            ]),
+            Light::Disk {
+                center,
+                normal,
+                radius,
+            } => pos(octagon(center, normal.normalize(), radius)),
+            Light::Sphere { center, radius } => {
+                let to_center = center - p;
+                let dist = to_center.length();
+                if dist <= radius * 1.0001 {
+                    return vec![LightPoint::Position(center)];
+                }
+                let w = to_center / dist;
+                let disc_center = center - w * (radius * radius / dist);
+                let disc_radius = radius * (1.0 - (radius / dist).powi(2)).max(0.0).sqrt();
+                pos(octagon(disc_center, w, disc_radius))
+            }
+            Light::Distant {
+                direction,
+                angular_diameter,
+                ..
+            } => {
+                let a = direction.normalize();
+                let tan = (0.5 * angular_diameter).tan();
+                octagon(a, a, tan)
+                    .into_iter()
+                    .map(|d| LightPoint::Direction(d.normalize()))
+                    .collect()
+            }
+        }
+    }
+
     /// Dimension of the light's sample domain: 0 (point), 1 (segment) or 2.
     pub fn sample_dimension(&self) -> u32 {
         match self {

@@ -4,8 +4,8 @@
 //! `gpu/light_space.wgsl` is the same code in WGSL (prepended to the shaders that use it by
 //! [`crate::gpu::light_space_shader`]), so both backends project receivers identically.
 
+use crate::coverage::Coverage;
 use crate::light::{Light, LightPoint};
-use crate::mesh::Aabb;
 use crate::view::{ProjectionKind, View};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -62,10 +62,10 @@ pub struct SampleView {
 }
 
 impl SampleView {
-    /// The view of one light point, fitted to `bounds` and looking along `axis`.
-    pub fn new(q: LightPoint, weight: f32, axis: Vec3, bounds: &Aabb) -> Self {
+    /// The view of one light point, covering `coverage` and looking along `axis`.
+    pub fn new(q: LightPoint, weight: f32, axis: Vec3, coverage: &Coverage) -> Self {
         Self {
-            view: View::fit_light(q, axis, bounds),
+            view: View::fit_light(q, axis, coverage),
             weight,
             light: match q {
                 LightPoint::Position(p) => p.extend(1.0),
@@ -74,9 +74,9 @@ impl SampleView {
         }
     }
 
-    /// The view of the light's centre, fitted to `bounds`.
-    pub fn center(light: &Light, bounds: &Aabb) -> Self {
-        Self::new(light.center(), 1.0, light.axis(bounds.center()), bounds)
+    /// The view of the light's centre, covering `coverage`.
+    pub fn center(light: &Light, coverage: &Coverage) -> Self {
+        Self::new(light.center(), 1.0, light.axis(coverage.center()), coverage)
     }
 
     /// The shader-side parameters for a `resolution`-wide map.
@@ -99,17 +99,17 @@ impl SampleView {
     }
 }
 
-/// The views of `count` stratified light samples (1: the light's centre), fitted to `bounds`.
-pub fn sample_views(light: &Light, bounds: &Aabb, count: u32) -> Vec<SampleView> {
-    let center = bounds.center();
+/// The views of `count` stratified light samples (1: the light's centre), covering `coverage`.
+pub fn sample_views(light: &Light, coverage: &Coverage, count: u32) -> Vec<SampleView> {
+    let center = coverage.center();
     let axis = light.axis(center);
     if count <= 1 {
-        return vec![SampleView::center(light, bounds)];
+        return vec![SampleView::center(light, coverage)];
     }
     light
         .stratified_samples(count, center)
         .into_iter()
-        .map(|(q, w)| SampleView::new(q, w, axis, bounds))
+        .map(|(q, w)| SampleView::new(q, w, axis, coverage))
         .collect()
 }
 

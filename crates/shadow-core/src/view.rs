@@ -3,6 +3,7 @@
 //! Both use a reversed-Z projection (NDC depth 1 at the near plane, 0 at the far plane) so that an
 //! `f32` depth keeps its relative precision over depth ranges such as 1e-3..1e4.
 
+use crate::coverage::{Coverage, MARGIN};
 use crate::light::{Light, LightPoint};
 use crate::mesh::Aabb;
 use glam::{Mat4, Vec3, Vec4};
@@ -156,30 +157,53 @@ impl View {
         }
     }
 
-    /// A light-space view from one light sample that contains `bounds`, looking along `axis`.
+    /// A light-space view from one light sample that covers `coverage` (the casters and the
+    /// receivers their penumbrae reach; see [`crate::coverage`]), looking along `axis`.
     ///
-    /// Perspective from a position: the field of view covers every corner of `bounds` in front of
-    /// the eye, clamped to 2 x 80 degrees (geometry outside is unshadowed by that sample).
-    /// Orthographic for a direction: the window covers the bounds, the near plane lies just outside them.
-    pub fn fit_light(sample: LightPoint, axis: Vec3, bounds: &Aabb) -> View {
+    /// Perspective from a position: a square window around `axis`, clamped to 2 x 80 degrees
+    /// (geometry outside is unshadowed by that sample); the depth range spans the whole scene.
+    /// Orthographic for a direction: the window is centred on what it covers, the near plane
+    /// lies just outside the scene.
+    pub fn fit_light(sample: LightPoint, axis: Vec3, coverage: &Coverage) -> View {
         let axis = axis.normalize();
+        let bounds = &coverage.scene;
+        let fit = coverage.fit_box();
         let diag = bounds.diagonal().max(1e-6);
         match sample {
             LightPoint::Position(eye) => {
                 let view = look_to(eye, axis);
-                let mut tan_max: f32 = 0.0;
-                let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
-                for c in bounds.corners() {
-                    let v = view.transform_point3(c);
+                // Widest tangent over directions, infinite when one is not in front.
+                let tan_of = |d: Vec3| {
+                    let v = view.transform_vector3(d);
                     let z = -v.z;
+                    if z > 1e-6 * d.length().max(1e-30) {
+                        v.x.abs().max(v.y.abs()) / z
+                    } else {
+                        f32::INFINITY
+                    }
+                };
+                let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
+                let mut tan_all: f32 = 0.0;
+                for c in bounds.corners() {
+                    let z = -view.transform_point3(c).z;
                     zmax = zmax.max(z);
                     zmin = zmin.min(z);
-                    if z > 1e-6 * diag {
-                        tan_max = tan_max.max(v.x.abs().max(v.y.abs()) / z);
+                    tan_all = tan_all.max(if z > 1e-6 * diag {
+                        tan_of(c - eye)
                     } else {
-                        tan_max = f32::INFINITY;
+                        f32::INFINITY
+                    });
+                }
+                let mut tan_cast: f32 = 0.0;
+                for c in fit.corners() {
+                    tan_cast = tan_cast.max(tan_of(c - eye));
+                    for q in &coverage.light {
+                        if let LightPoint::Position(q) = q {
+                            tan_cast = tan_cast.max(tan_of(c - *q));
+                        }
                     }
                 }
+                let tan_max = tan_all.min(tan_cast) * (1.0 + MARGIN);
                 let half = tan_max.atan().clamp(1f32.to_radians(), 80f32.to_radians()) * 1.02;
                 let far = (zmax * 1.01).max(1e-3 * diag);
                 // The box's nearest point is at depth max(zmin, 0): when a corner lies behind the
@@ -196,34 +220,64 @@ impl View {
                 }
             }
             LightPoint::Direction(dir) => {
+                let dir = dir.normalize();
                 // The eye sits outside the bounds, towards the light.
                 let radius = 0.5 * diag;
-                let eye = bounds.center() + dir.normalize() * (radius * 1.1 + 1e-3);
-                let view = look_to(eye, -dir.normalize());
-                let mut half: f32 = 0.0;
-                let mut zmax: f32 = 0.0;
-                for c in bounds.corners() {
-                    let v = view.transform_point3(c);
-                    half = half.max(v.x.abs().max(v.y.abs()));
-                    zmax = zmax.max(-v.z);
-                }
+                let eye = bounds.center() + dir * (radius * 1.1 + 1e-3);
+                let view = look_to(eye, -dir);
+                let range = |b: &Aabb| {
+                    let (mut lo, mut hi) =
+                        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+                    for c in b.corners() {
+                        let v = view.transform_point3(c);
+                        let v = Vec3::new(v.x, v.y, -v.z);
+                        lo = lo.min(v);
+                        hi = hi.max(v);
+                    }
+                    (lo, hi)
+                };
+                let (all_lo, all_hi) = range(bounds);
+                let (cast_lo, cast_hi) = range(fit);
+                // Penumbra spread per unit of depth: the widest outline direction's tangent.
+                let spread = coverage
+                    .light
+                    .iter()
+                    .filter_map(|q| match q {
+                        LightPoint::Direction(d) => {
+                            let v = view.transform_vector3(-d.normalize());
+                            (-v.z > 1e-3).then(|| v.x.abs().max(v.y.abs()) / -v.z)
+                        }
+                        LightPoint::Position(_) => None,
+                    })
+                    .fold(0.0f32, f32::max);
+                let grow = (all_hi.z - cast_lo.z).max(0.0) * spread;
+                let lo = (cast_lo - Vec3::splat(grow)).max(all_lo);
+                let hi = (cast_hi + Vec3::splat(grow)).min(all_hi);
+                let mid = 0.5 * (lo + hi);
+                let half = 0.5 * (hi.x - lo.x).max(hi.y - lo.y).max(0.0);
+                // Centre the window: move the eye across the view.
+                let inv = view.inverse();
+                let eye = eye
+                    + inv.transform_vector3(Vec3::X) * mid.x
+                    + inv.transform_vector3(Vec3::Y) * mid.y;
+                let view = look_to(eye, -dir);
                 let near = (0.05 * radius).max(1e-6);
                 View {
                     view,
                     kind: ProjectionKind::Orthographic {
-                        half_extent: half * 1.01 + 1e-6,
+                        half_extent: half * (1.0 + MARGIN) * 1.01 + 1e-6 * diag,
                     },
                     near,
-                    far: zmax * 1.01 + near,
+                    far: all_hi.z * 1.01 + near,
                     aspect: 1.0,
                 }
             }
         }
     }
 
-    /// The light view of `light`'s centre sample, fitted to `bounds`.
-    pub fn for_light_center(light: &Light, bounds: &Aabb) -> View {
-        View::fit_light(light.center(), light.axis(bounds.center()), bounds)
+    /// The light view of `light`'s centre sample, covering `coverage`.
+    pub fn for_light_center(light: &Light, coverage: &Coverage) -> View {
+        View::fit_light(light.center(), light.axis(coverage.center()), coverage)
     }
 }
 

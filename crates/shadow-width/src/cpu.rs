@@ -33,12 +33,11 @@ pub fn generate(
     light: &Light,
     resolution: u32,
 ) -> CpuWidthMaps {
-    let view = SampleView::center(light, &geometry.bounds);
+    let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
     let tris = &geometry.casters;
     let near = depth_map_pass(&view.view, resolution, tris, DepthPass::NEAREST);
-    let far = depth_map_pass(&view.view, resolution, tris, DepthPass::FARTHEST);
-    let occlusion = occlusion_mask(&params, &near, &far, t.layer_gap);
+    let occlusion = occlusion_mask(&near);
     let width = width_map(&occlusion, t.method);
     let depth = match t.depth {
         DepthLayer::Front => near,

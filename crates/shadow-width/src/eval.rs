@@ -66,7 +66,7 @@ impl EvalParams {
             table_size,
             depth_layer: match t.depth {
                 DepthLayer::Front => 0,
-                DepthLayer::BackFaces => 2,
+                DepthLayer::BackFaces => 1,
             },
         }
     }

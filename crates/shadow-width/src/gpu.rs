@@ -1,4 +1,4 @@
-//! The GPU path: depth passes into one depth array (layer 0 nearest, 1 farthest, 2 farthest back
+//! The GPU path: depth passes into one depth array (layer 0 nearest caster, 1 farthest back
 //! face when asked for), the width map by the compute kernels of `width.wgsl`, and evaluation by
 //! `evaluate.wgsl`. Nothing is read back between generation steps.
 
@@ -23,7 +23,7 @@ pub struct GpuWidthMaps {
     pub view: SampleView,
     /// Its shader-side parameters.
     pub params: MapParams,
-    /// `Depth32Float` array: nearest, farthest, and (back-face depth) farthest back face.
+    /// `Depth32Float` array: nearest caster, and (back-face depth) farthest back face.
     pub depth: wgpu::Texture,
     /// Shadow width in texels, `array<f32>` of `resolution²`.
     pub width: wgpu::Buffer,
@@ -49,8 +49,7 @@ struct WidthParams {
     step: u32,
     neighbours: u32,
     cap: f32,
-    layer_gap: f32,
-    _pad: [u32; 3],
+    _pad: [u32; 4],
 }
 
 struct Raster(GpuRasterizer);
@@ -217,7 +216,7 @@ pub fn generate(
 ) -> Result<GpuWidthMaps> {
     let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
     let pipes = ctx.cached(WidthPipelines::new);
-    let view = SampleView::center(light, &geometry.bounds);
+    let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
     let texels = resolution as u64 * resolution as u64;
     let limit = ctx.device.limits().max_storage_buffer_binding_size;
@@ -228,7 +227,7 @@ pub fn generate(
         });
     }
     let tris = GpuTriangles::new(ctx, &geometry.casters)?;
-    let mut passes = vec![DepthPass::NEAREST, DepthPass::FARTHEST];
+    let mut passes = vec![DepthPass::NEAREST];
     if t.depth == DepthLayer::BackFaces {
         passes.push(DepthPass::FARTHEST_BACK);
     }
@@ -282,8 +281,7 @@ pub fn generate(
             step: 0,
             neighbours,
             cap: cap(resolution),
-            layer_gap: t.layer_gap,
-            _pad: [0; 3],
+            _pad: [0; 4],
         },
     };
     // Ping-pong: every dispatch reads `src` and writes `dst` of each pair.

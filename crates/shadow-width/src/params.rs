@@ -105,9 +105,6 @@ pub struct ShadowWidth {
     pub table: Option<u32>,
     /// Receiver biases against acne (shared with the baselines).
     pub bias: Bias,
-    /// A texel belongs to a blocker when a surface lies at least this many texels (at its depth)
-    /// in front of the farthest surface there. See [`crate::occlusion`].
-    pub layer_gap: f32,
 }
 
 /// Table size used when a custom falloff runs on the GPU without an explicit size.
@@ -124,7 +121,6 @@ impl ShadowWidth {
             falloff: FalloffKind::default(),
             table: None,
             bias: Bias::default(),
-            layer_gap: 2.0,
         }
     }
 
@@ -153,7 +149,7 @@ impl ShadowWidth {
         v
     }
 
-    /// Checks the parameters: `c_scale` and `c_bias` finite and non-negative, `layer_gap` finite
+    /// Checks the parameters: `c_scale` and `c_bias` finite and non-negative,
     /// and non-negative, biases finite, table size in range.
     pub fn validate(&self) -> Result<()> {
         let bad = |what: String| Err(ShadowError::InvalidParameter(what));
@@ -166,12 +162,6 @@ impl ShadowWidth {
             && !(c_bias.is_finite() && c_bias >= 0.0)
         {
             return bad(format!("c_bias must be finite and >= 0, got {c_bias}"));
-        }
-        if !(self.layer_gap.is_finite() && self.layer_gap >= 0.0) {
-            return bad(format!(
-                "layer_gap must be finite and >= 0, got {}",
-                self.layer_gap
-            ));
         }
         let b = self.bias;
         if ![b.normal_offset, b.depth, b.slope]

@@ -8,7 +8,7 @@ struct WidthParams {
     step: u32,
     neighbours: u32,
     cap: f32,
-    layer_gap: f32,
+    _pad3: u32,
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
@@ -34,7 +34,7 @@ fn texel_index(gid: vec3<u32>) -> i32 {
     return i32(gid.y * prm.res + gid.x);
 }
 
-// Inverted occlusion map: UNREACHED where a surface lies in front of the farthest one, else 0.
+// Inverted occlusion map: UNREACHED where a caster covers the texel, else 0 (see occlusion.rs).
 @compute @workgroup_size(8, 8)
 fn mask(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = texel_index(gid);
@@ -42,14 +42,7 @@ fn mask(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let xy = vec2<i32>(gid.xy);
-    let near = linear_from_ndc(prm.map, textureLoad(depth, xy, 0, 0));
-    let far_ndc = textureLoad(depth, xy, 1, 0);
-    var far = NO_OCCLUDER;
-    if far_ndc < 1.0 {
-        far = linear_from_ndc(prm.map, far_ndc);
-    }
-    let texel = prm.map.texel_a * near + prm.map.texel_b;
-    let blocked = near != NO_OCCLUDER && far != NO_OCCLUDER && far - near > prm.layer_gap * texel;
+    let blocked = linear_from_ndc(prm.map, textureLoad(depth, xy, 0, 0)) != NO_OCCLUDER;
     fdst[i] = select(0.0, UNREACHED, blocked);
 }
 

@@ -121,7 +121,11 @@ impl ShadowTechnique for ShadowMapBaseline {
         resolution: u32,
     ) -> Result<CpuShadowMaps> {
         self.check_inputs(geometry, light, resolution, MAX_CPU_RESOLUTION)?;
-        let views = sample_views(light, &geometry.bounds, self.map_count());
+        let views = sample_views(
+            light,
+            &shadow_core::Coverage::new(geometry, light),
+            self.map_count(),
+        );
         Ok(CpuShadowMaps::render(
             &views,
             &geometry.casters,
@@ -149,7 +153,11 @@ impl ShadowTechnique for ShadowMapBaseline {
         resolution: u32,
     ) -> Result<gpu::GpuShadowMaps> {
         self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
-        let views = sample_views(light, &geometry.bounds, self.map_count());
+        let views = sample_views(
+            light,
+            &shadow_core::Coverage::new(geometry, light),
+            self.map_count(),
+        );
         gpu.checked("shadow-map generation", || {
             gpu::GpuShadowMaps::render(gpu, &views, &geometry.casters, resolution, light.size())
         })

@@ -39,14 +39,15 @@ pub fn references(p: &PreparedScene, frames: usize) -> Vec<Vec<f32>> {
         .collect()
 }
 
-/// Mean excess frame-to-frame change of `frames` over `references`, times 255 (see the module).
+/// Mean excess frame-to-frame change of `frames` over `references`, times 255 (see the module);
+/// receivers unlit in either frame (NaN reference) are left out.
 pub fn flicker_255(frames: &[Vec<f32>], references: &[Vec<f32>]) -> f64 {
     let (mut sum, mut n) = (0.0f64, 0u64);
     for (v, r) in frames.windows(2).zip(references.windows(2)) {
         for i in 0..v[0].len().min(r[0].len()) {
             let dv = (v[1][i] - v[0][i]).abs() as f64;
             let dr = (r[1][i] - r[0][i]).abs() as f64;
-            if dv.is_finite() {
+            if dv.is_finite() && dr.is_finite() {
                 sum += (dv - dr).max(0.0);
                 n += 1;
             }

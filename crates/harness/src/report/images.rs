@@ -52,19 +52,37 @@ fn signed(v: Option<f32>, r: Option<f32>) -> Rgb<u8> {
     }
 }
 
+/// Colour of an unlit receiver (no light point reaches it): brown diagonal hatching, apart
+/// from every value of `V` and from the background.
+fn unlit(x: u32, y: u32) -> Rgb<u8> {
+    if ((x + y) / 3) % 2 == 0 {
+        Rgb([110, 84, 30])
+    } else {
+        Rgb([60, 46, 18])
+    }
+}
+
 /// Writes the strip: top row reference then each run; bottom row blank then each run's error.
+/// `unlit_pixels` (receivers no light point reaches) are hatched in every cell.
 pub fn write_strip(
     path: &Path,
     size: u32,
     reference: &[Option<f32>],
     runs: &[Vec<Option<f32>>],
+    unlit_pixels: &[usize],
 ) -> Result<()> {
     let cols = 1 + runs.len() as u32;
     let mut img = RgbImage::from_pixel(cols * size, 2 * size, Rgb([20, 20, 20]));
+    let mut is_unlit = vec![false; (size * size) as usize];
+    for &i in unlit_pixels {
+        is_unlit[i] = true;
+    }
     let put = |img: &mut RgbImage, col: u32, row: u32, f: &dyn Fn(usize) -> Rgb<u8>| {
         for y in 0..size {
             for x in 0..size {
-                img.put_pixel(col * size + x, row * size + y, f((y * size + x) as usize));
+                let i = (y * size + x) as usize;
+                let c = if is_unlit[i] { unlit(x, y) } else { f(i) };
+                img.put_pixel(col * size + x, row * size + y, c);
             }
         }
     };

@@ -53,14 +53,18 @@ pub struct ReferenceInfo {
     pub relit_from: Option<String>,
     /// `"monte-carlo"`.
     pub method: String,
-    /// Samples per receiver in penumbra (the pilot's 64 elsewhere).
+    /// Samples per receiver not proven lit (more where the horizon clips the light); a receiver
+    /// proven lit (no caster crosses the hull of it and the light) takes none.
     pub samples_per_pixel: u32,
     /// RMS over penumbra receivers of the standard error, times 255.
     pub std_error_255: f64,
-    /// Largest per-receiver standard error, times 255.
+    /// Largest per-receiver error, times 255: standard errors, and where every ray agreed the
+    /// 99% bound on a missed feature (the reference's true worst error; see `ground_truth`).
     pub max_std_error_255: f64,
-    /// Receivers (covered G-buffer pixels).
+    /// Receivers (covered G-buffer pixels the light reaches: those every metric uses).
     pub receivers: usize,
+    /// Covered G-buffer pixels no light point reaches (visibility v2: unlit, in no metric).
+    pub unlit_receivers: usize,
     /// Receivers whose reference is in the penumbra band.
     pub penumbra_receivers: usize,
     /// Wall time of the reference.

@@ -12,24 +12,25 @@ pub fn render(report: &Report) -> String {
     let _ = writeln!(s, "# Soft-shadow report\n");
     let _ = writeln!(
         s,
-        "Machine: {} ({} threads); GPU: {}.\n\nErrors are on `V * 255` against a ray-traced reference; times are medians in ms.\n",
+        "Machine: {} ({} threads); GPU: {}.\n\nErrors are on `V * 255` against a ray-traced reference (visibility v2: the fraction of the light points above a receiver's tangent plane, on the light's emitting side, that it sees; receivers no light point reaches are *unlit*, counted per scene, hatched in the strips and in no error); times are medians in ms.\n",
         report.machine.cpu, report.machine.threads, report.machine.gpu_adapter
     );
     summary(&mut s, report);
     let _ = writeln!(
         s,
-        "## References\n\n`scene@kind` is a hard case recast under a light of that kind, for the techniques that do not model its own light (see `harness::scenes::relight`).\n\n| scene | light | samples/px (penumbra) | std error (255, penumbra RMS) | max std error (255) | receivers | penumbra | time ms |\n|---|---|---:|---:|---:|---:|---:|---:|"
+        "## References\n\n`scene@kind` is a hard case recast under a light of that kind, for the techniques that do not model its own light (see `harness::scenes::relight`).\n\nA receiver is proven lit (error 0) when no caster crosses the hull of it and the light; every other one gets the stated samples, and its error is the replicates' standard error, or where every ray agreed the 99% bound on a feature the rays could miss: \"max error\" is the reference's true worst error.\n\n| scene | light | samples/px (not proven lit) | std error (255, penumbra RMS) | max error (255) | receivers | unlit | penumbra | time ms |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"
     );
     for r in &report.references {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.3} | {:.3} | {} | {} | {:.0} |",
+            "| {} | {} | {} | {:.3} | {:.3} | {} | {} | {} | {:.0} |",
             r.scene,
             r.light,
             r.samples_per_pixel,
             r.std_error_255,
             r.max_std_error_255,
             r.receivers,
+            r.unlit_receivers,
             r.penumbra_receivers,
             r.time_ms
         );

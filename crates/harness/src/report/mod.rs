@@ -151,6 +151,7 @@ impl Runner<'_> {
             std_error_255: p.std_error_255(),
             max_std_error_255: p.max_std_error_255(),
             receivers: p.positions.len(),
+            unlit_receivers: p.unlit_pixels.len(),
             penumbra_receivers: penumbra,
             time_ms: p.reference_ms,
         });
@@ -312,6 +313,7 @@ impl Runner<'_> {
             self.size,
             &reference_img,
             &runs_img,
+            &p.unlit_pixels,
         )?;
         let scene_runs: Vec<Run> = report
             .runs
@@ -325,7 +327,7 @@ impl Runner<'_> {
             &scene_runs,
         )?;
         let mut columns = vec![format!(
-            "reference (monte-carlo, {} spp in penumbra)",
+            "reference (monte-carlo, {} spp where not proven lit)",
             self.settings.samples_per_pixel()
         )];
         columns.extend(
@@ -390,14 +392,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
             max: 4096,
         });
     }
-    let settings = if opts.quick {
-        GroundTruthSettings {
-            strata_side: 32,
-            replicates: 4,
-        }
-    } else {
-        GroundTruthSettings::default()
-    };
+    let settings = GroundTruthSettings::default();
     let resolutions = opts.resolutions();
     if let Some(&bad) = resolutions.iter().find(|&&r| r == 0) {
         return Err(ShadowError::InvalidResolution {

@@ -29,11 +29,15 @@ pub const SCENE_NAMES: [&str; 15] = [
     "thin",
 ];
 
+/// Names of the catalogue's grounds: receivers only, since nothing lies below them to shadow
+/// (the guide: light-space maps cover what casts, not what only receives).
+pub const GROUNDS: [&str; 2] = ["ground", "graded-strip"];
+
 fn inst(mesh: TriangleMesh) -> MeshInstance {
     MeshInstance {
+        caster: !GROUNDS.contains(&mesh.name.as_str()),
         mesh: Arc::new(mesh),
         transform: Mat4::IDENTITY,
-        caster: true,
         receiver: true,
     }
 }

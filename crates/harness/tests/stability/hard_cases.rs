@@ -1,31 +1,201 @@
-//! Every technique x every hard-case scene x {16, 256, 2048} x both backends: finite `V` in
-//! [0, 1]. One test per scene, so the test runner spreads them over the cores.
+//! Every technique x every hard-case scene x {16, 256, 2048} x both backends, two properties
+//! over the registry of techniques:
+//!
+//! - **stable**: finite `V` in [0, 1], one value per receiver;
+//! - **accurate**: `rms_255` against the reference is no worse than the "no shadow" image
+//!   (`V = 1` everywhere) and than the hard shadow map's at the same resolution and backend
+//!   (5% + 0.5/255 of slack for the reference's noise), except the configurations [`EXCUSED`]
+//!   names, each with the reason. A false umbra (the landed penumbra-limit warp) fails it.
+//!
+//! One test per scene, so the test runner spreads them over the cores.
 
 use super::common::receivers;
 use super::{RESOLUTIONS, assert_stable, backends, label, scene_for, techniques, visibility};
+use harness::ground_truth::{GroundTruthSettings, RayTracer};
+use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
+use shadow_core::{Backend, DynTechnique};
+use std::collections::HashMap;
 
 /// G-buffer side of the receivers.
 const SIZE: u32 = 48;
 
+/// `(scene, technique or "*", variant or "*", resolution or 0 for all, why)`: configurations
+/// allowed to lose to the no-shadow image or the hard shadow map, and the measured reason
+/// (48² G-buffer, lavapipe and CPU agree to 0.01).
+const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
+    (
+        "contact",
+        "*",
+        "*",
+        16,
+        "a 16² texel is wider than the contact region: every filter (PCF 28.0, accumulation 17.9, \
+      penumbra-limit 21.7) smears the occluder edge across the touching point, where the hard \
+      map's nearest lookup (about 12) is already right",
+    ),
+    (
+        "degenerate",
+        "penumbra-limit",
+        "*",
+        0,
+        "duplicated and coincident blockers extrude the same silhouette edges twice: 32.9 vs the \
+      hard map's 27.75 at 2048",
+    ),
+    (
+        "*",
+        "shadow-width",
+        "edt-back",
+        0,
+        "back-face depth of zero-thickness blockers (sheets, the degenerate and tiny-light plates) \
+      equals the front depth, so sd collapses: 58.6 on degenerate, 68.0 on tiny-light",
+    ),
+    (
+        "grazing",
+        "occlusion-slices",
+        "*",
+        256,
+        "at grazing light the eq. 4 kernel spans most of a slice: mipmaps over-blur (11.2 vs the \
+      hard map's 7.3), SAT-sum double counts (7.36)",
+    ),
+    (
+        "grazing",
+        "pcf",
+        "*",
+        16,
+        "a fixed 5x5 kernel of 16² texels at grazing light: 34.1 vs 31.0",
+    ),
+    (
+        "grazing",
+        "pcss",
+        "*",
+        16,
+        "the blocker search of 16² texels at grazing light: 32.6 vs 31.0",
+    ),
+    (
+        "grazing",
+        "penumbra-limit",
+        "silhouette-f16",
+        2048,
+        "f16 depth rounding: 17.41 vs 17.34",
+    ),
+    (
+        "grazing@linear",
+        "linear-light",
+        "*",
+        0,
+        "the recast segment light at grazing angles: 2-5 depth maps undersample the skins at 16² \
+      (30.7 vs 21.8) and n2 at 256² (15.7 vs 7.3): Heidrich's own undersampling failure",
+    ),
+    (
+        "light-plane",
+        "occlusion-slices",
+        "*",
+        0,
+        "the wall crosses the light's plane: slicing from a COP behind the light drops casters \
+      above the plane and the wall's slices shadow the wall (40-46 vs the hard map's 25-30)",
+    ),
+    (
+        "light-plane",
+        "penumbra-limit",
+        "*",
+        0,
+        "the wall reaches the light's plane, where the -1/z warp exceeds f16 and 8-bit precision \
+      (65.2 at 256 and 2048; f32 passes)",
+    ),
+    (
+        "thin",
+        "hard-shadow-map",
+        "*",
+        256,
+        "6 mm wires alias in and out of 256² texels: 29.55 vs no shadow's 29.39",
+    ),
+    (
+        "thin",
+        "penumbra-limit",
+        "depth-image-*",
+        0,
+        "the depth image loses the sub-texel wires and the edge-on sheet's silhouette: 32.0 vs 27.0",
+    ),
+];
+
+fn excused(scene: &str, t: &dyn DynTechnique, res: u32) -> Option<&'static str> {
+    let matches = |pattern: &str, name: &str| match pattern.strip_suffix('*') {
+        Some(prefix) => name.starts_with(prefix),
+        None => pattern == name,
+    };
+    EXCUSED
+        .iter()
+        .find(|(s, n, v, r, _)| {
+            matches(s, scene)
+                && matches(n, t.name())
+                && matches(v, &t.variant())
+                && (*r == 0 || *r == res)
+        })
+        .map(|e| e.4)
+}
+
 fn hard_case(name: &str) {
     let spec = build(name).unwrap();
     assert!(spec.hard_case, "{name} is a hard case");
+    let all = techniques();
+    let hard = all
+        .iter()
+        .find(|t| t.name() == "hard-shadow-map")
+        .expect("the registry has the hard shadow map");
     let mut runs = 0;
-    for t in techniques() {
+    let mut failures = Vec::new();
+    // Per scene (the recast ones too): receivers, reference, and the hard map's rms per (res, backend).
+    type Bench = (
+        super::common::Receivers,
+        Vec<f32>,
+        HashMap<(u32, Backend), f64>,
+    );
+    let mut benches: HashMap<String, Bench> = HashMap::new();
+    for t in &all {
         let scene = scene_for(t.as_ref(), &spec);
-        let r = receivers(&scene, SIZE);
+        let bench = benches.entry(scene.name.clone()).or_insert_with(|| {
+            let r = receivers(&scene, SIZE);
+            let reference = RayTracer::new(&r.geometry.casters)
+                .references(
+                    &scene.light,
+                    &r.positions,
+                    &r.normals,
+                    &GroundTruthSettings::default(),
+                )
+                .iter()
+                .map(|x| x.map_or(f32::NAN, |x| x.visibility))
+                .collect();
+            (r, reference, HashMap::new())
+        });
+        let (r, reference, hard_rms) = bench;
+        let no_shadow = rms_255(&vec![1.0; reference.len()], reference);
         for res in RESOLUTIONS {
             for be in backends() {
                 let what = label(t.as_ref(), &scene.name, res, be);
-                let v = visibility(t.as_ref(), be, &r, &scene.light, res, &what);
+                let v = visibility(t.as_ref(), be, r, &scene.light, res, &what);
                 assert_stable(&v, r.positions.len(), &what);
                 runs += 1;
+                let h = *hard_rms.entry((res, be)).or_insert_with(|| {
+                    let hv = visibility(hard.as_ref(), be, r, &scene.light, res, &what);
+                    rms_255(&hv, reference)
+                });
+                let rms = rms_255(&v, reference);
+                let limit = no_shadow.min(h) * 1.05 + 0.5;
+                if rms > limit && excused(&scene.name, t.as_ref(), res).is_none() {
+                    failures.push(format!(
+                        "{what}: rms {rms:.2} > {limit:.2} (no shadow {no_shadow:.2}, hard map {h:.2})"
+                    ));
+                }
             }
         }
     }
-    let expected = techniques().len() * RESOLUTIONS.len() * backends().len();
+    let expected = all.len() * RESOLUTIONS.len() * backends().len();
     assert_eq!(runs, expected);
+    assert!(
+        failures.is_empty(),
+        "less accurate than no shadow or the hard shadow map:\n{}",
+        failures.join("\n")
+    );
 }
 
 #[test]

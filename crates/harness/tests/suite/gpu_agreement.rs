@@ -31,7 +31,8 @@ fn gpu_depth_maps_match_the_cpu_rasterizer() {
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
         let geo = spec.to_scene().unwrap().geometry();
-        let view = View::for_light_center(&spec.light, &geo.bounds);
+        let view =
+            View::for_light_center(&spec.light, &shadow_core::Coverage::new(&geo, &spec.light));
         let res = 256;
         let tris = GpuTriangles::new(&ctx, &geo.casters).unwrap();
         for pass in passes {

@@ -43,6 +43,7 @@ fn check(tracer: &RayTracer, light: &Light, pts: &[Vec3], exact: &dyn Fn(Vec3) -
     let mut sum = 0.0;
     let mut worst: f64 = 0.0;
     for (p, r) in pts.iter().zip(&refs) {
+        let r = r.expect("every receiver faces the light");
         let d = (r.visibility - exact(*p)) as f64;
         sum += (d * 255.0).powi(2);
         worst = worst.max(d.abs() / (4.0 * r.std_error as f64 + 1.0 / 255.0));
@@ -151,7 +152,7 @@ fn straight_edge_under_linear_light_matches_the_rational_function() {
         let rms = (pts
             .iter()
             .zip(&refs)
-            .map(|(p, r)| ((r.visibility - exact(*p)) as f64 * 255.0).powi(2))
+            .map(|(p, r)| ((r.unwrap().visibility - exact(*p)) as f64 * 255.0).powi(2))
             .sum::<f64>()
             / pts.len() as f64)
             .sqrt();
@@ -164,7 +165,7 @@ fn straight_edge_under_linear_light_matches_the_rational_function() {
         let wrms = (pts
             .iter()
             .zip(&wr)
-            .map(|(p, r)| ((r.visibility - exact(*p)) as f64 * 255.0).powi(2))
+            .map(|(p, r)| ((r.unwrap().visibility - exact(*p)) as f64 * 255.0).powi(2))
             .sum::<f64>()
             / pts.len() as f64)
             .sqrt();
@@ -195,8 +196,147 @@ fn receivers_do_not_shadow_themselves() {
         &GroundTruthSettings::default(),
     );
     assert!(
-        refs.iter().all(|r| r.visibility == 1.0),
+        refs.iter().all(|r| r.map(|r| r.visibility) == Some(1.0)),
         "{:?}",
-        refs.iter().find(|r| r.visibility < 1.0)
+        refs.iter().find(|r| r.map(|r| r.visibility) != Some(1.0))
     );
+}
+
+/// Visibility v2: light below a receiver's tangent plane, or behind a one-sided light, is the
+/// lighting's business. A receiver facing away from every light point is unlit (`None`); one that
+/// sees part of the light above its horizon, with nothing in the way, has `V = 1` exactly; and a
+/// rect light 2 m under the ground leaves the ground unlit.
+#[test]
+fn the_horizon_and_the_back_of_a_light_are_not_shadow() {
+    let tracer = RayTracer::new(&quad(-0.1, 0.1, -0.1, 0.1, 10.0));
+    let settings = GroundTruthSettings::default();
+    let sphere = Light::Sphere {
+        center: Vec3::new(0.0, 1.0, 0.0),
+        radius: 0.5,
+    };
+    let p = Vec3::new(2.0, 1.0, 0.0);
+    // Normal facing the sphere: lit; tilted so that half the sphere is below the horizon: still
+    // V = 1 (nothing occludes); facing away: unlit.
+    for (n, expected) in [
+        (Vec3::NEG_X, Some(1.0)),
+        (Vec3::Y, Some(1.0)),
+        (Vec3::X, None),
+    ] {
+        let r = tracer.reference(&sphere, p, n, &settings, 7);
+        assert_eq!(r.map(|r| r.visibility), expected, "normal {n}");
+    }
+    let under = Light::Rect {
+        center: Vec3::new(0.0, -2.0, 0.0),
+        u_half: Vec3::X * 0.4,
+        v_half: Vec3::Z * 0.4,
+    };
+    // The rect emits towards u x v = -Y: the ground above it is behind it.
+    assert_eq!(
+        tracer.reference(&under, Vec3::ZERO, Vec3::Y, &settings, 1),
+        None
+    );
+}
+
+/// A sample of `scene`'s receivers (a 32² G-buffer), the reference at the default settings and
+/// an independent recomputation: other seeds, 16 replicates of 48² strata (36,864 rays per
+/// receiver, 9x the reference) and no proof of lit receivers.
+fn recompute(scene: &str) -> Vec<(f32, f32, f32, f32)> {
+    use harness::scenes::catalogue::build;
+    let spec = build(scene).unwrap();
+    let (geometry, positions, normals) = harness::setup::scene_receivers(&spec, 32).unwrap();
+    let tracer = RayTracer::new(&geometry.casters);
+    let settings = GroundTruthSettings::default();
+    let hi = GroundTruthSettings {
+        strata_side: 48,
+        replicates: 16,
+        ..settings
+    };
+    let refs = tracer.references(&spec.light, &positions, &normals, &settings);
+    refs.iter()
+        .enumerate()
+        .filter_map(|(i, r)| {
+            let r = (*r)?;
+            let h = tracer
+                .estimate_unproven(
+                    &spec.light,
+                    positions[i],
+                    normals[i],
+                    &hi,
+                    1_000_003 + i as u64,
+                )
+                .expect("the same receiver is lit");
+            Some((r.visibility, r.std_error, h.visibility, h.std_error))
+        })
+        .collect()
+}
+
+/// The stated error is the true worst error: on scenes with wires, thin sheets and thousands of
+/// small quads (features a sparse pilot misses), every receiver's reference lies within 4 of its
+/// stated errors (plus the recomputation's own) of a 9x larger independent estimate. The landed
+/// pilot settled such receivers with error 0 and was up to 11.7/255 off.
+#[test]
+fn the_stated_reference_error_bounds_an_independent_recomputation() {
+    for scene in ["thin", "foliage"] {
+        let rows = recompute(scene);
+        let mut worst: f64 = 0.0;
+        let mut max_stated: f64 = 0.0;
+        for &(v, se, h, hse) in &rows {
+            let d = (v - h).abs() as f64;
+            let bound = 4.0 * (se as f64 + hse as f64) + 0.25 / 255.0;
+            worst = worst.max(d / bound);
+            max_stated = max_stated.max(se as f64);
+        }
+        assert!(
+            worst <= 1.0,
+            "{scene}: a receiver is off by {worst:.2} of its bound (max stated {:.2}/255)",
+            max_stated * 255.0
+        );
+        assert!(rows.len() > 500, "{scene}: {} receivers", rows.len());
+    }
+}
+
+/// The reference does not depend on the shadow-ray offset beyond its stated error: on `torus`
+/// (a curved receiver lit to its terminator) and `contact`, 0.5x and 2x the default offset move
+/// no receiver by more than 4 of the two stated errors (plus 0.25/255), and leave the same
+/// receivers unlit.
+#[test]
+fn the_reference_does_not_depend_on_the_ray_offset() {
+    use harness::scenes::catalogue::build;
+    for scene in ["torus", "contact"] {
+        let spec = build(scene).unwrap();
+        let (geometry, positions, normals) = harness::setup::scene_receivers(&spec, 40).unwrap();
+        let tracer = RayTracer::new(&geometry.casters);
+        let base = GroundTruthSettings::default();
+        let at = |k: f32| {
+            tracer.references(
+                &spec.light,
+                &positions,
+                &normals,
+                &GroundTruthSettings {
+                    ray_offset: base.ray_offset * k,
+                    ..base
+                },
+            )
+        };
+        let one = at(1.0);
+        for k in [0.5, 2.0] {
+            let other = at(k);
+            for (i, (a, b)) in one.iter().zip(&other).enumerate() {
+                match (a, b) {
+                    (None, None) => {}
+                    (Some(a), Some(b)) => {
+                        let d = (a.visibility - b.visibility).abs();
+                        let bound = 4.0 * (a.std_error + b.std_error) + 0.25 / 255.0;
+                        assert!(
+                            d <= bound,
+                            "{scene} x{k} receiver {i}: {} vs {} (bound {bound})",
+                            a.visibility,
+                            b.visibility
+                        );
+                    }
+                    _ => panic!("{scene} x{k} receiver {i}: lit in one, unlit in the other"),
+                }
+            }
+        }
+    }
 }

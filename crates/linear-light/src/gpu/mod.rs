@@ -244,7 +244,8 @@ pub fn generate(
     let skin_pipe = ctx.cached(SkinPipeline::new);
     let comb = ctx.cached(CombineKernel::new);
     let find = ctx.cached(FindSkinsKernel::new);
-    let views = sample_views(a, b, n, axis, &geometry.bounds);
+    let coverage = shadow_core::Coverage::new(geometry, &shadow_core::Light::Linear { a, b });
+    let views = sample_views(a, b, n, axis, &coverage);
     let piece = piece_share(n);
     let samples: Vec<SampleGpu> = views
         .iter()

@@ -262,7 +262,7 @@ pub fn generate(
     let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
     let di = ctx.cached(DepthImagePipelines::new);
     let comb = ctx.cached(CombinePipelines::new);
-    let view = SampleView::center(light, &geometry.bounds);
+    let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
     let params = view.params(res);
     let warp = Warp::new(&params, light);
     let tris = GpuTriangles::new(ctx, &geometry.casters)?;

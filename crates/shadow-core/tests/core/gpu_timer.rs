@@ -20,7 +20,7 @@ fn depth_passes(ctx: &GpuContext, passes: u32) -> shadow_core::Result<u32> {
     let light = Light::Point {
         position: Vec3::Y * 3.0,
     };
-    let view = View::for_light_center(&light, &bounds);
+    let view = View::for_light_center(&light, &shadow_core::Coverage::whole(&bounds));
     let raster = GpuRasterizer::new(ctx);
     let gpu_tris = GpuTriangles::new(ctx, &tris)?;
     let tex = GpuRasterizer::depth_array(ctx, 2048, 1)?;

@@ -13,10 +13,10 @@ fn shared_edges_cover_each_pixel_once() {
     let view = View::fit_light(
         LightPoint::Direction(Vec3::Y),
         Vec3::NEG_Y,
-        &Aabb {
+        &shadow_core::Coverage::whole(&Aabb {
             min: Vec3::new(-1.0, 0.0, -1.0),
             max: Vec3::new(1.0, 0.0, 1.0),
-        },
+        }),
     );
     for (k, skew) in [0.0f32, 0.137, -0.31, 0.5].into_iter().enumerate() {
         // A fan of 6 triangles around an off-centre point: every edge is shared by two triangles.
@@ -66,7 +66,11 @@ fn perspective_depth_matches_ray_plane_intersection() {
         min: Vec3::splat(-3.0),
         max: Vec3::new(3.0, 1.0, 3.0),
     };
-    let view = View::fit_light(LightPoint::Position(eye), axis, &bounds);
+    let view = View::fit_light(
+        LightPoint::Position(eye),
+        axis,
+        &shadow_core::Coverage::whole(&bounds),
+    );
     let res = 64;
     let map = depth_map(&view, res, &tris);
     let inv = view.view_projection().inverse();
@@ -108,7 +112,11 @@ fn orthographic_depth_matches_plane() {
         max: Vec3::splat(1.0),
     };
     let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
-    let view = View::fit_light(LightPoint::Direction(dir), -dir, &bounds);
+    let view = View::fit_light(
+        LightPoint::Direction(dir),
+        -dir,
+        &shadow_core::Coverage::whole(&bounds),
+    );
     let normal = Vec3::new(0.1, 1.0, 0.3).normalize();
     let (t, b) = shadow_core::light::orthonormal_basis(normal);
     let q = |s: f32, u: f32| t * s + b * u;
