@@ -254,9 +254,11 @@ fn quad(c: Vec3, half: f32) -> [[Vec3; 3]; 2] {
 fn geometry(h: f32) -> SceneGeometry {
     let ground = quad(Vec3::ZERO, 2.0);
     let blocker = quad(Vec3::new(-1.0, h, 0.0), 1.0);
-    let casters: Vec<[Vec3; 3]> = ground.iter().chain(&blocker).copied().collect();
+    // The ground only receives (the guide: maps cover what casts).
+    let casters: Vec<[Vec3; 3]> = blocker.to_vec();
+    let everything: Vec<[Vec3; 3]> = ground.iter().chain(&blocker).copied().collect();
     SceneGeometry {
-        bounds: Aabb::of_triangles(&casters),
+        bounds: Aabb::of_triangles(&everything),
         receivers: ground.to_vec(),
         casters,
     }
