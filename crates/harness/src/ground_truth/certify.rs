@@ -127,7 +127,7 @@ impl Hull {
         }
         for axis in axes {
             let len = axis.length();
-            if !(len > 1e-20) {
+            if len.is_nan() || len <= 1e-20 {
                 continue;
             }
             let axis = axis / len;

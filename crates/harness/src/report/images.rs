@@ -55,7 +55,7 @@ fn signed(v: Option<f32>, r: Option<f32>) -> Rgb<u8> {
 /// Colour of an unlit receiver (no light point reaches it): brown diagonal hatching, apart
 /// from every value of `V` and from the background.
 fn unlit(x: u32, y: u32) -> Rgb<u8> {
-    if ((x + y) / 3) % 2 == 0 {
+    if ((x + y) / 3).is_multiple_of(2) {
         Rgb([110, 84, 30])
     } else {
         Rgb([60, 46, 18])
