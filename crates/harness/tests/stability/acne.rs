@@ -4,8 +4,7 @@
 //! the recast light, against that light's own reference.
 
 use super::common::receivers;
-use super::{RESOLUTIONS, backends, label, scene_for, techniques, visibility};
-use harness::ground_truth::{GroundTruthSettings, RayTracer};
+use super::{RESOLUTIONS, backends, label, reference, scene_for, techniques, visibility};
 use harness::metrics::errors;
 use harness::scenes::catalogue::build;
 use std::collections::HashMap;
@@ -22,18 +21,9 @@ fn no_technique_shadows_the_unoccluded_acne_receivers() {
     for t in techniques() {
         let scene = scene_for(t.as_ref(), &spec);
         let r = receivers(&scene, SIZE);
-        let reference = references.entry(scene.name.clone()).or_insert_with(|| {
-            RayTracer::new(&r.geometry.casters)
-                .references(
-                    &scene.light,
-                    &r.positions,
-                    &r.normals,
-                    &GroundTruthSettings::default(),
-                )
-                .iter()
-                .map(|x| x.map_or(f32::NAN, |x| x.visibility))
-                .collect()
-        });
+        let reference = references
+            .entry(scene.name.clone())
+            .or_insert_with(|| reference(&scene.light, &r));
         let lit = reference.iter().filter(|&&v| v >= 0.98).count();
         assert!(
             lit * 10 >= reference.len() * 9,

@@ -10,8 +10,9 @@
 //! One test per scene, so the test runner spreads them over the cores.
 
 use super::common::receivers;
-use super::{RESOLUTIONS, assert_stable, backends, label, scene_for, techniques, visibility};
-use harness::ground_truth::{GroundTruthSettings, RayTracer};
+use super::{
+    RESOLUTIONS, assert_stable, backends, label, reference, scene_for, techniques, visibility,
+};
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_core::{Backend, DynTechnique};
@@ -155,16 +156,7 @@ fn hard_case(name: &str) {
         let scene = scene_for(t.as_ref(), &spec);
         let bench = benches.entry(scene.name.clone()).or_insert_with(|| {
             let r = receivers(&scene, SIZE);
-            let reference = RayTracer::new(&r.geometry.casters)
-                .references(
-                    &scene.light,
-                    &r.positions,
-                    &r.normals,
-                    &GroundTruthSettings::default(),
-                )
-                .iter()
-                .map(|x| x.map_or(f32::NAN, |x| x.visibility))
-                .collect();
+            let reference = reference(&scene.light, &r);
             (r, reference, HashMap::new())
         });
         let (r, reference, hard_rms) = bench;

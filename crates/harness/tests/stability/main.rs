@@ -89,6 +89,20 @@ pub fn visibility(
         .unwrap_or_else(|e| panic!("{what}: evaluate: {e}"))
 }
 
+/// The reference `V` of `r` under `light` (default settings); NaN where a receiver is unlit.
+pub fn reference(light: &shadow_core::Light, r: &common::Receivers) -> Vec<f32> {
+    harness::ground_truth::RayTracer::new(&r.geometry.casters)
+        .references(
+            light,
+            &r.positions,
+            &r.normals,
+            &harness::ground_truth::GroundTruthSettings::default(),
+        )
+        .iter()
+        .map(|x| x.map_or(f32::NAN, |x| x.visibility))
+        .collect()
+}
+
 /// Asserts the stability contract on `v`: one value per receiver, all finite, all in [0, 1].
 pub fn assert_stable(v: &[f32], receivers: usize, what: &str) {
     assert_eq!(v.len(), receivers, "{what}: one V per receiver");
