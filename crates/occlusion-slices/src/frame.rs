@@ -1,6 +1,6 @@
 //! The slicing frame of section 3.4: a centre of projection (COP) at distance `d` behind the
-//! light, a frustum through the light's rectangle that contains the casters, and `n` slice planes
-//! parallel to the light.
+//! light, a frustum through the light's rectangle that contains the casters and the penumbra they
+//! can throw on the scene, and `n` slice planes parallel to the light.
 //!
 //! Coordinates: `h` is the distance from the light's plane along its emission normal, `x` and
 //! `y` run along the frustum's image axes from the light's centre. The frustum's half extents at
@@ -138,9 +138,30 @@ impl Frame {
             (1.0, 2.0)
         };
         let spacing = ((far - near) / (slices - 1) as f32).max(1e-6 * far);
-        // The largest d that keeps every caster vertex (beyond the floor) inside the frustum.
+        // The penumbra on the receivers: from every corner of the casters' box, away from every
+        // corner of the light's rectangle, down to the deepest geometry, clamped into the scene.
+        // A receiver outside the frustum has kernels that leave the slices (section 3.1's
+        // pyramid only stays inside for points inside the frustum), so it must be covered too.
+        let casters = shadow_core::Aabb::of_triangles(&geometry.casters);
+        let scene = geometry.bounds;
+        let deepest = scene.corners().iter().map(|c| depth(*c)).fold(hi, f32::max);
+        let mut penumbra = Vec::new();
+        if occupied && !scene.is_empty() {
+            for c in casters.corners() {
+                for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                    let dir = c - (center + su * u_half + sv * v_half);
+                    let down = dir.dot(normal);
+                    if down > 1e-6 * dir.length() {
+                        let x = c + dir * ((deepest - depth(c)).max(0.0) / down);
+                        penumbra.push(x.clamp(scene.min, scene.max));
+                    }
+                }
+            }
+        }
+        // The largest d that keeps every caster vertex (beyond the floor) and the penumbra's
+        // extent inside the frustum.
         let mut d = 100.0 * far;
-        for p in geometry.casters.iter().flatten() {
+        for p in geometry.casters.iter().flatten().chain(&penumbra) {
             let h = depth(*p);
             if h < FIT_FLOOR * far {
                 continue;

@@ -3,10 +3,10 @@
 //! that only receives light where nothing can shadow it.
 //!
 //! From a light point `q`, a receiver `X` shadowed by caster point `Y` as seen from another light
-//! point `q'` lies on `Y + t (Y - q')`, `t >= 0`: its direction from `q` is a positive
-//! combination of `Y - q` and `Y - q'`. So the window of a perspective map from `q` only needs
-//! the directions `C - q` and `C - q'` over the caster box's corners `C` and the light outline's
-//! points `q'` (a positive combination stays inside the range of `x/z` and `y/z`). For an
+//! point `q'` lies on `Y + t (Y - q')`, `t >= 0`, no deeper than the scene. Per `q'` these points
+//! form the convex hull of the caster box's corners `C` and their extensions `C + t (C - q')` to
+//! the scene's deepest depth, so the window of a perspective map from `q` (the range of `x/z`
+//! and `y/z`, reached at vertices) only needs those points. For an
 //! orthographic map (distant light) the caster box's window grows by the scene's depth below the
 //! casters times the tangent of the light's cone. Both are then clipped to the window of the
 //! whole scene, and get [`MARGIN`] for filter kernels.

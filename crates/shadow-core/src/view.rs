@@ -194,12 +194,22 @@ impl View {
                         f32::INFINITY
                     });
                 }
+                // The casters' corners, and where their penumbra reaches at the scene's deepest
+                // depth: from each corner away from each light point (a direction that never gets
+                // deeper bounds the window by its own tangent).
                 let mut tan_cast: f32 = 0.0;
                 for c in fit.corners() {
                     tan_cast = tan_cast.max(tan_of(c - eye));
+                    let zc = -view.transform_point3(c).z;
                     for q in &coverage.light {
                         if let LightPoint::Position(q) = q {
-                            tan_cast = tan_cast.max(tan_of(c - *q));
+                            let d = c - *q;
+                            let dz = -view.transform_vector3(d).z;
+                            tan_cast = tan_cast.max(if dz > 1e-6 * d.length() {
+                                tan_of(c + d * ((zmax - zc).max(0.0) / dz) - eye)
+                            } else {
+                                tan_of(d)
+                            });
                         }
                     }
                 }

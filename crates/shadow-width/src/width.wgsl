@@ -8,10 +8,10 @@ struct WidthParams {
     step: u32,
     neighbours: u32,
     cap: f32,
-    _pad3: u32,
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
+    _pad3: u32,
 };
 
 @group(0) @binding(0) var<uniform> prm: WidthParams;

@@ -101,39 +101,36 @@ impl Hull {
     }
 
     /// Whether the triangle may touch the hull (false only when an axis separates them clearly).
+    /// Runs once per candidate triangle per receiver: no allocation.
     pub fn may_touch(&self, t: &Triangle) -> bool {
         let tri = [t.v0, t.v1, t.v2];
         let te = [t.v1 - t.v0, t.v2 - t.v1, t.v0 - t.v2];
         let tn = te[0].cross(te[1]);
-        let mut axes: Vec<Vec3A> = Vec::with_capacity(4 + self.planes.len() + 6 * self.edges.len());
-        axes.push(tn);
-        axes.extend(self.planes.iter().map(|(n, _)| *n));
-        for &e in &self.edges {
-            for &f in &te {
-                axes.push(e.cross(f));
-            }
-            axes.push(e.cross(tn));
-        }
-        if self.planes.is_empty() && self.edges.len() >= 2 {
-            // A flat hull (segment light): its plane's normal and in-plane edge normals.
-            let hn = self.edges[0].cross(self.edges[1]);
-            axes.push(hn);
-            for &e in &self.edges {
-                axes.push(e.cross(hn));
-            }
-            for &f in &te {
-                axes.push(f.cross(hn));
-            }
-        }
-        for axis in axes {
+        let separates = |axis: Vec3A| {
             let len = axis.length();
             if len.is_nan() || len <= 1e-20 {
-                continue;
+                return false;
             }
             let axis = axis / len;
             let (a0, a1) = Self::range(&self.points, axis);
             let (b0, b1) = Self::range(&tri, axis);
-            if a1 < b0 - self.tol || b1 < a0 - self.tol {
+            a1 < b0 - self.tol || b1 < a0 - self.tol
+        };
+        if separates(tn) || self.planes.iter().any(|(n, _)| separates(*n)) {
+            return false;
+        }
+        for &e in &self.edges {
+            if te.iter().any(|&f| separates(e.cross(f))) || separates(e.cross(tn)) {
+                return false;
+            }
+        }
+        if self.planes.is_empty() && self.edges.len() >= 2 {
+            // A flat hull (segment light): its plane's normal and in-plane edge normals.
+            let hn = self.edges[0].cross(self.edges[1]);
+            if separates(hn)
+                || self.edges.iter().any(|&e| separates(e.cross(hn)))
+                || te.iter().any(|&f| separates(f.cross(hn)))
+            {
                 return false;
             }
         }

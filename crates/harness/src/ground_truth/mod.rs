@@ -93,6 +93,19 @@ fn rand01(seed: u64) -> f32 {
     (hash(seed) >> 40) as f32 / (1u64 << 24) as f32
 }
 
+/// The point at offset `j` (in `[0, 1)²`) of stratum `k` of `side²`: a cell of a `side x side`
+/// grid, or of `side²` intervals along a segment light.
+fn stratum(light: &Light, k: u32, side: u32, j: Vec2) -> Vec2 {
+    if light.sample_dimension() == 1 {
+        Vec2::new((k as f32 + j.x) / (side * side) as f32, 0.5)
+    } else {
+        Vec2::new(
+            ((k % side) as f32 + j.x) / side as f32,
+            ((k / side) as f32 + j.y) / side as f32,
+        )
+    }
+}
+
 impl RayTracer {
     /// Builds the BVH over `casters` (degenerate triangles are kept: they never report a hit).
     pub fn new(casters: &[[Vec3; 3]]) -> Self {
@@ -213,15 +226,7 @@ impl RayTracer {
                 rand01(s.wrapping_mul(2).wrapping_add(1)),
                 rand01(s.wrapping_mul(2).wrapping_add(2)),
             );
-            let u = if light.sample_dimension() == 1 {
-                Vec2::new((k as f32 + j.x) / count as f32, 0.5)
-            } else {
-                Vec2::new(
-                    ((k % side) as f32 + j.x) / side as f32,
-                    ((k / side) as f32 + j.y) / side as f32,
-                )
-            };
-            let (q, w) = light.sample(u, p);
+            let (q, w) = light.sample(stratum(light, k, side, j), p);
             if !light.reaches(q, p, n) {
                 continue;
             }
@@ -238,15 +243,8 @@ impl RayTracer {
     fn reach_fraction(light: &Light, p: Vec3, n: Vec3) -> f32 {
         let side = 16u32;
         let hits = (0..side * side)
-            .filter(|k| {
-                let u = if light.sample_dimension() == 1 {
-                    Vec2::new((*k as f32 + 0.5) / (side * side) as f32, 0.5)
-                } else {
-                    Vec2::new(
-                        ((k % side) as f32 + 0.5) / side as f32,
-                        ((k / side) as f32 + 0.5) / side as f32,
-                    )
-                };
+            .filter(|&k| {
+                let u = stratum(light, k, side, Vec2::splat(0.5));
                 light.reaches(light.sample(u, p).0, p, n)
             })
             .count();
@@ -284,7 +282,7 @@ impl RayTracer {
                 std_error: 0.0,
             });
         }
-        self.estimate_unproven(light, p, n, settings, seed)
+        self.monte_carlo(light, p, n, settings, seed)
     }
 
     /// The Monte Carlo estimate of one receiver that [`RayTracer::reference`] makes when the
@@ -297,9 +295,22 @@ impl RayTracer {
         settings: &GroundTruthSettings,
         seed: u64,
     ) -> Option<Reference> {
-        if !light.reaches_any(p, n) {
-            return None;
+        if light.reaches_any(p, n) {
+            self.monte_carlo(light, p, n, settings, seed)
+        } else {
+            None
         }
+    }
+
+    /// The replicated stratified estimate of a receiver some light point reaches.
+    fn monte_carlo(
+        &self,
+        light: &Light,
+        p: Vec3,
+        n: Vec3,
+        settings: &GroundTruthSettings,
+        seed: u64,
+    ) -> Option<Reference> {
         let offset = settings.ray_offset;
         // Where the horizon clips the light, more strata keep the reaching samples near the target.
         let f = Self::reach_fraction(light, p, n).max(1.0 / 16.0);

@@ -9,6 +9,7 @@
 //! scale = 1.0
 //! [[mesh]]
 //! ground = 8.0                  # a built-in ground square of this side instead of a file
+//!                               # (receiver only unless `caster = true`)
 //! [light]
 //! kind = "rect"                 # point | linear | rect | disk | sphere | distant
 //! center = [0.0, 3.0, 0.0]
@@ -126,7 +127,8 @@ pub fn load(path: &Path) -> Result<SceneSpec> {
         meshes.push(MeshInstance {
             mesh: Arc::new(mesh),
             transform,
-            caster: m.caster.unwrap_or(true),
+            // A built-in ground only receives unless the file says otherwise (maps cover what casts).
+            caster: m.caster.unwrap_or(m.ground.is_none()),
             receiver: m.receiver.unwrap_or(true),
         });
     }

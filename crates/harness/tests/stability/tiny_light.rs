@@ -33,7 +33,7 @@ const RESOLUTION: u32 = 1024;
 const TOLERANCE_255: f64 = 10.0;
 
 /// Variants that see no occluder in an open sheet (see the module docs).
-const BLIND_TO_OPEN_SHEETS: [&str; 1] = ["edt-back"];
+pub const BLIND_TO_OPEN_SHEETS: [&str; 1] = ["edt-back"];
 
 #[test]
 fn the_catalogue_tiny_light_is_the_smallest_size() {
