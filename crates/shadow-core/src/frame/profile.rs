@@ -31,44 +31,45 @@ pub struct TechniqueProfile {
     pub entries: Vec<ProfileEntry>,
 }
 
-/// Built-in defaults: `report --quick` medians on a 2-core CPU (lavapipe for `gpu`), map
-/// resolution 256, one row per light kind and technique family. Used when no `report.json`
-/// profile is given.
+/// Built-in defaults: `report --quick` on a 2-core CPU (visibility v2, maps fitted to casters), map
+/// resolution 256, CPU time medians and mean rms over the built-in scenes of each light kind, as
+/// `harness::profile::from_report_json` reads them; one row per light kind and technique family.
+/// Used when no `report.json` profile is given.
 const DEFAULTS: &[(&str, &str, LightKind, f64, f64)] = &[
-    ("hard-shadow-map", "nearest", LightKind::Rect, 2.5, 15.0),
-    ("pcf", "r2", LightKind::Rect, 3.0, 12.0),
-    ("pcss", "7x7-9x9", LightKind::Rect, 5.0, 9.0),
-    ("accumulation", "n16", LightKind::Rect, 16.0, 6.0),
-    ("occlusion-slices", "sat-8", LightKind::Rect, 8.0, 4.2),
-    ("occlusion-slices", "nbuffer-8", LightKind::Rect, 30.0, 6.9),
-    ("hard-shadow-map", "nearest", LightKind::Linear, 2.5, 38.0),
-    ("pcss", "7x7-9x9", LightKind::Linear, 5.0, 12.2),
-    ("accumulation", "n16", LightKind::Linear, 16.0, 7.7),
-    ("linear-light", "n5", LightKind::Linear, 12.0, 9.2),
-    ("hard-shadow-map", "nearest", LightKind::Disk, 2.5, 30.0),
-    ("pcss", "7x7-9x9", LightKind::Disk, 5.0, 20.0),
+    ("hard-shadow-map", "nearest", LightKind::Rect, 0.7, 31.2),
+    ("pcf", "r2", LightKind::Rect, 1.6, 22.6),
+    ("pcss", "7x7-9x9", LightKind::Rect, 2.0, 12.0),
+    ("accumulation", "n16", LightKind::Rect, 8.8, 10.1),
+    ("occlusion-slices", "sat-8", LightKind::Rect, 4.4, 13.6),
+    ("occlusion-slices", "nbuffer-8", LightKind::Rect, 19.2, 14.3),
+    ("hard-shadow-map", "nearest", LightKind::Linear, 0.6, 38.0),
+    ("pcss", "7x7-9x9", LightKind::Linear, 3.6, 11.6),
+    ("accumulation", "n16", LightKind::Linear, 7.7, 2.4),
+    ("linear-light", "n5", LightKind::Linear, 10.3, 8.7),
+    ("hard-shadow-map", "nearest", LightKind::Disk, 34.2, 22.2),
+    ("pcss", "7x7-9x9", LightKind::Disk, 28.7, 21.2),
     (
         "penumbra-limit",
         "silhouette-f32",
         LightKind::Disk,
-        6.0,
-        18.0,
+        157.2,
+        22.7,
     ),
-    ("accumulation", "n16", LightKind::Disk, 16.0, 15.0),
-    ("hard-shadow-map", "nearest", LightKind::Sphere, 2.5, 35.0),
-    ("pcss", "7x7-9x9", LightKind::Sphere, 5.0, 31.5),
-    ("accumulation", "n16", LightKind::Sphere, 16.0, 30.4),
-    ("occlusion-slices", "sat-16", LightKind::Sphere, 13.0, 28.9),
-    ("hard-shadow-map", "nearest", LightKind::Distant, 2.5, 16.5),
-    ("pcf", "r2", LightKind::Distant, 3.0, 17.8),
+    ("accumulation", "n16", LightKind::Disk, 303.9, 14.1),
+    ("hard-shadow-map", "nearest", LightKind::Sphere, 0.9, 27.6),
+    ("pcss", "7x7-9x9", LightKind::Sphere, 3.9, 8.9),
+    ("accumulation", "n16", LightKind::Sphere, 20.4, 5.4),
+    ("occlusion-slices", "sat-16", LightKind::Sphere, 9.0, 9.3),
+    ("hard-shadow-map", "nearest", LightKind::Distant, 0.5, 6.6),
+    ("pcf", "r2", LightKind::Distant, 1.1, 5.4),
     (
         "penumbra-limit",
         "silhouette-f32",
         LightKind::Distant,
-        4.0,
-        12.8,
+        2.5,
+        5.0,
     ),
-    ("accumulation", "n16", LightKind::Distant, 16.0, 11.4),
+    ("accumulation", "n16", LightKind::Distant, 6.1, 4.8),
 ];
 
 impl TechniqueProfile {
