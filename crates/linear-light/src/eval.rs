@@ -27,9 +27,10 @@ pub fn visibility(
             v += m.weight;
             continue;
         };
-        let z = c.z - c.slope;
         for (x, y, w) in bilinear_texels(c.st, m.resolution, m.resolution) {
-            if z <= depth(k, x, y) {
+            // The receiver's own plane at the tap's centre (receiver-plane bias).
+            let d = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5) - c.st;
+            if c.receiver_plane_depth(d) <= depth(k, x, y) {
                 v += w * channel(k, x, y);
             }
         }

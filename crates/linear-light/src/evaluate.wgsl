@@ -30,7 +30,6 @@ fn shade(p: vec3<f32>, n: vec3<f32>) -> f32 {
         let b = c.st - vec2<f32>(0.5);
         let f = floor(b);
         let t = b - f;
-        let z = c.z - c.slope;
         let taps = array<vec3<f32>, 4>(
             vec3<f32>(0.0, 0.0, (1.0 - t.x) * (1.0 - t.y)),
             vec3<f32>(1.0, 0.0, t.x * (1.0 - t.y)),
@@ -40,6 +39,8 @@ fn shade(p: vec3<f32>, n: vec3<f32>) -> f32 {
         for (var i = 0; i < 4; i++) {
             let xy = clamp(vec2<i32>(f + taps[i].xy), vec2<i32>(0), vec2<i32>(last));
             let d = linear_from_ndc(m, textureLoad(depth_maps, xy, i32(k), 0));
+            // The receiver's own plane at the tap's centre (receiver-plane bias).
+            let z = receiver_plane_depth(c, vec2<f32>(xy) + vec2<f32>(0.5) - c.st);
             if z <= d {
                 v += taps[i].z * textureLoad(channels, xy, i32(k), 0).x;
             }

@@ -74,15 +74,6 @@ impl LinearLight {
                 self.edge_threshold
             ));
         }
-        for (name, v) in [
-            ("bias.normal_offset", self.bias.normal_offset),
-            ("bias.depth", self.bias.depth),
-            ("bias.slope", self.bias.slope),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return bad(format!("{name} must be finite and >= 0, got {v}"));
-            }
-        }
-        Ok(())
+        self.bias.validate()
     }
 }

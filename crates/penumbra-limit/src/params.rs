@@ -118,14 +118,11 @@ impl PenumbraLimit {
         for (name, v) in [
             ("layer_gap", self.layer_gap),
             ("transition_gap", self.transition_gap),
-            ("bias.normal_offset", self.bias.normal_offset),
-            ("bias.depth", self.bias.depth),
-            ("bias.slope", self.bias.slope),
         ] {
             if !(v.is_finite() && v >= 0.0) {
                 return bad(format!("{name} must be finite and >= 0, got {v}"));
             }
         }
-        Ok(())
+        self.bias.validate()
     }
 }

@@ -113,55 +113,191 @@ pub fn sample_views(light: &Light, coverage: &Coverage, count: u32) -> Vec<Sampl
         .collect()
 }
 
-/// Receiver biases against self-shadowing, in texels of the map at the receiver's depth.
+/// Half the diagonal of a texel, in texels: how far a receiver can lie from the centre of the
+/// texel it reads, so its own surface spans at most `DEPTH_SPREAD * tan(theta)` texels of depth
+/// there (`theta` the angle between its normal and the light).
+pub const DEPTH_SPREAD: f32 = std::f32::consts::FRAC_1_SQRT_2;
+
+/// Receiver biases against self-shadowing, in world units per texel of the map at the receiver's
+/// depth (so they shrink as the resolution grows).
 ///
 /// The comparison depth of a tap at offset `d` texels is
 /// `z(p + n * normal_offset * texel) - texel * (depth + slope * tan(theta) * (1 + |d|))`, with `theta`
-/// the angle between the normal and the light (tan clamped to 10): a constant, a slope-scaled and a
-/// receiver-plane bias, as engines combine them against acne. Laid out as `Bias` in WGSL.
+/// the angle between the normal and the light (tan clamped to [`MAX_TAN`]): a normal offset, a constant, a
+/// slope-scaled and a receiver-plane bias, as engines combine them against acne.
+///
+/// **Cap.** For a receiver facing the light sample, whatever the terms add up to, the centre's
+/// comparison depth moves at most
+/// `texel * (DEPTH_SPREAD * tan(theta) + max_push)` towards the light, measured from the
+/// receiver's own tangent plane where the map is read (the normal offset moves the point off
+/// that plane by `normal_offset / cos(theta)` texels along the light): the receiver's own depth
+/// spread across the texel it reads, plus `max_push` texels. So a bias never pushes a receiver
+/// through an occluder that lies more than that in front of it (a gap the map resolves), at any
+/// angle and resolution; without the cap the defaults push by `1/cos + 1 + tan` texels, 21 at
+/// grazing light. A receiver facing away from the sample is in its own attached shadow for it,
+/// which visibility v2 leaves to the lighting, so the terms apply uncapped there. Laid out as
+/// `Bias` in WGSL.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct Bias {
-    /// Receiver offset along its normal.
+    /// Receiver offset along its normal, texels.
     pub normal_offset: f32,
-    /// Constant depth bias.
+    /// Constant depth bias, texels.
     pub depth: f32,
     /// Scale of the slope term.
     pub slope: f32,
-    /// Padding to 16 bytes.
-    pub _pad: f32,
+    /// Largest push beyond the receiver's own depth spread, texels (see the cap above).
+    pub max_push: f32,
 }
 
 impl Bias {
-    /// A bias with the given normal offset, constant and slope terms.
+    /// A bias with the given normal offset, constant and slope terms and the default cap.
     pub fn new(normal_offset: f32, depth: f32, slope: f32) -> Self {
         Self {
             normal_offset,
             depth,
             slope,
-            _pad: 0.0,
+            max_push: Self::MAX_PUSH,
         }
+    }
+
+    /// The default cap, texels beyond the receiver's own depth spread.
+    pub const MAX_PUSH: f32 = 1.0;
+
+    /// The same terms with another cap (`f32::INFINITY`: uncapped).
+    pub fn with_max_push(self, max_push: f32) -> Self {
+        Self { max_push, ..self }
+    }
+
+    /// Checks every term is finite and `>= 0` (the cap may be `+inf`), naming the bad one.
+    pub fn validate(&self) -> crate::Result<()> {
+        let terms = [
+            ("normal_offset", self.normal_offset),
+            ("depth", self.depth),
+            ("slope", self.slope),
+        ];
+        for (name, v) in terms {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(crate::ShadowError::InvalidParameter(format!(
+                    "bias.{name} must be finite and >= 0, got {v}"
+                )));
+            }
+        }
+        if self.max_push.is_nan() || self.max_push < 0.0 {
+            return Err(crate::ShadowError::InvalidParameter(format!(
+                "bias.max_push must be >= 0, got {}",
+                self.max_push
+            )));
+        }
+        Ok(())
+    }
+
+    /// Depth the centre of a receiver moves towards the light, world units: the terms' sum
+    /// `texel * (normal_offset / cos + depth + slope * tan)` (tan clamped to [`MAX_TAN`]), capped at
+    /// `texel * (DEPTH_SPREAD * tan + max_push)`.
+    pub fn push(&self, texel: f32, cos: f32) -> f32 {
+        let (c, tan) = clamped_cos_tan(cos);
+        let sum = texel * (self.normal_offset / c + self.depth + self.slope * tan);
+        sum.min(texel * (DEPTH_SPREAD * tan + self.max_push))
     }
 }
 
 impl Default for Bias {
-    /// One texel of each term: no acne on the catalogue's `acne` scene at any resolution tested.
+    /// One texel of each term, capped at one texel beyond the receiver's spread: no acne on the
+    /// catalogue's `acne` scene at any resolution tested.
     fn default() -> Self {
         Self::new(1.0, 1.0, 1.0)
     }
 }
 
-/// A receiver in one map: position in texels, biased comparison depth, slope bias per texel of offset.
+/// A receiver in one map: position in texels, biased comparison depth, receiver-plane gradient.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadowCoord {
     /// Position in texels (texel centres at +0.5).
     pub st: Vec2,
     /// Biased linear depth to compare against the map.
     pub z: f32,
-    /// Extra bias per texel of tap offset (receiver-plane term).
-    pub slope: f32,
+    /// Signed change of the receiver's own plane depth per texel of offset in `st`, at most
+    /// [`MAX_TAN`] texels of depth per texel (see [`ShadowCoord::receiver_plane_depth`]).
+    pub grad: Vec2,
     /// Unbiased linear depth of the receiver.
     pub z_receiver: f32,
+    /// Whether the receiver faces this light sample (the sample is above its horizon).
+    pub facing: bool,
+}
+
+impl ShadowCoord {
+    /// The receiver's biased depth at offset `d` texels from `st` (a filter tap): moved along
+    /// its own plane, `z + dot(grad, d)` (the signed receiver-plane bias). A receiver facing
+    /// away from the sample is in its own attached shadow for it, the lighting's job: there the
+    /// tap is pushed towards the light by the plane's full slope, `z - |grad| |d|`.
+    pub fn receiver_plane_depth(&self, d: Vec2) -> f32 {
+        if self.facing {
+            self.z + self.grad.dot(d)
+        } else {
+            self.z - self.grad.length() * d.length()
+        }
+    }
+}
+
+/// Largest `tan(theta)` the biases use (the light 84 degrees from the normal).
+pub const MAX_TAN: f32 = 10.0;
+
+/// Whether the light sample of map `m` lies above the tangent plane of a receiver at `p` with
+/// normal `n`. Visibility v2 counts only such samples: a technique that averages light samples
+/// leaves the others out of both the sum and the weights (the horizon is the lighting's job).
+pub fn above_horizon(m: &MapParams, p: Vec3, n: Vec3) -> bool {
+    let l = Vec4::from(m.light);
+    let to_light = if l.w == 1.0 {
+        l.truncate() - p
+    } else {
+        l.truncate()
+    };
+    n.dot(to_light) > 0.0
+}
+
+/// `|cos|` and `tan` of the angle between a normal and the light, `tan` clamped to [`MAX_TAN`].
+fn clamped_cos_tan(cos: f32) -> (f32, f32) {
+    let c = cos.abs().max(1.0 / (1.0 + MAX_TAN * MAX_TAN).sqrt());
+    (c, (1.0 - c * c).max(0.0).sqrt() / c)
+}
+
+/// Map position in texels and linear depth of a world point, or `None` at or behind the eye.
+fn project(m: &MapParams, q: Vec3) -> Option<Vec3> {
+    let clip = Mat4::from_cols_array(&m.view_proj) * q.extend(1.0);
+    if clip.w <= 0.0 {
+        return None;
+    }
+    let res = m.resolution as f32;
+    Some(Vec3::new(
+        (clip.x / clip.w * 0.5 + 0.5) * res,
+        (0.5 - clip.y / clip.w * 0.5) * res,
+        m.linear_depth(q),
+    ))
+}
+
+/// Signed depth change per texel of the plane through `p` with normal `n`, linearised over one
+/// `texel` (world size), clamped to `MAX_TAN * texel`; zero where the plane is seen edge-on.
+fn plane_gradient(m: &MapParams, p: Vec3, n: Vec3, texel: f32) -> Vec2 {
+    // The same tangents as `plane_gradient` in WGSL, so both backends round alike.
+    let t1 = n
+        .cross(if n.x.abs() > 0.9 { Vec3::Y } else { Vec3::X })
+        .normalize();
+    let t2 = n.cross(t1);
+    let (Some(a), Some(b), Some(c)) = (
+        project(m, p),
+        project(m, p + t1 * texel),
+        project(m, p + t2 * texel),
+    ) else {
+        return Vec2::ZERO;
+    };
+    let (u, v) = (b - a, c - a);
+    let det = u.x * v.y - v.x * u.y;
+    if det.abs() < 1e-6 {
+        return Vec2::ZERO;
+    }
+    let g = Vec2::new(u.z * v.y - v.z * u.y, v.z * u.x - u.z * v.x) / det;
+    g.clamp_length_max(MAX_TAN * texel)
 }
 
 /// The receiver `p` with unit normal `n` in map `m`, or `None` outside the map (lit).
@@ -174,25 +310,31 @@ pub fn shadow_coord(m: &MapParams, bias: &Bias, p: Vec3, n: Vec3) -> Option<Shad
     } else {
         l.truncate()
     };
-    let c = (n.dot(to_light) / to_light.length().max(1e-30))
-        .abs()
-        .max(0.1);
-    let slope = bias.slope * texel * ((1.0 - c * c).max(0.0).sqrt() / c);
+    let cos = n.dot(to_light) / to_light.length().max(1e-30);
+    let (c, tan) = clamped_cos_tan(cos);
+    let slope = bias.slope * texel * tan;
     let p2 = p + n * (bias.normal_offset * texel);
-    let clip = Mat4::from_cols_array(&m.view_proj) * p2.extend(1.0);
-    if clip.w <= 0.0 {
-        return None;
-    }
-    let ndc = Vec2::new(clip.x / clip.w, clip.y / clip.w);
-    if ndc.x.abs() > 1.0 || ndc.y.abs() > 1.0 {
-        return None;
-    }
+    let cap = texel * (DEPTH_SPREAD * tan + bias.max_push);
+    let a = project(m, p2)?;
     let res = m.resolution as f32;
-    let st = Vec2::new((ndc.x * 0.5 + 0.5) * res, (0.5 - ndc.y * 0.5) * res);
+    if a.x < 0.0 || a.y < 0.0 || a.x > res || a.y > res {
+        return None;
+    }
+    let z2 = a.z;
+    let terms = z2 - bias.depth * texel - slope;
+    // The receiver's own plane where the map is read lies `normal_offset / c` texels beyond the
+    // offset point. A receiver facing away from this light sample is in its own attached
+    // shadow for it, which visibility v2 leaves to the lighting: no cap, the terms clear it.
+    let z_biased = if cos > 0.0 {
+        terms.max(z2 + bias.normal_offset * texel / c - cap)
+    } else {
+        terms
+    };
     Some(ShadowCoord {
-        st,
-        z: m.linear_depth(p2) - bias.depth * texel - slope,
-        slope,
+        st: a.truncate(),
+        z: z_biased,
+        grad: plane_gradient(m, p2, n, texel),
         z_receiver: z,
+        facing: cos > 0.0,
     })
 }

@@ -163,13 +163,7 @@ impl ShadowWidth {
         {
             return bad(format!("c_bias must be finite and >= 0, got {c_bias}"));
         }
-        let b = self.bias;
-        if ![b.normal_offset, b.depth, b.slope]
-            .iter()
-            .all(|v| v.is_finite())
-        {
-            return bad(format!("biases must be finite, got {b:?}"));
-        }
+        self.bias.validate()?;
         if let Some(n) = self.table
             && !crate::attenuation::TABLE_SIZE_RANGE.contains(&n)
         {

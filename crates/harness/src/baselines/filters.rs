@@ -6,7 +6,7 @@ use super::{Filter, PCSS_FILTER_MAX, PCSS_SEARCH_MAX, ShadowMapBaseline};
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use shadow_core::light_space::shadow_coord;
+use shadow_core::light_space::{above_horizon, shadow_coord};
 use shadow_core::{Bias, Map2D, MapParams, Receivers, ShadowCoord};
 
 /// Filter modes as the shader numbers them.
@@ -70,16 +70,24 @@ impl EvalParams {
     }
 }
 
-fn tap(map: &Map2D<f32>, st: Vec2, d: Vec2) -> f32 {
-    *map.get_clamped((st.x + d.x).floor() as i64, (st.y + d.y).floor() as i64)
+/// The depth stored at the texel under `st + d` (clamped to the edge) and the receiver's own
+/// biased depth there: `c.z` moved along the receiver's plane to that texel's centre.
+fn tap(map: &Map2D<f32>, c: &ShadowCoord, d: Vec2) -> (f32, f32) {
+    let clamp = |v: f32, n: u32| (v.floor() as i64).clamp(0, n as i64 - 1);
+    let (x, y) = (
+        clamp(c.st.x + d.x, map.width()),
+        clamp(c.st.y + d.y, map.height()),
+    );
+    let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+    (
+        *map.get_clamped(x, y),
+        c.receiver_plane_depth(centre - c.st),
+    )
 }
 
 fn lit(map: &Map2D<f32>, c: &ShadowCoord, d: Vec2) -> f32 {
-    if c.z - c.slope * d.length() <= tap(map, c.st, d) {
-        1.0
-    } else {
-        0.0
-    }
+    let (stored, receiver) = tap(map, c, d);
+    if receiver <= stored { 1.0 } else { 0.0 }
 }
 
 /// Penumbra (or search) radius in texels for light size `l` between depths `z_block` and `z_recv`.
@@ -104,6 +112,10 @@ fn visibility(
         MODE_ACCUMULATE => {
             let (mut sum, mut wsum) = (0.0f32, 0.0f32);
             for (k, m) in params.iter().enumerate() {
+                // Visibility v2: samples below the receiver's horizon do not reach it.
+                if !above_horizon(m, p, n) {
+                    continue;
+                }
                 let v = match shadow_coord(m, &prm.bias, p, n) {
                     None => 1.0,
                     Some(c) => lit(&maps.maps[k], &c, Vec2::ZERO),
@@ -137,14 +149,14 @@ fn visibility(
 }
 
 fn pcss(map: &Map2D<f32>, m: &MapParams, prm: &EvalParams, c: &ShadowCoord) -> f32 {
-    let (st, z) = (c.st, c.z);
+    let z = c.z;
     let search = cone_radius(m, prm.light_size, m.near, z).clamp(1.0, prm.search_max);
     let (mut sum, mut count) = (0.0f32, 0.0f32);
     for j in -3..=3 {
         for i in -3..=3 {
             let off = Vec2::new(i as f32, j as f32) * (search / 3.0);
-            let d = tap(map, st, off);
-            if d < z - c.slope * off.length() {
+            let (d, receiver) = tap(map, c, off);
+            if d < receiver {
                 sum += d;
                 count += 1.0;
             }

@@ -21,15 +21,21 @@ struct Params {
 @group(0) @binding(4) var<storage, read> normals: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read_write> out_v: array<f32>;
 
-// Linear depth stored in layer `layer` at texel (x, y), clamped to the edge.
-fn tap(m: MapView, layer: u32, st: vec2<f32>, d: vec2<f32>) -> f32 {
+// The linear depth stored in layer `layer` at the texel under `st + d` (clamped to the edge),
+// and the receiver's own biased depth there: `c.z` moved along its plane to that texel's centre.
+fn tap(m: MapView, layer: u32, c: Coord, d: vec2<f32>) -> vec2<f32> {
     let last = i32(m.resolution) - 1;
-    let xy = clamp(vec2<i32>(floor(st + d)), vec2<i32>(0), vec2<i32>(last));
-    return linear_from_ndc(m, textureLoad(depth_maps, xy, layer, 0));
+    let xy = clamp(vec2<i32>(floor(c.st + d)), vec2<i32>(0), vec2<i32>(last));
+    let centre = vec2<f32>(xy) + vec2<f32>(0.5);
+    return vec2<f32>(
+        linear_from_ndc(m, textureLoad(depth_maps, xy, layer, 0)),
+        receiver_plane_depth(c, centre - c.st),
+    );
 }
 
 fn lit(m: MapView, layer: u32, c: Coord, d: vec2<f32>) -> f32 {
-    return select(0.0, 1.0, c.z - c.slope * length(d) <= tap(m, layer, c.st, d));
+    let t = tap(m, layer, c, d);
+    return select(0.0, 1.0, t.y <= t.x);
 }
 
 fn cone_radius(m: MapView, l: f32, z_block: f32, z_recv: f32) -> f32 {
@@ -41,7 +47,6 @@ fn cone_radius(m: MapView, l: f32, z_block: f32, z_recv: f32) -> f32 {
 }
 
 fn pcss(m: MapView, c: Coord) -> f32 {
-    let st = c.st;
     let z = c.z;
     let search = clamp(cone_radius(m, prm.light_size, m.near, z), 1.0, prm.search_max);
     var sum = 0.0;
@@ -49,9 +54,9 @@ fn pcss(m: MapView, c: Coord) -> f32 {
     for (var j = -3; j <= 3; j++) {
         for (var i = -3; i <= 3; i++) {
             let off = vec2<f32>(f32(i), f32(j)) * (search / 3.0);
-            let d = tap(m, 0u, st, off);
-            if d < z - c.slope * length(off) {
-                sum += d;
+            let t = tap(m, 0u, c, off);
+            if t.x < t.y {
+                sum += t.x;
                 count += 1.0;
             }
         }
@@ -76,6 +81,10 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         var wsum = 0.0;
         for (var k = 0u; k < prm.map_count; k++) {
             let m = views[k];
+            // Visibility v2: samples below the receiver's horizon do not reach it.
+            if !above_horizon(m, p, n) {
+                continue;
+            }
             let c = shadow_coord(m, prm.bias, p, n);
             var v = 1.0;
             if c.inside {

@@ -8,10 +8,11 @@
 //! - **rect** from a distant light: a square of the same solid angle, facing the scene from
 //!   [`DISTANCE_FACTOR`] scene diagonals along the light's direction; from a disk: the square of
 //!   equal area in the disk's plane; from a sphere: that of its disc facing the scene; from a
-//!   segment: a rect along it, 1% as wide as it is long; from a point: a 0.1 mm square.
+//!   segment: a rect along it, 1% as wide as it is long; from a point: a 0.1 mm square (larger far
+//!   from the origin, see `point_size`).
 //! - **segment** from a rect: its longer mid-line; from a disk or sphere: the diameter across the
 //!   direction to the scene; from a distant light: the segment of the same angular length across
-//!   the direction, at [`DISTANCE_FACTOR`] scene diagonals; from a point: 0.1 mm long.
+//!   the direction, at [`DISTANCE_FACTOR`] scene diagonals; from a point: 0.1 mm long (or more).
 
 use glam::Vec3;
 use shadow_core::light::orthonormal_basis;
@@ -22,6 +23,12 @@ pub const DISTANCE_FACTOR: f32 = 10.0;
 
 /// Side of the recast point light, world units.
 const POINT_SIZE: f32 = 1e-4;
+
+/// Side of the recast point light at `center`: [`POINT_SIZE`], or `1e-5` of the centre's largest
+/// coordinate when that is larger, so that its ends stay distinct in `f32` far from the origin.
+fn point_size(center: Vec3) -> f32 {
+    POINT_SIZE.max(1e-5 * center.abs().max_element())
+}
 
 /// The kinds tried, in order, when the light's own kind is not modelled.
 const PREFERENCE: [LightKind; 2] = [LightKind::Rect, LightKind::Linear];
@@ -96,7 +103,9 @@ fn as_rect(light: &Light, bounds: &Aabb) -> Light {
                 v_half: -across * (0.01 * half),
             }
         }
-        Light::Point { .. } | Light::Rect { .. } => square(center, facing, 0.5 * POINT_SIZE),
+        Light::Point { .. } | Light::Rect { .. } => {
+            square(center, facing, 0.5 * point_size(center))
+        }
     }
 }
 
@@ -119,7 +128,7 @@ fn as_segment(light: &Light, bounds: &Aabb) -> Light {
         Light::Distant {
             angular_diameter, ..
         } => (center - bounds.center()).length() * (0.5 * angular_diameter).tan(),
-        Light::Point { .. } | Light::Linear { .. } => 0.5 * POINT_SIZE,
+        Light::Point { .. } | Light::Linear { .. } => 0.5 * point_size(center),
     };
     let (across, _) = orthonormal_basis(facing);
     Light::Linear {
@@ -176,6 +185,21 @@ mod tests {
         let omega = 4.0 * u_half.length() * v_half.length() / (d * d);
         let cone = std::f32::consts::PI * (0.5 * theta).tan().powi(2);
         assert!((omega / cone - 1.0).abs() < 1e-3, "{omega} vs {cone}");
+    }
+
+    /// At 3e4 m from the origin a 0.1 mm segment collapses in `f32` (the random-scenes failure
+    /// at scale 9.7e3: "segment length must be positive, got 0").
+    #[test]
+    fn a_point_far_from_the_origin_stays_a_valid_light() {
+        let l = Light::Point {
+            position: Vec3::new(969.0, 29084.0, -1939.0),
+        };
+        for k in [LightKind::Linear, LightKind::Rect] {
+            relight(&l, &unit_box(), |m| m == k)
+                .unwrap()
+                .validate()
+                .unwrap();
+        }
     }
 
     #[test]

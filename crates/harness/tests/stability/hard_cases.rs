@@ -26,6 +26,14 @@ const SIZE: u32 = 48;
 /// (48² G-buffer, lavapipe and CPU agree to 0.01).
 const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
     (
+        "acne",
+        "pcf",
+        "*",
+        16,
+        "the 5x5 kernel of 16² texels (0.8 m) reaches where the cylinder shadows the flat's plane \
+      (`acne::KERNEL_REACH`): 6.0 vs 0",
+    ),
+    (
         "contact",
         "*",
         "*",
@@ -60,17 +68,13 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
     ),
     (
         "grazing",
-        "pcf",
+        "*",
         "*",
         16,
-        "a fixed 5x5 kernel of 16² texels at grazing light: 34.1 vs 31.0",
-    ),
-    (
-        "grazing",
-        "pcss",
-        "*",
-        16,
-        "the blocker search of 16² texels at grazing light: 32.6 vs 31.0",
+        "a 16² texel (0.10 m, the map spans the post's long grazing penumbra) is half the 0.2 m \
+      post: every filter and width estimate spreads the umbra at its base, where the hard map's \
+      nearest lookup is exact (within 1 m of the post: PCF 59.9, PCSS 27.0, accumulation 20.2, \
+      shadow-width 32.0 vs 0; all 6.4-26.6 overall vs the hard map's 6.45 and no shadow's 34.6)",
     ),
     (
         "grazing",
@@ -117,6 +121,15 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
         "*",
         256,
         "6 mm wires alias in and out of 256² texels: 29.55 vs no shadow's 29.39",
+    ),
+    (
+        "thin",
+        "penumbra-limit",
+        "silhouette-*",
+        16,
+        "a 16² texel (0.37 m) is 60 times the 6 mm wires: the silhouette ribbons of the \
+      texel-wide wires overlap into false umbra near them (79.4 within 1 m vs the hard map's \
+      61.2; 33.0 overall vs 29.0)",
     ),
     (
         "thin",

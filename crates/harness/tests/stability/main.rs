@@ -23,6 +23,7 @@ mod acne;
 mod hard_cases;
 mod low_resolution;
 mod random_scenes;
+mod resolved_gap;
 mod tiny_light;
 
 use harness::report::all_techniques;

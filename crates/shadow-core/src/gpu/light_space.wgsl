@@ -19,8 +19,11 @@ struct Bias {
     normal_offset: f32,
     depth: f32,
     slope: f32,
-    _pad0: f32,
+    max_push: f32,
 };
+
+// Half a texel's diagonal, in texels (`DEPTH_SPREAD` in light_space.rs).
+const DEPTH_SPREAD: f32 = 0.70710678;
 
 const NO_OCCLUDER: f32 = 3.40282347e38;
 
@@ -43,9 +46,75 @@ struct Coord {
     inside: bool,
     st: vec2<f32>,
     z: f32,
-    slope: f32,
+    // Signed receiver-plane depth change per texel of offset (`ShadowCoord::grad`).
+    grad: vec2<f32>,
     z_receiver: f32,
+    // The receiver faces this light sample (`ShadowCoord::facing`).
+    facing: bool,
 };
+
+// `ShadowCoord::receiver_plane_depth`: the receiver's biased depth at offset `d` texels from `c.st`.
+fn receiver_plane_depth(c: Coord, d: vec2<f32>) -> f32 {
+    if c.facing {
+        return c.z + dot(c.grad, d);
+    }
+    return c.z - length(c.grad) * length(d);
+}
+
+// Largest tan(theta) the biases use (`MAX_TAN`).
+const MAX_TAN: f32 = 10.0;
+
+// `above_horizon` in light_space.rs.
+fn above_horizon(m: MapView, p: vec3<f32>, n: vec3<f32>) -> bool {
+    var to_light = m.light.xyz;
+    if m.light.w == 1.0 {
+        to_light = m.light.xyz - p;
+    }
+    return dot(n, to_light) > 0.0;
+}
+
+// Map position in texels and linear depth of `q` (w < 0: at or behind the eye).
+fn map_project(m: MapView, q: vec3<f32>) -> vec4<f32> {
+    let clip = m.view_proj * vec4<f32>(q, 1.0);
+    if clip.w <= 0.0 {
+        return vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    }
+    let res = f32(m.resolution);
+    return vec4<f32>(
+        (clip.x / clip.w * 0.5 + 0.5) * res,
+        (0.5 - clip.y / clip.w * 0.5) * res,
+        linear_depth(m, q),
+        1.0,
+    );
+}
+
+// `plane_gradient` in light_space.rs.
+fn plane_gradient(m: MapView, p: vec3<f32>, n: vec3<f32>, texel: f32) -> vec2<f32> {
+    var t1 = cross(n, vec3<f32>(1.0, 0.0, 0.0));
+    if abs(n.x) > 0.9 {
+        t1 = cross(n, vec3<f32>(0.0, 1.0, 0.0));
+    }
+    t1 = normalize(t1);
+    let t2 = cross(n, t1);
+    let a = map_project(m, p);
+    let b = map_project(m, p + t1 * texel);
+    let c = map_project(m, p + t2 * texel);
+    if a.w < 0.0 || b.w < 0.0 || c.w < 0.0 {
+        return vec2<f32>(0.0);
+    }
+    let u = b.xyz - a.xyz;
+    let v = c.xyz - a.xyz;
+    let det = u.x * v.y - v.x * u.y;
+    if abs(det) < 1e-6 {
+        return vec2<f32>(0.0);
+    }
+    let g = vec2<f32>(u.z * v.y - v.z * u.y, v.z * u.x - u.z * v.x) / det;
+    let len = length(g);
+    if len > MAX_TAN * texel {
+        return g * (MAX_TAN * texel / len);
+    }
+    return g;
+}
 
 fn shadow_coord(m: MapView, bias: Bias, p: vec3<f32>, n: vec3<f32>) -> Coord {
     var c: Coord;
@@ -56,22 +125,27 @@ fn shadow_coord(m: MapView, bias: Bias, p: vec3<f32>, n: vec3<f32>) -> Coord {
     if m.light.w == 1.0 {
         to_light = m.light.xyz - p;
     }
-    let cs = max(abs(dot(n, to_light) / max(length(to_light), 1e-30)), 0.1);
-    let slope = bias.slope * texel * (sqrt(max(1.0 - cs * cs, 0.0)) / cs);
+    let cos_signed = dot(n, to_light) / max(length(to_light), 1e-30);
+    let cs = max(abs(cos_signed), 1.0 / sqrt(1.0 + MAX_TAN * MAX_TAN));
+    let tan_theta = sqrt(max(1.0 - cs * cs, 0.0)) / cs;
+    let slope = bias.slope * texel * tan_theta;
     let p2 = p + n * (bias.normal_offset * texel);
-    let clip = m.view_proj * vec4<f32>(p2, 1.0);
-    if clip.w <= 0.0 {
-        return c;
-    }
-    let ndc = vec2<f32>(clip.x / clip.w, clip.y / clip.w);
-    if abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 {
-        return c;
-    }
+    let cap = texel * (DEPTH_SPREAD * tan_theta + bias.max_push);
+    let a = map_project(m, p2);
     let res = f32(m.resolution);
+    if a.w < 0.0 || a.x < 0.0 || a.y < 0.0 || a.x > res || a.y > res {
+        return c;
+    }
     c.inside = true;
-    c.st = vec2<f32>((ndc.x * 0.5 + 0.5) * res, (0.5 - ndc.y * 0.5) * res);
-    c.z = linear_depth(m, p2) - bias.depth * texel - slope;
-    c.slope = slope;
+    c.st = a.xy;
+    // The receiver's own plane where the map is read lies `normal_offset / cs` texels beyond the
+    // offset point. Facing away from the sample (attached shadow, the lighting's job): no cap.
+    c.z = a.z - bias.depth * texel - slope;
+    if cos_signed > 0.0 {
+        c.z = max(c.z, a.z + bias.normal_offset * texel / cs - cap);
+    }
+    c.grad = plane_gradient(m, p2, n, texel);
     c.z_receiver = z;
+    c.facing = cos_signed > 0.0;
     return c;
 }
