@@ -31,7 +31,7 @@ proptest! {
     #[test]
     fn the_push_clears_the_spread_and_stops_at_the_cap(
         theta in 0.0f32..1.4,
-        phi in 0.0f32..6.28,
+        phi in 0.0f32..std::f32::consts::TAU,
         res in prop::sample::select(vec![16u32, 256, 2048]),
     ) {
         let to_light = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
