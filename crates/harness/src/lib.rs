@@ -5,6 +5,7 @@ pub mod animated;
 pub mod baselines;
 pub mod ground_truth;
 pub mod metrics;
+pub mod papers;
 pub mod profile;
 pub mod report;
 pub mod scenes;

@@ -1,5 +1,6 @@
 //! `harness` CLI: `harness report [--quick] [--out DIR] [--scenes a,b] [--techniques x,y]
-//! [--resolutions 16,128,512,2048] [--backend cpu|gpu|all] [--scene-file FILE]...`
+//! [--resolutions 16,128,512,2048] [--backend cpu|gpu|all] [--scene-file FILE]...` and
+//! `harness papers [--out DIR] [--size N]`.
 
 use clap::{Parser, Subcommand, ValueEnum};
 use harness::report::{BackendChoice, ReportOptions, run};
@@ -52,20 +53,69 @@ enum Command {
         #[arg(long)]
         size: Option<u32>,
     },
+    /// Rebuild each paper's own experiment and write papers.json, papers.md and papers.html.
+    Papers {
+        /// Output directory.
+        #[arg(long, default_value = "report")]
+        out: PathBuf,
+        /// Side of the ground image in pixels.
+        #[arg(long, default_value_t = harness::papers::DEFAULT_SIZE)]
+        size: u32,
+    },
+}
+
+fn report_error(e: &shadow_core::ShadowError) -> ExitCode {
+    eprintln!("error: {e}");
+    let mut src = std::error::Error::source(e);
+    while let Some(s) = src {
+        eprintln!("  caused by: {s}");
+        src = s.source();
+    }
+    ExitCode::FAILURE
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let Command::Report {
-        quick,
-        out,
-        scenes,
-        techniques,
-        resolutions,
-        backend,
-        scene_file,
-        size,
-    } = cli.command;
+    let (quick, out, scenes, techniques, resolutions, backend, scene_file, size) = match cli.command
+    {
+        Command::Report {
+            quick,
+            out,
+            scenes,
+            techniques,
+            resolutions,
+            backend,
+            scene_file,
+            size,
+        } => (
+            quick,
+            out,
+            scenes,
+            techniques,
+            resolutions,
+            backend,
+            scene_file,
+            size,
+        ),
+        Command::Papers { out, size } => {
+            let opts = harness::papers::PapersOptions {
+                out: out.clone(),
+                size,
+            };
+            return match harness::papers::run(&opts) {
+                Ok(p) => {
+                    println!(
+                        "wrote {} experiments ({} runs) to {}",
+                        p.experiments.len(),
+                        p.runs.len(),
+                        out.join("papers.md").display()
+                    );
+                    ExitCode::SUCCESS
+                }
+                Err(e) => report_error(&e),
+            };
+        }
+    };
     let opts = ReportOptions {
         quick,
         out: out.clone(),
@@ -90,14 +140,6 @@ fn main() -> ExitCode {
             );
             ExitCode::SUCCESS
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            let mut src = std::error::Error::source(&e);
-            while let Some(s) = src {
-                eprintln!("  caused by: {s}");
-                src = s.source();
-            }
-            ExitCode::FAILURE
-        }
+        Err(e) => report_error(&e),
     }
 }

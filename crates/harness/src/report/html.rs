@@ -1,5 +1,5 @@
 //! `index.html`: `report.md` as a page that reads offline (no scripts, no external files): its
-//! headings, paragraphs, tables and images, with a little CSS.
+//! headings, paragraphs, tables, images and link lines, with a little CSS.
 
 /// Escapes text for HTML.
 fn esc(s: &str) -> String {
@@ -31,6 +31,18 @@ fn image(line: &str) -> Option<String> {
         "<p><a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\"></a></p>",
         esc(src),
         esc(alt)
+    ))
+}
+
+/// A link line `[text](href)` as a paragraph holding the link, if it is one.
+fn link(line: &str) -> Option<String> {
+    let rest = line.strip_prefix('[')?;
+    let (text, rest) = rest.split_once("](")?;
+    let href = rest.strip_suffix(')')?;
+    Some(format!(
+        "<p><a href=\"{}\">{}</a></p>",
+        esc(href),
+        inline(text)
     ))
 }
 
@@ -80,7 +92,7 @@ pub fn render(markdown: &str) -> String {
                 "<h{level}>{}</h{level}>\n",
                 inline(t[level..].trim())
             ));
-        } else if let Some(img) = image(t) {
+        } else if let Some(img) = image(t).or_else(|| link(t)) {
             body.push_str(&img);
             body.push('\n');
         } else {

@@ -15,6 +15,10 @@ pub fn render(report: &Report) -> String {
         "Machine: {} ({} threads); GPU: {}.\n\nErrors are on `V * 255` against a ray-traced reference (visibility v2: the fraction of the light points above a receiver's tangent plane, on the light's emitting side, that it sees; receivers no light point reaches are *unlit*, counted per scene, hatched in the strips and in no error); times are medians in ms.\n",
         report.machine.cpu, report.machine.threads, report.machine.gpu_adapter
     );
+    let _ = writeln!(
+        s,
+        "[Each paper's own experiment beside its published numbers: papers.html (`harness papers --out` this folder writes it)](papers.html)\n"
+    );
     summary(&mut s, report);
     let _ = writeln!(
         s,

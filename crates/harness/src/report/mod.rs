@@ -53,14 +53,14 @@ fn select_scenes(opts: &ReportOptions) -> Result<Vec<SceneSpec>> {
     Ok(specs)
 }
 
-fn create_dir(path: &Path) -> Result<()> {
+pub(crate) fn create_dir(path: &Path) -> Result<()> {
     std::fs::create_dir_all(path).map_err(|source| ShadowError::Io {
         path: path.display().to_string(),
         source,
     })
 }
 
-fn write_text(path: &Path, text: &str) -> Result<()> {
+pub(crate) fn write_text(path: &Path, text: &str) -> Result<()> {
     std::fs::write(path, text).map_err(|source| ShadowError::Io {
         path: path.display().to_string(),
         source,

@@ -7,6 +7,7 @@ mod gpu_agreement;
 mod ground_truth;
 mod linear_light;
 mod occlusion_slices;
+mod papers;
 mod penumbra_limit;
 mod report;
 mod shadow_width;
