@@ -40,9 +40,15 @@ pub fn generate(
         .iter()
         .map(|v| depth_map(&v.view, res, &geometry.casters))
         .collect();
+    // Skins and their warps read the grid maps (casters and receivers, see `grid_geometry`).
+    let all = crate::skins::grid_geometry(geometry);
+    let grid: Vec<Map2D<f32>> = views
+        .iter()
+        .map(|v| depth_map(&v.view, res, &all))
+        .collect();
     let skin_sets: Vec<_> = views
         .iter()
-        .zip(&depth)
+        .zip(&grid)
         .map(|(v, d)| skins(&v.view, d, t.edge_threshold_at(res)))
         .collect();
     let s = piece_share(n);
@@ -53,11 +59,11 @@ pub fn generate(
                 let (i, j) = (i as usize, j as usize);
                 let src = Source {
                     params: &params[j],
-                    depth: &depth[j],
+                    depth: &grid[j],
                     threshold: t.edge_threshold_at(res),
                     piece: s,
                 };
-                let w = warp(&skin_sets[j], &views[i].view, &depth[i], &src);
+                let w = warp(&skin_sets[j], &views[i].view, &grid[i], &src);
                 c.data_mut()
                     .par_iter_mut()
                     .zip(w.data().par_iter())

@@ -17,6 +17,32 @@ use rayon::prelude::*;
 use shadow_core::Map2D;
 use shadow_core::view::{NO_OCCLUDER, ProjectionKind, View};
 
+/// The triangles of the *grid* maps skins are built from: the casters plus every receiver that
+/// does not cast.
+///
+/// Maps cover what casts, and the depth maps the shading tests hold casters only. But a skin
+/// joins an occluder edge to the receiver *behind* it (section 3.2): over empty texels an edge
+/// has no far end and no skin, and the penumbra reads as one flat step (V = 0.5 with 2 samples
+/// across the whole penumbra of Heidrich's Figure 9 scene, rms 28.0 against 10 point samples'
+/// 4.0). So skins and their warps read a second depth map per sample that also holds the
+/// receivers; the shading test keeps the casters-only map, so a receiver-only mesh still casts
+/// nothing.
+pub fn grid_geometry(geometry: &shadow_core::SceneGeometry) -> Vec<[Vec3; 3]> {
+    let key = |t: &[Vec3; 3]| t.map(|p| p.to_array().map(f32::to_bits));
+    let casters: std::collections::HashSet<_> = geometry.casters.iter().map(key).collect();
+    geometry
+        .casters
+        .iter()
+        .chain(
+            geometry
+                .receivers
+                .iter()
+                .filter(|t| !casters.contains(&key(t))),
+        )
+        .copied()
+        .collect()
+}
+
 /// One skin triangle: world positions and the Gouraud values of its vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Skin {

@@ -5,9 +5,7 @@
 //! which and why: Lawlor's flatness in resolution and his 9.0 at 32² (our penumbra-limit is
 //! 25.8 at 32² and falls to 5.2 at 128²), his Reeves filtering that worsens with resolution and
 //! his noisy 16 stochastic samples (ours are stratified: 2.1); Kirsch's back faces (23.6 vs 22.1
-//! front faces on a closed box that does not receive); Heidrich's Figure 9 (2 samples 28.0 vs
-//! 10 point samples 4.0: with receiver-only grounds the depth maps hold no receiver behind an
-//! occluder edge, so no skin is built there and the penumbra reads as one flat step).
+//! front faces on a closed box that does not receive).
 
 use harness::papers::{Papers, run_all};
 use std::sync::OnceLock;
@@ -35,6 +33,11 @@ fn lawlor_penumbra_limit_maps_beat_the_hard_shadow_map() {
         "Penumbra limit maps beat the hard shadow map",
     );
     holds("lawlor-fig10", "The hard shadow map's error falls");
+}
+
+#[test]
+fn heidrich_two_samples_with_skins_beat_ten_point_samples() {
+    holds("heidrich-fig9", "2 samples with skins");
 }
 
 #[test]

@@ -264,7 +264,10 @@ pub fn generate(
     let sb = ctx.storage_buffer("linear samples", bytemuck::cast_slice(&samples));
     let tris = GpuTriangles::new(ctx, &geometry.casters)?;
     let depth = GpuRasterizer::depth_array(ctx, res, n)?;
-    let depth_view = depth_array_view(&depth);
+    // Skins and their warps read the grid maps (casters and receivers, see `grid_geometry`).
+    let grid_tris = GpuTriangles::new(ctx, &crate::skins::grid_geometry(geometry))?;
+    let grid = GpuRasterizer::depth_array(ctx, res, n)?;
+    let grid_view = depth_array_view(&grid);
     let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
     let values = [0, 1].map(|_| texture_2d(ctx, "skin values", res, (1, 1), VALUE_FORMAT, attach));
     let skin_depth = texture_2d(
@@ -295,18 +298,20 @@ pub fn generate(
     });
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     for (k, v) in views.iter().enumerate() {
-        raster.0.encode_depth_pass(
-            ctx,
-            &mut enc,
-            &tris,
-            &v.view,
-            &depth,
-            k as u32,
-            DepthPass::NEAREST,
-        );
+        for (t, target) in [(&tris, &depth), (&grid_tris, &grid)] {
+            raster.0.encode_depth_pass(
+                ctx,
+                &mut enc,
+                t,
+                &v.view,
+                target,
+                k as u32,
+                DepthPass::NEAREST,
+            );
+        }
     }
     let lists: Vec<SkinList> = (0..n)
-        .map(|k| encode_find_skins(ctx, &mut enc, &find.0, &sb, &depth_view, k, res))
+        .map(|k| encode_find_skins(ctx, &mut enc, &find.0, &sb, &grid_view, k, res))
         .collect();
     for i in 0..n {
         let nbrs = [i.checked_sub(1), (i + 1 < n).then_some(i + 1)];
@@ -317,7 +322,7 @@ pub fn generate(
                     &mut enc,
                     &skin_pipe,
                     &sb,
-                    &depth_view,
+                    &grid_view,
                     &value_views[slot],
                     &skin_depth_view,
                     &lists[*j as usize],
