@@ -10,6 +10,7 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(
     name = "harness",
+    version,
     about = "Soft-shadow techniques against a ray-traced ground truth"
 )]
 struct Cli {
@@ -37,7 +38,8 @@ enum Command {
         /// Built-in scenes to run (comma separated); default all.
         #[arg(long, value_delimiter = ',')]
         scenes: Option<Vec<String>>,
-        /// Techniques to run (comma separated); default all.
+        /// Techniques to run (comma separated): `technique` for every variant, `technique:variant`
+        /// for one (such as `pcf:r2`); default all.
         #[arg(long, value_delimiter = ',')]
         techniques: Option<Vec<String>>,
         /// Map resolutions (comma separated).

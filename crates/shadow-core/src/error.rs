@@ -15,6 +15,18 @@ pub enum ShadowError {
         /// What is wrong with it.
         reason: String,
     },
+    /// An output file or folder could not be written.
+    #[error("cannot write {path}")]
+    Write {
+        /// The path that failed.
+        path: String,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Every configuration a run asked for was skipped: nothing was measured.
+    #[error("nothing ran: {0}")]
+    NothingRan(String),
     /// An I/O error while reading an input file.
     #[error("cannot read {path}")]
     Io {

@@ -8,7 +8,7 @@ use std::path::Path;
 const BACKGROUND: Rgb<u8> = Rgb([40, 44, 60]);
 
 fn io_err(path: &Path, e: impl std::fmt::Display) -> ShadowError {
-    ShadowError::Io {
+    ShadowError::Write {
         path: path.display().to_string(),
         source: std::io::Error::other(e.to_string()),
     }

@@ -48,7 +48,11 @@ pub fn render(report: &Report) -> String {
             .find(|st| st.scene == scene)
             .map(|st| st.columns.join(" | "))
             .unwrap_or_default();
-        let _ = writeln!(s, "\n## {scene}\n\n![{scene}]({scene}.png)\n");
+        let _ = writeln!(
+            s,
+            "\n## {scene}\n\n![{scene}]({}.png)\n",
+            super::file_stem(scene)
+        );
         let _ = writeln!(
             s,
             "Columns: {cols}. Bottom row: signed error (red: darker than the reference, blue: brighter; full colour at 64/255).\n"
@@ -76,7 +80,11 @@ pub fn render(report: &Report) -> String {
                 e.nonfinite
             );
         }
-        let _ = writeln!(s, "\n![pareto {scene}](pareto-{scene}.png)");
+        let _ = writeln!(
+            s,
+            "\n![pareto {scene}](pareto-{}.png)",
+            super::file_stem(scene)
+        );
     }
     s
 }

@@ -53,15 +53,31 @@ fn select_scenes(opts: &ReportOptions) -> Result<Vec<SceneSpec>> {
     Ok(specs)
 }
 
+/// The file name a scene's outputs use: its name with every character other than ASCII letters,
+/// digits, `-`, `_`, `@` and inner `.` replaced by `_` (so no scene name, from a file or
+/// otherwise, can reach outside the output folder); `scene` if nothing is left.
+pub fn file_stem(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .enumerate()
+        .map(|(i, c)| match c {
+            'a'..='z' | 'A'..='Z' | '0'..='9' | '-' | '_' | '@' => c,
+            '.' if i > 0 => c,
+            _ => '_',
+        })
+        .collect();
+    if s.is_empty() { "scene".into() } else { s }
+}
+
 pub(crate) fn create_dir(path: &Path) -> Result<()> {
-    std::fs::create_dir_all(path).map_err(|source| ShadowError::Io {
+    std::fs::create_dir_all(path).map_err(|source| ShadowError::Write {
         path: path.display().to_string(),
         source,
     })
 }
 
 pub(crate) fn write_text(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|source| ShadowError::Io {
+    std::fs::write(path, text).map_err(|source| ShadowError::Write {
         path: path.display().to_string(),
         source,
     })
@@ -117,6 +133,8 @@ struct Runner<'a> {
     bar: ProgressBar,
     /// Techniques already warmed up on the GPU.
     warmed: HashSet<usize>,
+    /// Why configurations were skipped (printed as they happen, and in the error when nothing ran).
+    skipped: Vec<String>,
 }
 
 /// A strip column: label, resolution, backend, `V`.
@@ -156,7 +174,7 @@ impl Runner<'_> {
             time_ms: p.reference_ms,
         });
         self.bar.inc(1);
-        let exr_dir = self.opts.out.join("exr").join(&name);
+        let exr_dir = self.opts.out.join("exr").join(file_stem(&name));
         create_dir(&exr_dir)?;
         images::write_scene_exr(&exr_dir, self.size, &p)?;
         let mut strip: Vec<StripColumn> = Vec::new();
@@ -206,11 +224,11 @@ impl Runner<'_> {
             Err(
                 e @ (ShadowError::InvalidResolution { .. } | ShadowError::UnsupportedLight { .. }),
             ) => {
-                self.bar.println(format!(
-                    "skipped {name} {} {} {res}: {e}",
-                    t.name(),
-                    backend.name()
-                ));
+                let line = format!("skipped {name} {} {} {res}: {e}", t.name(), backend.name());
+                // On stderr whether or not a terminal shows the bar (`println` drops the line
+                // when the bar is hidden).
+                self.bar.suspend(|| eprintln!("{line}"));
+                self.skipped.push(line);
                 return Ok(None);
             }
             Err(e) => return Err(e),
@@ -226,10 +244,15 @@ impl Runner<'_> {
             errors: errors(&m.v, reference),
             flicker_255: None,
         };
-        let file = self.opts.out.join("exr").join(name).join(format!(
-            "{}-{}-{}-{res}.exr",
-            run.technique, run.variant, run.backend
-        ));
+        let file = self
+            .opts
+            .out
+            .join("exr")
+            .join(file_stem(name))
+            .join(format!(
+                "{}-{}-{}-{res}.exr",
+                run.technique, run.variant, run.backend
+            ));
         images::write_exr_scalar(
             &file,
             self.size,
@@ -309,7 +332,7 @@ impl Runner<'_> {
             .map(|s| images::scatter(self.size, &p.pixels, &s.3))
             .collect();
         images::write_strip(
-            &out.join(format!("{name}.png")),
+            &out.join(format!("{}.png", file_stem(name))),
             self.size,
             &reference_img,
             &runs_img,
@@ -322,7 +345,7 @@ impl Runner<'_> {
             .cloned()
             .collect();
         pareto::draw(
-            &out.join(format!("pareto-{name}.png")),
+            &out.join(format!("pareto-{}.png", file_stem(name))),
             &format!("{name}: error vs time"),
             &scene_runs,
         )?;
@@ -347,16 +370,31 @@ impl Runner<'_> {
 fn select_techniques(opts: &ReportOptions) -> Result<Vec<Box<dyn DynTechnique>>> {
     let mut techniques = all_techniques(opts.quick);
     if let Some(names) = &opts.techniques {
+        // `technique` selects every variant, `technique:variant` one.
+        let selects = |n: &str, t: &dyn DynTechnique| match n.split_once(':') {
+            Some((name, variant)) => t.name() == name && t.variant() == variant,
+            None => t.name() == n,
+        };
         for n in names {
-            if !techniques.iter().any(|t| t.name() == n) {
-                let known: Vec<&str> = techniques.iter().map(|t| t.name()).collect();
-                return Err(ShadowError::InvalidScene(format!(
-                    "unknown technique {n:?}; known: {}",
-                    known.join(", ")
+            if !techniques.iter().any(|t| selects(n, t.as_ref())) {
+                let mut known: Vec<String> = Vec::new();
+                for t in &techniques {
+                    if !known.iter().any(|k| k == t.name()) {
+                        known.push(t.name().to_string());
+                    }
+                }
+                let variants: Vec<String> = techniques
+                    .iter()
+                    .map(|t| format!("{}:{}", t.name(), t.variant()))
+                    .collect();
+                return Err(ShadowError::InvalidParameter(format!(
+                    "unknown technique {n:?}; techniques: {}; variants: {}",
+                    known.join(", "),
+                    variants.join(", ")
                 )));
             }
         }
-        techniques.retain(|t| names.iter().any(|n| n == t.name()));
+        techniques.retain(|t| names.iter().any(|n| selects(n, t.as_ref())));
     }
     Ok(techniques)
 }
@@ -410,6 +448,17 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         backends.push(Backend::Gpu);
     }
     let jobs = jobs(select_scenes(opts)?, &techniques)?;
+    // Two scenes whose outputs would share a file are refused before anything runs.
+    let mut stems: std::collections::HashMap<String, &str> = std::collections::HashMap::new();
+    for j in &jobs {
+        if let Some(other) = stems.insert(file_stem(&j.spec.name), &j.spec.name) {
+            return Err(ShadowError::InvalidScene(format!(
+                "scenes {other:?} and {:?} would write the same files ({})",
+                j.spec.name,
+                file_stem(&j.spec.name)
+            )));
+        }
+    }
     create_dir(&opts.out)?;
     let mut runner = Runner {
         opts,
@@ -421,6 +470,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         gpu,
         bar: ProgressBar::hidden(),
         warmed: HashSet::new(),
+        skipped: Vec::new(),
     };
     let total: u64 = jobs.iter().map(|j| runner.runs_per_scene(j)).sum();
     runner.bar = ProgressBar::new(total);
@@ -443,6 +493,16 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         runner.scene(job, &mut report)?;
     }
     runner.bar.finish_with_message("done");
+    if report.runs.is_empty() {
+        return Err(ShadowError::NothingRan(format!(
+            "every configuration was skipped ({})",
+            if runner.skipped.is_empty() {
+                "no technique, resolution and backend to run".to_string()
+            } else {
+                runner.skipped.join("; ")
+            }
+        )));
+    }
     pareto::draw(
         &opts.out.join("pareto.png"),
         "all scenes: mean error vs mean time",

@@ -28,7 +28,7 @@ fn register_font() {
 }
 
 fn plot_err(path: &Path, e: impl std::fmt::Display) -> ShadowError {
-    ShadowError::Io {
+    ShadowError::Write {
         path: path.display().to_string(),
         source: std::io::Error::other(e.to_string()),
     }

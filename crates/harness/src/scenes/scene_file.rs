@@ -1,4 +1,5 @@
 //! User scenes: a small TOML file naming glTF/GLB meshes with transforms, one light and the camera.
+//! Every field, unit and convention: `docs/scene-files.md`.
 //!
 //! ```toml
 //! name = "my-scene"
@@ -119,8 +120,15 @@ pub fn load(path: &Path) -> Result<SceneSpec> {
                 ));
             }
         };
+        let scale = m.scale.unwrap_or(1.0);
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(bad(
+                path,
+                format!("`scale` must be finite and > 0, got {scale} (0 collapses the mesh)"),
+            ));
+        }
         let transform = Mat4::from_scale_rotation_translation(
-            Vec3::splat(m.scale.unwrap_or(1.0)),
+            Vec3::splat(scale),
             Quat::from_rotation_y(m.rotation_y_deg.to_radians()),
             Vec3::from(m.translation),
         );

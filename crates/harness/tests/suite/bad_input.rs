@@ -81,3 +81,161 @@ fn cli_reports_bad_input_and_exits_nonzero() {
         assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
     }
 }
+
+/// A scene file named `name`: a 1 m plate 1 m over a receiver-only ground, under a point light.
+fn plate_scene(name: &str) -> String {
+    format!(
+        "name = {name:?}\n[[mesh]]\nground = 8.0\n[[mesh]]\nground = 1.0\ncaster = true\n\
+         translation = [0.0, 1.0, 0.0]\n[light]\nkind = \"point\"\nposition = [0.0, 3.0, 0.0]\n\
+         [camera]\neye = [0.0, 4.0, 4.0]\ntarget = [0.0, 0.0, 0.0]\n"
+    )
+}
+
+/// Whatever a scene is named, every output stays inside `--out` (names are sanitised into file
+/// stems); a run where every configuration is skipped exits non-zero and says why.
+#[test]
+fn hostile_scene_names_stay_inside_the_output_folder() {
+    let exe = env!("CARGO_BIN_EXE_harness");
+    let dir = std::env::temp_dir().join(format!("harness-names-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.join("nested").join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let names = ["../escaped", "../../escaped2", "a/b c", "/abs", ".."];
+    let mut args: Vec<String> = vec![
+        "report".into(),
+        "--quick".into(),
+        "--backend".into(),
+        "cpu".into(),
+        "--techniques".into(),
+        "hard-shadow-map".into(),
+        "--resolutions".into(),
+        "64".into(),
+        "--size".into(),
+        "24".into(),
+        "--out".into(),
+        out.display().to_string(),
+    ];
+    for (i, n) in names.iter().enumerate() {
+        let f = dir.join(format!("s{i}.toml"));
+        std::fs::write(&f, plate_scene(n)).unwrap();
+        args.push("--scene-file".into());
+        args.push(f.display().to_string());
+    }
+    let run = std::process::Command::new(exe)
+        .args(&args)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{err}");
+    for n in names {
+        let stem = harness::report::file_stem(n);
+        assert!(
+            !stem.contains('/') && !stem.starts_with('.'),
+            "{n} -> {stem}"
+        );
+        assert!(
+            out.join(format!("{stem}.png")).is_file(),
+            "{n}: {stem}.png missing"
+        );
+        assert!(
+            out.join("exr").join(&stem).is_dir(),
+            "{n}: exr/{stem} missing"
+        );
+    }
+    // Nothing outside `out`: its parents hold only what the test put there.
+    let outside: Vec<_> = walk(&dir)
+        .into_iter()
+        .filter(|p| !p.starts_with(&out) && p.extension().is_none_or(|e| e != "toml"))
+        .filter(|p| p.is_file())
+        .collect();
+    assert!(outside.is_empty(), "written outside --out: {outside:?}");
+    let none = std::process::Command::new(exe)
+        .args([
+            "report",
+            "--quick",
+            "--backend",
+            "cpu",
+            "--scenes",
+            "plane-occluder",
+        ])
+        .args([
+            "--techniques",
+            "hard-shadow-map",
+            "--resolutions",
+            "100000",
+            "--size",
+            "24",
+        ])
+        .arg("--out")
+        .arg(dir.join("none"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&none.stderr);
+    assert!(!none.status.success(), "nothing ran yet exit 0: {err}");
+    assert!(
+        err.contains("nothing ran") && err.contains("skipped plane-occluder"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn walk(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        }
+        out.push(p);
+    }
+    out
+}
+
+/// `--techniques` takes `technique` or `technique:variant`; an unknown one is a typed parameter
+/// error listing each technique once and every variant; `scale = 0` in a scene file is refused.
+#[test]
+fn technique_selection_and_scale_are_checked() {
+    use harness::report::{BackendChoice, ReportOptions, run};
+    let dir = std::env::temp_dir().join(format!("harness-select-{}", std::process::id()));
+    let opts = |techniques: &str, files: Vec<std::path::PathBuf>| ReportOptions {
+        quick: true,
+        out: dir.join("out"),
+        scenes: if files.is_empty() {
+            Some(vec!["plane-occluder".into()])
+        } else {
+            None
+        },
+        techniques: Some(vec![techniques.into()]),
+        resolutions: Some(vec![32]),
+        backend: BackendChoice::Cpu,
+        scene_files: files,
+        size: Some(16),
+    };
+    let r = run(&opts("pcf:r2", Vec::new())).unwrap();
+    assert!(
+        r.runs
+            .iter()
+            .all(|x| x.technique == "pcf" && x.variant == "r2")
+    );
+    assert_eq!(r.runs.len(), 1);
+    match run(&opts("no-such", Vec::new())) {
+        Err(shadow_core::ShadowError::InvalidParameter(m)) => {
+            assert!(m.contains("unknown technique \"no-such\""), "{m}");
+            assert_eq!(m.matches("occlusion-slices,").count(), 1, "{m}");
+            assert!(m.contains("pcf:r2"), "{m}");
+        }
+        other => panic!("{other:?}"),
+    }
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("flat.toml");
+    std::fs::write(
+        &f,
+        plate_scene("flat").replace("ground = 1.0\n", "ground = 1.0\nscale = 0.0\n"),
+    )
+    .unwrap();
+    match run(&opts("pcf", vec![f])) {
+        Err(shadow_core::ShadowError::InvalidScene(m)) => assert!(m.contains("`scale`"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
