@@ -32,6 +32,9 @@ enum Command {
         /// Small G-buffer, one resolution, fewer variants: under 2 minutes on 2 cores.
         #[arg(long)]
         quick: bool,
+        /// Print the built-in scenes, the techniques and their variants, then exit.
+        #[arg(long)]
+        list: bool,
         /// Output directory.
         #[arg(long, default_value = "report")]
         out: PathBuf,
@@ -80,6 +83,10 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let (quick, out, scenes, techniques, resolutions, backend, scene_file, size) = match cli.command
     {
+        Command::Report { quick, list, .. } if list => {
+            print!("{}", harness::report::listing(quick));
+            return ExitCode::SUCCESS;
+        }
         Command::Report {
             quick,
             out,
@@ -89,6 +96,7 @@ fn main() -> ExitCode {
             backend,
             scene_file,
             size,
+            ..
         } => (
             quick,
             out,

@@ -34,6 +34,29 @@ fn cpu_name() -> String {
         .unwrap_or_else(|| std::env::consts::ARCH.to_string())
 }
 
+/// `report --list`: the built-in scenes with what each tests, then every technique with its
+/// variants as `--techniques` takes them (`technique` or `technique:variant`).
+pub fn listing(quick: bool) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::from("scenes (--scenes):\n");
+    for name in catalogue::SCENE_NAMES {
+        let what = catalogue::build(name).map_or_else(|e| e.to_string(), |spec| spec.description);
+        let _ = writeln!(s, "  {name:18} {what}");
+    }
+    s.push_str("techniques (--techniques technique or technique:variant):\n");
+    let mut rows: Vec<(String, Vec<String>)> = Vec::new();
+    for t in all_techniques(quick) {
+        match rows.iter_mut().find(|r| r.0 == t.name()) {
+            Some(r) => r.1.push(t.variant()),
+            None => rows.push((t.name().to_string(), vec![t.variant()])),
+        }
+    }
+    for (name, variants) in rows {
+        let _ = writeln!(s, "  {name:18} {}", variants.join(", "));
+    }
+    s
+}
+
 fn select_scenes(opts: &ReportOptions) -> Result<Vec<SceneSpec>> {
     let mut specs = Vec::new();
     let names: Vec<String> = match &opts.scenes {

@@ -239,3 +239,22 @@ fn technique_selection_and_scale_are_checked() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `report --list` prints every built-in scene and every technique with its variants.
+#[test]
+fn report_list_names_scenes_techniques_and_variants() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args(["report", "--list"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for name in harness::scenes::catalogue::SCENE_NAMES {
+        assert!(text.contains(name), "{name} missing:\n{text}");
+    }
+    assert!(
+        text.contains("occlusion-slices") && text.contains("sat-8-max"),
+        "{text}"
+    );
+    assert_eq!(text.matches("\n  pcf ").count(), 1, "{text}");
+}
