@@ -125,6 +125,10 @@ fn summary(s: &mut String, report: &Report) {
     }
     stability(s, report);
     fronts(s, report);
+    let _ = writeln!(
+        s,
+        "\nEvery configuration, mean error against mean time over the scenes (log axes, Pareto front ringed):\n\n![all scenes: mean error vs mean time](pareto.png)"
+    );
     scaling(s, report);
     s.push('\n');
 }

@@ -448,10 +448,9 @@ fn select_gpu(choice: BackendChoice) -> Result<(Option<GpuContext>, String)> {
 pub fn run(opts: &ReportOptions) -> Result<Report> {
     let size = opts.size();
     if size == 0 || size > 4096 {
-        return Err(ShadowError::InvalidResolution {
-            requested: size,
-            max: 4096,
-        });
+        return Err(ShadowError::InvalidParameter(format!(
+            "--size (the G-buffer side in pixels) must be in 1..=4096, got {size}"
+        )));
     }
     let settings = GroundTruthSettings::default();
     let resolutions = opts.resolutions();

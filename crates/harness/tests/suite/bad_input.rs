@@ -60,6 +60,10 @@ fn cli_reports_bad_input_and_exits_nonzero() {
             "invalid resolution 0",
         ),
         (
+            vec!["--size".into(), "0".into()],
+            "--size (the G-buffer side in pixels) must be in 1..=4096, got 0",
+        ),
+        (
             vec!["--scene-file".into(), bad_toml.display().to_string()],
             "invalid light",
         ),

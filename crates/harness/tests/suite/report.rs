@@ -145,6 +145,8 @@ fn quick_report_writes_the_contract() {
     assert!(!exps.is_empty() && exps.iter().all(|(_, e, n)| e.is_finite() && *n == 2));
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(html.contains("<table>") && html.contains("<img src=\"plane-occluder.png\""));
+    // The overall chart and the papers page are linked, not only written.
+    assert!(html.contains("<img src=\"pareto.png\"") && html.contains("href=\"papers.html\""));
     assert_eq!(
         html.matches("<table>").count(),
         md.matches("\n|---").count()
