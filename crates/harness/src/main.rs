@@ -80,9 +80,7 @@ fn report_error(e: &shadow_core::ShadowError) -> ExitCode {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let (quick, out, scenes, techniques, resolutions, backend, scene_file, size) = match cli.command
-    {
+    let result = match Cli::parse().command {
         Command::Report { quick, list, .. } if list => {
             print!("{}", harness::report::listing(quick));
             return ExitCode::SUCCESS;
@@ -97,57 +95,48 @@ fn main() -> ExitCode {
             scene_file,
             size,
             ..
-        } => (
-            quick,
-            out,
-            scenes,
-            techniques,
-            resolutions,
-            backend,
-            scene_file,
-            size,
-        ),
+        } => {
+            let opts = ReportOptions {
+                quick,
+                out: out.clone(),
+                scenes,
+                techniques,
+                resolutions,
+                backend: match backend {
+                    BackendArg::Cpu => BackendChoice::Cpu,
+                    BackendArg::Gpu => BackendChoice::Gpu,
+                    BackendArg::All => BackendChoice::All,
+                },
+                scene_files: scene_file,
+                size,
+            };
+            run(&opts).map(|r| {
+                format!(
+                    "wrote {} runs over {} scenes to {}",
+                    r.runs.len(),
+                    r.references.len(),
+                    out.display()
+                )
+            })
+        }
         Command::Papers { out, size } => {
             let opts = harness::papers::PapersOptions {
                 out: out.clone(),
                 size,
             };
-            return match harness::papers::run(&opts) {
-                Ok(p) => {
-                    println!(
-                        "wrote {} experiments ({} runs) to {}",
-                        p.experiments.len(),
-                        p.runs.len(),
-                        out.join("papers.md").display()
-                    );
-                    ExitCode::SUCCESS
-                }
-                Err(e) => report_error(&e),
-            };
+            harness::papers::run(&opts).map(|p| {
+                format!(
+                    "wrote {} experiments ({} runs) to {}",
+                    p.experiments.len(),
+                    p.runs.len(),
+                    out.join("papers.md").display()
+                )
+            })
         }
     };
-    let opts = ReportOptions {
-        quick,
-        out: out.clone(),
-        scenes,
-        techniques,
-        resolutions,
-        backend: match backend {
-            BackendArg::Cpu => BackendChoice::Cpu,
-            BackendArg::Gpu => BackendChoice::Gpu,
-            BackendArg::All => BackendChoice::All,
-        },
-        scene_files: scene_file,
-        size,
-    };
-    match run(&opts) {
-        Ok(r) => {
-            println!(
-                "wrote {} runs over {} scenes to {}",
-                r.runs.len(),
-                r.references.len(),
-                out.display()
-            );
+    match result {
+        Ok(line) => {
+            println!("{line}");
             ExitCode::SUCCESS
         }
         Err(e) => report_error(&e),

@@ -17,7 +17,7 @@
 use crate::combine::NO_EDGE;
 use crate::warp::Warp;
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 use shadow_core::raster::{DepthPass, DepthTest, Faces, depth_map_filtered};
 use shadow_core::{Map2D, MapParams, View};
@@ -121,18 +121,6 @@ pub struct Ribbon {
     pub hb: f32,
 }
 
-fn project(m: &MapParams, p: Vec3) -> Option<Vec2> {
-    let clip = Mat4::from_cols_array(&m.view_proj) * p.extend(1.0);
-    if clip.w <= 0.0 {
-        return None;
-    }
-    let res = m.resolution as f32;
-    Some(Vec2::new(
-        (clip.x / clip.w * 0.5 + 0.5) * res,
-        (0.5 - clip.y / clip.w * 0.5) * res,
-    ))
-}
-
 /// Whether a face with normal `n` through `p` faces the light of map `m`.
 fn faces_light(m: &MapParams, n: Vec3, p: Vec3) -> bool {
     let l = Vec4::from(m.light);
@@ -156,7 +144,7 @@ pub fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
     if !border && faces_light(m, v(e.n0), a) == faces_light(m, v(e.n1), a) {
         return None;
     }
-    let (sa, sb) = (project(m, a)?, project(m, b)?);
+    let (sa, sb) = (m.project(a)?.truncate(), m.project(b)?.truncate());
     let d = sb - sa;
     let len = d.length();
     if len.partial_cmp(&1e-6) != Some(std::cmp::Ordering::Greater) {
@@ -165,7 +153,10 @@ pub fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
     // The inside is where the faces project (both on one side of a silhouette edge); the
     // opposite vertex farther from the edge's line decides, and a face seen edge-on (both
     // within MIN_FACE_TEXELS of the line) casts no area, so no ribbon.
-    let side = |o: [f32; 4]| project(m, v(o)).map_or(0.0, |so| d.perp_dot(so - sa) / len);
+    let side = |o: [f32; 4]| {
+        m.project(v(o))
+            .map_or(0.0, |so| d.perp_dot(so.truncate() - sa) / len)
+    };
     let s0 = side(e.o0);
     let s1 = if border { 0.0 } else { side(e.o1) };
     let s = if s0.abs() >= s1.abs() { s0 } else { s1 };

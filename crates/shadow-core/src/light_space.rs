@@ -48,6 +48,21 @@ impl MapParams {
     pub fn texel_size(&self, z: f32) -> f32 {
         self.texel_a * z + self.texel_b
     }
+
+    /// Map position in texels (`x`, `y`; texel centres at +0.5) and linear depth (`z`) of a
+    /// world point, or `None` at or behind the eye plane (`map_project` in WGSL).
+    pub fn project(&self, q: Vec3) -> Option<Vec3> {
+        let clip = Mat4::from_cols_array(&self.view_proj) * q.extend(1.0);
+        if clip.w <= 0.0 {
+            return None;
+        }
+        let res = self.resolution as f32;
+        Some(Vec3::new(
+            (clip.x / clip.w * 0.5 + 0.5) * res,
+            (0.5 - clip.y / clip.w * 0.5) * res,
+            self.linear_depth(q),
+        ))
+    }
 }
 
 /// One light sample's view and weight.
@@ -262,20 +277,6 @@ fn clamped_cos_tan(cos: f32) -> (f32, f32) {
     (c, (1.0 - c * c).max(0.0).sqrt() / c)
 }
 
-/// Map position in texels and linear depth of a world point, or `None` at or behind the eye.
-fn project(m: &MapParams, q: Vec3) -> Option<Vec3> {
-    let clip = Mat4::from_cols_array(&m.view_proj) * q.extend(1.0);
-    if clip.w <= 0.0 {
-        return None;
-    }
-    let res = m.resolution as f32;
-    Some(Vec3::new(
-        (clip.x / clip.w * 0.5 + 0.5) * res,
-        (0.5 - clip.y / clip.w * 0.5) * res,
-        m.linear_depth(q),
-    ))
-}
-
 /// Signed depth change per texel of the plane through `p` with normal `n`, linearised over one
 /// `texel` (world size), clamped to `MAX_TAN * texel`; zero where the plane is seen edge-on.
 fn plane_gradient(m: &MapParams, p: Vec3, n: Vec3, texel: f32) -> Vec2 {
@@ -285,9 +286,9 @@ fn plane_gradient(m: &MapParams, p: Vec3, n: Vec3, texel: f32) -> Vec2 {
         .normalize();
     let t2 = n.cross(t1);
     let (Some(a), Some(b), Some(c)) = (
-        project(m, p),
-        project(m, p + t1 * texel),
-        project(m, p + t2 * texel),
+        m.project(p),
+        m.project(p + t1 * texel),
+        m.project(p + t2 * texel),
     ) else {
         return Vec2::ZERO;
     };
@@ -315,7 +316,7 @@ pub fn shadow_coord(m: &MapParams, bias: &Bias, p: Vec3, n: Vec3) -> Option<Shad
     let slope = bias.slope * texel * tan;
     let p2 = p + n * (bias.normal_offset * texel);
     let cap = texel * (DEPTH_SPREAD * tan + bias.max_push);
-    let a = project(m, p2)?;
+    let a = m.project(p2)?;
     let res = m.resolution as f32;
     if a.x < 0.0 || a.y < 0.0 || a.x > res || a.y > res {
         return None;

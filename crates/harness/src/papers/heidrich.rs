@@ -139,7 +139,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
         ours.push(all(&vo, &mc));
     }
     rows8.push(Row {
-        label: format!("{n} point lights (ray traced)", n = "2 / 3"),
+        label: "point lights, as many (ray traced)".into(),
         published: vec![None, None],
         ours: points.iter().map(|&x| Some(x)).collect(),
     });

@@ -143,7 +143,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
         &ShadowMapBaseline::new(Filter::Hard),
         None,
     )?;
-    let acc = measure_row(
+    measure_row(
         "16 Samples (16 shadow maps)".into(),
         vec![None; 4],
         &ShadowMapBaseline::new(Filter::Accumulate { samples: 16 }),
@@ -215,7 +215,6 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
             fmt(&hard),
         ),
     ];
-    let _ = acc;
     Ok((
         vec![Experiment {
             id: ID.into(),
