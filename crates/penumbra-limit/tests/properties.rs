@@ -54,8 +54,10 @@ proptest! {
                 Storage::F16 => (1.0 / 2048.0, 4.0 / 2048.0),
                 Storage::Rgba8 => (0.5 / 255.0, 2.0 / 255.0),
             };
+            // A value on a rounding tie (0.6333333 * 255 = 161.5) rounds half a step away;
+            // the difference itself is then computed with f32 rounding, hence the ulps.
             for (a, e) in [(r.c, c), (r.g, g), (r.b, b)] {
-                prop_assert!((a - e).abs() <= depth_step, "{s:?}: {e} -> {a}");
+                prop_assert!((a - e).abs() <= depth_step + 2.0 * f32::EPSILON, "{s:?}: {e} -> {a}");
             }
             // p goes through p / 4 + 1/2 and back: exact for f32 up to two roundings.
             prop_assert!((r.p - p).abs() <= p_step + 4.0 * f32::EPSILON, "{s:?}: p {p} -> {}", r.p);
