@@ -5,36 +5,60 @@
 use crate::eval::visibility;
 use crate::params::LinearLight;
 use crate::samples::{lit_share, neighbours, piece_share, sample_views};
+use crate::segments::Segment;
 use crate::skins::skins;
 use crate::warp::{NO_SKIN, Source, warp};
-use glam::Vec3;
 use rayon::prelude::*;
 use shadow_core::raster::depth_map;
 use shadow_core::{Map2D, MapParams, Receivers, SampleView, SceneGeometry};
 
-/// The maps of one linear light.
+/// The maps of one light: `N` samples per segment, segment after segment.
 #[derive(Clone, Debug)]
 pub struct CpuLinearMaps {
-    /// One view per sample.
+    /// One view per sample (`weight` is the lit share times the segment's weight).
     pub views: Vec<SampleView>,
-    /// Their shader-side parameters (`weight` is the lit share).
+    /// Their shader-side parameters.
     pub params: Vec<MapParams>,
     /// Linear depth per sample.
     pub depth: Vec<Map2D<f32>>,
-    /// Visibility channel per sample.
+    /// Visibility channel per sample, scaled by its segment's weight.
     pub channel: Vec<Map2D<f32>>,
 }
 
-/// Builds the maps for the segment `a`-`b` seen along `axis` (inputs already checked).
+/// Builds the maps for `segments` (inputs already checked).
 pub fn generate(
     t: &LinearLight,
     geometry: &SceneGeometry,
-    (a, b, axis): (Vec3, Vec3, Vec3),
+    segments: &[Segment],
+    res: u32,
+) -> CpuLinearMaps {
+    let mut all = CpuLinearMaps {
+        views: Vec::new(),
+        params: Vec::new(),
+        depth: Vec::new(),
+        channel: Vec::new(),
+    };
+    for s in segments {
+        let m = generate_segment(t, geometry, s, res);
+        all.views.extend(m.views);
+        all.params.extend(m.params);
+        all.depth.extend(m.depth);
+        all.channel.extend(m.channel);
+    }
+    all
+}
+
+/// The maps of one segment, its shares scaled by its weight.
+fn generate_segment(
+    t: &LinearLight,
+    geometry: &SceneGeometry,
+    seg: &Segment,
     res: u32,
 ) -> CpuLinearMaps {
     let n = t.samples;
+    let (a, b, w) = (seg.a, seg.b, seg.weight);
     let coverage = shadow_core::Coverage::new(geometry, &shadow_core::Light::Linear { a, b });
-    let views = sample_views(a, b, n, axis, &coverage);
+    let views = sample_views(a, b, n, seg.axis, &coverage, w);
     let params: Vec<MapParams> = views.iter().map(|v| v.params(res)).collect();
     let depth: Vec<Map2D<f32>> = views
         .iter()
@@ -51,10 +75,10 @@ pub fn generate(
         .zip(&grid)
         .map(|(v, d)| skins(&v.view, d, t.edge_threshold_at(res)))
         .collect();
-    let s = piece_share(n);
+    let s = w * piece_share(n);
     let channel = (0..n)
         .map(|i| {
-            let mut c = Map2D::new(res, res, lit_share(i, n));
+            let mut c = Map2D::new(res, res, w * lit_share(i, n));
             for j in neighbours(i, n) {
                 let (i, j) = (i as usize, j as usize);
                 let src = Source {

@@ -10,10 +10,10 @@
 //! (section 3.3). Shading is the paper's `shade()` loop: per sample, the depth test and the
 //! channel, summed ([`eval`]).
 //!
-//! - Lights: segments. Other kinds are [`shadow_core::ShadowError::UnsupportedLight`]; a
-//!   triangle area light as three linear lights (section 4) is [`triangle`].
-//! - Modules, one concept each: [`params`], [`samples`], [`skins`], [`warp`], [`eval`], [`cpu`],
-//!   [`gpu`], [`triangle`].
+//! - Lights: segments, and triangles as three linear lights along their edges (section 4,
+//!   [`segments`]). Other kinds are [`shadow_core::ShadowError::UnsupportedLight`].
+//! - Modules, one concept each: [`params`], [`segments`], [`samples`], [`skins`], [`warp`],
+//!   [`eval`], [`cpu`], [`gpu`].
 //!
 //! ```no_run
 //! use linear_light::LinearLight;
@@ -31,32 +31,17 @@ pub mod eval;
 pub mod gpu;
 pub mod params;
 pub mod samples;
+pub mod segments;
 pub mod skins;
-pub mod triangle;
 pub mod warp;
 
 pub use params::LinearLight;
 
-use glam::Vec3;
+use segments::segments;
 use shadow_core::technique::MAX_CPU_RESOLUTION;
 use shadow_core::{
-    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowError, ShadowTechnique,
+    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
 };
-
-/// The segment's ends and the axis its maps look along.
-fn segment(light: &Light, geometry: &SceneGeometry) -> Result<(Vec3, Vec3, Vec3)> {
-    match *light {
-        Light::Linear { a, b } => Ok((
-            a,
-            b,
-            light.axis(shadow_core::Coverage::new(geometry, light).center()),
-        )),
-        _ => Err(ShadowError::UnsupportedLight {
-            technique: "linear-light".into(),
-            light: light.kind().name(),
-        }),
-    }
-}
 
 impl ShadowTechnique for LinearLight {
     type CpuMaps = cpu::CpuLinearMaps;
@@ -70,9 +55,9 @@ impl ShadowTechnique for LinearLight {
         self.label()
     }
 
-    /// Segment lights only.
+    /// Segment lights, and triangles as three of them.
     fn models(&self, kind: LightKind) -> bool {
-        kind == LightKind::Linear
+        matches!(kind, LightKind::Linear | LightKind::Triangle)
     }
 
     fn generate_cpu(
@@ -86,7 +71,7 @@ impl ShadowTechnique for LinearLight {
         Ok(cpu::generate(
             self,
             geometry,
-            segment(light, geometry)?,
+            &segments(light, geometry)?,
             resolution,
         ))
     }
@@ -106,9 +91,9 @@ impl ShadowTechnique for LinearLight {
     ) -> Result<gpu::GpuLinearMaps> {
         self.validate()?;
         self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
-        let seg = segment(light, geometry)?;
+        let segs = segments(light, geometry)?;
         gpu.checked("linear-light generation", || {
-            gpu::generate(gpu, self, geometry, seg, resolution)
+            gpu::generate(gpu, self, geometry, &segs, resolution)
         })
     }
 

@@ -27,12 +27,21 @@ pub fn neighbours(i: u32, n: u32) -> impl Iterator<Item = u32> {
 }
 
 /// One perspective view per sample, `a + (b - a) i / (N - 1)`, all looking along `axis` and
-/// covering `coverage`; the weight of a view is its lit share.
-pub fn sample_views(a: Vec3, b: Vec3, n: u32, axis: Vec3, coverage: &Coverage) -> Vec<SampleView> {
+/// covering `coverage`; the weight of a view is its lit share times `segment_weight` (the
+/// segment's share of the light, [`crate::segments::Segment::weight`]).
+pub fn sample_views(
+    a: Vec3,
+    b: Vec3,
+    n: u32,
+    axis: Vec3,
+    coverage: &Coverage,
+    segment_weight: f32,
+) -> Vec<SampleView> {
     (0..n)
         .map(|i| {
             let q = a + (b - a) * (i as f32 / (n - 1) as f32);
-            SampleView::new(LightPoint::Position(q), lit_share(i, n), axis, coverage)
+            let weight = segment_weight * lit_share(i, n);
+            SampleView::new(LightPoint::Position(q), weight, axis, coverage)
         })
         .collect()
 }

@@ -6,7 +6,6 @@ use glam::Vec3;
 use linear_light::LinearLight;
 use linear_light::samples::{lit_share, neighbours, piece_share};
 use linear_light::skins::{edges, skin_values};
-use linear_light::triangle::{evaluate_triangle, generate_triangle};
 use proptest::prelude::*;
 use shadow_core::{Aabb, Light, Map2D, Receivers, SceneGeometry, ShadowError, ShadowTechnique};
 
@@ -83,31 +82,44 @@ fn occluded_geometry() -> SceneGeometry {
 #[test]
 fn triangle_light_is_lit_outside_and_dark_under_the_occluder() {
     let g = occluded_geometry();
-    let tri = [
+    // Counter-clockwise seen from below: it emits downwards.
+    let (a, b, c) = (
         Vec3::new(-0.2, 3.0, -0.2),
         Vec3::new(0.25, 3.0, -0.1),
         Vec3::new(0.0, 3.0, 0.2),
-    ];
+    );
     let t = LinearLight::new(3);
-    let maps = generate_triangle(&t, &g, tri, 256).unwrap();
+    let maps = t
+        .generate_cpu(&g, &Light::Triangle { a, b, c }, 256)
+        .unwrap();
+    assert_eq!(maps.params.len(), 9, "three edges of three samples");
     let positions = [Vec3::new(2.5, 0.0, 2.5), Vec3::new(0.0, 0.0, 0.0)];
     let normals = [Vec3::Y; 2];
-    let v = evaluate_triangle(
-        &t,
-        &maps,
-        &Receivers {
-            positions: &positions,
-            normals: &normals,
-        },
-    )
-    .unwrap();
+    let v = t
+        .evaluate_cpu(
+            &maps,
+            &Receivers {
+                positions: &positions,
+                normals: &normals,
+            },
+        )
+        .unwrap();
     assert!((v[0] - 1.0).abs() < 1e-5, "lit point {}", v[0]);
     assert_eq!(v[1], 0.0, "umbra point");
-    let degenerate = [tri[0], tri[0], tri[1]];
-    assert!(matches!(
-        generate_triangle(&t, &g, degenerate, 64),
-        Err(ShadowError::InvalidLight(_))
-    ));
+    for (what, bad) in [
+        ("repeated vertex", (a, a, b)),
+        ("collinear", (a, b, 2.0 * b - a)),
+    ] {
+        let light = Light::Triangle {
+            a: bad.0,
+            b: bad.1,
+            c: bad.2,
+        };
+        match t.generate_cpu(&g, &light, 64) {
+            Err(ShadowError::InvalidLight(m)) => assert!(m.contains("triangle"), "{what}: {m}"),
+            other => panic!("{what}: {:?}", other.map(|_| ())),
+        }
+    }
 }
 
 /// Bad parameters and lights get typed errors that name the problem.

@@ -77,7 +77,8 @@ pub struct LightCoord {
 }
 
 /// The rectangle a light is sliced with: centre, normal and two half axes. A disk becomes the
-/// square of equal area, a sphere its silhouette disc facing the scene's centre, then that square.
+/// square of equal area, a sphere its silhouette disc facing the scene's centre, then that square,
+/// a triangle the square of equal area at its centroid in its plane.
 pub fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec3, Vec3)> {
     let square = |center: Vec3, normal: Vec3, radius: f32| {
         let (t, b) = orthonormal_basis(normal);
@@ -96,6 +97,11 @@ pub fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec3, Vec3
             radius,
         } => Some(square(center, normal.normalize(), radius)),
         Light::Sphere { center, radius } => Some(square(center, light.axis(scene_center), radius)),
+        Light::Triangle { a, b, c } => Some(square(
+            (a + b + c) / 3.0,
+            light.axis(scene_center),
+            0.5 * light.size(),
+        )),
         _ => None,
     }
 }

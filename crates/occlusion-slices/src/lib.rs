@@ -9,8 +9,8 @@
 //! slices combine by the probabilistic product `V = prod(1 - I_k)` (equation 5, [`combine`]).
 //! For a single planar occluder parallel to the light this is exact (section 3.1).
 //!
-//! - Lights: rectangles as in the paper. A disk is modelled as the square of equal area, a
-//!   sphere as its silhouette disc facing the scene, then that square (documented
+//! - Lights: rectangles as in the paper. A disk or a triangle is modelled as the square of
+//!   equal area, a sphere as its silhouette disc facing the scene, then that square (documented
 //!   approximations). Point, segment and distant lights are
 //!   [`shadow_core::ShadowError::UnsupportedLight`]: the frustum is fitted to the light's area.
 //! - Self-shadowing (section 3.4): the slice containing `P` is not used, and the slice above it
@@ -66,9 +66,12 @@ impl ShadowTechnique for OcclusionSlices {
         self.label()
     }
 
-    /// Rect lights, and disk and sphere lights through their equal-area square.
+    /// Rect lights, and disk, sphere and triangle lights through their equal-area square.
     fn models(&self, kind: LightKind) -> bool {
-        matches!(kind, LightKind::Rect | LightKind::Disk | LightKind::Sphere)
+        matches!(
+            kind,
+            LightKind::Rect | LightKind::Disk | LightKind::Sphere | LightKind::Triangle
+        )
     }
 
     fn generate_cpu(

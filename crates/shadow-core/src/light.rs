@@ -55,6 +55,16 @@ pub enum Light {
         /// Radius.
         radius: f32,
     },
+    /// A triangle `a b c` emitting towards `(b - a) x (c - a)` (counter-clockwise seen from
+    /// the lit side): the area light of Heidrich et al., section 4.
+    Triangle {
+        /// First vertex.
+        a: Vec3,
+        /// Second vertex.
+        b: Vec3,
+        /// Third vertex.
+        c: Vec3,
+    },
     /// A sphere; a receiver sees its silhouette disc.
     Sphere {
         /// Centre.
@@ -84,6 +94,8 @@ pub enum LightKind {
     Rect,
     /// [`Light::Disk`].
     Disk,
+    /// [`Light::Triangle`].
+    Triangle,
     /// [`Light::Sphere`].
     Sphere,
     /// [`Light::Distant`].
@@ -92,11 +104,12 @@ pub enum LightKind {
 
 impl LightKind {
     /// Every kind.
-    pub const ALL: [LightKind; 6] = [
+    pub const ALL: [LightKind; 7] = [
         LightKind::Point,
         LightKind::Linear,
         LightKind::Rect,
         LightKind::Disk,
+        LightKind::Triangle,
         LightKind::Sphere,
         LightKind::Distant,
     ];
@@ -108,6 +121,7 @@ impl LightKind {
             LightKind::Linear => "linear",
             LightKind::Rect => "rect",
             LightKind::Disk => "disk",
+            LightKind::Triangle => "triangle",
             LightKind::Sphere => "sphere",
             LightKind::Distant => "distant",
         }
@@ -175,6 +189,7 @@ impl Light {
             Light::Linear { .. } => LightKind::Linear,
             Light::Rect { .. } => LightKind::Rect,
             Light::Disk { .. } => LightKind::Disk,
+            Light::Triangle { .. } => LightKind::Triangle,
             Light::Sphere { .. } => LightKind::Sphere,
             Light::Distant { .. } => LightKind::Distant,
         }
@@ -217,6 +232,22 @@ impl Light {
                 check_size("disk normal length", normal.length())?;
                 check_size("disk radius", radius)
             }
+            Light::Triangle { a, b, c } => {
+                check_finite("triangle vertex a", a)?;
+                check_finite("triangle vertex b", b)?;
+                check_finite("triangle vertex c", c)?;
+                let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+                check_size("triangle side", longest)?;
+                // Twice the area over the longest side squared: the sine of the smallest angle
+                // (up to a factor below 2); a sliver has no emitting normal worth the name.
+                let flat = (b - a).cross(c - a).length() / (longest * longest);
+                if flat.is_nan() || flat <= 1e-4 {
+                    return Err(ShadowError::InvalidLight(format!(
+                        "triangle vertices are collinear (area / longest side^2 = {flat})"
+                    )));
+                }
+                Ok(())
+            }
             Light::Sphere { center, radius } => {
                 check_finite("sphere centre", center)?;
                 check_size("sphere radius", radius)
@@ -244,6 +275,7 @@ impl Light {
         match *self {
             Light::Point { position } => LightPoint::Position(position),
             Light::Linear { a, b } => LightPoint::Position((a + b) * 0.5),
+            Light::Triangle { a, b, c } => LightPoint::Position((a + b + c) / 3.0),
             Light::Rect { center, .. }
             | Light::Disk { center, .. }
             | Light::Sphere { center, .. } => LightPoint::Position(center),
@@ -252,7 +284,8 @@ impl Light {
     }
 
     /// The light's size as one number, for filters that need one (PCSS):
-    /// the diameter of the disk of equal area (rect), the length (segment), the diameter (disk, sphere),
+    /// the diameter of the disk of equal area (rect, triangle), the length (segment), the diameter
+    /// (disk, sphere),
     /// `2 tan(angular_diameter / 2)` for a distant light (a width per unit distance), 0 for a point.
     pub fn size(&self) -> f32 {
         match *self {
@@ -260,6 +293,10 @@ impl Light {
             Light::Linear { a, b } => (b - a).length(),
             Light::Rect { u_half, v_half, .. } => {
                 let area = 4.0 * u_half.length() * v_half.length();
+                2.0 * (area / std::f32::consts::PI).sqrt()
+            }
+            Light::Triangle { a, b, c } => {
+                let area = 0.5 * (b - a).cross(c - a).length();
                 2.0 * (area / std::f32::consts::PI).sqrt()
             }
             Light::Disk { radius, .. } | Light::Sphere { radius, .. } => 2.0 * radius,
@@ -270,7 +307,7 @@ impl Light {
     }
 
     /// The direction a shadow-map frustum for this light looks along, given the scene's centre:
-    /// the emission normal for rect and disk lights, the reverse light direction for distant lights,
+    /// the emission normal for rect, disk and triangle lights, the reverse light direction for distant lights,
     /// and from the light's centre to the scene otherwise.
     pub fn axis(&self, scene_center: Vec3) -> Vec3 {
         let towards_scene = |p: Vec3| {
@@ -281,13 +318,17 @@ impl Light {
                 Vec3::NEG_Y
             }
         };
+        if let Some((_, normal)) = self.front() {
+            return normal.normalize();
+        }
         match *self {
-            Light::Rect { u_half, v_half, .. } => u_half.cross(v_half).normalize(),
-            Light::Disk { normal, .. } => normal.normalize(),
             Light::Distant { direction, .. } => -direction.normalize(),
             Light::Point { position } => towards_scene(position),
             Light::Linear { a, b } => towards_scene((a + b) * 0.5),
             Light::Sphere { center, .. } => towards_scene(center),
+            Light::Rect { .. } | Light::Disk { .. } | Light::Triangle { .. } => {
+                unreachable!("one-sided lights return their front above")
+            }
         }
     }
 
@@ -303,23 +344,36 @@ impl Light {
                 *a += offset;
                 *b += offset;
             }
+            Light::Triangle { a, b, c } => {
+                *a += offset;
+                *b += offset;
+                *c += offset;
+            }
             Light::Distant { .. } => {}
         }
         l
     }
 
-    /// Whether the light emits towards `p` at all: a rect or a disk emits only towards its
-    /// front (`u x v`, `normal`); every other kind emits all around.
-    pub fn emits_towards(&self, p: Vec3) -> bool {
+    /// The emitting plane of a one-sided light, as a point on it and its front normal (not
+    /// normalised): `u x v` for a rect, `normal` for a disk, `(b - a) x (c - a)` for a
+    /// triangle; `None` for the kinds that emit all around.
+    pub fn front(&self) -> Option<(Vec3, Vec3)> {
         match *self {
             Light::Rect {
                 center,
                 u_half,
                 v_half,
-            } => (p - center).dot(u_half.cross(v_half)) > 0.0,
-            Light::Disk { center, normal, .. } => (p - center).dot(normal) > 0.0,
-            _ => true,
+            } => Some((center, u_half.cross(v_half))),
+            Light::Disk { center, normal, .. } => Some((center, normal)),
+            Light::Triangle { a, b, c } => Some((a, (b - a).cross(c - a))),
+            _ => None,
         }
+    }
+
+    /// Whether the light emits towards `p` at all: a one-sided light ([`Light::front`]) only
+    /// towards its front; every other kind all around.
+    pub fn emits_towards(&self, p: Vec3) -> bool {
+        self.front().is_none_or(|(q, n)| (p - q).dot(n) > 0.0)
     }
 
     /// Whether the light point `q` *reaches* the receiver `p` with normal `n` (visibility v2 of
@@ -347,6 +401,7 @@ impl Light {
         match *self {
             Light::Point { position } => n.dot(position - p) > 0.0,
             Light::Linear { a, b } => n.dot(a - p).max(n.dot(b - p)) > 0.0,
+            Light::Triangle { a, b, c } => n.dot(a - p).max(n.dot(b - p)).max(n.dot(c - p)) > 0.0,
             Light::Rect {
                 center,
                 u_half,
@@ -384,7 +439,7 @@ impl Light {
     }
 
     /// A convex outline that contains every point of the light seen from `p`: the light's own
-    /// vertices (point, segment, rect), a regular octagon circumscribing the disk or the sphere's
+    /// vertices (point, segment, rect, triangle), a regular octagon circumscribing the disk or the sphere's
     /// silhouette disc, or for a distant light the octagon of directions circumscribing its cone.
     /// Used to prove a receiver fully lit: if nothing crosses the hull of `p` and the outline,
     /// nothing blocks any light point.
@@ -403,6 +458,7 @@ impl Light {
         match *self {
             Light::Point { position } => vec![LightPoint::Position(position)],
             Light::Linear { a, b } => pos(vec![a, b]),
+            Light::Triangle { a, b, c } => pos(vec![a, b, c]),
             Light::Rect {
                 center,
                 u_half,
@@ -463,6 +519,14 @@ impl Light {
         match *self {
             Light::Point { position } => (LightPoint::Position(position), 1.0),
             Light::Linear { a, b } => (LightPoint::Position(a + (b - a) * u.x), 1.0),
+            Light::Triangle { a, b, c } => {
+                // Uniform in area: the square folded onto the triangle by `sqrt` (Shirley).
+                let r = u.x.sqrt();
+                (
+                    LightPoint::Position(a * (1.0 - r) + b * (r * (1.0 - u.y)) + c * (r * u.y)),
+                    1.0,
+                )
+            }
             Light::Rect {
                 center,
                 u_half,

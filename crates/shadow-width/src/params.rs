@@ -75,7 +75,8 @@ pub enum Softness {
 /// The factor [`Softness::FromLight`] applies to the physical `c_scale`: the `k` minimising
 /// `∫₀¹ (max(0, 1 - k u) - V(u))² du` for the visibility `V(u)` of a straight edge at depth `u`
 /// (in half-penumbra units) inside the hard shadow: 2.0 for a linear ramp (segment and rectangle
-/// lights), 2.5 for the circular-segment profile of round lights (disk, sphere, distant).
+/// lights; triangles take it too), 2.5 for the circular-segment profile of round lights (disk,
+/// sphere, distant).
 pub fn fit_factor(kind: LightKind) -> f32 {
     match kind {
         LightKind::Disk | LightKind::Sphere | LightKind::Distant => 2.5,

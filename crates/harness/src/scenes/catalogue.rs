@@ -11,10 +11,11 @@ use std::sync::Arc;
 pub const BUNNY_GLB: &[u8] = include_bytes!("../../../../assets/stanford-bunny.glb");
 
 /// Every built-in scene name, in report order.
-pub const SCENE_NAMES: [&str; 15] = [
+pub const SCENE_NAMES: [&str; 16] = [
     "plane-occluder",
     "skewed-triangle",
     "linear-bar",
+    "triangle-light",
     "torus",
     "overlap",
     "foliage",
@@ -152,6 +153,24 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             Light::Linear {
                 a: Vec3::new(-0.8, 3.0, 0.0),
                 b: Vec3::new(0.8, 3.0, 0.0),
+            },
+            default_camera(),
+        ),
+        // Heidrich et al., section 4: a triangle light (linear-light models it as its three
+        // edges). Counter-clockwise seen from below, so it emits downwards.
+        "triangle-light" => spec(
+            name,
+            "a plate and a bar under a triangle light",
+            false,
+            vec![
+                g(),
+                horizontal_rect("plate", Vec2::new(-0.7, -0.1), Vec2::new(-0.6, 0.0), 0.9),
+                cuboid("bar", Vec3::new(0.5, 0.5, 0.3), Vec3::new(0.08, 0.5, 0.6)),
+            ],
+            Light::Triangle {
+                a: Vec3::new(-0.6, 3.0, 0.4),
+                b: Vec3::new(0.0, 3.0, -0.6),
+                c: Vec3::new(0.6, 3.0, 0.5),
             },
             default_camera(),
         ),

@@ -8,9 +8,11 @@
 //! - **rect** from a distant light: a square of the same solid angle, facing the scene from
 //!   [`DISTANCE_FACTOR`] scene diagonals along the light's direction; from a disk: the square of
 //!   equal area in the disk's plane; from a sphere: that of its disc facing the scene; from a
-//!   segment: a rect along it, 1% as wide as it is long; from a point: a 0.1 mm square (larger far
+//!   segment: a rect along it, 1% as wide as it is long; from a triangle: the square of equal
+//!   area at its centroid in its plane; from a point: a 0.1 mm square (larger far
 //!   from the origin, see `point_size`).
-//! - **segment** from a rect: its longer mid-line; from a disk or sphere: the diameter across the
+//! - **segment** from a rect: its longer mid-line; from a disk, sphere or triangle: the diameter
+//!   (of the disc of equal area, for a triangle) across the
 //!   direction to the scene; from a distant light: the segment of the same angular length across
 //!   the direction, at [`DISTANCE_FACTOR`] scene diagonals; from a point: 0.1 mm long (or more).
 
@@ -53,6 +55,7 @@ fn anchor(light: &Light, bounds: &Aabb) -> Vec3 {
         }
         Light::Point { position } => position,
         Light::Linear { a, b } => 0.5 * (a + b),
+        Light::Triangle { a, b, c } => (a + b + c) / 3.0,
         Light::Rect { center, .. } | Light::Disk { center, .. } | Light::Sphere { center, .. } => {
             center
         }
@@ -92,6 +95,8 @@ fn as_rect(light: &Light, bounds: &Aabb) -> Light {
         Light::Disk { radius, .. } | Light::Sphere { radius, .. } => {
             square(center, facing, 0.5 * sqrt_pi * radius)
         }
+        // The square of equal area: `size` is the diameter of the disc of that area.
+        Light::Triangle { .. } => square(center, facing, 0.25 * sqrt_pi * light.size()),
         Light::Linear { a, b } => {
             let along = (b - a).normalize_or(Vec3::X);
             let across = facing.cross(along).normalize_or(orthonormal_basis(along).0);
@@ -125,6 +130,7 @@ fn as_segment(light: &Light, bounds: &Aabb) -> Light {
             };
         }
         Light::Disk { radius, .. } | Light::Sphere { radius, .. } => radius,
+        Light::Triangle { .. } => 0.5 * light.size(),
         Light::Distant {
             angular_diameter, ..
         } => (center - bounds.center()).length() * (0.5 * angular_diameter).tan(),

@@ -12,7 +12,7 @@
 //! ground = 8.0                  # a built-in ground square of this side instead of a file
 //!                               # (receiver only unless `caster = true`)
 //! [light]
-//! kind = "rect"                 # point | linear | rect | disk | sphere | distant
+//! kind = "rect"                 # point | linear | rect | triangle | disk | sphere | distant
 //! center = [0.0, 3.0, 0.0]
 //! u_half = [0.4, 0.0, 0.0]
 //! v_half = [0.0, 0.0, 0.4]
@@ -67,6 +67,11 @@ enum FileLight {
         center: [f32; 3],
         u_half: [f32; 3],
         v_half: [f32; 3],
+    },
+    Triangle {
+        a: [f32; 3],
+        b: [f32; 3],
+        c: [f32; 3],
     },
     Disk {
         center: [f32; 3],
@@ -146,6 +151,11 @@ pub fn load(path: &Path) -> Result<SceneSpec> {
             position: v(position),
         },
         FileLight::Linear { a, b } => Light::Linear { a: v(a), b: v(b) },
+        FileLight::Triangle { a, b, c } => Light::Triangle {
+            a: v(a),
+            b: v(b),
+            c: v(c),
+        },
         FileLight::Rect {
             center,
             u_half,

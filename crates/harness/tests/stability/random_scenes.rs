@@ -8,7 +8,7 @@ use harness::scenes::relight::relight;
 use proptest::prelude::*;
 use shadow_core::{Aabb, DistantProfile, Light, Receivers, SceneGeometry};
 
-/// A light of kind `kind` (0..6) over a scene of scale `s`; `size` in (0, 1] scales its extent.
+/// A light of kind `kind` (0..7) over a scene of scale `s`; `size` in (0, 1] scales its extent.
 fn light(kind: u8, s: f32, size: f32, dir: Vec3) -> Light {
     let c = Vec3::new(0.1 * s, 3.0 * s, -0.2 * s);
     let h = size * 0.5 * s;
@@ -31,6 +31,12 @@ fn light(kind: u8, s: f32, size: f32, dir: Vec3) -> Light {
         4 => Light::Sphere {
             center: c,
             radius: h,
+        },
+        // Counter-clockwise seen from below: it emits downwards.
+        5 => Light::Triangle {
+            a: c - Vec3::X * h,
+            b: c + Vec3::X * h,
+            c: c + Vec3::Z * h,
         },
         _ => Light::Distant {
             direction: dir,
@@ -87,7 +93,7 @@ proptest! {
     fn random_scenes_stay_finite_and_in_range(
         log_scale in -3.0f32..4.0,
         tris in prop::collection::vec([point(), point(), point()], 1..12),
-        kind in 0u8..6,
+        kind in 0u8..7,
         size in 0.001f32..1.0,
         dir in (-0.7f32..0.7, 0.3f32..1.0, -0.7f32..0.7),
         res in prop::sample::select(vec![16u32, 64, 256]),

@@ -178,15 +178,16 @@ fn more_samples_do_not_increase_the_error_on_linear_bar() {
     }
 }
 
-/// The scene with its light replaced by a segment: a rect's u axis, a disk's or sphere's
-/// diameter, a short segment through a point light; distant lights are skipped.
+/// The scene's light as linear-light models it: segments and triangles as they are, a rect's u
+/// axis, a disk's or sphere's diameter, a short segment through a point light; distant lights
+/// are skipped.
 fn as_segment(light: &Light) -> Option<Light> {
     let seg = |c: Vec3, half: Vec3| Light::Linear {
         a: c - half,
         b: c + half,
     };
     match *light {
-        Light::Linear { .. } => Some(*light),
+        Light::Linear { .. } | Light::Triangle { .. } => Some(*light),
         Light::Rect { center, u_half, .. } => Some(seg(center, u_half)),
         Light::Disk {
             center,

@@ -47,6 +47,11 @@ fn heidrich_a_third_sample_removes_the_overlap_artefact() {
 }
 
 #[test]
+fn heidrich_a_triangle_lights_edges_beat_point_lights_on_them() {
+    holds("heidrich-fig8-triangle", "Three linear lights");
+}
+
+#[test]
 fn eisemann_product_beats_sum_and_max_and_exact_filters_beat_mipmaps() {
     holds("eisemann-fig3", "The product combines");
     holds("eisemann-fig3", "N-Buffers and summed-area tables");

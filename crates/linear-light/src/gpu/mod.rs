@@ -12,9 +12,9 @@ pub mod pipelines;
 
 use crate::params::LinearLight;
 use crate::samples::{lit_share, piece_share, sample_views};
+use crate::segments::Segment;
 use crate::skins::Unproject;
 use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
 use pipelines::{CombineKernel, EvalKernel, FindSkinsKernel, SkinPipeline, VALUE_FORMAT};
 use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
@@ -224,15 +224,17 @@ fn encode_find_skins(
     SkinList { quads, draw }
 }
 
-/// Builds the maps on the GPU (inputs already checked), then waits for the GPU.
+/// Builds the maps of `segments` on the GPU (inputs already checked), then waits for the GPU.
+/// Layer `s N + i` holds sample `i` of segment `s`.
 pub fn generate(
     ctx: &GpuContext,
     t: &LinearLight,
     geometry: &SceneGeometry,
-    (a, b, axis): (Vec3, Vec3, Vec3),
+    segments: &[Segment],
     res: u32,
 ) -> Result<GpuLinearMaps> {
     let n = t.samples;
+    let layers = n * segments.len() as u32;
     let limit = ctx.device.limits().max_storage_buffer_binding_size;
     if 4 * (res as u64 - 1).pow(2) > limit {
         return Err(ShadowError::InvalidResolution {
@@ -244,29 +246,30 @@ pub fn generate(
     let skin_pipe = ctx.cached(SkinPipeline::new);
     let comb = ctx.cached(CombineKernel::new);
     let find = ctx.cached(FindSkinsKernel::new);
-    let coverage = shadow_core::Coverage::new(geometry, &shadow_core::Light::Linear { a, b });
-    let views = sample_views(a, b, n, axis, &coverage);
-    let piece = piece_share(n);
-    let samples: Vec<SampleGpu> = views
-        .iter()
-        .map(|v| {
+    let mut views = Vec::with_capacity(layers as usize);
+    let mut samples = Vec::with_capacity(layers as usize);
+    for seg in segments {
+        let light = shadow_core::Light::Linear { a: seg.a, b: seg.b };
+        let coverage = shadow_core::Coverage::new(geometry, &light);
+        for v in sample_views(seg.a, seg.b, n, seg.axis, &coverage, seg.weight) {
             let un = Unproject::new(&v.view, res);
-            SampleGpu {
+            samples.push(SampleGpu {
                 map: v.params(res),
                 inv_view: un.inv_view.to_cols_array(),
                 sx: un.sx,
                 sy: un.sy,
                 edge_threshold: t.edge_threshold_at(res),
-                piece,
-            }
-        })
-        .collect();
+                piece: seg.weight * piece_share(n),
+            });
+            views.push(v);
+        }
+    }
     let sb = ctx.storage_buffer("linear samples", bytemuck::cast_slice(&samples));
     let tris = GpuTriangles::new(ctx, &geometry.casters)?;
-    let depth = GpuRasterizer::depth_array(ctx, res, n)?;
+    let depth = GpuRasterizer::depth_array(ctx, res, layers)?;
     // Skins and their warps read the grid maps (casters and receivers, see `grid_geometry`).
     let grid_tris = GpuTriangles::new(ctx, &crate::skins::grid_geometry(geometry))?;
-    let grid = GpuRasterizer::depth_array(ctx, res, n)?;
+    let grid = GpuRasterizer::depth_array(ctx, res, layers)?;
     let grid_view = depth_array_view(&grid);
     let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
     let values = [0, 1].map(|_| texture_2d(ctx, "skin values", res, (1, 1), VALUE_FORMAT, attach));
@@ -282,7 +285,7 @@ pub fn generate(
         ctx,
         "visibility channels",
         res,
-        (n, 1),
+        (layers, 1),
         VALUE_FORMAT,
         wgpu::TextureUsages::STORAGE_BINDING
             | wgpu::TextureUsages::TEXTURE_BINDING
@@ -310,11 +313,14 @@ pub fn generate(
             );
         }
     }
-    let lists: Vec<SkinList> = (0..n)
+    let lists: Vec<SkinList> = (0..layers)
         .map(|k| encode_find_skins(ctx, &mut enc, &find.0, &sb, &grid_view, k, res))
         .collect();
-    for i in 0..n {
-        let nbrs = [i.checked_sub(1), (i + 1 < n).then_some(i + 1)];
+    for layer in 0..layers {
+        // Sample `i` of segment `layer / N`; its neighbours are on the same segment.
+        let (first, i) = (layer - layer % n, layer % n);
+        let weight = segments[(layer / n) as usize].weight;
+        let nbrs = [i.checked_sub(1), (i + 1 < n).then_some(i + 1)].map(|j| j.map(|j| first + j));
         for (slot, j) in nbrs.iter().enumerate() {
             if let Some(j) = j {
                 encode_warp(
@@ -327,16 +333,16 @@ pub fn generate(
                     &skin_depth_view,
                     &lists[*j as usize],
                     *j,
-                    i,
+                    layer,
                 );
             }
         }
         let cp = CombineParams {
-            layer: i,
+            layer,
             has_prev: nbrs[0].is_some() as u32,
             has_next: nbrs[1].is_some() as u32,
-            lit: lit_share(i, n),
-            piece,
+            lit: weight * lit_share(i, n),
+            piece: weight * piece_share(n),
             res,
             _pad: [0; 2],
         };

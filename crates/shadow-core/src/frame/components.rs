@@ -154,7 +154,8 @@ pub fn influence(light: &Light, range: f32) -> (Vec3, f32) {
 }
 
 /// Whether a caster with bounds `b` can shadow anything for `light` with influence radius
-/// `range`: the box reaches into the influence sphere and, for a one-sided emitter (rect, disk),
+/// `range`: the box reaches into the influence sphere and, for a one-sided emitter (rect, disk,
+/// triangle),
 /// lies at least partly in front of the emitting plane. This is the light's frustum for the
 /// frame pipeline's bookkeeping.
 pub fn caster_reaches(light: &Light, range: f32, b: &Aabb) -> bool {
@@ -162,16 +163,7 @@ pub fn caster_reaches(light: &Light, range: f32, b: &Aabb) -> bool {
     if !box_in_sphere(b, c, r) {
         return false;
     }
-    let front = match *light {
-        Light::Rect {
-            center,
-            u_half,
-            v_half,
-        } => Some((center, u_half.cross(v_half))),
-        Light::Disk { center, normal, .. } => Some((center, normal)),
-        _ => None,
-    };
-    match front {
+    match light.front() {
         Some((p, n)) => b.corners().iter().any(|q| (*q - p).dot(n) > 0.0),
         None => true,
     }

@@ -157,6 +157,21 @@ fn zero_or_negative_light_size_is_a_typed_error() {
         Light::Point {
             position: Vec3::NAN,
         },
+        Light::Triangle {
+            a: Vec3::Y,
+            b: Vec3::Y,
+            c: Vec3::Y,
+        },
+        Light::Triangle {
+            a: Vec3::Y,
+            b: Vec3::new(1.0, 1.0, 0.0),
+            c: Vec3::new(2.0, 1.0, 1e-6),
+        },
+        Light::Triangle {
+            a: Vec3::Y,
+            b: Vec3::X,
+            c: Vec3::INFINITY,
+        },
     ];
     for l in bad {
         assert!(

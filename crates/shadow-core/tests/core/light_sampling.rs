@@ -23,6 +23,23 @@ proptest! {
         prop_assert!(p.x.abs() <= a * 1.0001 && p.z.abs() <= b * 1.0001 && p.y.abs() < 1e-5);
     }
 
+    /// A triangle sample lies inside the triangle: its barycentric coordinates are in [0, 1]
+    /// and it is in the triangle's plane.
+    #[test]
+    fn triangle_samples_lie_on_the_triangle(a in v3(), b in v3(), c in v3(), u in 0.0f32..1.0, v in 0.0f32..1.0) {
+        let n = (b - a).cross(c - a);
+        let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+        prop_assume!(n.length() > 0.05 * longest * longest);
+        let l = Light::Triangle { a, b, c };
+        let p = pos(l.sample(Vec2::new(u, v), Vec3::ZERO).0);
+        // Barycentric coordinates from sub-triangle areas (signed along n).
+        let bary = [(b, c), (c, a), (a, b)].map(|(x, y)| (x - p).cross(y - p).dot(n) / n.length_squared());
+        for w in bary {
+            prop_assert!((-1e-4..=1.0 + 1e-4).contains(&w), "{bary:?}");
+        }
+        prop_assert!(((p - a).dot(n.normalize())).abs() <= 1e-4 * (1.0 + longest));
+    }
+
     #[test]
     fn disk_samples_lie_on_the_disk(c in v3(), n in v3(), r in 0.01f32..3.0, u in 0.0f32..1.0, v in 0.0f32..1.0) {
         prop_assume!(n.length() > 0.1);
@@ -59,6 +76,30 @@ proptest! {
         prop_assert!(angle <= 0.5 * diam as f64 * 1.001 + 1e-6, "{angle} vs {diam}");
         prop_assert!(w > 0.0 && w <= 1.0);
     }
+}
+
+/// Stratified triangle samples are uniform in area: their mean is the centroid, and the
+/// share falling in the corner sub-triangle at `a` (vertices `a`, `(a+b)/2`, `(a+c)/2`) is 1/4.
+#[test]
+fn triangle_samples_are_uniform_in_area() {
+    let (a, b, c) = (
+        Vec3::ZERO,
+        Vec3::new(3.0, 0.0, 0.0),
+        Vec3::new(0.5, 0.0, 2.0),
+    );
+    let l = Light::Triangle { a, b, c };
+    let s = l.stratified_samples(4096, Vec3::Y);
+    let pts: Vec<Vec3> = s.iter().map(|&(q, _)| pos(q)).collect();
+    let mean = pts.iter().copied().sum::<Vec3>() / pts.len() as f32;
+    assert!((mean - (a + b + c) / 3.0).length() < 2e-3, "{mean}");
+    // Barycentric weight of `a` above 1/2: the corner sub-triangle at `a`, a quarter of the area.
+    let n = (b - a).cross(c - a);
+    let corner = pts
+        .iter()
+        .filter(|&&p| (b - p).cross(c - p).dot(n) / n.length_squared() > 0.5)
+        .count() as f64
+        / pts.len() as f64;
+    assert!((corner - 0.25).abs() < 0.01, "{corner}");
 }
 
 /// The limb-darkened profile weighs the centre 1 and the limb `1 - u`.
