@@ -4,7 +4,7 @@
 
 use crate::attenuation::{AttenuationTable, FalloffKind};
 use crate::eval::EvalParams;
-use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, ShadowWidth, WidthMethod};
+use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, WidthMethod};
 use crate::width::{cap, propagate};
 use bytemuck::{Pod, Zeroable};
 use shadow_core::gpu::compute::{
@@ -49,7 +49,8 @@ struct WidthParams {
     step: u32,
     neighbours: u32,
     cap: f32,
-    _pad: [u32; 4],
+    /// `(dx, dy, distance, 0)` per neighbour of a propagation pass ([`propagate::offsets`]).
+    offsets: [[f32; 4]; 8],
 }
 
 struct Raster(GpuRasterizer);
@@ -175,15 +176,22 @@ struct Kernels<'a> {
     pipes: &'a WidthPipelines,
     depth_view: &'a wgpu::TextureView,
     params: WidthParams,
+    /// The propagation's neighbourhood, for [`WidthMethod::Propagate`].
+    neighbours: Option<Neighbours>,
 }
 
 impl Kernels<'_> {
     fn run(&self, enc: &mut wgpu::CommandEncoder, d: &Dispatch) {
         let res = self.params.res;
-        let wp = WidthParams {
+        let mut wp = WidthParams {
             step: d.step,
             ..self.params
         };
+        if let (Some(n), true) = (self.neighbours, d.step > 0) {
+            for (o, (dx, dy, len)) in wp.offsets.iter_mut().zip(propagate::offsets(n, d.step)) {
+                *o = [dx as f32, dy as f32, len, 0.0];
+            }
+        }
         let ub = self
             .ctx
             .uniform_buffer("width params", bytemuck::bytes_of(&wp));
@@ -267,8 +275,8 @@ pub fn generate(
         buffer(ctx, "envelope z", z_bytes),
     ];
     let neighbours = match t.method {
-        WidthMethod::Propagate { neighbours } => neighbours.count(),
-        _ => 0,
+        WidthMethod::Propagate { neighbours } => Some(neighbours),
+        _ => None,
     };
     let depth_view = depth_array_view(&depth);
     let kernels = Kernels {
@@ -279,10 +287,11 @@ pub fn generate(
             map: params,
             res: resolution,
             step: 0,
-            neighbours,
+            neighbours: neighbours.map_or(0, Neighbours::count),
             cap: cap(resolution),
-            _pad: [0; 4],
+            offsets: [[0.0; 4]; 8],
         },
+        neighbours,
     };
     // Ping-pong: every dispatch reads `src` and writes `dst` of each pair.
     let fw = |src: usize| [&f[src], &f[1 - src], &u[0], &u[1], &env[0], &env[1]];

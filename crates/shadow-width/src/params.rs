@@ -11,7 +11,7 @@ pub enum WidthMethod {
     /// and its neighbours at distance `step`, plus `step` times the neighbour's offset length; the
     /// step doubles from 1 until it reaches the map size. Approximate (a chamfer distance).
     Propagate {
-        /// 4 (axis) or 8 (axis and diagonal) neighbours per pass.
+        /// 3, 4, 6 or 8 neighbours per pass.
         neighbours: Neighbours,
     },
     /// Exact Euclidean distance transform in linear time (Felzenszwalb & Huttenlocher 2012): a
@@ -24,17 +24,26 @@ pub enum WidthMethod {
 /// Neighbourhood of [`WidthMethod::Propagate`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Neighbours {
+    /// Three directions 120 degrees apart (the paper's GeForce3 loop: three shifted textures
+    /// and the unshifted one fill its four texture units), each offset rounded to the nearest
+    /// texel at every step.
+    Three,
     /// Left, right, up, down.
     Four,
+    /// Six directions 60 degrees apart (the paper's second hardware variant), rounded to the
+    /// nearest texel at every step.
+    Six,
     /// The four axis neighbours and the four diagonals (offset length √2).
     Eight,
 }
 
 impl Neighbours {
-    /// 4 or 8.
+    /// 3, 4, 6 or 8.
     pub fn count(self) -> u32 {
         match self {
+            Neighbours::Three => 3,
             Neighbours::Four => 4,
+            Neighbours::Six => 6,
             Neighbours::Eight => 8,
         }
     }

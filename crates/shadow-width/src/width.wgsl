@@ -8,10 +8,9 @@ struct WidthParams {
     step: u32,
     neighbours: u32,
     cap: f32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-    _pad3: u32,
+    // Propagation offsets of this pass: (dx, dy, distance added, unused), `neighbours` of them
+    // (shadow_width::width::propagate::offsets).
+    offsets: array<vec4<f32>, 8>,
 };
 
 @group(0) @binding(0) var<uniform> prm: WidthParams;
@@ -24,7 +23,6 @@ struct WidthParams {
 @group(0) @binding(7) var<storage, read_write> env_z: array<f32>;
 
 const UNREACHED: f32 = 1.0e9;
-const SQRT_2: f32 = 1.4142136;
 const NONE: u32 = 0xffffffffu;
 
 fn texel_index(gid: vec3<u32>) -> i32 {
@@ -46,7 +44,7 @@ fn mask(@builtin(global_invocation_id) gid: vec3<u32>) {
     fdst[i] = select(0.0, UNREACHED, blocked);
 }
 
-// One propagation pass with step prm.step over 4 or 8 neighbours.
+// One propagation pass over prm.neighbours offsets (prm.offsets).
 @compute @workgroup_size(8, 8)
 fn propagate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = texel_index(gid);
@@ -54,26 +52,15 @@ fn propagate(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let r = i32(prm.res);
-    let s = i32(prm.step);
     let x = i32(gid.x);
     let y = i32(gid.y);
     var w = fsrc[i];
-    var offs = array<vec3<f32>, 8>(
-        vec3<f32>(1.0, 0.0, 1.0),
-        vec3<f32>(-1.0, 0.0, 1.0),
-        vec3<f32>(0.0, 1.0, 1.0),
-        vec3<f32>(0.0, -1.0, 1.0),
-        vec3<f32>(1.0, 1.0, SQRT_2),
-        vec3<f32>(-1.0, 1.0, SQRT_2),
-        vec3<f32>(1.0, -1.0, SQRT_2),
-        vec3<f32>(-1.0, -1.0, SQRT_2),
-    );
     for (var k = 0u; k < prm.neighbours; k++) {
-        let o = offs[k];
-        let qx = x + i32(o.x) * s;
-        let qy = y + i32(o.y) * s;
+        let o = prm.offsets[k];
+        let qx = x + i32(o.x);
+        let qy = y + i32(o.y);
         if qx >= 0 && qy >= 0 && qx < r && qy < r {
-            w = min(w, fsrc[qy * r + qx] + f32(prm.step) * o.z);
+            w = min(w, fsrc[qy * r + qx] + o.z);
         }
     }
     fdst[i] = w;

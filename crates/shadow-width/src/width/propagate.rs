@@ -3,7 +3,9 @@
 //! plus the distance travelled, reading only the previous pass (ping-pong), with the step doubling
 //! from 1 until it reaches the map side. The paper adds one "difference value" per step whatever
 //! the direction; we add the offset's length (`step` or `step √2`), which makes the 8-neighbour
-//! variant a closer approximation of the Euclidean distance.
+//! variant a closer approximation of the Euclidean distance. The paper's hardware loop sampled
+//! 3 or 6 directions (120 or 60 degrees apart); those offsets are rounded to the nearest texel
+//! at each step and cost their rounded length. `width.wgsl` reads the same table ([`offsets`]).
 
 use crate::params::Neighbours;
 use rayon::prelude::*;
@@ -11,12 +13,12 @@ use shadow_core::Map2D;
 
 /// Value of a blocked texel before propagation reaches it.
 pub const UNREACHED: f32 = 1.0e9;
-/// √2, the diagonal offset length (`width.wgsl` spells the same f32).
+/// √2, the diagonal offset length.
 pub const SQRT_2: f32 = std::f32::consts::SQRT_2;
 
-/// Offsets and their lengths for a neighbourhood.
-pub fn offsets(n: Neighbours) -> &'static [(i32, i32, f32)] {
-    const ALL: [(i32, i32, f32); 8] = [
+/// Offsets `(dx, dy)` in texels of the pass with step `step`, and the distance each adds.
+pub fn offsets(n: Neighbours, step: u32) -> Vec<(i32, i32, f32)> {
+    const GRID: [(i32, i32, f32); 8] = [
         (1, 0, 1.0),
         (-1, 0, 1.0),
         (0, 1, 1.0),
@@ -26,7 +28,24 @@ pub fn offsets(n: Neighbours) -> &'static [(i32, i32, f32)] {
         (1, -1, SQRT_2),
         (-1, -1, SQRT_2),
     ];
-    &ALL[..n.count() as usize]
+    let s = step as i32;
+    match n {
+        Neighbours::Four | Neighbours::Eight => GRID[..n.count() as usize]
+            .iter()
+            .map(|&(dx, dy, len)| (dx * s, dy * s, step as f32 * len))
+            .collect(),
+        Neighbours::Three | Neighbours::Six => (0..n.count())
+            .map(|k| {
+                // In f64, so that the rounding of the 120/240 degree offsets is well defined.
+                let a = std::f64::consts::TAU * k as f64 / n.count() as f64;
+                let (dx, dy) = (
+                    (step as f64 * a.cos()).round(),
+                    (step as f64 * a.sin()).round(),
+                );
+                (dx as i32, dy as i32, dx.hypot(dy) as f32)
+            })
+            .collect(),
+    }
 }
 
 /// The steps of the passes: 1, 2, 4, ... below the map side.
@@ -43,7 +62,7 @@ pub fn steps(resolution: u32) -> Vec<u32> {
 /// One pass with step `step`: reads `src`, writes `dst`.
 pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
     let r = res as i32;
-    let s = step as i32;
+    let offs = offsets(n, step);
     dst.par_chunks_mut(res as usize)
         .enumerate()
         .for_each(|(y, row)| {
@@ -51,10 +70,10 @@ pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
             for (x, out) in row.iter_mut().enumerate() {
                 let x = x as i32;
                 let mut w = src[(y * r + x) as usize];
-                for &(dx, dy, len) in offsets(n) {
-                    let (qx, qy) = (x + dx * s, y + dy * s);
+                for &(dx, dy, len) in &offs {
+                    let (qx, qy) = (x + dx, y + dy);
                     if qx >= 0 && qy >= 0 && qx < r && qy < r {
-                        w = w.min(src[(qy * r + qx) as usize] + step as f32 * len);
+                        w = w.min(src[(qy * r + qx) as usize] + len);
                     }
                 }
                 *out = w;
