@@ -47,16 +47,22 @@ fn combine(@builtin(global_invocation_id) gid: vec3<u32>) {
     if has_edge(e) {
         let c = e.x;
         let p = e.y;
-        var g = g0;
-        if p >= 0.0 {
-            g = min(g0, c + p);
-        }
         let gap = depth_gap(gp.warp, linear(gp.warp, c), gp.transition_gap);
         var transition = false;
+        var straddles = false;
         let ds = array<vec2<i32>, 4>(vec2<i32>(-1, 0), vec2<i32>(1, 0), vec2<i32>(0, -1), vec2<i32>(0, 1));
         for (var i = 0; i < 4; i++) {
             let n = edge_at(x + ds[i].x, y + ds[i].y);
             transition = transition || (has_edge(n) && abs(n.x - c) > gap);
+            straddles = straddles || (has_edge(n) && n.y < 0.0 && abs(n.x - c) <= gap);
+        }
+        var g = g0;
+        if p >= 0.0 {
+            if straddles {
+                g = min(g0, c);
+            } else {
+                g = min(g0, c + p);
+            }
         }
         t = vec4<f32>(c, g, select(lower, g, transition), p);
     }

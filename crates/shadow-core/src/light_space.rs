@@ -179,6 +179,15 @@ impl Bias {
     /// The default cap, texels beyond the receiver's own depth spread.
     pub const MAX_PUSH: f32 = 1.0;
 
+    /// No bias at all: for receivers that cast nothing. No map holds them, so they cannot
+    /// shadow themselves, and any push only moves contact shadows (the papers' grounds).
+    pub const NONE: Bias = Bias {
+        normal_offset: 0.0,
+        depth: 0.0,
+        slope: 0.0,
+        max_push: 0.0,
+    };
+
     /// The same terms with another cap (`f32::INFINITY`: uncapped).
     pub fn with_max_push(self, max_push: f32) -> Self {
         Self { max_push, ..self }
