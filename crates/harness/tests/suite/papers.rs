@@ -3,9 +3,9 @@
 //!
 //! Claims the table marks "not reproduced" are not asserted; `papers.md` and the README say
 //! which and why: Lawlor's flatness in resolution (ours matches his 11.3 at 16² and keeps
-//! falling, to 1.7 at 128²), his Reeves filtering that worsens with resolution and his noisy 16
-//! stochastic samples (ours are stratified: 2.1); Kirsch's back faces (23.6 vs 22.1 front faces
-//! on a closed box that does not receive). Kirsch's Table 1 claim (six neighbours
+//! falling, to 1.7 at 128²), his Reeves filtering that worsens with resolution, beating 16
+//! stochastic samples at 16² (10.6 vs 5.4); Kirsch's back faces (23.6 vs 22.1 front faces on a
+//! closed box that does not receive). Kirsch's Table 1 claim (six neighbours
 //! cost more than three) rests on one timing, so it is printed, not asserted.
 
 use harness::papers::{Papers, run_all};
