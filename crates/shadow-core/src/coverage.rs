@@ -11,9 +11,9 @@
 //! casters times the tangent of the light's cone. Both are then clipped to the window of the
 //! whole scene, and get [`MARGIN`] for filter kernels.
 
+use crate::geometry::SceneGeometry;
 use crate::light::{Light, LightPoint};
 use crate::mesh::Aabb;
-use crate::scene::SceneGeometry;
 use glam::Vec3;
 
 /// Relative margin added to each window, so filter kernels near its edge read empty texels.

@@ -1,19 +1,28 @@
 //! Shared foundation of the soft-shadow workspace.
 //!
-//! - [`scene`]: the `bevy_ecs` scene (meshes, transforms, casters, receivers, lights, camera) and
-//!   its flattening into plain [`SceneGeometry`] for technique kernels.
+//! - [`geometry`]: plain world-space triangles ([`SceneGeometry`]), what technique kernels take.
+//! - `scene` (feature `ecs`): the `bevy_ecs` scene (meshes, transforms, casters, receivers,
+//!   lights, camera) and its flattening into [`SceneGeometry`]; `frame` (feature `ecs`): the
+//!   per-frame pipeline that schedules techniques.
 //! - [`light`]: the light kinds, their validation and sampling; [`view`]: camera and light frusta;
 //!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
 //! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers);
 //!   [`jump_flood`]: nearest-seed maps (CPU and GPU).
 //! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
-//! - [`gltf_import`]: glTF/GLB meshes.
+//! - `gltf_import` (feature `gltf`): glTF/GLB meshes.
+//!
+//! Features: `ecs` (`bevy_ecs`) and `gltf` (the `gltf` crate), both on by default; a renderer that
+//! only needs the techniques turns them off (`default-features = false`) and keeps wgpu, glam,
+//! bytemuck and rayon.
 //!
 //! Conventions: right-handed, +Y up, metres; visibility `V` in `[0, 1]` (1 lit, 0 umbra).
 
 pub mod coverage;
 pub mod error;
+#[cfg(feature = "ecs")]
 pub mod frame;
+pub mod geometry;
+#[cfg(feature = "gltf")]
 pub mod gltf_import;
 pub mod gpu;
 pub mod jump_flood;
@@ -22,17 +31,20 @@ pub mod light_space;
 pub mod map2d;
 pub mod mesh;
 pub mod raster;
+#[cfg(feature = "ecs")]
 pub mod scene;
 pub mod technique;
 pub mod view;
 
 pub use coverage::Coverage;
 pub use error::{Result, ShadowError};
+pub use geometry::SceneGeometry;
 pub use gpu::GpuContext;
 pub use light::{DistantProfile, Light, LightKind, LightPoint};
 pub use light_space::{Bias, MapParams, SampleView, ShadowCoord};
 pub use map2d::Map2D;
 pub use mesh::{Aabb, TriangleMesh};
-pub use scene::{Scene, SceneGeometry};
+#[cfg(feature = "ecs")]
+pub use scene::Scene;
 pub use technique::{AnyMaps, Backend, DynTechnique, Receivers, ShadowTechnique};
 pub use view::{Camera, View};

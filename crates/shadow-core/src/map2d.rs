@@ -74,7 +74,7 @@ impl<T> Map2D<T> {
         self.data[y as usize * w + x as usize] = value;
     }
 
-    /// The texel containing map coordinate `uv` (in [0,1]², clamp-to-edge).
+    /// The texel containing map coordinate `uv` (in `[0, 1]²`, clamp-to-edge).
     pub fn sample_nearest(&self, uv: Vec2) -> &T {
         let x = (uv.x * self.width as f32).floor() as i64;
         let y = (uv.y * self.height as f32).floor() as i64;

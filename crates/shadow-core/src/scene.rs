@@ -4,6 +4,7 @@
 //! ([`SceneGeometry`]), the data the kernels take.
 
 use crate::error::{Result, ShadowError};
+use crate::geometry::SceneGeometry;
 use crate::light::Light;
 use crate::mesh::{Aabb, TriangleMesh};
 use crate::view::Camera;
@@ -51,17 +52,6 @@ impl Default for Scene {
     fn default() -> Self {
         Self::new()
     }
-}
-
-/// Plain world-space geometry extracted from a [`Scene`]: what technique kernels consume.
-#[derive(Clone, Debug, Default)]
-pub struct SceneGeometry {
-    /// Shadow-casting triangles, world space.
-    pub casters: Vec<[Vec3; 3]>,
-    /// Receiving triangles, world space.
-    pub receivers: Vec<[Vec3; 3]>,
-    /// Bounds of casters and receivers together.
-    pub bounds: Aabb,
 }
 
 impl Scene {
@@ -202,22 +192,5 @@ impl Scene {
         }
         g.bounds = b;
         g
-    }
-}
-
-impl SceneGeometry {
-    /// Checks that there is something to shadow: non-empty bounds, finite coordinates.
-    pub fn validate(&self) -> Result<()> {
-        if self.bounds.is_empty() {
-            return Err(ShadowError::InvalidScene(
-                "the scene holds no triangles".into(),
-            ));
-        }
-        if !self.bounds.min.is_finite() || !self.bounds.max.is_finite() {
-            return Err(ShadowError::InvalidScene(
-                "the scene bounds are not finite".into(),
-            ));
-        }
-        Ok(())
     }
 }

@@ -1,9 +1,9 @@
 //! The `ShadowTechnique` trait every technique and baseline implements, on CPU and on GPU.
 
 use crate::error::{Result, ShadowError};
+use crate::geometry::SceneGeometry;
 use crate::gpu::GpuContext;
 use crate::light::{Light, LightKind};
-use crate::scene::SceneGeometry;
 use glam::Vec3;
 use std::any::Any;
 

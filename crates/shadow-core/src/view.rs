@@ -129,7 +129,7 @@ impl View {
         -self.view.transform_point3(p).z
     }
 
-    /// Map coordinates of a world point: `(u, v)` in [0,1]² (v down) and its linear depth,
+    /// Map coordinates of a world point: `(u, v)` in `[0, 1]²` (v down) and its linear depth,
     /// or `None` when it lies behind a perspective eye.
     pub fn project(&self, p: Vec3) -> Option<(f32, f32, f32)> {
         let clip = self.view_projection() * p.extend(1.0);

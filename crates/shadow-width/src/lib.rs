@@ -111,7 +111,8 @@ impl ShadowTechnique for ShadowWidth {
 }
 
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
-/// light uses it) and its standard variants, which `Auto` choices may pick.
+/// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
+#[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
     frame.add_technique(
         "shadow-width",

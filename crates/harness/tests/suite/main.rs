@@ -2,11 +2,13 @@
 //! stability suite of issue 8 is its own target, `tests/stability`.
 
 mod bad_input;
+mod dependencies;
 mod frame;
 mod gpu_agreement;
 mod ground_truth;
 mod linear_light;
 mod occlusion_slices;
+mod own_device;
 mod papers;
 mod penumbra_limit;
 mod report;

@@ -8,17 +8,14 @@ use wgpu::util::DeviceExt;
 
 type Cache = Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>;
 
-/// A headless wgpu device and queue.
+/// A wgpu device and queue, with the pipelines built for them.
 ///
-/// The adapter is chosen by the environment: `WGPU_BACKEND` (e.g. `vulkan`) restricts the backends,
+/// A renderer hands in its own with [`GpuContext::from_device`]. [`GpuContext::new`] makes a
+/// headless one, its adapter chosen by the environment: `WGPU_BACKEND` (e.g. `vulkan`) restricts the backends,
 /// `WGPU_ADAPTER_NAME` picks the first adapter whose name contains it (case-insensitive), and
 /// `WGPU_POWER_PREF` (`low`/`high`) steers the default choice. Without any of them the first adapter
 /// wgpu offers is used. No adapter gives [`ShadowError::NoAdapter`].
 pub struct GpuContext {
-    /// The wgpu instance.
-    pub instance: wgpu::Instance,
-    /// The chosen adapter.
-    pub adapter: wgpu::Adapter,
     /// The device.
     pub device: wgpu::Device,
     /// Its queue.
@@ -74,9 +71,43 @@ impl GpuContext {
             })
             .await
             .map_err(|e| ShadowError::Gpu(format!("request_device on {}: {e}", info.name)))?;
+        Self::from_device(device, queue)
+    }
+
+    /// Features every kernel needs: none beyond WebGPU's core (timestamps are used when the
+    /// device has them).
+    pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::empty();
+
+    /// Limits every kernel needs: WebGPU's defaults (`wgpu::Limits::defaults()`); the largest
+    /// map side is the device's own `max_texture_dimension_2d`, checked per call.
+    pub fn required_limits() -> wgpu::Limits {
+        wgpu::Limits::defaults()
+    }
+
+    /// Wraps a renderer's own device and queue (handles: clones of the renderer's). The device
+    /// must have [`GpuContext::REQUIRED_FEATURES`] and at least [`GpuContext::required_limits`];
+    /// a missing one is [`ShadowError::Gpu`] naming every feature and limit that falls short.
+    /// Pipelines are built on first use and cached in the context, so keep one per device.
+    pub fn from_device(device: wgpu::Device, queue: wgpu::Queue) -> Result<Self> {
+        let info = device.adapter_info();
+        let mut missing = Vec::new();
+        let features = Self::REQUIRED_FEATURES - device.features();
+        if !features.is_empty() {
+            missing.push(format!("features {features:?}"));
+        }
+        Self::required_limits().check_limits_with_fail_fn(
+            &device.limits(),
+            false,
+            |name, need, have| missing.push(format!("{name} {have} (needs {need})")),
+        );
+        if !missing.is_empty() {
+            return Err(ShadowError::Gpu(format!(
+                "the device on {} lacks what the shadow kernels need: {}",
+                info.name,
+                missing.join(", ")
+            )));
+        }
         Ok(Self {
-            instance,
-            adapter,
             device,
             queue,
             info,

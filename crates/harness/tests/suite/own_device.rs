@@ -1,0 +1,82 @@
+//! A renderer's own device (`GpuContext::from_device`): every technique runs on a device made
+//! with WebGPU's default limits and no optional feature, and gives the same `V` as on the
+//! harness's own context; a device below the defaults is refused with the limits it lacks.
+
+use super::receivers;
+use harness::report::all_techniques;
+use harness::scenes::catalogue::build;
+use harness::scenes::relight::relight;
+use shadow_core::gpu::testing::gpu_for_test;
+use shadow_core::{Backend, GpuContext, Receivers as Recv, ShadowError};
+
+/// A device as a renderer would make it: the environment's adapter, WebGPU default limits, no
+/// optional features; `None` without an adapter (then `gpu_for_test` has decided to skip).
+fn renderer_device(limits: wgpu::Limits) -> Option<(wgpu::Device, wgpu::Queue)> {
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter =
+        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+            .ok()?;
+    pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("renderer"),
+        required_features: wgpu::Features::empty(),
+        required_limits: limits,
+        ..Default::default()
+    }))
+    .ok()
+}
+
+#[test]
+fn every_technique_runs_on_a_renderers_default_limits_device() {
+    let Some(reference_ctx) =
+        gpu_for_test("every_technique_runs_on_a_renderers_default_limits_device")
+    else {
+        return;
+    };
+    let (device, queue) = renderer_device(wgpu::Limits::default()).expect("a default device");
+    let own = GpuContext::from_device(device, queue).expect("default limits suffice");
+    let spec = build("plane-occluder").unwrap();
+    let r = receivers(&spec, 48);
+    let recv = Recv {
+        positions: &r.positions,
+        normals: &r.normals,
+    };
+    for t in all_techniques(true) {
+        let Some(light) = relight(&spec.light, &r.geometry.bounds, |k| t.models(k)) else {
+            continue;
+        };
+        let run = |ctx: &GpuContext| {
+            let maps = t
+                .generate(Backend::Gpu, Some(ctx), &r.geometry, &light, 64)
+                .unwrap();
+            t.evaluate(Some(ctx), &maps, &recv).unwrap()
+        };
+        let (a, b) = (run(&own), run(&reference_ctx));
+        let worst = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst <= 1e-6,
+            "{} {}: own device differs by {worst}",
+            t.name(),
+            t.variant()
+        );
+    }
+}
+
+#[test]
+fn a_device_below_the_default_limits_is_refused_by_name() {
+    if gpu_for_test("a_device_below_the_default_limits_is_refused_by_name").is_none() {
+        return;
+    }
+    let (device, queue) =
+        renderer_device(wgpu::Limits::downlevel_webgl2_defaults()).expect("a downlevel device");
+    match GpuContext::from_device(device, queue) {
+        Err(ShadowError::Gpu(m)) => {
+            assert!(m.contains("max_storage_buffers_per_shader_stage"), "{m}")
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|c| c.describe())),
+    }
+}

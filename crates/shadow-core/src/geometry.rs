@@ -1,0 +1,34 @@
+//! Plain world-space geometry: the triangles technique kernels take, with their bounds.
+
+use crate::error::{Result, ShadowError};
+use crate::mesh::Aabb;
+use glam::Vec3;
+
+/// Plain world-space geometry, what technique kernels consume: built by hand, or flattened from
+/// a `Scene` (`Scene::geometry`, feature `ecs`).
+#[derive(Clone, Debug, Default)]
+pub struct SceneGeometry {
+    /// Shadow-casting triangles, world space.
+    pub casters: Vec<[Vec3; 3]>,
+    /// Receiving triangles, world space.
+    pub receivers: Vec<[Vec3; 3]>,
+    /// Bounds of casters and receivers together.
+    pub bounds: Aabb,
+}
+
+impl SceneGeometry {
+    /// Checks that there is something to shadow: non-empty bounds, finite coordinates.
+    pub fn validate(&self) -> Result<()> {
+        if self.bounds.is_empty() {
+            return Err(ShadowError::InvalidScene(
+                "the scene holds no triangles".into(),
+            ));
+        }
+        if !self.bounds.min.is_finite() || !self.bounds.max.is_finite() {
+            return Err(ShadowError::InvalidScene(
+                "the scene bounds are not finite".into(),
+            ));
+        }
+        Ok(())
+    }
+}
