@@ -5,13 +5,13 @@
 //!
 //! `cargo run --release -p harness --example figure9 [-- gpu]`
 
-use harness::baselines::{Filter, ShadowMapBaseline};
 use harness::ground_truth::GroundTruthSettings;
 use harness::metrics::{errors, median};
 use harness::scenes::catalogue::build;
 use harness::setup::PreparedScene;
 use linear_light::LinearLight;
 use shadow_core::{Backend, DynTechnique, GpuContext};
+use shadow_maps::{Filter, ShadowMapBaseline};
 use std::time::Instant;
 
 const RES: u32 = 512;

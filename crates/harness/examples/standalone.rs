@@ -3,8 +3,8 @@
 //! `cargo run --release -p harness --example standalone`
 
 use glam::Vec3;
-use harness::baselines::{Filter, ShadowMapBaseline};
 use shadow_core::{Aabb, GpuContext, Light, Receivers, SceneGeometry, ShadowTechnique};
+use shadow_maps::{Filter, ShadowMapBaseline};
 
 fn main() -> shadow_core::Result<()> {
     // A 1 m square occluder 1 m above a ground plane, a 0.8 m square light 3 m up.

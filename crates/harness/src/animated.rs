@@ -16,7 +16,7 @@ use std::sync::Arc;
 /// A frame pipeline with every technique crate and the baselines registered.
 pub fn pipeline() -> FramePipeline {
     let mut p = FramePipeline::new();
-    crate::baselines::add_to(&mut p);
+    shadow_maps::add_to(&mut p);
     occlusion_slices::add_to(&mut p);
     linear_light::add_to(&mut p);
     penumbra_limit::add_to(&mut p);
@@ -96,8 +96,8 @@ impl AnimatedScene {
                 Light::Point {
                     position: Vec3::new(0.0, 3.5, 0.0),
                 },
-                Arc::new(crate::baselines::ShadowMapBaseline::new(
-                    crate::baselines::Filter::Hard,
+                Arc::new(shadow_maps::ShadowMapBaseline::new(
+                    shadow_maps::Filter::Hard,
                 )),
             ),
         ];

@@ -1,8 +1,7 @@
-//! The soft-shadow harness: ray-traced ground truth, baselines, the scene catalogue, metrics and the
+//! The soft-shadow harness: ray-traced ground truth, the scene catalogue, metrics and the
 //! accuracy-vs-time report (`cargo run --release -p harness -- report`).
 
 pub mod animated;
-pub mod baselines;
 pub mod ground_truth;
 pub mod metrics;
 pub mod papers;

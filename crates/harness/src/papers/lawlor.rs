@@ -3,12 +3,12 @@
 //! overhead; RMS over the ground image on the -255..255 scale at map resolutions 16..128.
 
 use super::{Claim, Experiment, Row, measure_run, prepare, ray_traced_run, rms_where, scene};
-use crate::baselines::{Filter, ShadowMapBaseline};
 use crate::ground_truth::RayTracer;
 use crate::report::json::Run;
 use glam::Vec3;
 use penumbra_limit::{Generation, PenumbraLimit};
 use shadow_core::{Bias, DistantProfile, DynTechnique, Light, Result, TriangleMesh};
+use shadow_maps::{Filter, ShadowMapBaseline};
 use shadow_width::{ShadowWidth, WidthMethod};
 
 /// Scene name of the runs.

@@ -1,10 +1,10 @@
 //! What `report` runs: the CLI's options, their defaults, and every technique it knows.
 
-use crate::baselines::ShadowMapBaseline;
 use linear_light::LinearLight;
 use occlusion_slices::OcclusionSlices;
 use penumbra_limit::PenumbraLimit;
 use shadow_core::DynTechnique;
+use shadow_maps::ShadowMapBaseline;
 use shadow_width::ShadowWidth;
 use std::path::PathBuf;
 

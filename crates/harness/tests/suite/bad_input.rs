@@ -1,10 +1,10 @@
 //! Bad input to techniques and to the CLI: typed errors, no panic.
 
 use glam::Vec3;
-use harness::baselines::{Filter, ShadowMapBaseline};
 use harness::scenes::catalogue::build;
 use shadow_core::gpu::testing::gpu_for_test;
 use shadow_core::{Backend, DynTechnique, Light, ShadowError};
+use shadow_maps::{Filter, ShadowMapBaseline};
 
 #[test]
 fn resolution_zero_and_zero_size_light_are_typed_errors() {

@@ -8,6 +8,7 @@ use std::process::Command;
 fn technique_crates_without_default_features_stay_light() {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     for krate in [
+        "shadow-maps",
         "occlusion-slices",
         "penumbra-limit",
         "shadow-width",

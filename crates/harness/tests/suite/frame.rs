@@ -70,8 +70,8 @@ fn lab(mover_x: f32) -> Lab {
         occlusion_slices::Filter::Sat,
     ));
     let ll: Arc<dyn DynTechnique> = Arc::new(linear_light::LinearLight::new(2));
-    let pcf: Arc<dyn DynTechnique> = Arc::new(harness::baselines::ShadowMapBaseline::new(
-        harness::baselines::Filter::Pcf { radius: 2 },
+    let pcf: Arc<dyn DynTechnique> = Arc::new(shadow_maps::ShadowMapBaseline::new(
+        shadow_maps::Filter::Pcf { radius: 2 },
     ));
     scene.world.entity_mut(rect).insert(cfg(os));
     scene.world.entity_mut(segment).insert(cfg(ll));

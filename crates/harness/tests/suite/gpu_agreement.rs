@@ -2,7 +2,6 @@
 //! With `CI` set a missing adapter fails these tests; elsewhere they skip with one line.
 
 use super::receivers;
-use harness::baselines::ShadowMapBaseline;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_core::gpu::testing::gpu_for_test;
@@ -10,6 +9,7 @@ use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
 use shadow_core::raster::{DepthPass, depth_map_pass, gbuffer};
 use shadow_core::view::NO_OCCLUDER;
 use shadow_core::{Backend, DynTechnique, Receivers as Recv, View};
+use shadow_maps::ShadowMapBaseline;
 
 /// Texels where the CPU and GPU disagree on coverage (a fragment exactly on an edge after snapping)
 /// may be at most this fraction of the map.

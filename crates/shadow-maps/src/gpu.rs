@@ -1,7 +1,7 @@
 //! The baselines on the GPU: depth maps rendered by `shadow_core`'s rasterizer into one
 //! reversed-Z texture array, filters evaluated by the compute shader `shadow_map_eval.wgsl`.
 
-use super::filters::EvalParams;
+use crate::filters::EvalParams;
 use glam::Vec3;
 use shadow_core::gpu::compute::{
     ReceiverBuffers, bind_group, compute_pipelines, depth_array_entry, depth_array_view,

@@ -1,4 +1,5 @@
-//! Baselines: what engines ship today, as [`ShadowTechnique`]s on CPU and GPU.
+//! What engines ship today, as [`ShadowTechnique`]s on CPU and GPU: the baselines every soft
+//! shadow technique is measured against, and the hard-shadow path of the frame pipeline.
 //!
 //! - hard shadow map (one nearest depth test),
 //! - PCF (Reeves, Salesin & Cook 1987) with a fixed square kernel,
@@ -183,7 +184,8 @@ impl ShadowTechnique for ShadowMapBaseline {
 }
 
 /// Registers the baselines with a frame pipeline: the hard shadow map as the zero-size-light
-/// path, PCF, PCSS and 16-sample accumulation, each its own technique set.
+/// path, PCF, PCSS and 16-sample accumulation, each its own technique set (feature `frame`).
+#[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
     use std::sync::Arc;
     frame.set_hard_path(Arc::new(ShadowMapBaseline::new(Filter::Hard)));

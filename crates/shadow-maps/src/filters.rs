@@ -1,8 +1,8 @@
 //! The baselines' filters on the CPU. `shadow_map_eval.wgsl` is the same code in WGSL, line for
 //! line, so that both backends compute the same function.
 
-use super::maps::CpuShadowMaps;
-use super::{Filter, PCSS_FILTER_MAX, PCSS_SEARCH_MAX, ShadowMapBaseline};
+use crate::maps::CpuShadowMaps;
+use crate::{Filter, PCSS_FILTER_MAX, PCSS_SEARCH_MAX, ShadowMapBaseline};
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
