@@ -8,6 +8,8 @@
 //!   interpolated bilinearly, and `c + p_i` there would lift it above receivers less than half a
 //!   texel's penumbra depth below the edge, moving the edge of a contact shadow inwards by up to
 //!   a texel (Lawlor Fig. 10's triangle at 32²: 18.4 rms without receiver bias, 3.2 with this).
+//!   Not at occluder transitions (below): there `b = g` makes everything below `g` umbra, and
+//!   `g = c` darkened lit ground beside a curved caster on `acne` at 16².
 //! - Without one (beyond every ribbon): the hard shadow, lit above the geometry and umbra below
 //!   it: `c = g` and `p_i = -MAX_P` where there is geometry (so a receiver between the inner end
 //!   of a ribbon and such a texel interpolates towards umbra, not towards "outside"), `c` =
@@ -57,11 +59,17 @@ pub fn combine_texel(l: &Layers, warp: &Warp, transition_gap: f32, x: u32, y: u3
     let [c, p] = e;
     let gap = warp.depth_gap(warp.linear(c), transition_gap);
     let (xi, yi) = (x as i64, y as i64);
-    // An outer texel beside an inner texel of the same edge: the silhouette runs between them.
-    let straddles = [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|&(dx, dy)| {
-        let n = *l.edge.get_clamped(xi + dx, yi + dy);
-        has_edge(n) && n[1] < 0.0 && (n[0] - c).abs() <= gap
-    });
+    let neighbours =
+        [(-1, 0), (1, 0), (0, -1), (0, 1)].map(|(dx, dy)| *l.edge.get_clamped(xi + dx, yi + dy));
+    let transition = neighbours
+        .iter()
+        .any(|n| has_edge(*n) && (n[0] - c).abs() > gap);
+    // An outer texel beside an inner texel of the same edge, away from occluder transitions:
+    // the silhouette runs between them.
+    let straddles = !transition
+        && neighbours
+            .iter()
+            .any(|n| has_edge(*n) && n[1] < 0.0 && (n[0] - c).abs() <= gap);
     let g = if p < 0.0 {
         geom
     } else if straddles {
@@ -69,10 +77,6 @@ pub fn combine_texel(l: &Layers, warp: &Warp, transition_gap: f32, x: u32, y: u3
     } else {
         geom.min(c + p)
     };
-    let transition = [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|&(dx, dy)| {
-        let n = *l.edge.get_clamped(xi + dx, yi + dy);
-        has_edge(n) && (n[0] - c).abs() > gap
-    });
     Texel {
         c,
         g,

@@ -56,6 +56,7 @@ fn combine(@builtin(global_invocation_id) gid: vec3<u32>) {
             transition = transition || (has_edge(n) && abs(n.x - c) > gap);
             straddles = straddles || (has_edge(n) && n.y < 0.0 && abs(n.x - c) <= gap);
         }
+        straddles = straddles && !transition;
         var g = g0;
         if p >= 0.0 {
             if straddles {
