@@ -3,29 +3,55 @@
 //! lights and static frames reuse their maps) and writes the last frame as `animated.png`: per
 //! pixel the mean visibility of the lights whose range reaches it.
 //!
-//! `cargo run --release -p harness --example animated [-- --gpu] [--frames N] [--out FILE]`
+//! `cargo run --release -p harness --example animated [-- --gpu] [--frames N] [--out FILE]`;
+//! unknown or malformed flags are refused with clap's usage message, errors print as
+//! `error: ...` with a non-zero exit.
 
+use clap::Parser;
 use glam::Vec3;
 use harness::animated::{AnimatedScene, pipeline};
 use shadow_core::frame::{FrameBackend, LightState, ResolvedTechnique, ShadowConfig, influence};
 use shadow_core::scene::LightSource;
 use shadow_core::{Backend, GpuContext};
+use std::path::PathBuf;
+use std::process::ExitCode;
 use std::sync::Arc;
 
-fn arg<T: std::str::FromStr>(name: &str) -> Option<T> {
-    let args: Vec<String> = std::env::args().collect();
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
+/// The frame pipeline on a small animated scene.
+#[derive(Parser)]
+#[command(name = "animated")]
+struct Args {
+    /// Run the techniques on the GPU.
+    #[arg(long)]
+    gpu: bool,
+    /// Frames to run.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..))]
+    frames: u32,
+    /// The last frame's image.
+    #[arg(long, default_value = "animated.png")]
+    out: PathBuf,
 }
 
-fn main() -> shadow_core::Result<()> {
-    let frames: u32 = arg("--frames").unwrap_or(30);
-    let out: String = arg("--out").unwrap_or_else(|| "animated.png".into());
+fn main() -> ExitCode {
+    match run(Args::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            let mut source = std::error::Error::source(&e);
+            while let Some(s) = source {
+                eprintln!("  caused by: {s}");
+                source = s.source();
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: Args) -> shadow_core::Result<()> {
+    let (frames, out) = (args.frames, args.out);
     let size = 384;
     let mut lab = AnimatedScene::new(size, 512)?;
-    if std::env::args().any(|a| a == "--gpu") {
+    if args.gpu {
         lab.scene.world.insert_resource(FrameBackend {
             backend: Backend::Gpu,
             gpu: Some(Arc::new(GpuContext::new()?)),
@@ -87,7 +113,10 @@ fn main() -> shadow_core::Result<()> {
     }
     image
         .save(&out)
-        .map_err(|e| shadow_core::ShadowError::Gpu(format!("writing {out}: {e}")))?;
-    println!("wrote {out}");
+        .map_err(|e| shadow_core::ShadowError::Write {
+            path: out.display().to_string(),
+            source: std::io::Error::other(e),
+        })?;
+    println!("wrote {}", out.display());
     Ok(())
 }

@@ -18,6 +18,18 @@ fn err(source_name: &str, reason: impl Into<String>) -> ShadowError {
     }
 }
 
+/// Whether `bytes` start like a GLB (the magic `glTF`) or a glTF JSON document (`{` after
+/// optional whitespace and a UTF-8 byte-order mark).
+fn looks_like_gltf(bytes: &[u8]) -> bool {
+    if bytes.starts_with(b"glTF") {
+        return true;
+    }
+    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    text.iter()
+        .find(|b| !b.is_ascii_whitespace())
+        .is_some_and(|&b| b == b'{')
+}
+
 /// Imports a `.glb`/`.gltf` file as one world-space mesh (node transforms applied).
 pub fn import_gltf_file(path: &Path) -> Result<TriangleMesh> {
     let bytes = std::fs::read(path).map_err(|source| ShadowError::Io {
@@ -33,6 +45,12 @@ pub fn import_gltf_slice(
     source_name: &str,
     base_dir: Option<&Path>,
 ) -> Result<TriangleMesh> {
+    if !looks_like_gltf(bytes) {
+        return Err(err(
+            source_name,
+            "not a glTF/GLB file (it starts with neither the GLB magic `glTF` nor a JSON object)",
+        ));
+    }
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| err(source_name, e.to_string()))?;
     let mut buffers: Vec<Vec<u8>> = Vec::new();
     for buffer in gltf.document.buffers() {

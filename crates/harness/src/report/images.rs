@@ -1,7 +1,7 @@
 //! Pictures and raw data: a PNG strip per scene (reference | runs, signed error below) and OpenEXR
 //! files of the G-buffer, the reference and every run's `V`.
 
-use image::{Rgb, Rgb32FImage, RgbImage};
+use image::{Rgb, RgbImage};
 use shadow_core::{Result, ShadowError};
 use std::path::Path;
 
@@ -94,30 +94,56 @@ pub fn write_strip(
     img.save(path).map_err(|e| io_err(path, e))
 }
 
-/// Writes three channels per pixel as OpenEXR (32-bit float).
-pub fn write_exr_rgb(path: &Path, size: u32, rgb: Vec<f32>) -> Result<()> {
-    let img =
-        Rgb32FImage::from_raw(size, size, rgb).ok_or_else(|| io_err(path, "EXR buffer size"))?;
-    img.save(path).map_err(|e| io_err(path, e))
+/// Writes named 32-bit float channels of a `size²` image as OpenEXR: one layer, ZIP
+/// compression in blocks of 16 scan lines ([`EXR_ENCODING`]).
+pub fn write_exr_channels(path: &Path, size: u32, channels: Vec<(&str, Vec<f32>)>) -> Result<()> {
+    use exr::prelude::*;
+    let n = (size * size) as usize;
+    if channels.iter().any(|(_, v)| v.len() != n) {
+        return Err(io_err(path, "EXR buffer size"));
+    }
+    let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = channels
+        .into_iter()
+        .map(|(name, v)| AnyChannel::new(name, FlatSamples::F32(v)))
+        .collect();
+    let layer = Layer::new(
+        (size as usize, size as usize),
+        LayerAttributes::default(),
+        EXR_ENCODING,
+        AnyChannels::sort(list),
+    );
+    Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| io_err(path, e))
 }
 
-/// Writes a scalar image as gray OpenEXR; pixels without receiver are NaN.
+/// How every EXR file is encoded: ZIP, 16 scan lines per block.
+pub const EXR_ENCODING: exr::prelude::Encoding = exr::prelude::Encoding::SMALL_LOSSLESS;
+
+/// Writes a 3-vector per pixel as channels `X`, `Y`, `Z`.
+pub fn write_exr_xyz(path: &Path, size: u32, xyz: &[[f32; 3]]) -> Result<()> {
+    let axis = |k: usize| xyz.iter().map(|v| v[k]).collect::<Vec<f32>>();
+    write_exr_channels(
+        path,
+        size,
+        vec![("X", axis(0)), ("Y", axis(1)), ("Z", axis(2))],
+    )
+}
+
+/// Writes a scalar image as one channel `V`; pixels without receiver are NaN.
 pub fn write_exr_scalar(path: &Path, size: u32, values: &[Option<f32>]) -> Result<()> {
-    let rgb = values
-        .iter()
-        .flat_map(|v| [v.unwrap_or(f32::NAN); 3])
-        .collect();
-    write_exr_rgb(path, size, rgb)
+    let v = values.iter().map(|v| v.unwrap_or(f32::NAN)).collect();
+    write_exr_channels(path, size, vec![("V", v)])
 }
 
 /// Writes a scene's raw data: G-buffer positions and normals (NaN where uncovered), the
 /// reference `V` and its standard error.
 pub fn write_scene_exr(dir: &Path, size: u32, p: &crate::setup::PreparedScene) -> Result<()> {
-    let pos: Vec<f32> = p
-        .gbuffer
-        .data()
+    let texels = p.gbuffer.data();
+    let pos: Vec<[f32; 3]> = texels
         .iter()
-        .flat_map(|t| {
+        .map(|t| {
             if t.covered {
                 t.position.to_array()
             } else {
@@ -125,11 +151,9 @@ pub fn write_scene_exr(dir: &Path, size: u32, p: &crate::setup::PreparedScene) -
             }
         })
         .collect();
-    let nrm: Vec<f32> = p
-        .gbuffer
-        .data()
+    let nrm: Vec<[f32; 3]> = texels
         .iter()
-        .flat_map(|t| {
+        .map(|t| {
             if t.covered {
                 t.normal.to_array()
             } else {
@@ -137,8 +161,8 @@ pub fn write_scene_exr(dir: &Path, size: u32, p: &crate::setup::PreparedScene) -
             }
         })
         .collect();
-    write_exr_rgb(&dir.join("gbuffer-position.exr"), size, pos)?;
-    write_exr_rgb(&dir.join("gbuffer-normal.exr"), size, nrm)?;
+    write_exr_xyz(&dir.join("gbuffer-position.exr"), size, &pos)?;
+    write_exr_xyz(&dir.join("gbuffer-normal.exr"), size, &nrm)?;
     write_exr_scalar(
         &dir.join("reference.exr"),
         size,

@@ -27,6 +27,25 @@ pub struct Strip {
     pub file: String,
     /// Column labels, left to right.
     pub columns: Vec<String>,
+    /// Side of one cell in pixels (the G-buffer side).
+    pub size: u32,
+    /// The run shown in each column after the reference, left to right.
+    pub tiles: Vec<StripTile>,
+}
+
+/// The run one strip column shows.
+#[derive(Clone, Debug, Serialize)]
+pub struct StripTile {
+    /// Technique name.
+    pub technique: String,
+    /// Variant label.
+    pub variant: String,
+    /// `"cpu"` or `"gpu"`.
+    pub backend: String,
+    /// Map resolution.
+    pub resolution: u32,
+    /// RMS of `V * 255` against the reference.
+    pub rms_255: f64,
 }
 
 /// The machine the report ran on.

@@ -6,8 +6,9 @@ use super::stability::{ACNE, acne_rows, flicker_rows};
 use super::summary::{BUDGETS_MS, SCALING_LIMIT, lines, scaling_cause, scaling_exponents};
 use std::fmt::Write;
 
-/// Renders the report as Markdown.
-pub fn render(report: &Report) -> String {
+/// Renders the report as Markdown; `papers_written`: `papers.html` is in the output folder
+/// (then linked; otherwise the line says how to write it there).
+pub fn render(report: &Report, papers_written: bool) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Soft-shadow report\n");
     let _ = writeln!(
@@ -15,10 +16,17 @@ pub fn render(report: &Report) -> String {
         "Machine: {} ({} threads); GPU: {}.\n\nErrors are on `V * 255` against a ray-traced reference (visibility v2: the fraction of the light points above a receiver's tangent plane, on the light's emitting side, that it sees; receivers no light point reaches are *unlit*, counted per scene, hatched in the strips and in no error); times are medians in ms.\n",
         report.machine.cpu, report.machine.threads, report.machine.gpu_adapter
     );
-    let _ = writeln!(
-        s,
-        "[Each paper's own experiment beside its published numbers: papers.html (`harness papers --out` this folder writes it)](papers.html)\n"
-    );
+    if papers_written {
+        let _ = writeln!(
+            s,
+            "[Each paper's own experiment beside its published numbers: papers.html](papers.html)\n"
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "Each paper's own experiment beside its published numbers: `cargo run --release -p harness -- papers --out` this folder writes `papers.html` here.\n"
+        );
+    }
     summary(&mut s, report);
     let _ = writeln!(
         s,

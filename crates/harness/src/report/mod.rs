@@ -8,6 +8,7 @@ pub mod markdown;
 pub mod measure;
 pub mod options;
 pub mod pareto;
+pub mod progress;
 pub mod stability;
 pub mod summary;
 
@@ -15,9 +16,9 @@ use crate::ground_truth::GroundTruthSettings;
 use crate::metrics::errors;
 use crate::scenes::{SceneSpec, catalogue, scene_file};
 use crate::setup::PreparedScene;
-use indicatif::{ProgressBar, ProgressStyle};
 use json::{Machine, ReferenceInfo, Report, Run};
 pub use options::{BackendChoice, ReportOptions, all_techniques};
+use progress::Progress;
 use shadow_core::{Backend, DynTechnique, GpuContext, Result, ShadowError};
 use std::collections::HashSet;
 use std::path::Path;
@@ -153,7 +154,7 @@ struct Runner<'a> {
     techniques: Vec<Box<dyn DynTechnique>>,
     backends: Vec<Backend>,
     gpu: Option<GpuContext>,
-    bar: ProgressBar,
+    bar: Progress,
     /// Techniques already warmed up on the GPU.
     warmed: HashSet<usize>,
     /// Why configurations were skipped (printed as they happen, and in the error when nothing ran).
@@ -179,6 +180,11 @@ impl Runner<'_> {
         self.bar.set_message(format!("{name}: reference"));
         let p = PreparedScene::new(job.spec, self.size, self.settings)?;
         let reference = p.reference_v();
+        // The catalogue's `acne` is unshadowed by design; the warning is for users' scenes.
+        let builtin = catalogue::SCENE_NAMES.contains(&name.split('@').next().unwrap_or(&name));
+        if let Some(w) = no_shadow_warning(&name, &reference).filter(|_| !builtin) {
+            self.bar.suspend(|| eprintln!("{w}"));
+        }
         let penumbra = reference
             .iter()
             .filter(|&&r| r > crate::metrics::PENUMBRA_LO && r < crate::metrics::PENUMBRA_HI)
@@ -196,7 +202,7 @@ impl Runner<'_> {
             penumbra_receivers: penumbra,
             time_ms: p.reference_ms,
         });
-        self.bar.inc(1);
+        self.bar.inc();
         let exr_dir = self.opts.out.join("exr").join(file_stem(&name));
         create_dir(&exr_dir)?;
         images::write_scene_exr(&exr_dir, self.size, &p)?;
@@ -208,7 +214,7 @@ impl Runner<'_> {
                     if let Some(run) = self.run(ti, backend, res, &p, &reference, &mut strip)? {
                         report.runs.push(run);
                     }
-                    self.bar.inc(1);
+                    self.bar.inc();
                 }
             }
         }
@@ -334,7 +340,7 @@ impl Runner<'_> {
                         &refs,
                     )?);
                 }
-                self.bar.inc(1);
+                self.bar.inc();
             }
         }
         Ok(())
@@ -381,10 +387,34 @@ impl Runner<'_> {
                 .iter()
                 .map(|s| format!("{} ({} {})", s.0, s.2.name(), s.1)),
         );
+        let tiles = strip
+            .iter()
+            .map(|(label, res, backend, _)| {
+                let (technique, variant) = label.split_once('/').unwrap_or((label, ""));
+                let rms_255 = scene_runs
+                    .iter()
+                    .find(|r| {
+                        r.technique == technique
+                            && r.variant == variant
+                            && r.resolution == *res
+                            && r.backend == backend.name()
+                    })
+                    .map_or(f64::NAN, |r| r.errors.rms_255);
+                json::StripTile {
+                    technique: technique.into(),
+                    variant: variant.into(),
+                    backend: backend.name().into(),
+                    resolution: *res,
+                    rms_255,
+                }
+            })
+            .collect();
         report.strips.push(json::Strip {
             scene: name.to_string(),
-            file: format!("{name}.png"),
+            file: format!("{}.png", file_stem(name)),
             columns,
+            size: self.size,
+            tiles,
         });
         Ok(())
     }
@@ -423,6 +453,9 @@ fn select_techniques(opts: &ReportOptions) -> Result<Vec<Box<dyn DynTechnique>>>
 }
 
 fn select_gpu(choice: BackendChoice) -> Result<(Option<GpuContext>, String)> {
+    if choice != BackendChoice::Cpu {
+        explain_driver_noise();
+    }
     Ok(match choice {
         BackendChoice::Cpu => (None, "not used (--backend cpu)".to_string()),
         BackendChoice::Gpu => {
@@ -441,6 +474,36 @@ fn select_gpu(choice: BackendChoice) -> Result<(Option<GpuContext>, String)> {
             }
         },
     })
+}
+
+/// The warning for a scene where no caster shadows any receiver the camera sees (every reference
+/// `V` above 0.999): a plausible but empty report, usually a light on the wrong side or meshes
+/// not marked `caster`. `None` when something is shadowed.
+pub fn no_shadow_warning(scene: &str, reference: &[f32]) -> Option<String> {
+    (!reference.is_empty() && reference.iter().all(|&v| v > 0.999)).then(|| {
+        format!(
+            "warning: {scene}: no caster shadows any receiver the camera sees (the reference is \
+             lit everywhere); check the light's position or direction (a distant light's \
+             `direction` points towards the light) and which meshes are casters"
+        )
+    })
+}
+
+/// Says once, before the GPU starts, that Mesa's Vulkan drivers print
+/// `error: XDG_RUNTIME_DIR is invalid or not set in the environment.` when that variable is
+/// missing (no display server to talk to): the line is the driver's, harmless for headless
+/// compute, and setting the variable silences it. Our own errors start `error:` too, so the line
+/// is explained rather than filtered; nothing is hidden.
+pub fn explain_driver_noise() {
+    let valid =
+        std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    if !valid {
+        eprintln!(
+            "note: XDG_RUNTIME_DIR is not set; the Vulkan driver may print \"error: \
+             XDG_RUNTIME_DIR is invalid or not set\" below. It is the driver's, harmless here \
+             (no display is used); set XDG_RUNTIME_DIR to silence it."
+        );
+    }
 }
 
 /// Runs the report and writes `report.json`, `report.md`, `index.html`, PNG strips, Pareto
@@ -490,16 +553,12 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         techniques,
         backends,
         gpu,
-        bar: ProgressBar::hidden(),
+        bar: Progress::with_mode(0, false),
         warmed: HashSet::new(),
         skipped: Vec::new(),
     };
     let total: u64 = jobs.iter().map(|j| runner.runs_per_scene(j)).sum();
-    runner.bar = ProgressBar::new(total);
-    runner.bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    runner.bar = Progress::new(total);
     let mut report = Report {
         version: 1,
         machine: Machine {
@@ -514,7 +573,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     for job in jobs {
         runner.scene(job, &mut report)?;
     }
-    runner.bar.finish_with_message("done");
+    runner.bar.finish();
     if report.runs.is_empty() {
         return Err(ShadowError::NothingRan(format!(
             "every configuration was skipped ({})",
@@ -535,8 +594,11 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         &serde_json::to_string_pretty(&report)
             .map_err(|e| ShadowError::InvalidScene(e.to_string()))?,
     )?;
-    let md = markdown::render(&report);
+    let md = markdown::render(&report, opts.out.join("papers.html").is_file());
     write_text(&opts.out.join("report.md"), &md)?;
-    write_text(&opts.out.join("index.html"), &html::render(&md))?;
+    write_text(
+        &opts.out.join("index.html"),
+        &html::render_report(&md, &report.strips),
+    )?;
     Ok(report)
 }

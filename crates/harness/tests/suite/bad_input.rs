@@ -95,6 +95,43 @@ fn plate_scene(name: &str) -> String {
     )
 }
 
+/// A scene whose caster shadows nothing the camera sees (the plate beside the light, not under
+/// it) runs, and the report warns on stderr instead of writing a plausible, empty report
+/// silently.
+#[test]
+fn a_scene_where_nothing_is_shadowed_is_warned_about() {
+    let dir = std::env::temp_dir().join(format!("harness-noshadow-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = plate_scene("beside").replace(
+        "translation = [0.0, 1.0, 0.0]",
+        "translation = [0.0, 4.0, 0.0]",
+    );
+    let f = dir.join("beside.toml");
+    std::fs::write(&f, scene).unwrap();
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args([
+            "report",
+            "--quick",
+            "--backend",
+            "cpu",
+            "--techniques",
+            "hard-shadow-map",
+        ])
+        .args(["--resolutions", "64", "--size", "24", "--scene-file"])
+        .arg(&f)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{err}");
+    assert!(
+        err.contains("warning: beside: no caster shadows any receiver"),
+        "{err}"
+    );
+}
+
 /// Whatever a scene is named, every output stays inside `--out` (names are sanitised into file
 /// stems); a run where every configuration is skipped exits non-zero and says why.
 #[test]
@@ -131,6 +168,13 @@ fn hostile_scene_names_stay_inside_the_output_folder() {
         .unwrap();
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{err}");
+    // Off a terminal (stderr piped) progress comes as plain lines: n of N, elapsed, time left.
+    assert!(
+        err.lines().any(|l| l.starts_with("[10 of 10] ")
+            && l.contains(" elapsed, about ")
+            && l.contains(" left: ")),
+        "no progress lines on a piped stderr:\n{err}"
+    );
     for n in names {
         let stem = harness::report::file_stem(n);
         assert!(

@@ -17,6 +17,61 @@ fn quick_report_writes_the_contract() {
         size: Some(64),
     };
     let report = run(&opts).expect("report runs");
+    // The page reads offline: every image, sprite and link it names is a file of the report,
+    // nothing is fetched from the network, and each scene's strip is a grid of labelled tiles
+    // with filters.
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let mut targets = Vec::new();
+    for (open, close) in [("src=\"", '"'), ("href=\"", '"'), ("url('", '\'')] {
+        for part in html.split(open).skip(1) {
+            targets.push(part.split(close).next().unwrap().to_string());
+        }
+    }
+    assert!(targets.len() > 10, "{targets:?}");
+    for t in &targets {
+        assert!(!t.contains("://"), "the page fetches {t}");
+        assert!(
+            dir.join(t).is_file(),
+            "the page names {t}, which is not in the report"
+        );
+    }
+    assert!(
+        html.contains("<figure class=\"tile\" data-technique=\"pcf\""),
+        "no tiles"
+    );
+    assert!(
+        html.contains("data-key=\"res\" value=\"512\""),
+        "no resolution filter"
+    );
+    // The EXR files hold what the README says: one float channel `V` for scalars, X, Y, Z for
+    // the G-buffer, ZIP-compressed, 64² pixels, NaN where no receiver is.
+    for (f, names) in [
+        ("exr/linear-bar/reference.exr", vec!["V"]),
+        ("exr/linear-bar/gbuffer-position.exr", vec!["X", "Y", "Z"]),
+        ("exr/plane-occluder/pcf-r2-cpu-256.exr", vec!["V"]),
+    ] {
+        use exr::prelude::*;
+        let image = read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .all_layers()
+            .all_attributes()
+            .from_file(dir.join(f))
+            .unwrap_or_else(|e| panic!("{f}: {e}"));
+        let layer = &image.layer_data[0];
+        let got: Vec<String> = layer
+            .channel_data
+            .list
+            .iter()
+            .map(|c| c.name.to_string())
+            .collect();
+        assert_eq!(got, names, "{f}");
+        assert_eq!(layer.size, Vec2(64, 64), "{f}");
+        assert_eq!(layer.encoding.compression, Compression::ZIP16, "{f}");
+        let v = &layer.channel_data.list[0].sample_data;
+        assert!(v.values_as_f32().any(|x| x.is_finite()), "{f}: no data");
+    }
     for f in [
         "report.json",
         "report.md",
@@ -144,9 +199,11 @@ fn quick_report_writes_the_contract() {
     let exps = summary::scaling_exponents(&report);
     assert!(!exps.is_empty() && exps.iter().all(|(_, e, n)| e.is_finite() && *n == 2));
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
-    assert!(html.contains("<table>") && html.contains("<img src=\"plane-occluder.png\""));
-    // The overall chart and the papers page are linked, not only written.
-    assert!(html.contains("<img src=\"pareto.png\"") && html.contains("href=\"papers.html\""));
+    assert!(html.contains("<table>") && html.contains("url('plane-occluder.png')"));
+    // The overall chart is shown; the papers page is named with the command that writes it
+    // (linked once it is there: no dead link).
+    assert!(html.contains("<img src=\"pareto.png\"") && !html.contains("href=\"papers.html\""));
+    assert!(md.contains("papers --out` this folder writes `papers.html`"));
     assert_eq!(
         html.matches("<table>").count(),
         md.matches("\n|---").count()

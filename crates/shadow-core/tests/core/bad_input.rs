@@ -106,6 +106,19 @@ fn malformed_gltf_is_a_typed_error() {
     assert!(r.contains("only triangles cast shadows"), "{r}");
 }
 
+/// A text file named `.glb` is "not a glTF/GLB file", not a JSON parser's complaint.
+#[test]
+fn a_text_file_is_not_a_gltf_file() {
+    for bytes in [&b"hello, this is text"[..], b"", b"\x00\x01binary"] {
+        match shadow_core::gltf_import::import_gltf_slice(bytes, "notes.glb", None) {
+            Err(ShadowError::Gltf { reason, .. }) => {
+                assert!(reason.contains("not a glTF/GLB file"), "{reason}")
+            }
+            other => panic!("{:?}", other.map(|m| m.name)),
+        }
+    }
+}
+
 #[test]
 fn nan_vertex_is_a_typed_error() {
     let r = TriangleMesh::new(
