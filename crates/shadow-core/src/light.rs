@@ -318,17 +318,10 @@ impl Light {
                 Vec3::NEG_Y
             }
         };
-        if let Some((_, normal)) = self.front() {
-            return normal.normalize();
-        }
-        match *self {
-            Light::Distant { direction, .. } => -direction.normalize(),
-            Light::Point { position } => towards_scene(position),
-            Light::Linear { a, b } => towards_scene((a + b) * 0.5),
-            Light::Sphere { center, .. } => towards_scene(center),
-            Light::Rect { .. } | Light::Disk { .. } | Light::Triangle { .. } => {
-                unreachable!("one-sided lights return their front above")
-            }
+        match (self.front(), self.center()) {
+            (Some((_, normal)), _) => normal.normalize(),
+            (None, LightPoint::Direction(d)) => -d,
+            (None, LightPoint::Position(p)) => towards_scene(p),
         }
     }
 
