@@ -1,7 +1,7 @@
 //! Generation cost per map resolution (128..2048) for every technique, variant and baseline of
 //! the report, each on a scene whose light it models (`shadow_benches::bench_scene`): CPU, GPU
-//! wall time (submit and wait) and GPU device time (timestamp queries on every pass, where the
-//! adapter has them). Plus shadow-width's width map alone and the frame pipeline with and
+//! wall time (record, submit and wait, from geometry already on the GPU) and GPU device time
+//! (timestamp queries on every pass, where the adapter has them). Plus shadow-width's width map alone and the frame pipeline with and
 //! without map caching.
 //!
 //! `cargo bench -p shadow-benches --bench generation [-- <regex>]`; see `benches/README.md`.
@@ -11,6 +11,7 @@ use harness::animated::{self, AnimatedScene};
 use harness::scenes::catalogue::build;
 use shadow_benches::{RESOLUTIONS, configs, gpu, iter_device_time};
 use shadow_core::frame::FrameSettings;
+use shadow_core::gpu::GpuScene;
 use shadow_core::{Backend, GpuContext};
 use shadow_width::width::width_map;
 use shadow_width::{DepthLayer, ShadowWidth, cpu};
@@ -33,15 +34,16 @@ fn generation(c: &mut Criterion) {
                 })
             });
             let Some(g) = &gpu else { continue };
+            let scene = GpuScene::new(g, geo).expect("gpu scene");
             group.bench_with_input(BenchmarkId::new("gpu-wall", res), &res, |b, &res| {
                 b.iter(|| {
-                    t.generate(Backend::Gpu, Some(g), geo, light, res)
+                    t.generate_gpu_on(g, &scene, light, res)
                         .expect("gpu generation")
                 })
             });
             if g.has_timestamps() {
                 group.bench_with_input(BenchmarkId::new("gpu-device", res), &res, |b, &res| {
-                    iter_device_time(b, g, || t.generate(Backend::Gpu, Some(g), geo, light, res))
+                    iter_device_time(b, g, || t.generate_gpu_on(g, &scene, light, res))
                 });
             }
         }

@@ -1,10 +1,10 @@
 // requires: light_space.wgsl sample.wgsl
-// The shade() loop of section 3 (eval.rs), one receiver per invocation.
+// The shade() loop of section 3 (eval.rs) as `visibility(world_pos, normal)`.
 
 struct EvalParams {
     bias: Bias,
-    count: u32,
     samples_n: u32,
+    _pad2: u32,
     _pad0: u32,
     _pad1: u32,
 };
@@ -13,11 +13,8 @@ struct EvalParams {
 @group(0) @binding(1) var<storage, read> samples: array<Sample>;
 @group(0) @binding(2) var depth_maps: texture_depth_2d_array;
 @group(0) @binding(3) var channels: texture_2d_array<f32>;
-@group(0) @binding(4) var<storage, read> positions: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read> normals: array<vec4<f32>>;
-@group(0) @binding(6) var<storage, read_write> visibility: array<f32>;
 
-fn shade(p: vec3<f32>, n: vec3<f32>) -> f32 {
+fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     var v = 0.0;
     for (var k = 0u; k < ep.samples_n; k++) {
         let m = samples[k].map;
@@ -49,11 +46,3 @@ fn shade(p: vec3<f32>, n: vec3<f32>) -> f32 {
     return clamp(v, 0.0, 1.0);
 }
 
-@compute @workgroup_size(64)
-fn evaluate(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= ep.count {
-        return;
-    }
-    visibility[i] = shade(positions[i].xyz, normals[i].xyz);
-}

@@ -38,6 +38,7 @@ pub mod warp;
 pub use params::LinearLight;
 
 use segments::segments;
+use shadow_core::gpu::GpuScene;
 use shadow_core::technique::MAX_CPU_RESOLUTION;
 use shadow_core::{
     GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
@@ -82,32 +83,36 @@ impl ShadowTechnique for LinearLight {
         Ok(cpu::evaluate(self, maps, receivers))
     }
 
-    fn generate_gpu(
+    fn record_gpu(
         &self,
         gpu: &GpuContext,
-        geometry: &SceneGeometry,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
         light: &Light,
         resolution: u32,
     ) -> Result<gpu::GpuLinearMaps> {
         self.validate()?;
-        self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
-        let segs = segments(light, geometry)?;
-        gpu.checked("linear-light generation", || {
-            gpu::generate(gpu, self, geometry, &segs, resolution)
-        })
+        self.check_inputs(scene.geometry(), light, resolution, gpu.max_texture_size())?;
+        let segs = segments(light, scene.geometry())?;
+        gpu::generate(gpu, enc, self, scene, &segs, resolution)
     }
 
-    fn evaluate_gpu(
+    fn visibility_wgsl() -> String {
+        gpu::visibility_wgsl()
+    }
+
+    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        gpu::maps_layout_entries()
+    }
+
+    fn bind_maps(
         &self,
         gpu: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuLinearMaps,
-        receivers: &Receivers,
-    ) -> Result<Vec<f32>> {
+    ) -> Result<wgpu::BindGroup> {
         self.validate()?;
-        receivers.validate()?;
-        gpu.checked("linear-light evaluation", || {
-            gpu::evaluate(gpu, self, maps, receivers)
-        })
+        Ok(gpu::bind_maps(gpu, layout, self, maps))
     }
 }
 

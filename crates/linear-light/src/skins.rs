@@ -28,19 +28,7 @@ use shadow_core::view::{NO_OCCLUDER, ProjectionKind, View};
 /// receivers; the shading test keeps the casters-only map, so a receiver-only mesh still casts
 /// nothing.
 pub fn grid_geometry(geometry: &shadow_core::SceneGeometry) -> Vec<[Vec3; 3]> {
-    let key = |t: &[Vec3; 3]| t.map(|p| p.to_array().map(f32::to_bits));
-    let casters: std::collections::HashSet<_> = geometry.casters.iter().map(key).collect();
-    geometry
-        .casters
-        .iter()
-        .chain(
-            geometry
-                .receivers
-                .iter()
-                .filter(|t| !casters.contains(&key(t))),
-        )
-        .copied()
-        .collect()
+    geometry.surfaces()
 }
 
 /// One skin triangle: world positions and the Gouraud values of its vertices.

@@ -1,12 +1,12 @@
 // requires: frame.wgsl
-// Evaluation (sections 3.3-3.5), one receiver per invocation: eval.rs, combine.rs and the
+// Evaluation (sections 3.3-3.5) as `visibility(world_pos, normal)`: eval.rs, combine.rs and the
 // lookups of filters/*.rs, operation for operation.
 
 struct EvalParams {
     filter_kind: u32,
     combination: u32,
-    count: u32,
     levels: u32,
+    _pad2: u32,
     normal_offset: f32,
     groups: u32,
     _pad0: u32,
@@ -22,11 +22,8 @@ const COMBINE_MAX: u32 = 2u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> ep: EvalParams;
-@group(0) @binding(2) var<storage, read> positions: array<vec4<f32>>;
-@group(0) @binding(3) var<storage, read> normals: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read_write> visibility: array<f32>;
-@group(0) @binding(5) var sat: texture_2d_array<u32>;
-@group(0) @binding(6) var levels: texture_2d_array<f32>;
+@group(0) @binding(2) var sat: texture_2d_array<u32>;
+@group(0) @binding(3) var levels: texture_2d_array<f32>;
 
 // --- summed-area table (filters/sat.rs)
 
@@ -170,7 +167,7 @@ fn filtered_mean(k: u32, c: vec2<f32>, size: f32) -> f32 {
 
 // --- eval.rs::visibility with combine.rs::Accumulator
 
-fn shade(p: vec3<f32>, n: vec3<f32>) -> f32 {
+fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     if frame.occupied == 0u {
         return 1.0;
     }
@@ -201,13 +198,4 @@ fn shade(p: vec3<f32>, n: vec3<f32>) -> f32 {
         return clamp(acc, 0.0, 1.0);
     }
     return 1.0 - clamp(acc, 0.0, 1.0);
-}
-
-@compute @workgroup_size(64)
-fn evaluate(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= ep.count {
-        return;
-    }
-    visibility[i] = shade(positions[i].xyz, normals[i].xyz);
 }

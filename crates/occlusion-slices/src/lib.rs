@@ -46,6 +46,7 @@ pub mod slicing;
 pub use frame::Frame;
 pub use params::{Combination, Filter, OcclusionSlices};
 
+use shadow_core::gpu::GpuScene;
 use shadow_core::{
     GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
 };
@@ -91,36 +92,40 @@ impl ShadowTechnique for OcclusionSlices {
         Ok(cpu::evaluate(self, maps, receivers))
     }
 
-    fn generate_gpu(
+    fn record_gpu(
         &self,
         gpu: &GpuContext,
-        geometry: &SceneGeometry,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
         light: &Light,
         resolution: u32,
     ) -> Result<gpu::GpuSliceMaps> {
         self.validate()?;
         self.check_inputs(
-            geometry,
+            scene.geometry(),
             light,
             resolution,
             gpu.max_texture_size().saturating_sub(1).min(MAX_RESOLUTION),
         )?;
-        gpu.checked("occlusion-slices generation", || {
-            gpu::generate(gpu, self, geometry, light, resolution)
-        })
+        gpu::generate(gpu, enc, self, scene, light, resolution)
     }
 
-    fn evaluate_gpu(
+    fn visibility_wgsl() -> String {
+        gpu::visibility_wgsl()
+    }
+
+    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        gpu::maps_layout_entries()
+    }
+
+    fn bind_maps(
         &self,
         gpu: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuSliceMaps,
-        receivers: &Receivers,
-    ) -> Result<Vec<f32>> {
+    ) -> Result<wgpu::BindGroup> {
         self.validate()?;
-        receivers.validate()?;
-        gpu.checked("occlusion-slices evaluation", || {
-            gpu::evaluate(gpu, self, maps, receivers)
-        })
+        gpu::bind_maps(gpu, layout, self, maps)
     }
 }
 

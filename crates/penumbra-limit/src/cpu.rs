@@ -79,7 +79,6 @@ pub fn evaluate(t: &PenumbraLimit, maps: &CpuPenumbraMaps, r: &Receivers) -> Vec
         t.bias,
         maps.warp,
         t.storage,
-        r.positions.len() as u32,
         maps.table.values.len() as u32,
     );
     r.positions

@@ -21,10 +21,10 @@ pub struct EvalParams {
     pub bias: Bias,
     /// Depth warp and normalisation.
     pub warp: Warp,
-    /// Number of receivers.
-    pub receiver_count: u32,
     /// Entries in the illumination table.
     pub table_size: u32,
+    /// Padding.
+    pub _reserved: u32,
     /// [`Storage::depth_tolerance`] of the map's format.
     pub tolerance: f32,
     /// Padding to 16 bytes.
@@ -32,21 +32,14 @@ pub struct EvalParams {
 }
 
 impl EvalParams {
-    /// Parameters for `receiver_count` receivers of a map stored as `storage`.
-    pub fn new(
-        map: MapParams,
-        bias: Bias,
-        warp: Warp,
-        storage: Storage,
-        receiver_count: u32,
-        table_size: u32,
-    ) -> Self {
+    /// Parameters for a map stored as `storage`.
+    pub fn new(map: MapParams, bias: Bias, warp: Warp, storage: Storage, table_size: u32) -> Self {
         Self {
             map,
             bias,
             warp,
-            receiver_count,
             table_size,
+            _reserved: 0,
             tolerance: storage.depth_tolerance(),
             _pad: 0.0,
         }

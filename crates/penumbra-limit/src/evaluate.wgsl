@@ -1,13 +1,14 @@
 // requires: light_space.wgsl warp.wgsl
-// Evaluation; mirrors penumbra_limit::eval: project the receiver, bilinear (c, g, b, p_i),
+// Evaluation as `visibility(world_pos, normal)`; mirrors penumbra_limit::eval: project the
+// receiver, bilinear (c, g, b, p_i),
 // equation 2, then the visibility-to-illumination table.
 
 struct EvalParams {
     map: MapView,
     bias: Bias,
     warp: Warp,
-    receiver_count: u32,
     table_size: u32,
+    _reserved: u32,
     tolerance: f32,
     _pad0: f32,
 };
@@ -15,9 +16,6 @@ struct EvalParams {
 @group(0) @binding(0) var<uniform> prm: EvalParams;
 @group(0) @binding(1) var map: texture_2d<f32>;
 @group(0) @binding(2) var<storage, read> table: array<f32>;
-@group(0) @binding(3) var<storage, read> positions: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> normals: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read_write> visibility: array<f32>;
 
 fn texel(x: i32, y: i32) -> vec4<f32> {
     let r = i32(prm.map.resolution) - 1;
@@ -54,18 +52,13 @@ fn lookup(l: f32) -> f32 {
     return table[i] * (1.0 - a) + table[i + 1u] * a;
 }
 
-@compute @workgroup_size(64)
-fn evaluate(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= prm.receiver_count {
-        return;
-    }
-    let co = shadow_coord(prm.map, prm.bias, positions[i].xyz, normals[i].xyz);
+fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let co = shadow_coord(prm.map, prm.bias, p, n);
     var l = 1.0;
     if co.inside {
         let z = min(receiver_depth(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
         let t = bilinear(co.st);
         l = clamped_visibility(z, t.x, t.y, t.z, t.w);
     }
-    visibility[i] = lookup(l);
+    return lookup(l);
 }

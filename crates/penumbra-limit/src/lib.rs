@@ -51,6 +51,7 @@ pub use params::{Generation, PenumbraLimit};
 pub use storage::{Storage, Texel};
 pub use table::{IlluminationTable, Profile};
 
+use shadow_core::gpu::GpuScene;
 use shadow_core::technique::MAX_CPU_RESOLUTION;
 use shadow_core::{
     GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
@@ -98,36 +99,40 @@ impl ShadowTechnique for PenumbraLimit {
         Ok(cpu::evaluate(self, maps, receivers))
     }
 
-    fn generate_gpu(
+    fn record_gpu(
         &self,
         gpu: &GpuContext,
-        geometry: &SceneGeometry,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
         light: &Light,
         resolution: u32,
     ) -> Result<gpu::GpuPenumbraMaps> {
         self.validate()?;
         self.check_inputs(
-            geometry,
+            scene.geometry(),
             light,
             resolution,
             gpu.max_texture_size().min(MAX_RESOLUTION),
         )?;
-        gpu.checked("penumbra-limit generation", || {
-            gpu::generate(gpu, self, geometry, light, resolution)
-        })
+        gpu::generate(gpu, enc, self, scene, light, resolution)
     }
 
-    fn evaluate_gpu(
+    fn visibility_wgsl() -> String {
+        gpu::visibility_wgsl()
+    }
+
+    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        gpu::maps_layout_entries()
+    }
+
+    fn bind_maps(
         &self,
         gpu: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuPenumbraMaps,
-        receivers: &Receivers,
-    ) -> Result<Vec<f32>> {
+    ) -> Result<wgpu::BindGroup> {
         self.validate()?;
-        receivers.validate()?;
-        gpu.checked("penumbra-limit evaluation", || {
-            gpu::evaluate(gpu, self, maps, receivers)
-        })
+        Ok(gpu::bind_maps(gpu, layout, self, maps))
     }
 }
 

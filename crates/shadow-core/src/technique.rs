@@ -2,7 +2,8 @@
 
 use crate::error::{Result, ShadowError};
 use crate::geometry::SceneGeometry;
-use crate::gpu::GpuContext;
+use crate::gpu::visibility::{self, ReceiverTextures};
+use crate::gpu::{GpuContext, GpuScene};
 use crate::light::{Light, LightKind};
 use glam::Vec3;
 use std::any::Any;
@@ -70,13 +71,20 @@ impl Receivers<'_> {
 /// - `generate_*` takes the scene's plain geometry, one light and a map resolution. It validates
 ///   them and returns [`ShadowError::UnsupportedLight`] for a light kind that [`models`](Self::models)
 ///   rejects, [`ShadowError::InvalidLight`] for a bad light and
-///   [`ShadowError::InvalidResolution`] for 0 or above the backend's limit. `generate_gpu` returns
-///   after the GPU has finished, so timing it measures the GPU work.
+///   [`ShadowError::InvalidResolution`] for 0 or above the backend's limit.
+/// - On the GPU, [`record_gpu`](Self::record_gpu) records generation into the caller's encoder
+///   from geometry already on the GPU ([`GpuScene`]); the maps are ready once that encoder's
+///   work has run. `generate_gpu` and `generate_gpu_on` are blocking wrappers that return after
+///   the GPU has finished, so timing `generate_gpu_on` measures the GPU work without uploads.
+/// - The GPU evaluation is one WGSL function, `visibility(world_pos, normal) -> f32`
+///   ([`visibility_wgsl`](Self::visibility_wgsl), [`crate::gpu::visibility`]): the blocking
+///   `evaluate_gpu`, the G-buffer pass [`record_visibility`](Self::record_visibility) and a
+///   renderer's own shader all call it.
 /// - `evaluate_*` returns one visibility `V` per receiver, in `[0, 1]` and finite: the fraction of
 ///   the light the point sees under the light's emission profile (1 lit, 0 umbra).
 /// - The GPU path computes the same function as the CPU path: RMS of `V * 255` below 1.0 on every
 ///   catalogue scene, checked by tests on a real Vulkan driver.
-pub trait ShadowTechnique: Send + Sync {
+pub trait ShadowTechnique: Send + Sync + 'static {
     /// Maps produced on the CPU.
     type CpuMaps: Send + Sync + 'static;
     /// Maps produced on (and kept on) the GPU.
@@ -98,21 +106,124 @@ pub trait ShadowTechnique: Send + Sync {
     ) -> Result<Self::CpuMaps>;
     /// Visibility per receiver from CPU maps.
     fn evaluate_cpu(&self, maps: &Self::CpuMaps, receivers: &Receivers) -> Result<Vec<f32>>;
-    /// Builds the light-space maps on the GPU.
+    /// Records the generation of the light-space maps of `scene` into `enc` (nothing is
+    /// submitted, mapped or uploaded beyond small parameter buffers): the maps hold their
+    /// contents once the caller has submitted `enc`.
+    fn record_gpu(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<Self::GpuMaps>;
+
+    /// WGSL that defines `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` (the
+    /// same function as [`evaluate_cpu`](Self::evaluate_cpu), with `normal` a unit normal
+    /// facing the viewer) over bindings in `@group(0)` laid out by
+    /// [`maps_layout_entries`](Self::maps_layout_entries). It depends on the type only, not on
+    /// the parameters (those reach it through the bind group). Its other top-level names are the
+    /// technique's helpers; a shader that includes it must not reuse them.
+    fn visibility_wgsl() -> String
+    where
+        Self: Sized;
+
+    /// Layout entries of the bindings [`visibility_wgsl`](Self::visibility_wgsl) reads, in
+    /// binding order from 0 (their stage visibility is set by [`crate::gpu::visibility`]).
+    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry>
+    where
+        Self: Sized;
+
+    /// A bind group of `maps` (and these parameters) for `layout`, the layout of
+    /// [`maps_layout_entries`](Self::maps_layout_entries). Maps made with other parameters
+    /// than these are [`ShadowError::MapsMismatch`].
+    fn bind_maps(
+        &self,
+        gpu: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        maps: &Self::GpuMaps,
+    ) -> Result<wgpu::BindGroup>;
+
+    /// Builds the light-space maps on the GPU and waits: uploads `geometry`, then
+    /// [`generate_gpu_on`](Self::generate_gpu_on).
     fn generate_gpu(
         &self,
         gpu: &GpuContext,
         geometry: &SceneGeometry,
         light: &Light,
         resolution: u32,
-    ) -> Result<Self::GpuMaps>;
-    /// Visibility per receiver from GPU maps, computed on the GPU.
+    ) -> Result<Self::GpuMaps>
+    where
+        Self: Sized,
+    {
+        let scene = GpuScene::new(gpu, geometry)?;
+        self.generate_gpu_on(gpu, &scene, light, resolution)
+    }
+
+    /// Records [`record_gpu`](Self::record_gpu) into a fresh encoder, submits it and waits for
+    /// the GPU; wgpu validation and out-of-memory errors become [`ShadowError::Gpu`].
+    fn generate_gpu_on(
+        &self,
+        gpu: &GpuContext,
+        scene: &GpuScene,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<Self::GpuMaps>
+    where
+        Self: Sized,
+    {
+        gpu.checked(&format!("{} generation", self.name()), || {
+            let mut enc = gpu.device.create_command_encoder(&Default::default());
+            let maps = self.record_gpu(gpu, &mut enc, scene, light, resolution)?;
+            gpu.queue.submit([enc.finish()]);
+            gpu.wait()?;
+            Ok(maps)
+        })
+    }
+
+    /// The bind group a renderer's shader binds (at the group its
+    /// [`visibility_wgsl`](Self::visibility_wgsl) was moved to) to call `visibility()`, with
+    /// the layout [`crate::gpu::visibility::pipelines`] holds for this type.
+    fn maps_bind_group(&self, gpu: &GpuContext, maps: &Self::GpuMaps) -> Result<wgpu::BindGroup>
+    where
+        Self: Sized,
+    {
+        let p = visibility::pipelines::<Self>(gpu);
+        gpu.checked(&format!("{} maps", self.name()), || {
+            self.bind_maps(gpu, &p.maps_layout, maps)
+        })
+    }
+
+    /// Visibility per receiver from GPU maps, computed on the GPU and read back (blocking).
     fn evaluate_gpu(
         &self,
         gpu: &GpuContext,
         maps: &Self::GpuMaps,
         receivers: &Receivers,
-    ) -> Result<Vec<f32>>;
+    ) -> Result<Vec<f32>>
+    where
+        Self: Sized,
+    {
+        receivers.validate()?;
+        gpu.checked(&format!("{} evaluation", self.name()), || {
+            visibility::evaluate_buffers(self, gpu, maps, receivers)
+        })
+    }
+
+    /// Records the evaluation of every texel of the caller's G-buffer `target` into `enc`, with
+    /// the maps bound by `maps_bind` (from [`maps_bind_group`](Self::maps_bind_group)); no
+    /// readback.
+    fn record_visibility(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        maps_bind: &wgpu::BindGroup,
+        target: &ReceiverTextures,
+    ) where
+        Self: Sized,
+    {
+        visibility::record_texels::<Self>(gpu, enc, maps_bind, target);
+    }
 
     /// The common input checks: light valid and modelled, geometry non-empty, resolution in range.
     fn check_inputs(
@@ -169,6 +280,16 @@ pub trait DynTechnique: Send + Sync {
         light: &Light,
         resolution: u32,
     ) -> Result<AnyMaps>;
+    /// GPU generation from a scene already on the GPU (nothing uploaded but parameters).
+    fn generate_gpu_on(
+        &self,
+        gpu: &GpuContext,
+        scene: &GpuScene,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<AnyMaps>;
+    /// See [`ShadowTechnique::visibility_wgsl`].
+    fn visibility_wgsl(&self) -> String;
     /// Evaluation on the backend that produced `maps`.
     fn evaluate(
         &self,
@@ -209,6 +330,23 @@ impl<T: ShadowTechnique> DynTechnique for T {
             }
         };
         Ok(AnyMaps { backend, maps })
+    }
+    fn generate_gpu_on(
+        &self,
+        gpu: &GpuContext,
+        scene: &GpuScene,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<AnyMaps> {
+        Ok(AnyMaps {
+            backend: Backend::Gpu,
+            maps: Box::new(ShadowTechnique::generate_gpu_on(
+                self, gpu, scene, light, resolution,
+            )?),
+        })
+    }
+    fn visibility_wgsl(&self) -> String {
+        T::visibility_wgsl()
     }
     fn evaluate(
         &self,

@@ -26,8 +26,8 @@ pub struct EvalParams {
     pub map_count: u32,
     /// One of the `MODE_*` constants.
     pub mode: u32,
-    /// Number of receivers.
-    pub receiver_count: u32,
+    /// Unused (keeps the WGSL layout).
+    pub _reserved: u32,
     /// PCF radius in texels.
     pub pcf_radius: i32,
     /// [`shadow_core::Light::size`].
@@ -43,13 +43,8 @@ pub struct EvalParams {
 }
 
 impl EvalParams {
-    /// Parameters of `b` for `map_count` maps, `receiver_count` receivers and a light of `light_size`.
-    pub fn new(
-        b: &ShadowMapBaseline,
-        map_count: u32,
-        receiver_count: u32,
-        light_size: f32,
-    ) -> Self {
+    /// Parameters of `b` for `map_count` maps and a light of `light_size`.
+    pub fn new(b: &ShadowMapBaseline, map_count: u32, light_size: f32) -> Self {
         let (mode, radius) = match b.filter {
             Filter::Hard => (MODE_HARD, 0),
             Filter::Pcf { radius } => (MODE_PCF, radius as i32),
@@ -59,7 +54,7 @@ impl EvalParams {
         Self {
             map_count,
             mode,
-            receiver_count,
+            _reserved: 0,
             pcf_radius: radius,
             light_size,
             search_max: PCSS_SEARCH_MAX,

@@ -1,15 +1,12 @@
 //! The baselines on the GPU: depth maps rendered by `shadow_core`'s rasterizer into one
-//! reversed-Z texture array, filters evaluated by the compute shader `shadow_map_eval.wgsl`.
+//! reversed-Z texture array, filters evaluated by `visibility()` in `shadow_map_eval.wgsl`.
 
 use crate::filters::EvalParams;
-use glam::Vec3;
 use shadow_core::gpu::compute::{
-    ReceiverBuffers, bind_group, compute_pipelines, depth_array_entry, depth_array_view,
-    storage_entry, uniform_entry,
+    bind_group, depth_array_entry, depth_array_view, storage_entry, uniform_entry,
 };
-use shadow_core::gpu::light_space_shader;
-use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
-use shadow_core::{GpuContext, Map2D, MapParams, Receivers, Result, SampleView, ShadowError};
+use shadow_core::gpu::{GpuRasterizer, GpuScene, LIGHT_SPACE_WGSL};
+use shadow_core::{GpuContext, Map2D, MapParams, Result, SampleView, ShadowError};
 
 /// Depth maps kept on the GPU.
 pub struct GpuShadowMaps {
@@ -23,56 +20,21 @@ pub struct GpuShadowMaps {
     pub light_size: f32,
 }
 
-struct Rasterizer(GpuRasterizer);
-
-struct EvalPipeline {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
-}
-
-impl EvalPipeline {
-    fn new(ctx: &GpuContext) -> Self {
-        let d = &ctx.device;
-        let module = d.create_shader_module(light_space_shader(
-            "shadow map eval",
-            include_str!("shadow_map_eval.wgsl"),
-        ));
-        let layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("shadow map eval"),
-            entries: &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                depth_array_entry(2),
-                storage_entry(3, true),
-                storage_entry(4, true),
-                storage_entry(5, false),
-            ],
-        });
-        let [pipeline] = compute_pipelines(ctx, "shadow map eval", &module, &layout, ["main"]);
-        Self { pipeline, layout }
-    }
-}
-
 impl GpuShadowMaps {
-    /// Renders one depth layer per view and waits for the GPU.
-    pub fn render(
+    /// Records one depth layer per view of `scene`'s casters into `enc`.
+    pub fn record(
         ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
         views: &[SampleView],
-        casters: &[[Vec3; 3]],
+        scene: &GpuScene,
         resolution: u32,
         light_size: f32,
     ) -> Result<Self> {
-        let raster = ctx.cached(|c| Rasterizer(GpuRasterizer::new(c)));
-        let tris = GpuTriangles::new(ctx, casters)?;
+        let raster = ctx.cached(GpuRasterizer::new);
         let texture = GpuRasterizer::depth_array(ctx, resolution, views.len() as u32)?;
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
         for (layer, v) in views.iter().enumerate() {
-            raster
-                .0
-                .encode_depth(ctx, &mut enc, &tris, &v.view, &texture, layer as u32);
+            raster.encode_depth(ctx, enc, scene.casters(), &v.view, &texture, layer as u32);
         }
-        ctx.queue.submit([enc.finish()]);
-        ctx.wait()?;
         Ok(Self {
             texture,
             views: views.to_vec(),
@@ -83,26 +45,39 @@ impl GpuShadowMaps {
 
     /// Reads layer `layer` back as a linear depth map.
     pub fn read_layer(&self, ctx: &GpuContext, layer: u32) -> Result<Map2D<f32>> {
-        let raster = ctx.cached(|c| Rasterizer(GpuRasterizer::new(c)));
+        let raster = ctx.cached(GpuRasterizer::new);
         let view = self
             .views
             .get(layer as usize)
             .ok_or_else(|| ShadowError::MapsMismatch(format!("no layer {layer}")))?;
-        raster.0.read_depth(ctx, &self.texture, layer, &view.view)
+        raster.read_depth(ctx, &self.texture, layer, &view.view)
     }
 }
 
-/// Runs the filter compute shader over every receiver and reads the visibilities back.
-pub fn evaluate(
+/// The filters' `visibility()` (`shadow_map_eval.wgsl` after the light-space helpers).
+pub fn visibility_wgsl() -> String {
+    format!(
+        "{LIGHT_SPACE_WGSL}\n{}",
+        include_str!("shadow_map_eval.wgsl")
+    )
+}
+
+/// Parameters, map views, the depth array.
+pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    vec![
+        uniform_entry(0),
+        storage_entry(1, true),
+        depth_array_entry(2),
+    ]
+}
+
+/// The bind group of `maps` filtered as `prm` says.
+pub fn bind_maps(
     ctx: &GpuContext,
+    layout: &wgpu::BindGroupLayout,
     prm: &EvalParams,
     maps: &GpuShadowMaps,
-    r: &Receivers,
-) -> Result<Vec<f32>> {
-    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
-        return Ok(Vec::new());
-    };
-    let pipe = ctx.cached(EvalPipeline::new);
+) -> wgpu::BindGroup {
     let params: Vec<MapParams> = maps
         .views
         .iter()
@@ -111,18 +86,14 @@ pub fn evaluate(
     let u = ctx.uniform_buffer("eval params", bytemuck::bytes_of(prm));
     let vb = ctx.storage_buffer("map views", bytemuck::cast_slice(&params));
     let tv = depth_array_view(&maps.texture);
-    let bind = bind_group(
+    bind_group(
         ctx,
         "shadow map eval",
-        &pipe.layout,
+        layout,
         &[
             u.as_entire_binding(),
             vb.as_entire_binding(),
             wgpu::BindingResource::TextureView(&tv),
-            rb.positions.as_entire_binding(),
-            rb.normals.as_entire_binding(),
-            rb.visibility.as_entire_binding(),
         ],
-    );
-    rb.run(ctx, &pipe.pipeline, &bind)
+    )
 }

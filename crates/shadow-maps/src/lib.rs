@@ -15,6 +15,7 @@ pub mod gpu;
 pub mod maps;
 
 use maps::CpuShadowMaps;
+use shadow_core::gpu::GpuScene;
 use shadow_core::light_space::sample_views;
 use shadow_core::technique::MAX_CPU_RESOLUTION;
 use shadow_core::{
@@ -137,49 +138,44 @@ impl ShadowTechnique for ShadowMapBaseline {
 
     fn evaluate_cpu(&self, maps: &CpuShadowMaps, receivers: &Receivers) -> Result<Vec<f32>> {
         receivers.validate()?;
-        let params = filters::EvalParams::new(
-            self,
-            maps.views.len() as u32,
-            receivers.positions.len() as u32,
-            maps.light_size,
-        );
+        let params = filters::EvalParams::new(self, maps.views.len() as u32, maps.light_size);
         Ok(filters::evaluate_cpu(&params, maps, receivers))
     }
 
-    fn generate_gpu(
+    fn record_gpu(
         &self,
         gpu: &GpuContext,
-        geometry: &SceneGeometry,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
         light: &Light,
         resolution: u32,
     ) -> Result<gpu::GpuShadowMaps> {
+        let geometry = scene.geometry();
         self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
         let views = sample_views(
             light,
             &shadow_core::Coverage::new(geometry, light),
             self.map_count(),
         );
-        gpu.checked("shadow-map generation", || {
-            gpu::GpuShadowMaps::render(gpu, &views, &geometry.casters, resolution, light.size())
-        })
+        gpu::GpuShadowMaps::record(gpu, enc, &views, scene, resolution, light.size())
     }
 
-    fn evaluate_gpu(
+    fn visibility_wgsl() -> String {
+        gpu::visibility_wgsl()
+    }
+
+    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        gpu::maps_layout_entries()
+    }
+
+    fn bind_maps(
         &self,
         gpu: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuShadowMaps,
-        receivers: &Receivers,
-    ) -> Result<Vec<f32>> {
-        receivers.validate()?;
-        let params = filters::EvalParams::new(
-            self,
-            maps.views.len() as u32,
-            receivers.positions.len() as u32,
-            maps.light_size,
-        );
-        gpu.checked("shadow-map evaluation", || {
-            gpu::evaluate(gpu, &params, maps, receivers)
-        })
+    ) -> Result<wgpu::BindGroup> {
+        let params = filters::EvalParams::new(self, maps.views.len() as u32, maps.light_size);
+        Ok(gpu::bind_maps(gpu, layout, &params, maps))
     }
 }
 

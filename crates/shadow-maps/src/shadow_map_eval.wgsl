@@ -5,7 +5,7 @@
 struct Params {
     map_count: u32,
     mode: u32,
-    receiver_count: u32,
+    _reserved: u32,
     pcf_radius: i32,
     light_size: f32,
     search_max: f32,
@@ -17,9 +17,6 @@ struct Params {
 @group(0) @binding(0) var<uniform> prm: Params;
 @group(0) @binding(1) var<storage, read> views: array<MapView>;
 @group(0) @binding(2) var depth_maps: texture_depth_2d_array;
-@group(0) @binding(3) var<storage, read> positions: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> normals: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read_write> out_v: array<f32>;
 
 // The linear depth stored in layer `layer` at the texel under `st + d` (clamped to the edge),
 // and the receiver's own biased depth there: `c.z` moved along its plane to that texel's centre.
@@ -114,13 +111,4 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         return s / f32((2 * r + 1) * (2 * r + 1));
     }
     return pcss(m, c);
-}
-
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= prm.receiver_count {
-        return;
-    }
-    out_v[i] = visibility(positions[i].xyz, normals[i].xyz);
 }

@@ -61,7 +61,6 @@ pub fn evaluate(t: &ShadowWidth, maps: &CpuWidthMaps, r: &Receivers) -> Vec<f32>
     let prm = EvalParams::new(
         t,
         maps.params,
-        r.positions.len() as u32,
         maps.light_size,
         table.as_ref().map_or(0, |t| t.values.len() as u32),
     );

@@ -21,8 +21,8 @@ pub struct EvalParams {
     pub bias: Bias,
     /// 0: the linear falloff evaluated directly; 1: the lookup table.
     pub use_table: u32,
-    /// Number of receivers.
-    pub receiver_count: u32,
+    /// Unused (keeps the WGSL layout).
+    pub _reserved: u32,
     /// 1 when `c_scale` comes from the light size ([`Softness::FromLight`]).
     pub from_light: u32,
     /// Constant `c_scale` (when `from_light == 0`).
@@ -38,14 +38,8 @@ pub struct EvalParams {
 }
 
 impl EvalParams {
-    /// Parameters of `t` for a map `map`, `receiver_count` receivers and a light of `light_size`.
-    pub fn new(
-        t: &ShadowWidth,
-        map: MapParams,
-        receiver_count: u32,
-        light_size: f32,
-        table_size: u32,
-    ) -> Self {
+    /// Parameters of `t` for a map `map` and a light of `light_size`.
+    pub fn new(t: &ShadowWidth, map: MapParams, light_size: f32, table_size: u32) -> Self {
         let (from_light, c_scale) = match t.softness {
             Softness::FromLight => (1, 0.0),
             Softness::Constant(c) => (0, c),
@@ -58,7 +52,7 @@ impl EvalParams {
             map,
             bias: t.bias,
             use_table: (table_size > 0) as u32,
-            receiver_count,
+            _reserved: 0,
             from_light,
             c_scale,
             c_bias,

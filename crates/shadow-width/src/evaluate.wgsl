@@ -1,11 +1,12 @@
 // requires: light_space.wgsl
-// Evaluation of Kirsch & Döllner's I(sd, sw) per receiver. Mirrors shadow_width::eval::shade.
+// Evaluation of Kirsch & Döllner's I(sd, sw) as `visibility(world_pos, normal)`. Mirrors
+// shadow_width::eval::shade.
 
 struct EvalParams {
     map: MapView,
     bias: Bias,
     use_table: u32,
-    receiver_count: u32,
+    _reserved: u32,
     from_light: u32,
     c_scale: f32,
     c_bias: f32,
@@ -18,9 +19,6 @@ struct EvalParams {
 @group(0) @binding(1) var depth: texture_depth_2d_array;
 @group(0) @binding(2) var<storage, read> width: array<f32>;
 @group(0) @binding(3) var<storage, read> table: array<f32>;
-@group(0) @binding(4) var<storage, read> positions: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read> normals: array<vec4<f32>>;
-@group(0) @binding(6) var<storage, read_write> out_v: array<f32>;
 
 const MAX_C_SCALE: f32 = 1.0e30;
 
@@ -94,13 +92,4 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         return 0.0;
     }
     return clamp(1.0 + prm.c_bias - num / sd, 0.0, 1.0);
-}
-
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= prm.receiver_count {
-        return;
-    }
-    out_v[i] = visibility(positions[i].xyz, normals[i].xyz);
 }

@@ -8,14 +8,14 @@ use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, Wid
 use crate::width::{cap, propagate};
 use bytemuck::{Pod, Zeroable};
 use shadow_core::gpu::compute::{
-    ReceiverBuffers, bind_group, compute_pipelines, depth_array_entry, depth_array_view,
-    storage_entry, uniform_entry,
+    bind_group, compute_pipelines, depth_array_entry, depth_array_view, storage_entry,
+    uniform_entry,
 };
-use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuTriangles, light_space_shader};
+use shadow_core::gpu::{
+    GpuJumpFlood, GpuRasterizer, GpuScene, LIGHT_SPACE_WGSL, light_space_shader,
+};
 use shadow_core::raster::DepthPass;
-use shadow_core::{
-    GpuContext, Light, Map2D, MapParams, Receivers, Result, SampleView, SceneGeometry, ShadowError,
-};
+use shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
 
 /// The maps of one light, kept on the GPU.
 pub struct GpuWidthMaps {
@@ -52,8 +52,6 @@ struct WidthParams {
     /// `(dx, dy, distance, 0)` per neighbour of a propagation pass ([`propagate::offsets`]).
     offsets: [[f32; 4]; 8],
 }
-
-struct Raster(GpuRasterizer);
 
 struct WidthPipelines {
     layout: wgpu::BindGroupLayout,
@@ -123,34 +121,19 @@ impl WidthPipelines {
     }
 }
 
-struct EvalPipeline {
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+/// `visibility()`: `evaluate.wgsl` after the light-space helpers.
+pub fn visibility_wgsl() -> String {
+    format!("{LIGHT_SPACE_WGSL}\n{}", include_str!("evaluate.wgsl"))
 }
 
-impl EvalPipeline {
-    fn new(ctx: &GpuContext) -> Self {
-        let module = ctx.device.create_shader_module(light_space_shader(
-            "shadow width eval",
-            include_str!("evaluate.wgsl"),
-        ));
-        let layout = ctx
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("shadow width eval"),
-                entries: &[
-                    uniform_entry(0),
-                    depth_array_entry(1),
-                    storage_entry(2, true),
-                    storage_entry(3, true),
-                    storage_entry(4, true),
-                    storage_entry(5, true),
-                    storage_entry(6, false),
-                ],
-            });
-        let [pipeline] = compute_pipelines(ctx, "shadow width eval", &module, &layout, ["main"]);
-        Self { layout, pipeline }
-    }
+/// Parameters, the depth array, the width map, the attenuation table.
+pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    vec![
+        uniform_entry(0),
+        depth_array_entry(1),
+        storage_entry(2, true),
+        storage_entry(3, true),
+    ]
 }
 
 fn buffer(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
@@ -213,16 +196,17 @@ impl Kernels<'_> {
     }
 }
 
-/// Renders the depth layers and builds the width map on the GPU (inputs already checked), then
-/// waits for the GPU.
+/// Records the depth layers and the width map into `enc` (inputs already checked).
 pub fn generate(
     ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
     t: &ShadowWidth,
-    geometry: &SceneGeometry,
+    scene: &GpuScene,
     light: &Light,
     resolution: u32,
 ) -> Result<GpuWidthMaps> {
-    let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
+    let geometry = scene.geometry();
+    let raster = ctx.cached(GpuRasterizer::new);
     let pipes = ctx.cached(WidthPipelines::new);
     let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
@@ -234,23 +218,14 @@ pub fn generate(
             max: ((limit / 8) as f64).sqrt() as u32,
         });
     }
-    let tris = GpuTriangles::new(ctx, &geometry.casters)?;
+    let tris = scene.casters();
     let mut passes = vec![DepthPass::NEAREST];
     if t.depth == DepthLayer::BackFaces {
         passes.push(DepthPass::FARTHEST_BACK);
     }
     let depth = GpuRasterizer::depth_array(ctx, resolution, passes.len() as u32)?;
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
     for (layer, pass) in passes.iter().enumerate() {
-        raster.0.encode_depth_pass(
-            ctx,
-            &mut enc,
-            &tris,
-            &view.view,
-            &depth,
-            layer as u32,
-            *pass,
-        );
+        raster.encode_depth_pass(ctx, enc, tris, &view.view, &depth, layer as u32, *pass);
     }
     let f = [
         buffer(ctx, "width a", texels * 4),
@@ -296,7 +271,7 @@ pub fn generate(
     // Ping-pong: every dispatch reads `src` and writes `dst` of each pair.
     let fw = |src: usize| [&f[src], &f[1 - src], &u[0], &u[1], &env[0], &env[1]];
     kernels.run(
-        &mut enc,
+        enc,
         &Dispatch {
             pipeline: &pipes.mask,
             step: 0,
@@ -314,7 +289,7 @@ pub fn generate(
                     buffers: fw(cur),
                     lines: false,
                 };
-                kernels.run(&mut enc, &d);
+                kernels.run(enc, &d);
                 cur = 1 - cur;
             }
             let d = Dispatch {
@@ -323,7 +298,7 @@ pub fn generate(
                 buffers: fw(cur),
                 lines: false,
             };
-            kernels.run(&mut enc, &d);
+            kernels.run(enc, &d);
             cur = 1 - cur;
         }
         WidthMethod::JumpFlood => {
@@ -334,9 +309,9 @@ pub fn generate(
                 buffers: [&f[cur], &f[1 - cur], &u[1], &u[0], &env[0], &env[1]],
                 lines: false,
             };
-            kernels.run(&mut enc, &init);
+            kernels.run(enc, &init);
             let flood = ctx.cached(GpuJumpFlood::new);
-            let ucur = flood.encode(ctx, &mut enc, [&u[0], &u[1]], resolution);
+            let ucur = flood.encode(ctx, enc, [&u[0], &u[1]], resolution);
             let resolve = Dispatch {
                 pipeline: &pipes.jfa_resolve,
                 step: 0,
@@ -350,7 +325,7 @@ pub fn generate(
                 ],
                 lines: false,
             };
-            kernels.run(&mut enc, &resolve);
+            kernels.run(enc, &resolve);
             cur = 1 - cur;
         }
         WidthMethod::Exact => {
@@ -361,13 +336,11 @@ pub fn generate(
                     buffers: fw(cur),
                     lines: true,
                 };
-                kernels.run(&mut enc, &d);
+                kernels.run(enc, &d);
                 cur = 1 - cur;
             }
         }
     }
-    ctx.queue.submit([enc.finish()]);
-    ctx.wait()?;
     let [a, b] = f;
     Ok(GpuWidthMaps {
         view,
@@ -378,17 +351,13 @@ pub fn generate(
     })
 }
 
-/// `V` for every receiver, computed by `evaluate.wgsl`.
-pub fn evaluate(
+/// The bind group of `maps` read with `t`'s falloff and biases.
+pub fn bind_maps(
     ctx: &GpuContext,
+    layout: &wgpu::BindGroupLayout,
     t: &ShadowWidth,
     maps: &GpuWidthMaps,
-    r: &Receivers,
-) -> Result<Vec<f32>> {
-    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
-        return Ok(Vec::new());
-    };
-    let pipe = ctx.cached(EvalPipeline::new);
+) -> wgpu::BindGroup {
     let table_size = match (&t.falloff, t.table) {
         (_, Some(n)) => Some(n),
         (FalloffKind::Custom(_), None) => Some(DEFAULT_TABLE_SIZE),
@@ -398,7 +367,6 @@ pub fn evaluate(
     let prm = EvalParams::new(
         t,
         maps.params,
-        rb.count,
         maps.light_size,
         table.as_ref().map_or(0, |t| t.values.len() as u32),
     );
@@ -406,19 +374,15 @@ pub fn evaluate(
     let ub = ctx.uniform_buffer("shadow width eval", bytemuck::bytes_of(&prm));
     let tb = ctx.storage_buffer("attenuation table", bytemuck::cast_slice(&values));
     let dv = depth_array_view(&maps.depth);
-    let bind = bind_group(
+    bind_group(
         ctx,
         "shadow width eval",
-        &pipe.layout,
+        layout,
         &[
             ub.as_entire_binding(),
             wgpu::BindingResource::TextureView(&dv),
             maps.width.as_entire_binding(),
             tb.as_entire_binding(),
-            rb.positions.as_entire_binding(),
-            rb.normals.as_entire_binding(),
-            rb.visibility.as_entire_binding(),
         ],
-    );
-    rb.run(ctx, &pipe.pipeline, &bind)
+    )
 }

@@ -43,6 +43,7 @@ pub mod width;
 pub use attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation};
 pub use params::{DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
 
+use shadow_core::gpu::GpuScene;
 use shadow_core::technique::MAX_CPU_RESOLUTION;
 use shadow_core::{
     GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
@@ -82,31 +83,35 @@ impl ShadowTechnique for ShadowWidth {
         Ok(cpu::evaluate(self, maps, receivers))
     }
 
-    fn generate_gpu(
+    fn record_gpu(
         &self,
         gpu: &GpuContext,
-        geometry: &SceneGeometry,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
         light: &Light,
         resolution: u32,
     ) -> Result<gpu::GpuWidthMaps> {
         self.validate()?;
-        self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
-        gpu.checked("shadow-width generation", || {
-            gpu::generate(gpu, self, geometry, light, resolution)
-        })
+        self.check_inputs(scene.geometry(), light, resolution, gpu.max_texture_size())?;
+        gpu::generate(gpu, enc, self, scene, light, resolution)
     }
 
-    fn evaluate_gpu(
+    fn visibility_wgsl() -> String {
+        gpu::visibility_wgsl()
+    }
+
+    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        gpu::maps_layout_entries()
+    }
+
+    fn bind_maps(
         &self,
         gpu: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuWidthMaps,
-        receivers: &Receivers,
-    ) -> Result<Vec<f32>> {
+    ) -> Result<wgpu::BindGroup> {
         self.validate()?;
-        receivers.validate()?;
-        gpu.checked("shadow-width evaluation", || {
-            gpu::evaluate(gpu, self, maps, receivers)
-        })
+        Ok(gpu::bind_maps(gpu, layout, self, maps))
     }
 }
 

@@ -6,7 +6,7 @@
 //!    of each neighbour warped into its view (`skins.wgsl`, an indirect draw of those quads);
 //! 3. the visibility channel from the warped values (`combine.wgsl`).
 //!
-//! Evaluation is one compute pass (`evaluate.wgsl`).
+//! Evaluation is `visibility()` in `evaluate.wgsl`.
 
 pub mod pipelines;
 
@@ -15,16 +15,14 @@ use crate::samples::{lit_share, piece_share, sample_views};
 use crate::segments::Segment;
 use crate::skins::Unproject;
 use bytemuck::{Pod, Zeroable};
-use pipelines::{CombineKernel, EvalKernel, FindSkinsKernel, SkinPipeline, VALUE_FORMAT};
-use shadow_core::gpu::compute::{ReceiverBuffers, bind_group, depth_array_view};
+use pipelines::{CombineKernel, FindSkinsKernel, SkinPipeline, VALUE_FORMAT};
+use shadow_core::gpu::compute::{bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
 use shadow_core::gpu::resources::{Kernel, texture_2d};
 use shadow_core::gpu::timer::PassSlot;
-use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
+use shadow_core::gpu::{GpuRasterizer, GpuScene};
 use shadow_core::raster::DepthPass;
-use shadow_core::{
-    Bias, GpuContext, Map2D, MapParams, Receivers, Result, SceneGeometry, ShadowError,
-};
+use shadow_core::{Bias, GpuContext, Map2D, MapParams, Result, ShadowError};
 use wgpu::util::DeviceExt;
 
 /// One sample as the shaders read it (`Sample` in `sample.wgsl`).
@@ -93,12 +91,9 @@ struct CombineParams {
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct EvalParams {
     bias: Bias,
-    count: u32,
     samples: u32,
-    _pad: [u32; 2],
+    _pad: [u32; 3],
 }
-
-struct Raster(GpuRasterizer);
 
 /// Records the warp of sample `src`'s skins into sample `dst`'s view, into `value`.
 #[allow(clippy::too_many_arguments)]
@@ -224,15 +219,17 @@ fn encode_find_skins(
     SkinList { quads, draw }
 }
 
-/// Builds the maps of `segments` on the GPU (inputs already checked), then waits for the GPU.
+/// Records the maps of `segments` into `enc` (inputs already checked).
 /// Layer `s N + i` holds sample `i` of segment `s`.
 pub fn generate(
     ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
     t: &LinearLight,
-    geometry: &SceneGeometry,
+    scene: &GpuScene,
     segments: &[Segment],
     res: u32,
 ) -> Result<GpuLinearMaps> {
+    let geometry = scene.geometry();
     let n = t.samples;
     let layers = n * segments.len() as u32;
     let limit = ctx.device.limits().max_storage_buffer_binding_size;
@@ -242,7 +239,7 @@ pub fn generate(
             max: ((limit / 4) as f64).sqrt() as u32,
         });
     }
-    let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
+    let raster = ctx.cached(GpuRasterizer::new);
     let skin_pipe = ctx.cached(SkinPipeline::new);
     let comb = ctx.cached(CombineKernel::new);
     let find = ctx.cached(FindSkinsKernel::new);
@@ -265,10 +262,11 @@ pub fn generate(
         }
     }
     let sb = ctx.storage_buffer("linear samples", bytemuck::cast_slice(&samples));
-    let tris = GpuTriangles::new(ctx, &geometry.casters)?;
+    let tris = scene.casters();
     let depth = GpuRasterizer::depth_array(ctx, res, layers)?;
     // Skins and their warps read the grid maps (casters and receivers, see `grid_geometry`).
-    let grid_tris = GpuTriangles::new(ctx, &crate::skins::grid_geometry(geometry))?;
+    let surfaces = scene.surfaces(ctx)?;
+    let grid_tris = &surfaces.0;
     let grid = GpuRasterizer::depth_array(ctx, res, layers)?;
     let grid_view = depth_array_view(&grid);
     let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
@@ -299,22 +297,13 @@ pub fn generate(
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     });
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
     for (k, v) in views.iter().enumerate() {
-        for (t, target) in [(&tris, &depth), (&grid_tris, &grid)] {
-            raster.0.encode_depth_pass(
-                ctx,
-                &mut enc,
-                t,
-                &v.view,
-                target,
-                k as u32,
-                DepthPass::NEAREST,
-            );
+        for (t, target) in [(tris, &depth), (grid_tris, &grid)] {
+            raster.encode_depth_pass(ctx, enc, t, &v.view, target, k as u32, DepthPass::NEAREST);
         }
     }
     let lists: Vec<SkinList> = (0..layers)
-        .map(|k| encode_find_skins(ctx, &mut enc, &find.0, &sb, &grid_view, k, res))
+        .map(|k| encode_find_skins(ctx, enc, &find.0, &sb, &grid_view, k, res))
         .collect();
     for layer in 0..layers {
         // Sample `i` of segment `layer / N`; its neighbours are on the same segment.
@@ -325,7 +314,7 @@ pub fn generate(
             if let Some(j) = j {
                 encode_warp(
                     ctx,
-                    &mut enc,
+                    enc,
                     &skin_pipe,
                     &sb,
                     &grid_view,
@@ -358,14 +347,12 @@ pub fn generate(
                 wgpu::BindingResource::TextureView(&channel_view),
             ],
         );
-        let mut pass = ctx.begin_compute_pass(&mut enc, "linear combine");
+        let mut pass = ctx.begin_compute_pass(enc, "linear combine");
         pass.set_pipeline(&comb.0.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         let g = res.div_ceil(8);
         pass.dispatch_workgroups(g, g, 1);
     }
-    ctx.queue.submit([enc.finish()]);
-    ctx.wait()?;
     Ok(GpuLinearMaps {
         samples,
         depth,
@@ -373,22 +360,27 @@ pub fn generate(
     })
 }
 
-/// `V` for every receiver, computed by `evaluate.wgsl`.
-pub fn evaluate(
+/// `visibility()`: `evaluate.wgsl` after the light-space helpers and the sample layout.
+pub fn visibility_wgsl() -> String {
+    pipelines::sources(&[include_str!("../evaluate.wgsl")]).join("\n")
+}
+
+/// Parameters, the samples, the depth array, the visibility channels.
+pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    pipelines::eval_entries()
+}
+
+/// The bind group of `maps` read with `t`'s biases.
+pub fn bind_maps(
     ctx: &GpuContext,
+    layout: &wgpu::BindGroupLayout,
     t: &LinearLight,
     maps: &GpuLinearMaps,
-    r: &Receivers,
-) -> Result<Vec<f32>> {
-    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
-        return Ok(Vec::new());
-    };
-    let k = ctx.cached(EvalKernel::new);
+) -> wgpu::BindGroup {
     let prm = EvalParams {
         bias: t.bias,
-        count: rb.count,
         samples: maps.samples.len() as u32,
-        _pad: [0; 2],
+        _pad: [0; 3],
     };
     let ub = ctx.uniform_buffer("linear eval", bytemuck::bytes_of(&prm));
     let sb = ctx.storage_buffer("linear samples", bytemuck::cast_slice(&maps.samples));
@@ -397,19 +389,15 @@ pub fn evaluate(
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     });
-    let bind = bind_group(
+    bind_group(
         ctx,
         "linear evaluate",
-        &k.0.layout,
+        layout,
         &[
             ub.as_entire_binding(),
             sb.as_entire_binding(),
             wgpu::BindingResource::TextureView(&depth_view),
             wgpu::BindingResource::TextureView(&channel_view),
-            rb.positions.as_entire_binding(),
-            rb.normals.as_entire_binding(),
-            rb.visibility.as_entire_binding(),
         ],
-    );
-    rb.run(ctx, &k.0.pipeline, &bind)
+    )
 }

@@ -19,7 +19,7 @@ pub const GRID_WGSL: &str = include_str!("../grid.wgsl");
 pub const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// The crate's prelude (`light_space.wgsl`, `sample.wgsl`) followed by `parts`.
-fn sources<'a>(parts: &[&'a str]) -> Vec<&'a str> {
+pub fn sources<'a>(parts: &[&'a str]) -> Vec<&'a str> {
     let mut v = vec![LIGHT_SPACE_WGSL, SAMPLE_WGSL];
     v.extend_from_slice(parts);
     v
@@ -166,32 +166,18 @@ impl CombineKernel {
     }
 }
 
-/// The evaluation kernel.
-pub struct EvalKernel(pub Kernel);
-
-impl EvalKernel {
-    /// Builds the kernel.
-    pub fn new(ctx: &GpuContext) -> Self {
-        let c = wgpu::ShaderStages::COMPUTE;
-        Self(Kernel::new(
-            ctx,
-            "linear-light evaluate",
-            &sources(&[include_str!("../evaluate.wgsl")]),
-            "evaluate",
-            &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                texture_entry(
-                    2,
-                    c,
-                    wgpu::TextureSampleType::Depth,
-                    wgpu::TextureViewDimension::D2Array,
-                ),
-                texture_entry(3, c, FLOAT, wgpu::TextureViewDimension::D2Array),
-                storage_entry(4, true),
-                storage_entry(5, true),
-                storage_entry(6, false),
-            ],
-        ))
-    }
+/// Evaluation's bindings: parameters, samples, the depth array and the channels.
+pub fn eval_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    let c = wgpu::ShaderStages::COMPUTE;
+    vec![
+        uniform_entry(0),
+        storage_entry(1, true),
+        texture_entry(
+            2,
+            c,
+            wgpu::TextureSampleType::Depth,
+            wgpu::TextureViewDimension::D2Array,
+        ),
+        texture_entry(3, c, FLOAT, wgpu::TextureViewDimension::D2Array),
+    ]
 }

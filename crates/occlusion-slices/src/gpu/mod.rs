@@ -5,7 +5,7 @@
 //! 2. the summed-area table of integer counts (`sat_rows.wgsl`, `sat_cols.wgsl`);
 //! 3. for N-Buffers and mipmaps, every level from the table (`levels.wgsl`), RGBA8.
 //!
-//! Evaluation is one compute pass (`evaluate.wgsl`).
+//! Evaluation is `visibility()` in `evaluate.wgsl`.
 
 pub mod pipelines;
 
@@ -14,15 +14,13 @@ use crate::filters::mipmap::mip_size;
 use crate::frame::Frame;
 use crate::params::{Filter, OcclusionSlices};
 use bytemuck::{Pod, Zeroable};
-use pipelines::{
-    EvalPipeline, LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT, SlicingPipelines,
-};
-use shadow_core::gpu::GpuTriangles;
-use shadow_core::gpu::compute::{self, ReceiverBuffers, bind_group};
+use pipelines::{LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT, SlicingPipelines};
+use shadow_core::gpu::compute::{self, bind_group};
 use shadow_core::gpu::raster::read_texture;
 use shadow_core::gpu::resources::{Kernel, texture_2d};
 use shadow_core::gpu::timer::PassSlot;
-use shadow_core::{GpuContext, Light, Receivers, Result, SceneGeometry, ShadowError};
+use shadow_core::gpu::{GpuScene, GpuTriangles};
+use shadow_core::{GpuContext, Light, Result, ShadowError};
 use std::sync::Mutex;
 
 /// The occlusion textures of one light, kept on the GPU.
@@ -100,8 +98,8 @@ struct LevelParams {
 struct EvalParams {
     filter: u32,
     combination: u32,
-    count: u32,
     levels: u32,
+    _reserved: u32,
     normal_offset: f32,
     groups: u32,
     _pad: [u32; 2],
@@ -124,13 +122,12 @@ fn storage_usage() -> wgpu::TextureUsages {
 fn encode_slicing(
     ctx: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
-    geometry: &SceneGeometry,
+    tris: &GpuTriangles,
     uniform: &wgpu::Buffer,
     occupancy: &wgpu::Texture,
     groups: u32,
-) -> Result<()> {
+) {
     let pipes = ctx.cached(SlicingPipelines::new);
-    let tris = GpuTriangles::new(ctx, &geometry.casters)?;
     let views: Vec<wgpu::TextureView> = (0..groups)
         .map(|g| {
             occupancy.create_view(&wgpu::TextureViewDescriptor {
@@ -178,7 +175,6 @@ fn encode_slicing(
         rp.set_vertex_buffer(0, tris.vertices.slice(..));
         rp.draw(0..tris.vertex_count, 0..1);
     }
-    Ok(())
 }
 
 /// Step 3: every level of `filtered` from the table.
@@ -227,14 +223,16 @@ fn encode_levels(
     }
 }
 
-/// Builds the occlusion textures on the GPU (inputs already checked), then waits for the GPU.
+/// Records the occlusion textures into `enc` (inputs already checked).
 pub fn generate(
     ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
     t: &OcclusionSlices,
-    geometry: &SceneGeometry,
+    scene: &GpuScene,
     light: &Light,
     res: u32,
 ) -> Result<GpuSliceMaps> {
+    let geometry = scene.geometry();
     let limits = ctx.device.limits();
     let levels = level_count(res);
     let groups = t.slices.div_ceil(4);
@@ -297,8 +295,7 @@ pub fn generate(
             storage_usage(),
         ),
     };
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    encode_slicing(ctx, &mut enc, geometry, &uniform, &occupancy, groups)?;
+    encode_slicing(ctx, enc, scene.casters(), &uniform, &occupancy, groups);
     let (occ_view, rows_view, sat_view) = (
         array_view(&occupancy, None),
         array_view(&rows, None),
@@ -321,7 +318,7 @@ pub fn generate(
     let b = bind(&pre.sat_rows, &occ_view, &rows_view);
     compute::dispatch(
         ctx,
-        &mut enc,
+        enc,
         "sat rows",
         &pre.sat_rows.pipeline,
         &b,
@@ -330,7 +327,7 @@ pub fn generate(
     let b = bind(&pre.sat_cols, &rows_view, &sat_view);
     compute::dispatch(
         ctx,
-        &mut enc,
+        enc,
         "sat cols",
         &pre.sat_cols.pipeline,
         &b,
@@ -338,11 +335,9 @@ pub fn generate(
     );
     if t.filter != Filter::Sat {
         encode_levels(
-            ctx, &mut enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,
+            ctx, enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,
         );
     }
-    ctx.queue.submit([enc.finish()]);
-    ctx.wait()?;
     let sat = if t.filter == Filter::Sat {
         sat
     } else {
@@ -359,13 +354,24 @@ pub fn generate(
     })
 }
 
-/// `V` for every receiver, computed by `evaluate.wgsl`.
-pub fn evaluate(
+/// `visibility()`: `evaluate.wgsl` after the slicing frame.
+pub fn visibility_wgsl() -> String {
+    [pipelines::FRAME_WGSL, include_str!("../evaluate.wgsl")].join("\n")
+}
+
+/// Frame, parameters, the table, the levels.
+pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    pipelines::eval_entries()
+}
+
+/// The bind group of `maps` read with `t`'s filter and combination; maps built with another
+/// filter or slice count are [`ShadowError::MapsMismatch`].
+pub fn bind_maps(
     ctx: &GpuContext,
+    layout: &wgpu::BindGroupLayout,
     t: &OcclusionSlices,
     maps: &GpuSliceMaps,
-    r: &Receivers,
-) -> Result<Vec<f32>> {
+) -> Result<wgpu::BindGroup> {
     if maps.filter != t.filter || maps.frame.slices != t.slices {
         return Err(ShadowError::MapsMismatch(format!(
             "maps hold {} {}-slice textures, the technique reads {} with {}",
@@ -375,15 +381,11 @@ pub fn evaluate(
             t.slices
         )));
     }
-    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
-        return Ok(Vec::new());
-    };
-    let pipe = ctx.cached(EvalPipeline::new);
     let prm = EvalParams {
         filter: t.filter.index(),
         combination: t.combination.index(),
-        count: rb.count,
         levels: maps.levels,
+        _reserved: 0,
         normal_offset: t.normal_offset,
         groups: maps.groups,
         _pad: [0; 2],
@@ -394,19 +396,15 @@ pub fn evaluate(
         array_view(&maps.sat, None),
         array_view(&maps.filtered, None),
     );
-    let bind = bind_group(
+    Ok(bind_group(
         ctx,
         "occlusion evaluate",
-        &pipe.0.layout,
+        layout,
         &[
             fb.as_entire_binding(),
             eb.as_entire_binding(),
-            rb.positions.as_entire_binding(),
-            rb.normals.as_entire_binding(),
-            rb.visibility.as_entire_binding(),
             wgpu::BindingResource::TextureView(&sat_view),
             wgpu::BindingResource::TextureView(&levels_view),
         ],
-    );
-    rb.run(ctx, &pipe.0.pipeline, &bind)
+    ))
 }

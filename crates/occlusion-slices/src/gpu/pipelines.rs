@@ -3,7 +3,7 @@
 //! `sat_cols.wgsl`, `levels.wgsl`) and evaluation (`evaluate.wgsl`).
 
 use shadow_core::GpuContext;
-use shadow_core::gpu::compute::{storage_entry, uniform_entry};
+use shadow_core::gpu::compute::uniform_entry;
 use shadow_core::gpu::resources::{
     FLOAT, Kernel, layout, storage_texture_entry, texture_entry, wgsl_module,
 };
@@ -174,26 +174,12 @@ impl PrefilterPipelines {
     }
 }
 
-/// Evaluation: frame, parameters, receivers, output, the table and the level texture.
-pub struct EvalPipeline(pub Kernel);
-
-impl EvalPipeline {
-    /// Builds the kernel.
-    pub fn new(ctx: &GpuContext) -> Self {
-        Self(Kernel::new(
-            ctx,
-            "occlusion evaluate",
-            &[FRAME_WGSL, include_str!("../evaluate.wgsl")],
-            "evaluate",
-            &[
-                uniform_entry(0),
-                uniform_entry(1),
-                storage_entry(2, true),
-                storage_entry(3, true),
-                storage_entry(4, false),
-                texture_array(5, UINT),
-                texture_array(6, FLOAT),
-            ],
-        ))
-    }
+/// Evaluation's bindings: frame, parameters, the table and the level texture.
+pub fn eval_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    vec![
+        uniform_entry(0),
+        uniform_entry(1),
+        texture_array(2, UINT),
+        texture_array(3, FLOAT),
+    ]
 }

@@ -7,7 +7,7 @@
 //!    the depth image (`seeds`, two jump floods, `limits`);
 //! 3. the stored map (`combine.wgsl`, written through a storage texture of the map's format).
 //!
-//! Evaluation is one compute pass (`evaluate.wgsl`).
+//! Evaluation is `visibility()` in `evaluate.wgsl`.
 
 pub mod pipelines;
 
@@ -19,17 +19,16 @@ use crate::table::IlluminationTable;
 use crate::warp::{NONE_DEPTH, Warp};
 use bytemuck::{Pod, Zeroable};
 use pipelines::{
-    CombinePipelines, DepthImagePipelines, EDGE_FORMAT, EvalPipeline, LOWER_FORMAT,
-    SilhouettePipelines,
+    CombinePipelines, DepthImagePipelines, EDGE_FORMAT, LOWER_FORMAT, SilhouettePipelines,
 };
-use shadow_core::gpu::compute::{self, ReceiverBuffers, bind_group, depth_array_view};
+use shadow_core::gpu::compute::{self, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
-use shadow_core::gpu::resources::texture_2d;
+use shadow_core::gpu::resources::{FLOAT, texture_2d, texture_entry};
 use shadow_core::gpu::timer::PassSlot;
-use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuTriangles};
+use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, LIGHT_SPACE_WGSL};
 use shadow_core::raster::DepthPass;
 use shadow_core::{
-    GpuContext, Light, Map2D, MapParams, Receivers, Result, SampleView, SceneGeometry, ShadowError,
+    GpuContext, Light, Map2D, MapParams, Result, SampleView, SceneGeometry, ShadowError,
 };
 
 /// The penumbra limit map of one light, kept on the GPU.
@@ -80,8 +79,6 @@ struct GenParams {
     transition_gap: f32,
     _pad: f32,
 }
-
-struct Raster(GpuRasterizer);
 
 fn buffer(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
     ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -147,26 +144,40 @@ fn render_pass<'a>(
     })
 }
 
+/// The casters' silhouette candidates ([`edges`]) on the GPU, derived once per scene.
+struct GpuEdges {
+    buffer: wgpu::Buffer,
+    count: u32,
+}
+
+impl GpuEdges {
+    fn new(ctx: &GpuContext, geometry: &SceneGeometry) -> Self {
+        let mut data = edges(&geometry.casters);
+        let count = data.len() as u32;
+        if data.is_empty() {
+            // wgpu rejects empty bindings; nothing is drawn from this one.
+            data.push(Edge::zeroed());
+        }
+        let buffer = ctx.storage_buffer("penumbra edges", bytemuck::cast_slice(&data));
+        Self { buffer, count }
+    }
+}
+
 /// Steps 2 and 3 of silhouette extrusion: ribbons into `edge`, back faces into `lower`.
 #[allow(clippy::too_many_arguments)]
 fn encode_silhouette(
     ctx: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
-    geometry: &SceneGeometry,
-    tris: &GpuTriangles,
+    scene: &GpuScene,
     uniform: &wgpu::Buffer,
     edge: &wgpu::Texture,
     lower: &wgpu::Texture,
     res: u32,
-) {
+) -> Result<()> {
     let pipes = ctx.cached(SilhouettePipelines::new);
-    let mut data = edges(&geometry.casters);
-    let edge_count = data.len() as u32;
-    if data.is_empty() {
-        // wgpu rejects empty bindings; nothing is drawn from this one.
-        data.push(Edge::zeroed());
-    }
-    let eb = ctx.storage_buffer("penumbra edges", bytemuck::cast_slice(&data));
+    let tris = scene.casters();
+    let edges = scene.derived(ctx, |c, g| Ok(GpuEdges::new(c, g)))?;
+    let (eb, edge_count) = (&edges.buffer, edges.count);
     let depth = texture_2d(
         ctx,
         "penumbra ribbon depth",
@@ -241,16 +252,19 @@ fn encode_silhouette(
         rp.set_vertex_buffer(0, tris.vertices.slice(..));
         rp.draw(0..tris.vertex_count, 0..1);
     }
+    Ok(())
 }
 
-/// Builds the map on the GPU (inputs already checked), then waits for the GPU.
+/// Records the map into `enc` (inputs already checked).
 pub fn generate(
     ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
     t: &PenumbraLimit,
-    geometry: &SceneGeometry,
+    scene: &GpuScene,
     light: &Light,
     res: u32,
 ) -> Result<GpuPenumbraMaps> {
+    let geometry = scene.geometry();
     let texels = res as u64 * res as u64;
     let limit = ctx.device.limits().max_storage_buffer_binding_size;
     if texels * 4 > limit {
@@ -259,13 +273,13 @@ pub fn generate(
             max: ((limit / 4) as f64).sqrt() as u32,
         });
     }
-    let raster = ctx.cached(|c| Raster(GpuRasterizer::new(c)));
+    let raster = ctx.cached(GpuRasterizer::new);
     let di = ctx.cached(DepthImagePipelines::new);
     let comb = ctx.cached(CombinePipelines::new);
     let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
     let params = view.params(res);
     let warp = Warp::new(&params, light);
-    let tris = GpuTriangles::new(ctx, &geometry.casters)?;
+    let tris = scene.casters();
     let depth = GpuRasterizer::depth_array(ctx, res, 1)?;
     let gen_params = GenParams {
         map: params,
@@ -330,41 +344,20 @@ pub fn generate(
             ],
         )
     };
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    raster.0.encode_depth_pass(
-        ctx,
-        &mut enc,
-        &tris,
-        &view.view,
-        &depth,
-        0,
-        DepthPass::NEAREST,
-    );
-    dispatch(
-        ctx,
-        &mut enc,
-        &di.geometry,
-        &di_bind(&seeds[0], &seeds[1]),
-        res,
-    );
+    raster.encode_depth_pass(ctx, enc, tris, &view.view, &depth, 0, DepthPass::NEAREST);
+    dispatch(ctx, enc, &di.geometry, &di_bind(&seeds[0], &seeds[1]), res);
     match t.generation {
         Generation::Silhouette => {
-            encode_silhouette(ctx, &mut enc, geometry, &tris, &uniform, &edge, &lower, res);
+            encode_silhouette(ctx, enc, scene, &uniform, &edge, &lower, res)?;
         }
         Generation::DepthImage => {
-            dispatch(
-                ctx,
-                &mut enc,
-                &di.seeds,
-                &di_bind(&seeds[0], &seeds[1]),
-                res,
-            );
+            dispatch(ctx, enc, &di.seeds, &di_bind(&seeds[0], &seeds[1]), res);
             let flood = ctx.cached(GpuJumpFlood::new);
-            let ia = flood.encode(ctx, &mut enc, [&seeds[0], &seeds[2]], res);
-            let ib = flood.encode(ctx, &mut enc, [&seeds[1], &seeds[3]], res);
+            let ia = flood.encode(ctx, enc, [&seeds[0], &seeds[2]], res);
+            let ib = flood.encode(ctx, enc, [&seeds[1], &seeds[3]], res);
             let a = if ia == 0 { &seeds[0] } else { &seeds[2] };
             let b = if ib == 0 { &seeds[1] } else { &seeds[3] };
-            dispatch(ctx, &mut enc, &di.limits, &di_bind(a, b), res);
+            dispatch(ctx, enc, &di.limits, &di_bind(a, b), res);
         }
     }
     let k = CombinePipelines::index(t.storage);
@@ -381,9 +374,7 @@ pub fn generate(
             wgpu::BindingResource::TextureView(&map_view),
         ],
     );
-    dispatch(ctx, &mut enc, &comb.pipelines[k], &cb, res);
-    ctx.queue.submit([enc.finish()]);
-    ctx.wait()?;
+    dispatch(ctx, enc, &comb.pipelines[k], &cb, res);
     Ok(GpuPenumbraMaps {
         view,
         params,
@@ -394,23 +385,42 @@ pub fn generate(
     })
 }
 
-/// `V` for every receiver, computed by `evaluate.wgsl`.
-pub fn evaluate(
+/// `visibility()`: `evaluate.wgsl` after the light-space helpers and the warp.
+pub fn visibility_wgsl() -> String {
+    [
+        LIGHT_SPACE_WGSL,
+        pipelines::WARP_WGSL,
+        include_str!("../evaluate.wgsl"),
+    ]
+    .join("\n")
+}
+
+/// Parameters, the stored map, the illumination table.
+pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    vec![
+        compute::uniform_entry(0),
+        texture_entry(
+            1,
+            wgpu::ShaderStages::COMPUTE,
+            FLOAT,
+            wgpu::TextureViewDimension::D2,
+        ),
+        compute::storage_entry(2, true),
+    ]
+}
+
+/// The bind group of `maps` read with `t`'s biases.
+pub fn bind_maps(
     ctx: &GpuContext,
+    layout: &wgpu::BindGroupLayout,
     t: &PenumbraLimit,
     maps: &GpuPenumbraMaps,
-    r: &Receivers,
-) -> Result<Vec<f32>> {
-    let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
-        return Ok(Vec::new());
-    };
-    let pipe = ctx.cached(EvalPipeline::new);
+) -> wgpu::BindGroup {
     let prm = EvalParams::new(
         maps.params,
         t.bias,
         maps.warp,
         maps.storage,
-        rb.count,
         maps.table.values.len() as u32,
     );
     let ub = ctx.uniform_buffer("penumbra eval", bytemuck::bytes_of(&prm));
@@ -419,18 +429,14 @@ pub fn evaluate(
         bytemuck::cast_slice(&maps.table.values),
     );
     let map_view = maps.map.create_view(&Default::default());
-    let bind = bind_group(
+    bind_group(
         ctx,
         "penumbra evaluate",
-        &pipe.layout,
+        layout,
         &[
             ub.as_entire_binding(),
             wgpu::BindingResource::TextureView(&map_view),
             tb.as_entire_binding(),
-            rb.positions.as_entire_binding(),
-            rb.normals.as_entire_binding(),
-            rb.visibility.as_entire_binding(),
         ],
-    );
-    rb.run(ctx, &pipe.pipeline, &bind)
+    )
 }

@@ -242,32 +242,3 @@ impl CombinePipelines {
         Storage::ALL.iter().position(|&x| x == s).unwrap_or(0)
     }
 }
-
-/// Evaluation.
-pub struct EvalPipeline {
-    /// Parameters, map, table, receivers, output.
-    pub layout: wgpu::BindGroupLayout,
-    /// The kernel.
-    pub pipeline: wgpu::ComputePipeline,
-}
-
-impl EvalPipeline {
-    /// Builds the pipeline.
-    pub fn new(ctx: &GpuContext) -> Self {
-        let m = module(ctx, "penumbra evaluate", include_str!("../evaluate.wgsl"));
-        let layout = layout(
-            ctx,
-            "penumbra evaluate",
-            &[
-                uniform_entry(0),
-                texture(1, wgpu::ShaderStages::COMPUTE),
-                storage_entry(2, true),
-                storage_entry(3, true),
-                storage_entry(4, true),
-                storage_entry(5, false),
-            ],
-        );
-        let [pipeline] = compute_pipelines(ctx, "penumbra evaluate", &m, &layout, ["evaluate"]);
-        Self { layout, pipeline }
-    }
-}

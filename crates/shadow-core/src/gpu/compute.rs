@@ -166,25 +166,6 @@ impl ReceiverBuffers {
             }),
         }))
     }
-
-    /// Runs `pipeline` with `bind` over every receiver and reads the visibilities back.
-    pub fn run(
-        &self,
-        ctx: &GpuContext,
-        pipeline: &wgpu::ComputePipeline,
-        bind: &wgpu::BindGroup,
-    ) -> Result<Vec<f32>> {
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        {
-            let mut pass = ctx.begin_compute_pass(&mut enc, "evaluate");
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, bind, &[]);
-            pass.dispatch_workgroups(self.groups, 1, 1);
-        }
-        ctx.queue.submit([enc.finish()]);
-        let bytes = ctx.read_buffer(&self.visibility, self.count as u64 * 4)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
-    }
 }
 
 /// Records one compute pass (timed under [`GpuContext::gpu_time`]) that dispatches `groups`

@@ -3,6 +3,7 @@
 use crate::error::{Result, ShadowError};
 use std::any::{Any, TypeId};
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use wgpu::util::DeviceExt;
 
@@ -25,6 +26,8 @@ pub struct GpuContext {
     cache: Cache,
     /// The timing in progress ([`GpuContext::gpu_time`]), if any.
     pub(super) timer: Mutex<Option<Arc<super::timer::TimerState>>>,
+    geometry_uploads: AtomicU64,
+    buffer_maps: AtomicU64,
 }
 
 impl GpuContext {
@@ -113,6 +116,8 @@ impl GpuContext {
             info,
             cache: Mutex::new(HashMap::new()),
             timer: Mutex::new(None),
+            geometry_uploads: AtomicU64::new(0),
+            buffer_maps: AtomicU64::new(0),
         })
     }
 
@@ -157,6 +162,22 @@ impl GpuContext {
             return Err(ShadowError::Gpu(format!("{what}: {e}")));
         }
         out
+    }
+
+    /// How many scenes were uploaded ([`super::GpuScene::new`] and `update`) through this
+    /// context: a renderer's static scene uploads once.
+    pub fn geometry_uploads(&self) -> u64 {
+        self.geometry_uploads.load(Ordering::Relaxed)
+    }
+
+    pub(super) fn count_geometry_upload(&self) {
+        self.geometry_uploads.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// How many buffers were mapped to read results back through this context (every blocking
+    /// evaluation and readback maps one; recorded work maps none).
+    pub fn buffer_maps(&self) -> u64 {
+        self.buffer_maps.load(Ordering::Relaxed)
     }
 
     /// Largest 2D texture side of this device.
@@ -213,6 +234,7 @@ impl GpuContext {
 
     /// Maps a `MAP_READ` buffer after the queue has finished and copies it out.
     pub fn map_read(&self, staging: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
+        self.buffer_maps.fetch_add(1, Ordering::Relaxed);
         let (tx, rx) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, 0..size, move |r| {
             let _ = tx.send(r);

@@ -5,12 +5,15 @@ mod context;
 pub mod jump_flood;
 pub mod raster;
 pub mod resources;
+mod scene;
 pub mod testing;
 pub mod timer;
+pub mod visibility;
 
 pub use context::GpuContext;
 pub use jump_flood::GpuJumpFlood;
 pub use raster::{GpuGBuffer, GpuRasterizer, GpuTriangles};
+pub use scene::{GpuScene, GpuSurfaces};
 
 /// WGSL of [`crate::light_space`]: `MapView`, `Bias`, `linear_depth`, `linear_from_ndc`,
 /// `shadow_coord`.

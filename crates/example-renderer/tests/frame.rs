@@ -1,0 +1,178 @@
+//! The example renderer against the CPU path, and what a static scene's frame costs in
+//! transfers. Both run on lavapipe in CI (`shadow_core::gpu::testing`).
+
+use example_renderer::shade::ShadeUniform;
+use example_renderer::{FrameSettings, Renderer, model_on_ground, moving_light};
+use glam::Vec3;
+use shadow_core::gpu::raster::read_texture;
+use shadow_core::gpu::testing::gpu_for_test;
+use shadow_core::{Receivers, SceneGeometry, ShadowTechnique};
+
+const SIZE: u32 = 96;
+const RESOLUTION: u32 = 512;
+
+fn scene() -> (SceneGeometry, shadow_core::Camera) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/stanford-bunny.glb"
+    );
+    let model = shadow_core::gltf_import::import_gltf_file(std::path::Path::new(path)).unwrap();
+    model_on_ground(&model)
+}
+
+fn renderer<T: ShadowTechnique>(test: &str, t: T) -> Option<(Renderer<T>, SceneGeometry)> {
+    let ctx = gpu_for_test(test)?;
+    let (geometry, camera) = scene();
+    let settings = FrameSettings {
+        width: SIZE,
+        height: SIZE,
+        resolution: RESOLUTION,
+        camera,
+    };
+    let r = Renderer::new(
+        ctx.device.clone(),
+        ctx.queue.clone(),
+        t,
+        &geometry,
+        settings,
+    )
+    .unwrap();
+    Some((r, geometry))
+}
+
+/// A frame drawn by the renderer's own passes with the technique's `visibility()` over its
+/// G-buffer equals, within 1/255 rms, the same shading of the same pixels with `V` from the
+/// technique's CPU path.
+fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
+    let Some((r, geometry)) = renderer(test, t) else {
+        return;
+    };
+    let light = moving_light(1, 8);
+    r.render(&light).unwrap();
+    let image = r.read_color().unwrap();
+    let (pt, nt) = r.gbuffer();
+    let p: Vec<[f32; 4]> = read_texture(&r.gpu, pt, 0, wgpu::TextureAspect::All, 16).unwrap();
+    let n: Vec<[f32; 4]> = read_texture(&r.gpu, nt, 0, wgpu::TextureAspect::All, 16).unwrap();
+    let covered: Vec<usize> = (0..p.len()).filter(|&i| p[i][3] > 0.5).collect();
+    assert!(
+        covered.len() > p.len() / 2,
+        "{test}: the model and ground fill the frame"
+    );
+    let positions: Vec<Vec3> = covered
+        .iter()
+        .map(|&i| Vec3::from_slice(&p[i][..3]))
+        .collect();
+    let normals: Vec<Vec3> = covered
+        .iter()
+        .map(|&i| Vec3::from_slice(&n[i][..3]))
+        .collect();
+    let t = r.technique();
+    let maps = t.generate_cpu(&geometry, &light, RESOLUTION).unwrap();
+    let v = t
+        .evaluate_cpu(
+            &maps,
+            &Receivers {
+                positions: &positions,
+                normals: &normals,
+            },
+        )
+        .unwrap();
+    let shade = ShadeUniform::new(&light).unwrap();
+    let mut sq = 0.0f64;
+    let mut shadowed = 0;
+    for (k, &i) in covered.iter().enumerate() {
+        let want = shade.radiance(positions[k], normals[k], v[k]);
+        let got = image.as_raw()[i * 4] as f32 / 255.0;
+        sq += ((got - want) as f64 * 255.0).powi(2);
+        shadowed += (v[k] < 0.5) as usize;
+    }
+    let rms = (sq / covered.len() as f64).sqrt();
+    println!(
+        "{test}: {} covered pixels, {shadowed} with V < 0.5, rms {rms:.3}/255",
+        covered.len()
+    );
+    assert!(
+        shadowed > covered.len() / 50,
+        "{test}: the frame shows a shadow"
+    );
+    assert!(rms <= 1.0, "{test}: rms {rms:.3}/255 against the CPU path");
+    for i in (0..p.len()).filter(|&i| p[i][3] <= 0.5) {
+        let want = (example_renderer::shade::BACKGROUND * 255.0).round() as u8;
+        assert_eq!(image.as_raw()[i * 4], want, "{test}: background pixel {i}");
+    }
+}
+
+#[test]
+fn penumbra_limit_frame_matches_the_cpu_path() {
+    frame_matches_cpu(
+        "penumbra_limit_frame_matches_the_cpu_path",
+        penumbra_limit::PenumbraLimit::new(penumbra_limit::Generation::Silhouette),
+    );
+}
+
+#[test]
+fn pcss_frame_matches_the_cpu_path() {
+    frame_matches_cpu(
+        "pcss_frame_matches_the_cpu_path",
+        shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Pcss),
+    );
+}
+
+/// After the first frame, a static scene's frames upload no geometry (the casters stay on the
+/// GPU, derived data such as silhouette edges is kept with them) and map no buffer.
+#[test]
+fn a_static_scenes_second_frame_maps_no_buffer_and_uploads_no_geometry() {
+    let test = "a_static_scenes_second_frame_maps_no_buffer_and_uploads_no_geometry";
+    let Some((r, _)) = renderer(
+        test,
+        penumbra_limit::PenumbraLimit::new(penumbra_limit::Generation::Silhouette),
+    ) else {
+        return;
+    };
+    let uploads = r.gpu.geometry_uploads();
+    r.render(&moving_light(0, 8)).unwrap();
+    r.gpu.wait().unwrap();
+    let after_first = (r.gpu.geometry_uploads(), r.gpu.buffer_maps());
+    // The silhouette edges are derived from the casters on first use.
+    assert_eq!(after_first.0, uploads + 1, "{test}: first frame");
+    assert_eq!(after_first.1, 0, "{test}: the first frame maps no buffer");
+    r.render(&moving_light(1, 8)).unwrap();
+    r.gpu.wait().unwrap();
+    assert_eq!(
+        (r.gpu.geometry_uploads(), r.gpu.buffer_maps()),
+        after_first,
+        "{test}: second frame"
+    );
+}
+
+/// The README's integration snippet is this crate's code: every line of it, in order, is a line
+/// of `src/lib.rs` (so it compiles and runs in the tests above).
+#[test]
+fn the_readme_snippet_is_the_renderers_code() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
+    let lib =
+        std::fs::read_to_string(format!("{root}/crates/example-renderer/src/lib.rs")).unwrap();
+    let section = readme
+        .split("### In your own wgpu renderer")
+        .nth(1)
+        .expect("README section");
+    let snippet = section
+        .split("```rust\n")
+        .nth(1)
+        .and_then(|s| s.split("```").next())
+        .expect("README snippet");
+    let mut lines = lib.lines().map(str::trim);
+    let mut checked = 0;
+    for want in snippet.lines().map(str::trim) {
+        if want.is_empty() || want.starts_with("//") {
+            continue;
+        }
+        assert!(
+            lines.any(|l| l == want),
+            "README line {want:?} is not (in order) in src/lib.rs"
+        );
+        checked += 1;
+    }
+    assert!(checked >= 10, "{checked} lines checked");
+}

@@ -1,0 +1,101 @@
+//! Scene geometry resident on the GPU across frames.
+
+use super::GpuContext;
+use super::raster::GpuTriangles;
+use crate::error::Result;
+use crate::geometry::SceneGeometry;
+use glam::Vec3;
+use std::any::{Any, TypeId};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+/// A scene's triangles kept on the GPU between frames: uploaded once by [`GpuScene::new`], again
+/// only by [`GpuScene::update`]. Generation ([`crate::ShadowTechnique::record_gpu`]) draws from
+/// these buffers, so a static scene uploads no geometry after its first frame.
+///
+/// It also keeps the CPU copy of the geometry the maps are planned from (the casters' box,
+/// the scene's bounds, the light's coverage), and what techniques derive from the geometry
+/// ([`GpuScene::derived`]: silhouette edges, every surface), built on first use.
+pub struct GpuScene {
+    geometry: SceneGeometry,
+    casters: GpuTriangles,
+    derived: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
+}
+
+/// Every surface of a scene on the GPU ([`SceneGeometry::surfaces`]).
+pub struct GpuSurfaces(pub GpuTriangles);
+
+impl GpuScene {
+    /// Validates `geometry` and uploads its casters and its [surfaces](SceneGeometry::surfaces).
+    pub fn new(ctx: &GpuContext, geometry: &SceneGeometry) -> Result<Self> {
+        geometry.validate()?;
+        let casters = GpuTriangles::new(ctx, &geometry.casters)?;
+        ctx.count_geometry_upload();
+        Ok(Self {
+            geometry: geometry.clone(),
+            casters,
+            derived: Mutex::new(HashMap::new()),
+        })
+    }
+
+    /// Replaces the geometry (a moved or deformed mesh): one upload, whatever changed.
+    pub fn update(&mut self, ctx: &GpuContext, geometry: &SceneGeometry) -> Result<()> {
+        *self = Self::new(ctx, geometry)?;
+        Ok(())
+    }
+
+    /// The CPU copy the maps are planned from.
+    pub fn geometry(&self) -> &SceneGeometry {
+        &self.geometry
+    }
+
+    /// The shadow casters.
+    pub fn casters(&self) -> &GpuTriangles {
+        &self.casters
+    }
+
+    /// GPU data a technique derives from this geometry, keyed by type: `init` runs (and counts
+    /// as an upload in [`GpuContext::geometry_uploads`]) once per scene, later calls return the
+    /// same value until [`GpuScene::update`].
+    pub fn derived<T: Any + Send + Sync>(
+        &self,
+        ctx: &GpuContext,
+        init: impl FnOnce(&GpuContext, &SceneGeometry) -> Result<T>,
+    ) -> Result<Arc<T>> {
+        let key = TypeId::of::<T>();
+        let lock = || self.derived.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(t) = lock()
+            .get(&key)
+            .cloned()
+            .and_then(|v| v.downcast::<T>().ok())
+        {
+            return Ok(t);
+        }
+        let value = Arc::new(init(ctx, &self.geometry)?);
+        ctx.count_geometry_upload();
+        lock().insert(key, value.clone());
+        Ok(value)
+    }
+
+    /// Every surface: the casters and the receivers that do not cast (uploaded on first use).
+    pub fn surfaces(&self, ctx: &GpuContext) -> Result<Arc<GpuSurfaces>> {
+        self.derived(ctx, |c, g| {
+            Ok(GpuSurfaces(GpuTriangles::new(c, &g.surfaces())?))
+        })
+    }
+}
+
+impl SceneGeometry {
+    /// Every surface once: the casters, then the receivers that are not also casters (compared
+    /// bit for bit). Techniques that follow an occluder edge to the surface behind it read these
+    /// (linear-light's skins); shadow tests read the casters only.
+    pub fn surfaces(&self) -> Vec<[Vec3; 3]> {
+        let key = |t: &[Vec3; 3]| t.map(|p| p.to_array().map(f32::to_bits));
+        let casters: std::collections::HashSet<_> = self.casters.iter().map(key).collect();
+        self.casters
+            .iter()
+            .chain(self.receivers.iter().filter(|t| !casters.contains(&key(t))))
+            .copied()
+            .collect()
+    }
+}
