@@ -129,10 +129,21 @@ impl ShadowTechnique for OcclusionSlices {
     }
 }
 
+/// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
+/// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
+#[cfg(feature = "frame")]
+pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
+    ("occlusion-slices", "sat-8", LightKind::Rect, 4.8, 13.6),
+    ("occlusion-slices", "nbuffer-8", LightKind::Rect, 23.8, 14.3),
+    ("occlusion-slices", "sat-16", LightKind::Sphere, 12.8, 9.3),
+    ("occlusion-slices", "sat-8", LightKind::Triangle, 7.8, 4.4),
+];
+
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+    frame.add_profile_defaults(PROFILE_DEFAULTS);
     frame.add_technique(
         "occlusion-slices",
         OcclusionSlices::standard_set()

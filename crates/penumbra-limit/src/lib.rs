@@ -136,10 +136,38 @@ impl ShadowTechnique for PenumbraLimit {
     }
 }
 
+/// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
+/// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
+#[cfg(feature = "frame")]
+pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
+    (
+        "penumbra-limit",
+        "silhouette-f32",
+        LightKind::Disk,
+        206.9,
+        20.5,
+    ),
+    (
+        "penumbra-limit",
+        "silhouette-f32",
+        LightKind::Distant,
+        3.0,
+        4.4,
+    ),
+    (
+        "penumbra-limit",
+        "silhouette-f32",
+        LightKind::Triangle,
+        3.0,
+        11.6,
+    ),
+];
+
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+    frame.add_profile_defaults(PROFILE_DEFAULTS);
     frame.add_technique(
         "penumbra-limit",
         PenumbraLimit::standard_set()

@@ -5,7 +5,7 @@ use crate::filters::EvalParams;
 use shadow_core::gpu::compute::{
     bind_group, depth_array_entry, depth_array_view, storage_entry, uniform_entry,
 };
-use shadow_core::gpu::{GpuRasterizer, GpuScene, LIGHT_SPACE_WGSL};
+use shadow_core::gpu::{GpuRasterizer, GpuScene};
 use shadow_core::{GpuContext, Map2D, MapParams, Result, SampleView, ShadowError};
 
 /// Depth maps kept on the GPU.
@@ -54,12 +54,12 @@ impl GpuShadowMaps {
     }
 }
 
+/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+pub const WGSL: &[(&str, &str)] = &[("shadow_map_eval.wgsl", include_str!("shadow_map_eval.wgsl"))];
+
 /// The filters' `visibility()` (`shadow_map_eval.wgsl` after the light-space helpers).
 pub fn visibility_wgsl() -> String {
-    format!(
-        "{LIGHT_SPACE_WGSL}\n{}",
-        include_str!("shadow_map_eval.wgsl")
-    )
+    shadow_core::gpu::wgsl::source("shadow_map_eval.wgsl", WGSL)
 }
 
 /// Parameters, map views, the depth array.

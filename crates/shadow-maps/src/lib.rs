@@ -179,10 +179,36 @@ impl ShadowTechnique for ShadowMapBaseline {
     }
 }
 
+/// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
+/// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
+#[cfg(feature = "frame")]
+pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
+    ("hard-shadow-map", "nearest", LightKind::Rect, 1.2, 30.9),
+    ("pcf", "r2", LightKind::Rect, 1.7, 21.7),
+    ("pcss", "7x7-9x9", LightKind::Rect, 2.9, 10.8),
+    ("accumulation", "n16", LightKind::Rect, 16.5, 9.0),
+    ("hard-shadow-map", "nearest", LightKind::Linear, 1.1, 38.0),
+    ("pcss", "7x7-9x9", LightKind::Linear, 3.1, 12.0),
+    ("accumulation", "n16", LightKind::Linear, 14.8, 2.4),
+    ("hard-shadow-map", "nearest", LightKind::Disk, 44.8, 22.5),
+    ("pcss", "7x7-9x9", LightKind::Disk, 14.3, 18.6),
+    ("accumulation", "n16", LightKind::Disk, 334.1, 16.1),
+    ("hard-shadow-map", "nearest", LightKind::Sphere, 2.0, 27.6),
+    ("pcss", "7x7-9x9", LightKind::Sphere, 5.7, 9.3),
+    ("accumulation", "n16", LightKind::Sphere, 26.9, 5.4),
+    ("hard-shadow-map", "nearest", LightKind::Distant, 0.8, 6.4),
+    ("pcf", "r2", LightKind::Distant, 1.6, 5.3),
+    ("accumulation", "n16", LightKind::Distant, 8.5, 4.5),
+    ("hard-shadow-map", "nearest", LightKind::Triangle, 0.9, 17.5),
+    ("pcss", "7x7-9x9", LightKind::Triangle, 2.0, 6.9),
+    ("accumulation", "n16", LightKind::Triangle, 14.6, 2.8),
+];
+
 /// Registers the baselines with a frame pipeline: the hard shadow map as the zero-size-light
 /// path, PCF, PCSS and 16-sample accumulation, each its own technique set (feature `frame`).
 #[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+    frame.add_profile_defaults(PROFILE_DEFAULTS);
     use std::sync::Arc;
     frame.set_hard_path(Arc::new(ShadowMapBaseline::new(Filter::Hard)));
     for b in ShadowMapBaseline::standard_set(&[16]) {

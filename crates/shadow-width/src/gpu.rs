@@ -11,9 +11,7 @@ use shadow_core::gpu::compute::{
     bind_group, compute_pipelines, depth_array_entry, depth_array_view, storage_entry,
     uniform_entry,
 };
-use shadow_core::gpu::{
-    GpuJumpFlood, GpuRasterizer, GpuScene, LIGHT_SPACE_WGSL, light_space_shader,
-};
+use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, resources::wgsl_module, wgsl};
 use shadow_core::raster::DepthPass;
 use shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
 
@@ -66,10 +64,7 @@ struct WidthPipelines {
 
 impl WidthPipelines {
     fn new(ctx: &GpuContext) -> Self {
-        let module = ctx.device.create_shader_module(light_space_shader(
-            "shadow width",
-            include_str!("width.wgsl"),
-        ));
+        let module = wgsl_module(ctx, "shadow width", &[&source("width.wgsl")]);
         let layout = ctx
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -121,9 +116,19 @@ impl WidthPipelines {
     }
 }
 
+/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+pub const WGSL: &[(&str, &str)] = &[
+    ("width.wgsl", include_str!("width.wgsl")),
+    ("evaluate.wgsl", include_str!("evaluate.wgsl")),
+];
+
+fn source(name: &str) -> String {
+    wgsl::source(name, WGSL)
+}
+
 /// `visibility()`: `evaluate.wgsl` after the light-space helpers.
 pub fn visibility_wgsl() -> String {
-    format!("{LIGHT_SPACE_WGSL}\n{}", include_str!("evaluate.wgsl"))
+    source("evaluate.wgsl")
 }
 
 /// Parameters, the depth array, the width map, the attenuation table.

@@ -292,7 +292,7 @@ fn auto_lights_say_what_they_picked_and_why() {
     let mut p = pipeline();
     p.run(&mut lab.scene.world);
     let r = resolved(&lab, lab.rect).clone();
-    let profile = TechniqueProfile::defaults();
+    let profile = p.profile_defaults().clone();
     let e = profile
         .entries
         .iter()

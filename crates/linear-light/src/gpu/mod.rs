@@ -87,12 +87,17 @@ struct CombineParams {
     _pad: [u32; 2],
 }
 
+/// Evaluation parameters (binding 0 of the maps' bind group), laid out as `EvalParams` in
+/// `evaluate.wgsl`.
 #[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct EvalParams {
-    bias: Bias,
-    samples: u32,
-    _pad: [u32; 3],
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct EvalParams {
+    /// Receiver biases.
+    pub bias: Bias,
+    /// Number of samples (map layers).
+    pub samples: u32,
+    /// Padding to 16 bytes.
+    pub _pad: [u32; 3],
 }
 
 /// Records the warp of sample `src`'s skins into sample `dst`'s view, into `value`.
@@ -362,7 +367,7 @@ pub fn generate(
 
 /// `visibility()`: `evaluate.wgsl` after the light-space helpers and the sample layout.
 pub fn visibility_wgsl() -> String {
-    pipelines::sources(&[include_str!("../evaluate.wgsl")]).join("\n")
+    pipelines::source("evaluate.wgsl")
 }
 
 /// Parameters, the samples, the depth array, the visibility channels.

@@ -2,27 +2,28 @@
 //! (`skins.wgsl`), the channel combine kernel (`combine.wgsl`) and evaluation (`evaluate.wgsl`).
 
 use shadow_core::GpuContext;
-use shadow_core::gpu::LIGHT_SPACE_WGSL;
 use shadow_core::gpu::compute::{storage_entry, uniform_entry};
 use shadow_core::gpu::raster::DEPTH_FORMAT;
 use shadow_core::gpu::resources::{
     FLOAT, Kernel, layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
-/// `sample.wgsl`, prepended after `light_space.wgsl` to every shader of the crate.
-pub const SAMPLE_WGSL: &str = include_str!("../sample.wgsl");
-
-/// `grid.wgsl`, prepended to the skin shaders after `sample.wgsl`.
-pub const GRID_WGSL: &str = include_str!("../grid.wgsl");
+/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+pub const WGSL: &[(&str, &str)] = &[
+    ("sample.wgsl", include_str!("../sample.wgsl")),
+    ("grid.wgsl", include_str!("../grid.wgsl")),
+    ("skins.wgsl", include_str!("../skins.wgsl")),
+    ("find_skins.wgsl", include_str!("../find_skins.wgsl")),
+    ("combine.wgsl", include_str!("../combine.wgsl")),
+    ("evaluate.wgsl", include_str!("../evaluate.wgsl")),
+];
 
 /// Format of the warped skin values and of the visibility channels.
 pub const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-/// The crate's prelude (`light_space.wgsl`, `sample.wgsl`) followed by `parts`.
-pub fn sources<'a>(parts: &[&'a str]) -> Vec<&'a str> {
-    let mut v = vec![LIGHT_SPACE_WGSL, SAMPLE_WGSL];
-    v.extend_from_slice(parts);
-    v
+/// File `name` of [`WGSL`] after the files it requires.
+pub fn source(name: &str) -> String {
+    shadow_core::gpu::wgsl::source(name, WGSL)
 }
 
 /// Skins of one sample warped into a neighbour's view.
@@ -36,11 +37,7 @@ pub struct SkinPipeline {
 impl SkinPipeline {
     /// Builds the pipeline.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = wgsl_module(
-            ctx,
-            "skins",
-            &sources(&[GRID_WGSL, include_str!("../skins.wgsl")]),
-        );
+        let m = wgsl_module(ctx, "skins", &[&source("skins.wgsl")]);
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let mut pair = uniform_entry(0);
         pair.visibility = vf;
@@ -126,7 +123,7 @@ impl FindSkinsKernel {
         Self(Kernel::new(
             ctx,
             "find skins",
-            &sources(&[GRID_WGSL, include_str!("../find_skins.wgsl")]),
+            &[&source("find_skins.wgsl")],
             "find_skins",
             &[
                 uniform_entry(0),
@@ -154,7 +151,7 @@ impl CombineKernel {
         Self(Kernel::new(
             ctx,
             "linear-light combine",
-            &sources(&[include_str!("../combine.wgsl")]),
+            &[&source("combine.wgsl")],
             "combine",
             &[
                 uniform_entry(0),

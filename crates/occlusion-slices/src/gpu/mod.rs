@@ -92,17 +92,25 @@ struct LevelParams {
     _pad: u32,
 }
 
-/// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
+/// Evaluation parameters (binding 1 of the maps' bind group), laid out as `EvalParams` in
+/// `evaluate.wgsl`.
 #[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct EvalParams {
-    filter: u32,
-    combination: u32,
-    levels: u32,
-    _reserved: u32,
-    normal_offset: f32,
-    groups: u32,
-    _pad: [u32; 2],
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct EvalParams {
+    /// [`Filter::index`].
+    pub filter: u32,
+    /// [`crate::params::Combination::index`].
+    pub combination: u32,
+    /// Mipmap or N-Buffer levels.
+    pub levels: u32,
+    /// Unused.
+    pub _reserved: u32,
+    /// Receiver offset along its normal, in texels.
+    pub normal_offset: f32,
+    /// Groups of four slices.
+    pub groups: u32,
+    /// Padding to 16 bytes.
+    pub _pad: [u32; 2],
 }
 
 fn array_view(t: &wgpu::Texture, mip: Option<u32>) -> wgpu::TextureView {
@@ -356,7 +364,7 @@ pub fn generate(
 
 /// `visibility()`: `evaluate.wgsl` after the slicing frame.
 pub fn visibility_wgsl() -> String {
-    [pipelines::FRAME_WGSL, include_str!("../evaluate.wgsl")].join("\n")
+    pipelines::source("evaluate.wgsl")
 }
 
 /// Frame, parameters, the table, the levels.

@@ -8,8 +8,20 @@ use shadow_core::gpu::resources::{
     FLOAT, Kernel, layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
-/// `frame.wgsl`, prepended to every shader of the crate.
-pub const FRAME_WGSL: &str = include_str!("../frame.wgsl");
+/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+pub const WGSL: &[(&str, &str)] = &[
+    ("frame.wgsl", include_str!("../frame.wgsl")),
+    ("slicing.wgsl", include_str!("../slicing.wgsl")),
+    ("sat_rows.wgsl", include_str!("../sat_rows.wgsl")),
+    ("sat_cols.wgsl", include_str!("../sat_cols.wgsl")),
+    ("levels.wgsl", include_str!("../levels.wgsl")),
+    ("evaluate.wgsl", include_str!("../evaluate.wgsl")),
+];
+
+/// File `name` of [`WGSL`] after the files it requires.
+pub fn source(name: &str) -> String {
+    shadow_core::gpu::wgsl::source(name, WGSL)
+}
 
 /// Format of the occlusion textures: four slices per RGBA8 texel.
 pub const OCCUPANCY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -19,10 +31,6 @@ pub const SAT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 const UINT: wgpu::TextureSampleType = wgpu::TextureSampleType::Uint;
-
-fn module(ctx: &GpuContext, label: &str, source: &str) -> wgpu::ShaderModule {
-    wgsl_module(ctx, label, &[FRAME_WGSL, source])
-}
 
 fn texture_array(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
     texture_entry(
@@ -48,7 +56,7 @@ pub struct SlicingPipelines {
 impl SlicingPipelines {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = module(ctx, "slicing", include_str!("../slicing.wgsl"));
+        let m = wgsl_module(ctx, "slicing", &[&source("slicing.wgsl")]);
         let mut uniform = uniform_entry(0);
         uniform.visibility = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let layout = layout(ctx, "slicing", &[uniform]);
@@ -126,7 +134,7 @@ pub struct PrefilterPipelines {
 impl PrefilterPipelines {
     /// Builds the kernels.
     pub fn new(ctx: &GpuContext) -> Self {
-        let levels = include_str!("../levels.wgsl");
+        let levels = source("levels.wgsl");
         let level_entries = [
             uniform_entry(0),
             texture_array(1, UINT),
@@ -137,7 +145,7 @@ impl PrefilterPipelines {
             sat_rows: Kernel::new(
                 ctx,
                 "sat rows",
-                &[FRAME_WGSL, include_str!("../sat_rows.wgsl")],
+                &[&source("sat_rows.wgsl")],
                 "sat_rows",
                 &[
                     uniform_entry(0),
@@ -148,7 +156,7 @@ impl PrefilterPipelines {
             sat_cols: Kernel::new(
                 ctx,
                 "sat cols",
-                &[FRAME_WGSL, include_str!("../sat_cols.wgsl")],
+                &[&source("sat_cols.wgsl")],
                 "sat_cols",
                 &[
                     uniform_entry(0),
@@ -159,17 +167,11 @@ impl PrefilterPipelines {
             nbuffer_level: Kernel::new(
                 ctx,
                 "nbuffer level",
-                &[FRAME_WGSL, levels],
+                &[&levels],
                 "nbuffer_level",
                 &level_entries,
             ),
-            mip_level: Kernel::new(
-                ctx,
-                "mip level",
-                &[FRAME_WGSL, levels],
-                "mip_level",
-                &level_entries,
-            ),
+            mip_level: Kernel::new(ctx, "mip level", &[&levels], "mip_level", &level_entries),
         }
     }
 }

@@ -25,7 +25,7 @@ use shadow_core::gpu::compute::{self, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
 use shadow_core::gpu::resources::{FLOAT, texture_2d, texture_entry};
 use shadow_core::gpu::timer::PassSlot;
-use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, LIGHT_SPACE_WGSL};
+use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene};
 use shadow_core::raster::DepthPass;
 use shadow_core::{
     GpuContext, Light, Map2D, MapParams, Result, SampleView, SceneGeometry, ShadowError,
@@ -387,12 +387,7 @@ pub fn generate(
 
 /// `visibility()`: `evaluate.wgsl` after the light-space helpers and the warp.
 pub fn visibility_wgsl() -> String {
-    [
-        LIGHT_SPACE_WGSL,
-        pipelines::WARP_WGSL,
-        include_str!("../evaluate.wgsl"),
-    ]
-    .join("\n")
+    pipelines::source("evaluate.wgsl")
 }
 
 /// Parameters, the stored map, the illumination table.

@@ -4,7 +4,6 @@
 
 use crate::storage::Storage;
 use shadow_core::GpuContext;
-use shadow_core::gpu::LIGHT_SPACE_WGSL;
 use shadow_core::gpu::compute::{
     compute_pipelines, depth_array_entry, storage_entry, uniform_entry,
 };
@@ -13,16 +12,27 @@ use shadow_core::gpu::resources::{
     FLOAT, layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
-/// `warp.wgsl`, prepended after `light_space.wgsl` to every shader of the crate.
-pub const WARP_WGSL: &str = include_str!("../warp.wgsl");
+/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+pub const WGSL: &[(&str, &str)] = &[
+    ("warp.wgsl", include_str!("../warp.wgsl")),
+    ("silhouette.wgsl", include_str!("../silhouette.wgsl")),
+    ("depth_image.wgsl", include_str!("../depth_image.wgsl")),
+    ("combine.wgsl", include_str!("../combine.wgsl")),
+    ("evaluate.wgsl", include_str!("../evaluate.wgsl")),
+];
+
+/// File `name` of [`WGSL`] after the files it requires.
+pub fn source(name: &str) -> String {
+    shadow_core::gpu::wgsl::source(name, WGSL)
+}
 
 /// Format of the edge layer `[c, p_i]`.
 pub const EDGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// Format of the lower-limit layer.
 pub const LOWER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-fn module(ctx: &GpuContext, label: &str, source: &str) -> wgpu::ShaderModule {
-    wgsl_module(ctx, label, &[LIGHT_SPACE_WGSL, WARP_WGSL, source])
+fn module(ctx: &GpuContext, label: &str, file: &str) -> wgpu::ShaderModule {
+    wgsl_module(ctx, label, &[&source(file)])
 }
 
 fn texture(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
@@ -46,11 +56,7 @@ pub struct SilhouettePipelines {
 impl SilhouettePipelines {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = module(
-            ctx,
-            "penumbra silhouette",
-            include_str!("../silhouette.wgsl"),
-        );
+        let m = module(ctx, "penumbra silhouette", "silhouette.wgsl");
         let vf = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
         let mut uniform = uniform_entry(0);
         uniform.visibility = vf;
@@ -151,11 +157,7 @@ pub struct DepthImagePipelines {
 impl DepthImagePipelines {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = module(
-            ctx,
-            "penumbra depth image",
-            include_str!("../depth_image.wgsl"),
-        );
+        let m = module(ctx, "penumbra depth image", "depth_image.wgsl");
         let layout = layout(
             ctx,
             "penumbra depth image",
@@ -208,7 +210,7 @@ impl CombinePipelines {
         let (mut layouts, mut pipelines) = (Vec::new(), Vec::new());
         for s in Storage::ALL {
             let mode = CombinePipelines::index(s);
-            let src = include_str!("../combine.wgsl")
+            let src = source("combine.wgsl")
                 .replace(
                     "texture_storage_2d<rgba32float, write>",
                     &format!("texture_storage_2d<{}, write>", wgsl_format(s)),
@@ -217,7 +219,7 @@ impl CombinePipelines {
                     "const STORAGE: u32 = 0u;",
                     &format!("const STORAGE: u32 = {mode}u;"),
                 );
-            let m = module(ctx, "penumbra combine", &src);
+            let m = wgsl_module(ctx, "penumbra combine", &[&src]);
             let c = wgpu::ShaderStages::COMPUTE;
             let l = layout(
                 ctx,

@@ -63,6 +63,7 @@ pub struct FramePipeline {
     registry: TechniqueRegistry,
     hard: HardShadowPath,
     techniques: Vec<&'static str>,
+    defaults: TechniqueProfile,
 }
 
 impl Default for FramePipeline {
@@ -80,6 +81,7 @@ impl FramePipeline {
             registry: TechniqueRegistry::default(),
             hard: HardShadowPath::default(),
             techniques: Vec::new(),
+            defaults: TechniqueProfile::default(),
         }
     }
 
@@ -100,6 +102,17 @@ impl FramePipeline {
         self.hard = HardShadowPath(Some(t));
     }
 
+    /// Adds a technique crate's rows to the built-in profile `Auto` picks from when the world
+    /// holds no [`TechniqueProfile`] (each crate's `add_to` registers its `PROFILE_DEFAULTS`).
+    pub fn add_profile_defaults(&mut self, rows: &[profile::DefaultCost]) {
+        self.defaults.extend_defaults(rows);
+    }
+
+    /// The built-in profile the registered crates gave.
+    pub fn profile_defaults(&self) -> &TechniqueProfile {
+        &self.defaults
+    }
+
     /// The registered technique names.
     pub fn techniques(&self) -> &[&'static str] {
         &self.techniques
@@ -107,7 +120,7 @@ impl FramePipeline {
 
     /// Runs one frame on `world` and returns its statistics (also left in the world as the
     /// [`FrameStats`] resource). Missing resources get their defaults; a [`TechniqueProfile`]
-    /// defaults to [`TechniqueProfile::defaults`].
+    /// defaults to [`FramePipeline::profile_defaults`].
     pub fn run(&mut self, world: &mut World) -> FrameStats {
         if self.world.is_some_and(|id| id != world.id()) {
             self.schedule = core_schedule();
@@ -124,7 +137,7 @@ impl FramePipeline {
         world.init_resource::<FrameBackend>();
         world.init_resource::<FrameSettings>();
         if !world.contains_resource::<TechniqueProfile>() {
-            world.insert_resource(TechniqueProfile::defaults());
+            world.insert_resource(self.defaults.clone());
         }
         let frame = world.get_resource::<FrameStats>().map_or(0, |s| s.frame) + 1;
         world.insert_resource(FrameStats {
