@@ -104,7 +104,15 @@ fn uniform_structs_match_their_wgsl_layout() {
     use std::mem::size_of;
     let files = |list: &[(&'static str, &'static str)]| list.to_vec();
     let core = files(&[]);
-    let cases: [(&str, Vec<(&str, &str)>, &str, &str, usize); 11] = [
+    // (crate, its WGSL files, file, WGSL struct, size of the Rust struct)
+    type Case = (
+        &'static str,
+        Vec<(&'static str, &'static str)>,
+        &'static str,
+        &'static str,
+        usize,
+    );
+    let cases: [Case; 11] = [
         (
             "shadow-core",
             core.clone(),
