@@ -24,9 +24,8 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
             continue;
         }
         let last = i32(m.resolution) - 1;
-        let b = c.st - vec2<f32>(0.5);
-        let f = floor(b);
-        let t = b - f;
+        let bt = bilinear_taps(c.st);
+        let t = bt.f;
         let taps = array<vec3<f32>, 4>(
             vec3<f32>(0.0, 0.0, (1.0 - t.x) * (1.0 - t.y)),
             vec3<f32>(1.0, 0.0, t.x * (1.0 - t.y)),
@@ -34,7 +33,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
             vec3<f32>(1.0, 1.0, t.x * t.y),
         );
         for (var i = 0; i < 4; i++) {
-            let xy = clamp(vec2<i32>(f + taps[i].xy), vec2<i32>(0), vec2<i32>(last));
+            let xy = clamp(bt.base + vec2<i32>(taps[i].xy), vec2<i32>(0), vec2<i32>(last));
             let d = linear_from_ndc(m, textureLoad(depth_maps, xy, i32(k), 0));
             // The receiver's own plane at the tap's centre (receiver-plane bias).
             let z = receiver_plane_depth(c, vec2<f32>(xy) + vec2<f32>(0.5) - c.st);

@@ -1,4 +1,4 @@
-// requires: light_space.wgsl warp.wgsl
+// requires: light_space.wgsl warp.wgsl seeds.wgsl
 // Generation from a depth image; mirrors penumbra_limit::depth_image (and the geometry layer of
 // both generators): `geometry` normalises the nearest-surface depth map, `seeds` marks the near
 // and far sides of depth discontinuities, jump flooding (shadow_core) spreads them, `limits`
@@ -12,7 +12,6 @@
 @group(0) @binding(5) var edge_out: texture_storage_2d<rg32float, write>;
 @group(0) @binding(6) var lower_out: texture_storage_2d<r32float, write>;
 
-const NONE_SEED: u32 = 0xffffffffu;
 
 fn index(x: i32, y: i32) -> u32 {
     return u32(y) * gp.res + u32(x);
@@ -68,15 +67,13 @@ fn seeds(@builtin(global_invocation_id) gid: vec3<u32>) {
         a = a || near_side(x, y, d);
         b = b || near_side(x + d.x, y + d.y, -d);
     }
-    let me = gid.x | (gid.y << 16u);
+    let me = seed_pack(gid.x, gid.y);
     near_seeds[index(x, y)] = select(NONE_SEED, me, a);
     far_seeds[index(x, y)] = select(NONE_SEED, me, b);
 }
 
 fn seed_distance(x: i32, y: i32, s: u32) -> f32 {
-    let dx = i32(s & 0xffffu) - x;
-    let dy = i32(s >> 16u) - y;
-    return sqrt(f32(dx * dx + dy * dy));
+    return sqrt(f32(seed_dist2(x, y, s)));
 }
 
 @compute @workgroup_size(8, 8)

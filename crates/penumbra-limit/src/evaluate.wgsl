@@ -24,11 +24,10 @@ fn texel(x: i32, y: i32) -> vec4<f32> {
 }
 
 fn bilinear(st: vec2<f32>) -> vec4<f32> {
-    let u = st - vec2<f32>(0.5);
-    let i = floor(u);
-    let f = u - i;
-    let x0 = i32(i.x);
-    let y0 = i32(i.y);
+    let t = bilinear_taps(st);
+    let f = t.f;
+    let x0 = t.base.x;
+    let y0 = t.base.y;
     return texel(x0, y0) * ((1.0 - f.x) * (1.0 - f.y)) + texel(x0 + 1, y0) * (f.x * (1.0 - f.y))
         + texel(x0, y0 + 1) * ((1.0 - f.x) * f.y) + texel(x0 + 1, y0 + 1) * (f.x * f.y);
 }

@@ -30,11 +30,10 @@ fn width_at(x: i32, y: i32) -> f32 {
 }
 
 fn bilinear(st: vec2<f32>) -> f32 {
-    let u = st - vec2<f32>(0.5);
-    let i = floor(u);
-    let a = u - i;
-    let x = i32(i.x);
-    let y = i32(i.y);
+    let t = bilinear_taps(st);
+    let a = t.f;
+    let x = t.base.x;
+    let y = t.base.y;
     let top = width_at(x, y) * (1.0 - a.x) + width_at(x + 1, y) * a.x;
     let bottom = width_at(x, y + 1) * (1.0 - a.x) + width_at(x + 1, y + 1) * a.x;
     return top * (1.0 - a.y) + bottom * a.y;

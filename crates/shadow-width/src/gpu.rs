@@ -11,7 +11,8 @@ use shadow_core::gpu::compute::{
     bind_group, compute_pipelines, depth_array_entry, depth_array_view, storage_entry,
     uniform_entry,
 };
-use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, resources::wgsl_module, wgsl};
+use shadow_core::gpu::resources::{layout, wgsl_module};
+use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, wgsl};
 use shadow_core::raster::DepthPass;
 use shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
 
@@ -65,21 +66,20 @@ struct WidthPipelines {
 impl WidthPipelines {
     fn new(ctx: &GpuContext) -> Self {
         let module = wgsl_module(ctx, "shadow width", &[&source("width.wgsl")]);
-        let layout = ctx
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("shadow width"),
-                entries: &[
-                    uniform_entry(0),
-                    depth_array_entry(1),
-                    storage_entry(2, true),
-                    storage_entry(3, false),
-                    storage_entry(4, true),
-                    storage_entry(5, false),
-                    storage_entry(6, false),
-                    storage_entry(7, false),
-                ],
-            });
+        let layout = layout(
+            ctx,
+            "shadow width",
+            &[
+                uniform_entry(0),
+                depth_array_entry(1),
+                storage_entry(2, true),
+                storage_entry(3, false),
+                storage_entry(4, true),
+                storage_entry(5, false),
+                storage_entry(6, false),
+                storage_entry(7, false),
+            ],
+        );
         let [
             mask,
             propagate,

@@ -1,4 +1,4 @@
-// requires: light_space.wgsl
+// requires: light_space.wgsl seeds.wgsl
 // Shadow-width maps on the GPU (Kirsch & Döllner 2003, section 4, and two exact/fast
 // alternatives). Mirrors shadow_width::occlusion and shadow_width::width::{propagate, jfa, edt}.
 
@@ -23,7 +23,6 @@ struct WidthParams {
 @group(0) @binding(7) var<storage, read_write> env_z: array<f32>;
 
 const UNREACHED: f32 = 1.0e9;
-const NONE: u32 = 0xffffffffu;
 
 fn texel_index(gid: vec3<u32>) -> i32 {
     if gid.x >= prm.res || gid.y >= prm.res {
@@ -82,13 +81,7 @@ fn jfa_init(@builtin(global_invocation_id) gid: vec3<u32>) {
     if i < 0 {
         return;
     }
-    udst[i] = select(NONE, gid.x | (gid.y << 16u), fsrc[i] == 0.0);
-}
-
-fn seed_dist2(x: i32, y: i32, s: u32) -> i32 {
-    let dx = i32(s & 0xffffu) - x;
-    let dy = i32(s >> 16u) - y;
-    return dx * dx + dy * dy;
+    udst[i] = select(NONE_SEED, seed_pack(gid.x, gid.y), fsrc[i] == 0.0);
 }
 
 // (The flood itself is shadow_core's gpu/jump_flood.wgsl.)
@@ -99,7 +92,7 @@ fn jfa_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let s = usrc[i];
-    if s == NONE {
+    if s == NONE_SEED {
         fdst[i] = prm.cap;
     } else {
         fdst[i] = min(sqrt(f32(seed_dist2(i32(gid.x), i32(gid.y), s))), prm.cap);

@@ -7,8 +7,11 @@
 //!   (5% + 0.5/255 of slack for the reference's noise), except the configurations [`EXCUSED`]
 //!   names, each with the reason. A false umbra (the landed penumbra-limit warp) fails it.
 //!
+//! On `acne` the same maps also answer the `acne` property (no false shadow on lit receivers).
+//!
 //! One test per scene, so the test runner spreads them over the cores.
 
+use super::acne;
 use super::common::receivers;
 use super::{
     RESOLUTIONS, assert_stable, backends, label, reference, scene_for, techniques, visibility,
@@ -178,6 +181,9 @@ fn hard_case(name: &str) {
         let bench = benches.entry(scene.name.clone()).or_insert_with(|| {
             let r = receivers(&scene, SIZE);
             let reference = reference(&scene.light, &r);
+            if name == acne::SCENE {
+                acne::check_scene(&scene.name, &reference);
+            }
             (r, reference, HashMap::new())
         });
         let (r, reference, hard_rms) = bench;
@@ -192,6 +198,9 @@ fn hard_case(name: &str) {
                     let hv = visibility(hard.as_ref(), be, r, &scene.light, res, &what);
                     rms_255(&hv, reference)
                 });
+                if name == acne::SCENE {
+                    failures.extend(acne::false_shadow(t.name(), res, &v, reference, &what));
+                }
                 let rms = rms_255(&v, reference);
                 let limit = no_shadow.min(h) * 1.05 + 0.5;
                 if rms > limit && excused(&scene.name, t.as_ref(), res).is_none() {

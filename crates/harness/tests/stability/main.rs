@@ -4,7 +4,7 @@
 //!   resolutions {16, 256, 2048} x both backends: no NaN or Inf, `V` in [0, 1], one value per
 //!   receiver, and rms no worse than no shadow and the hard shadow map (named exceptions).
 //! - `acne`: on `acne`, no receiver the reference sees lit comes out below 0.98, for every
-//!   technique, resolution and backend.
+//!   technique, resolution and backend (checked by `hard_cases` on the maps it builds there).
 //! - `low_resolution`: at 16² every technique draws a shadow on `plane-occluder` and
 //!   `skewed-triangle` (maps cover the casters, not the ground).
 //! - `tiny_light`: as the light shrinks to 0.2 mm every technique converges to the hard shadow.
@@ -86,11 +86,17 @@ pub fn visibility(
     res: u32,
     what: &str,
 ) -> Vec<f32> {
+    let t0 = std::time::Instant::now();
     let maps = t
         .generate(backend, gpu(), &r.geometry, light, res)
         .unwrap_or_else(|e| panic!("{what}: generate: {e}"));
-    t.evaluate(gpu(), &maps, &r.as_receivers())
-        .unwrap_or_else(|e| panic!("{what}: evaluate: {e}"))
+    let v = t
+        .evaluate(gpu(), &maps, &r.as_receivers())
+        .unwrap_or_else(|e| panic!("{what}: evaluate: {e}"));
+    if std::env::var_os("STABILITY_TIMES").is_some() {
+        eprintln!("TIME {:.1} ms {what}", t0.elapsed().as_secs_f64() * 1e3);
+    }
+    v
 }
 
 /// The reference `V` of `r` under `light` (default settings); NaN where a receiver is unlit.

@@ -5,7 +5,7 @@ use shadow_core::GpuContext;
 use shadow_core::gpu::compute::{storage_entry, uniform_entry};
 use shadow_core::gpu::raster::DEPTH_FORMAT;
 use shadow_core::gpu::resources::{
-    FLOAT, Kernel, layout, storage_texture_entry, texture_entry, wgsl_module,
+    FLOAT, Kernel, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
 /// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
@@ -57,13 +57,7 @@ impl SkinPipeline {
                 storage_entry_in(3, true, vf),
             ],
         );
-        let pl = ctx
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("skins"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let pl = pipeline_layout(ctx, "skins", &[&layout]);
         let pipeline = ctx
             .device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -5,7 +5,7 @@
 use shadow_core::GpuContext;
 use shadow_core::gpu::compute::uniform_entry;
 use shadow_core::gpu::resources::{
-    FLOAT, Kernel, layout, storage_texture_entry, texture_entry, wgsl_module,
+    FLOAT, Kernel, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
 /// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
@@ -60,13 +60,7 @@ impl SlicingPipelines {
         let mut uniform = uniform_entry(0);
         uniform.visibility = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let layout = layout(ctx, "slicing", &[uniform]);
-        let pl = ctx
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("slicing"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let pl = pipeline_layout(ctx, "slicing", &[&layout]);
         let max = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::One,
             dst_factor: wgpu::BlendFactor::One,

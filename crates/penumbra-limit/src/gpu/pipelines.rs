@@ -9,7 +9,7 @@ use shadow_core::gpu::compute::{
 };
 use shadow_core::gpu::raster::DEPTH_FORMAT;
 use shadow_core::gpu::resources::{
-    FLOAT, layout, storage_texture_entry, texture_entry, wgsl_module,
+    FLOAT, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
 /// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
@@ -67,13 +67,7 @@ impl SilhouettePipelines {
             "penumbra silhouette",
             &[uniform, edges, texture(2, wgpu::ShaderStages::FRAGMENT)],
         );
-        let pl = ctx
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("penumbra silhouette"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let pl = pipeline_layout(ctx, "penumbra silhouette", &[&layout]);
         let pipeline = |label: &str,
                         vs: &str,
                         fs: &str,

@@ -2,6 +2,7 @@
 //! one module with several entry points, and the receiver batch of an evaluation pass.
 
 use super::GpuContext;
+use super::resources::{compute_pipeline, pipeline_layout};
 use crate::error::{Result, ShadowError};
 use crate::technique::Receivers;
 
@@ -67,24 +68,8 @@ pub fn compute_pipelines<const N: usize>(
     layout: &wgpu::BindGroupLayout,
     entry_points: [&str; N],
 ) -> [wgpu::ComputePipeline; N] {
-    let pl = ctx
-        .device
-        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts: &[Some(layout)],
-            immediate_size: 0,
-        });
-    entry_points.map(|e| {
-        ctx.device
-            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(e),
-                layout: Some(&pl),
-                module,
-                entry_point: Some(e),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-    })
+    let pl = pipeline_layout(ctx, label, &[layout]);
+    entry_points.map(|e| compute_pipeline(ctx, module, &pl, e))
 }
 
 /// A bind group of `buffers`/resources in binding order 0, 1, 2, ...

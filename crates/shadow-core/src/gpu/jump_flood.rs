@@ -3,6 +3,7 @@
 
 use super::GpuContext;
 use super::compute::{bind_group, compute_pipelines, storage_entry, uniform_entry};
+use super::resources::layout;
 use bytemuck::{Pod, Zeroable};
 
 #[repr(C)]
@@ -19,22 +20,23 @@ pub struct GpuJumpFlood {
     pipeline: wgpu::ComputePipeline,
 }
 
+/// `jump_flood.wgsl`, for the resolver.
+const JUMP_FLOOD_WGSL: &[(&str, &str)] = &[("jump_flood.wgsl", include_str!("jump_flood.wgsl"))];
+
 impl GpuJumpFlood {
     /// Builds the pipeline.
     pub fn new(ctx: &GpuContext) -> Self {
-        let module = ctx
-            .device
-            .create_shader_module(wgpu::include_wgsl!("jump_flood.wgsl"));
-        let layout = ctx
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("jump flood"),
-                entries: &[
-                    uniform_entry(0),
-                    storage_entry(1, true),
-                    storage_entry(2, false),
-                ],
-            });
+        let source = super::wgsl::source("jump_flood.wgsl", JUMP_FLOOD_WGSL);
+        let module = super::resources::wgsl_module(ctx, "jump flood", &[&source]);
+        let layout = layout(
+            ctx,
+            "jump flood",
+            &[
+                uniform_entry(0),
+                storage_entry(1, true),
+                storage_entry(2, false),
+            ],
+        );
         let [pipeline] = compute_pipelines(ctx, "jump flood", &module, &layout, ["jfa_step"]);
         Self { layout, pipeline }
     }

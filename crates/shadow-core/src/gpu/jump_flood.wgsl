@@ -1,3 +1,4 @@
+// requires: seeds.wgsl
 // Jump flooding on the GPU: one pass with step `k`. Mirrors shadow_core::jump_flood::pass, in the
 // same neighbour order, so both backends keep the same nearest seed.
 
@@ -12,13 +13,6 @@ struct FloodParams {
 @group(0) @binding(1) var<storage, read> src: array<u32>;
 @group(0) @binding(2) var<storage, read_write> dst: array<u32>;
 
-const NONE: u32 = 0xffffffffu;
-
-fn seed_dist2(x: i32, y: i32, s: u32) -> i32 {
-    let dx = i32(s & 0xffffu) - x;
-    let dy = i32(s >> 16u) - y;
-    return dx * dx + dy * dy;
-}
 
 @compute @workgroup_size(8, 8)
 fn jfa_step(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -32,7 +26,7 @@ fn jfa_step(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = y * r + x;
     var best = src[i];
     var best_d = 0x7fffffff;
-    if best != NONE {
+    if best != NONE_SEED {
         best_d = seed_dist2(x, y, best);
     }
     for (var dy = -1; dy <= 1; dy++) {
@@ -43,7 +37,7 @@ fn jfa_step(@builtin(global_invocation_id) gid: vec3<u32>) {
                 continue;
             }
             let s = src[qy * r + qx];
-            if s != NONE {
+            if s != NONE_SEED {
                 let d = seed_dist2(x, y, s);
                 if d < best_d {
                     best = s;

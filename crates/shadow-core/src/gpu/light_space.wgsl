@@ -149,3 +149,16 @@ fn shadow_coord(m: MapView, bias: Bias, p: vec3<f32>, n: vec3<f32>) -> Coord {
     c.facing = cos_signed > 0.0;
     return c;
 }
+
+// The bilinear footprint of texel coordinate `st` (Map2D::bilinear_taps): the top-left texel of
+// the 2x2 taps and the weights' fractions.
+struct Taps {
+    base: vec2<i32>,
+    f: vec2<f32>,
+};
+
+fn bilinear_taps(st: vec2<f32>) -> Taps {
+    let u = st - vec2<f32>(0.5);
+    let i = floor(u);
+    return Taps(vec2<i32>(i), u - i);
+}

@@ -4,6 +4,8 @@
 //! test, no culling, row 0 at the top. Tests check both against the CPU rasterizer.
 
 use super::GpuContext;
+use super::compute::uniform_entry;
+use super::resources::{layout, pipeline_layout};
 use super::timer::PassSlot;
 use crate::error::{Result, ShadowError};
 use crate::map2d::Map2D;
@@ -93,24 +95,10 @@ impl GpuRasterizer {
     pub fn new(ctx: &GpuContext) -> Self {
         let device = &ctx.device;
         let module = device.create_shader_module(wgpu::include_wgsl!("raster.wgsl"));
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("view"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("raster"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let mut view = uniform_entry(0);
+        view.visibility = wgpu::ShaderStages::VERTEX;
+        let layout = layout(ctx, "view", &[view]);
+        let pl = pipeline_layout(ctx, "raster", &[&layout]);
         let depth_state = wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(true),

@@ -1,6 +1,8 @@
-//! Small constructors every technique's GPU path uses: shader modules assembled from WGSL
-//! parts, bind group layouts and their texture entries, 2D (array) textures, and compute
-//! kernels that own their layout.
+//! The one vocabulary every GPU path declares its pipelines in: shader modules assembled from
+//! WGSL parts ([`super::wgsl::resolve`]), bind group layouts ([`layout`] of the entries here and
+//! in [`super::compute`]), pipeline layouts ([`pipeline_layout`]), compute pipelines
+//! ([`compute_pipeline`], [`super::compute::compute_pipelines`], [`Kernel`]) and 2D (array)
+//! textures. Render pipelines are wgpu descriptors over a [`pipeline_layout`].
 
 use super::GpuContext;
 use super::compute::compute_pipelines;
@@ -28,6 +30,39 @@ pub fn layout(
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(label),
             entries,
+        })
+}
+
+/// A pipeline layout of `groups`, bind group 0 first.
+pub fn pipeline_layout(
+    ctx: &GpuContext,
+    label: &str,
+    groups: &[&wgpu::BindGroupLayout],
+) -> wgpu::PipelineLayout {
+    let groups: Vec<Option<&wgpu::BindGroupLayout>> = groups.iter().copied().map(Some).collect();
+    ctx.device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &groups,
+            immediate_size: 0,
+        })
+}
+
+/// The compute pipeline of entry point `entry` of `module` with layout `pl`.
+pub fn compute_pipeline(
+    ctx: &GpuContext,
+    module: &wgpu::ShaderModule,
+    pl: &wgpu::PipelineLayout,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    ctx.device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(pl),
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
         })
 }
 

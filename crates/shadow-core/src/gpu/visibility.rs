@@ -12,7 +12,10 @@
 
 use super::GpuContext;
 use super::compute::{ReceiverBuffers, bind_group, storage_entry};
-use super::resources::{FLOAT, layout, storage_texture_entry, texture_entry, wgsl_module};
+use super::resources::{
+    FLOAT, compute_pipeline, layout, pipeline_layout, storage_texture_entry, texture_entry,
+    wgsl_module,
+};
 use crate::error::Result;
 use crate::technique::{Receivers, ShadowTechnique};
 use std::marker::PhantomData;
@@ -107,22 +110,8 @@ fn build<T: ShadowTechnique>(ctx: &GpuContext) -> VisibilityPipelines {
     let source = T::visibility_wgsl();
     let pipeline = |tail: &str, entry: &str, receivers: &wgpu::BindGroupLayout| {
         let module = wgsl_module(ctx, name, &[&source, tail]);
-        let pl = ctx
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(name),
-                bind_group_layouts: &[Some(&maps_layout), Some(receivers)],
-                immediate_size: 0,
-            });
-        ctx.device
-            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pl),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+        let pl = pipeline_layout(ctx, name, &[&maps_layout, receivers]);
+        compute_pipeline(ctx, &module, &pl, entry)
     };
     let buffers = pipeline(RECEIVERS_WGSL, "evaluate_receivers", &buffers_layout);
     let texels = pipeline(RECEIVER_TEXTURES_WGSL, "evaluate_texels", &texels_layout);

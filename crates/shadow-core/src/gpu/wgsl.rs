@@ -2,10 +2,17 @@
 //! pipelines and the naga test use.
 //!
 //! A file whose first line is `// requires: a.wgsl b.wgsl` is compiled after those files, in
-//! that order (the header names everything it needs, transitively). `light_space.wgsl` is
-//! shadow-core's ([`super::LIGHT_SPACE_WGSL`]); other names are the crate's own files.
+//! that order (the header names everything it needs, transitively). [`SHARED`] are
+//! shadow-core's; other names are the crate's own files.
 
 use super::LIGHT_SPACE_WGSL;
+
+/// The WGSL parts shadow-core shares with every crate: `light_space.wgsl` (projection, biases,
+/// bilinear taps) and `seeds.wgsl` (jump-flood seed packing).
+pub const SHARED: &[(&str, &str)] = &[
+    ("light_space.wgsl", LIGHT_SPACE_WGSL),
+    ("seeds.wgsl", include_str!("seeds.wgsl")),
+];
 
 /// The files a `// requires:` first line names (none without one).
 pub fn requires(source: &str) -> Vec<&str> {
@@ -24,8 +31,8 @@ pub fn resolve(name: &str, files: &[(&str, &str)]) -> Result<String, String> {
         files
             .iter()
             .find(|(f, _)| *f == n)
+            .or_else(|| SHARED.iter().find(|(f, _)| *f == n))
             .map(|(_, s)| *s)
-            .or((n == "light_space.wgsl").then_some(LIGHT_SPACE_WGSL))
             .ok_or_else(|| format!("WGSL file {n:?} is not among {:?}", names(files)))
     };
     let source = find(name)?;
