@@ -16,6 +16,7 @@ pub fn scene_receivers(
 ) -> Result<(SceneGeometry, Vec<Vec3>, Vec<Vec3>)> {
     let mut scene = spec.to_scene()?;
     let geometry = scene.geometry();
+    geometry.validate()?;
     let camera = scene
         .camera()
         .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;

@@ -1,7 +1,7 @@
 //! Plain world-space geometry: the triangles technique kernels take, with their bounds.
 
 use crate::error::{Result, ShadowError};
-use crate::mesh::Aabb;
+use crate::mesh::{Aabb, MAX_COORDINATE};
 use glam::Vec3;
 
 /// Plain world-space geometry, what technique kernels consume: built by hand, or flattened from
@@ -17,7 +17,9 @@ pub struct SceneGeometry {
 }
 
 impl SceneGeometry {
-    /// Checks that there is something to shadow: non-empty bounds, finite coordinates.
+    /// Checks that there is something to shadow: non-empty bounds, finite coordinates within
+    /// [`MAX_COORDINATE`], and an extent f32 can resolve where the scene lies (at least a
+    /// millionth of its distance from the origin).
     pub fn validate(&self) -> Result<()> {
         if self.bounds.is_empty() {
             return Err(ShadowError::InvalidScene(
@@ -28,6 +30,24 @@ impl SceneGeometry {
             return Err(ShadowError::InvalidScene(
                 "the scene bounds are not finite".into(),
             ));
+        }
+        let reach = self
+            .bounds
+            .min
+            .abs()
+            .max(self.bounds.max.abs())
+            .max_element();
+        if reach > MAX_COORDINATE {
+            return Err(ShadowError::InvalidScene(format!(
+                "the scene reaches {reach:e} m from the origin, beyond ±{MAX_COORDINATE} m"
+            )));
+        }
+        let extent = self.bounds.diagonal();
+        if extent <= reach * 1.0e-6 {
+            return Err(ShadowError::InvalidScene(format!(
+                "every triangle lies within {extent:e} m of the others, {reach:e} m from the \
+                 origin: f32 cannot resolve maps of it"
+            )));
         }
         Ok(())
     }

@@ -4,6 +4,13 @@
 //! (the default scene, or every root node when none is marked); point and line primitives cast no
 //! shadow and are skipped. A file without triangles, or malformed in any way, is a typed
 //! [`ShadowError::Gltf`] naming the problem.
+//!
+//! Everything read is checked before it is used: buffer, view and accessor ranges, component
+//! types and alignment (glTF 2.0 section 3.6.2.4), index bounds, primitive modes, and the mesh's
+//! coordinates ([`crate::mesh::MAX_COORDINATE`]). The `gltf` crate still panics on some
+//! malformed JSON while it validates (an index out of bounds in `gltf-json`'s mesh validation,
+//! `unreachable!` in its mode parsing): the import boundary catches those panics, without
+//! printing them, and returns a [`ShadowError::Gltf`] naming the file.
 
 use crate::error::{Result, ShadowError};
 use crate::mesh::TriangleMesh;
@@ -41,6 +48,47 @@ pub fn import_gltf_file(path: &Path) -> Result<TriangleMesh> {
 
 /// Imports glTF bytes. `base_dir` resolves external buffer files; `None` accepts only GLB-embedded data.
 pub fn import_gltf_slice(
+    bytes: &[u8],
+    source_name: &str,
+    base_dir: Option<&Path>,
+) -> Result<TriangleMesh> {
+    quiet_panics(|| import_unguarded(bytes, source_name, base_dir)).unwrap_or_else(|message| {
+        Err(err(
+            source_name,
+            format!("the glTF loader (`gltf` crate) panicked on this file: {message}"),
+        ))
+    })
+}
+
+thread_local! {
+    static QUIET: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Runs `f`, turning a panic into `Err(message)`; while it runs, this thread's panics are not
+/// printed (a process-wide hook, installed once, defers to the previous hook otherwise).
+fn quiet_panics<T>(f: impl FnOnce() -> T) -> std::result::Result<T, String> {
+    static HOOK: std::sync::Once = std::sync::Once::new();
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(|q| q.get()) {
+                previous(info);
+            }
+        }));
+    });
+    let was = QUIET.with(|q| q.replace(true));
+    let out = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    QUIET.with(|q| q.set(was));
+    out.map_err(|payload| {
+        payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into())
+    })
+}
+
+fn import_unguarded(
     bytes: &[u8],
     source_name: &str,
     base_dir: Option<&Path>,
@@ -149,6 +197,57 @@ pub fn import_gltf_slice(
     Ok(mesh)
 }
 
+/// The component type, dimensions and alignment of an accessor the import reads: positions are
+/// `VEC3` of `f32`, indices `SCALAR` of an unsigned integer; every accessor's offset within its
+/// buffer and its view's stride are multiples of its component size.
+fn check_accessor(
+    acc: &gltf::Accessor,
+    semantic: Option<&gltf::Semantic>,
+    name: &str,
+) -> Result<()> {
+    use gltf::accessor::{DataType, Dimensions};
+    let what = match semantic {
+        Some(s) => format!("accessor {} ({s:?})", acc.index()),
+        None => format!("accessor {} (indices)", acc.index()),
+    };
+    let (ty, dims) = (acc.data_type(), acc.dimensions());
+    let ok = match semantic {
+        Some(gltf::Semantic::Positions) => ty == DataType::F32 && dims == Dimensions::Vec3,
+        None => {
+            matches!(ty, DataType::U8 | DataType::U16 | DataType::U32) && dims == Dimensions::Scalar
+        }
+        Some(_) => true,
+    };
+    if !ok {
+        return Err(err(
+            name,
+            format!("{what} is {dims:?} of {ty:?}, which glTF does not allow there"),
+        ));
+    }
+    let component = ty.size();
+    if let Some(view) = acc.view() {
+        let offset = view.offset() + acc.offset();
+        if !offset.is_multiple_of(component) {
+            return Err(err(
+                name,
+                format!(
+                    "{what} starts at byte {offset} of its buffer, not a multiple of its \
+                     {component}-byte components (misaligned)"
+                ),
+            ));
+        }
+        if let Some(stride) = view.stride()
+            && !stride.is_multiple_of(component)
+        {
+            return Err(err(
+                name,
+                format!("{what}: byte stride {stride} is not a multiple of {component}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn read_primitive(
     prim: &gltf::Primitive,
     buffers: &[Vec<u8>],
@@ -156,11 +255,14 @@ fn read_primitive(
     mesh: &mut TriangleMesh,
     name: &str,
 ) -> Result<()> {
-    // Check accessor ranges ourselves: the reader would index past a short buffer.
-    for (_, acc) in prim
+    // Check accessor ranges, types and alignment ourselves: the reader would index past a short
+    // buffer, and misaligned floats read as garbage.
+    for (semantic, acc) in prim
         .attributes()
-        .chain(prim.indices().map(|a| (gltf::Semantic::Positions, a)))
+        .map(|(s, a)| (Some(s), a))
+        .chain(prim.indices().map(|a| (None, a)))
     {
+        check_accessor(&acc, semantic.as_ref(), name)?;
         if let Some(view) = acc.view() {
             let end = view.offset() + view.length();
             let have = buffers.get(view.buffer().index()).map_or(0, |b| b.len());

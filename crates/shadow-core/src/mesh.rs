@@ -3,6 +3,11 @@
 use crate::error::{Result, ShadowError};
 use glam::{Mat4, Vec3};
 
+/// Largest coordinate magnitude a mesh or a scene may have, in metres (1000 km): f32 still
+/// resolves millimetres at a tenth of it, and every stage's cost stays independent of
+/// coordinates. Larger finite coordinates (a misread buffer, a unit mix-up) are a typed error.
+pub const MAX_COORDINATE: f32 = 1.0e6;
+
 /// An indexed triangle mesh in its own object space.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleMesh {
@@ -30,12 +35,27 @@ impl TriangleMesh {
         Ok(mesh)
     }
 
-    /// Checks that every coordinate is finite and every index is in range.
+    /// Checks that every coordinate is finite and within [`MAX_COORDINATE`], and every index is
+    /// in range.
     pub fn validate(&self) -> Result<()> {
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
             return Err(ShadowError::InvalidMesh {
                 mesh: self.name.clone(),
                 reason: format!("vertex {i} is not finite: {:?}", self.positions[i]),
+            });
+        }
+        if let Some(i) = self
+            .positions
+            .iter()
+            .position(|p| p.abs().max_element() > MAX_COORDINATE)
+        {
+            return Err(ShadowError::InvalidMesh {
+                mesh: self.name.clone(),
+                reason: format!(
+                    "vertex {i} at {:?} lies beyond ±{MAX_COORDINATE} m (a misread buffer or a \
+                     unit mix-up?)",
+                    self.positions[i]
+                ),
             });
         }
         let n = self.positions.len() as u32;

@@ -4,6 +4,7 @@
 mod bad_input;
 mod dependencies;
 mod frame;
+mod fuzz;
 mod gpu_agreement;
 mod ground_truth;
 mod linear_light;
