@@ -68,7 +68,13 @@ impl ShadowTechnique for LinearLight {
         resolution: u32,
     ) -> Result<cpu::CpuLinearMaps> {
         self.validate()?;
-        self.check_inputs(geometry, light, resolution, MAX_CPU_RESOLUTION)?;
+        self.check_inputs(
+            geometry,
+            light,
+            resolution,
+            MAX_CPU_RESOLUTION,
+            shadow_core::memory::cpu_budget(),
+        )?;
         Ok(cpu::generate(
             self,
             geometry,
@@ -83,6 +89,18 @@ impl ShadowTechnique for LinearLight {
         Ok(cpu::evaluate(self, maps, receivers))
     }
 
+    /// Per sample of each segment: its depth, grid depth, channel and skin list; plus the
+    /// two warped values and their depth.
+    fn memory_estimate(&self, light: &Light, resolution: u32) -> u64 {
+        let segments = if light.kind() == LightKind::Triangle {
+            3
+        } else {
+            1
+        };
+        let layers = self.samples as u64 * segments;
+        shadow_core::memory::maps(1, resolution, layers * 16 + 12)
+    }
+
     fn record_gpu(
         &self,
         gpu: &GpuContext,
@@ -92,7 +110,13 @@ impl ShadowTechnique for LinearLight {
         resolution: u32,
     ) -> Result<gpu::GpuLinearMaps> {
         self.validate()?;
-        self.check_inputs(scene.geometry(), light, resolution, gpu.max_texture_size())?;
+        self.check_inputs(
+            scene.geometry(),
+            light,
+            resolution,
+            gpu.max_texture_size(),
+            shadow_core::memory::gpu_budget(),
+        )?;
         let segs = segments(light, scene.geometry())?;
         gpu::generate(gpu, enc, self, scene, &segs, resolution)
     }

@@ -82,7 +82,13 @@ impl ShadowTechnique for OcclusionSlices {
         resolution: u32,
     ) -> Result<cpu::CpuSliceMaps> {
         self.validate()?;
-        self.check_inputs(geometry, light, resolution, MAX_RESOLUTION)?;
+        self.check_inputs(
+            geometry,
+            light,
+            resolution,
+            MAX_RESOLUTION,
+            shadow_core::memory::cpu_budget(),
+        )?;
         Ok(cpu::generate(self, geometry, light, resolution))
     }
 
@@ -90,6 +96,17 @@ impl ShadowTechnique for OcclusionSlices {
         self.validate()?;
         receivers.validate()?;
         Ok(cpu::evaluate(self, maps, receivers))
+    }
+
+    /// Per slice: its occupancy, the summed-area table and its row pass, and the prefiltered
+    /// levels (one byte per level for N-Buffers, 4/3 for mipmaps).
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        let levels = match self.filter {
+            Filter::NBuffer => filters::level_count(resolution) as u64,
+            Filter::Mipmap => 2,
+            Filter::Sat => 0,
+        };
+        shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
     }
 
     fn record_gpu(
@@ -106,6 +123,7 @@ impl ShadowTechnique for OcclusionSlices {
             light,
             resolution,
             gpu.max_texture_size().saturating_sub(1).min(MAX_RESOLUTION),
+            shadow_core::memory::gpu_budget(),
         )?;
         gpu::generate(gpu, enc, self, scene, light, resolution)
     }

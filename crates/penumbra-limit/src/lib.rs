@@ -89,6 +89,7 @@ impl ShadowTechnique for PenumbraLimit {
             light,
             resolution,
             MAX_CPU_RESOLUTION.min(MAX_RESOLUTION),
+            shadow_core::memory::cpu_budget(),
         )?;
         Ok(cpu::generate(self, geometry, light, resolution))
     }
@@ -97,6 +98,16 @@ impl ShadowTechnique for PenumbraLimit {
         self.validate()?;
         receivers.validate()?;
         Ok(cpu::evaluate(self, maps, receivers))
+    }
+
+    /// The stored map plus the depth, geometry, edge, lower-limit and seed layers.
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        let stored = match self.storage {
+            Storage::F32 => 16,
+            Storage::F16 => 8,
+            Storage::Rgba8 => 4,
+        };
+        shadow_core::memory::maps(1, resolution, stored + 40)
     }
 
     fn record_gpu(
@@ -113,6 +124,7 @@ impl ShadowTechnique for PenumbraLimit {
             light,
             resolution,
             gpu.max_texture_size().min(MAX_RESOLUTION),
+            shadow_core::memory::gpu_budget(),
         )?;
         gpu::generate(gpu, enc, self, scene, light, resolution)
     }

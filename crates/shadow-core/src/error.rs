@@ -55,6 +55,21 @@ pub enum ShadowError {
         /// The largest accepted resolution.
         max: u32,
     },
+    /// A configuration would allocate more than the backend's memory budget
+    /// ([`crate::memory`]).
+    #[error(
+        "{what} needs about {} of memory, over the {} budget (SHADOW_CPU_MEMORY_BUDGET or SHADOW_GPU_MEMORY_BUDGET, in bytes, changes it)",
+        crate::memory::human(*.need),
+        crate::memory::human(*.budget)
+    )]
+    OverBudget {
+        /// The configuration.
+        what: String,
+        /// Estimated bytes.
+        need: u64,
+        /// The budget in bytes.
+        budget: u64,
+    },
     /// A technique was asked for a light kind it does not model.
     #[error("technique {technique} does not model {light} lights")]
     UnsupportedLight {

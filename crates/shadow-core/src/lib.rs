@@ -29,6 +29,7 @@ pub mod jump_flood;
 pub mod light;
 pub mod light_space;
 pub mod map2d;
+pub mod memory;
 pub mod mesh;
 pub mod raster;
 #[cfg(feature = "ecs")]

@@ -225,13 +225,23 @@ pub trait ShadowTechnique: Send + Sync + 'static {
         visibility::record_texels::<Self>(gpu, enc, maps_bind, target);
     }
 
-    /// The common input checks: light valid and modelled, geometry non-empty, resolution in range.
+    /// Bytes one generation for `light` at `resolution` allocates (maps and scratch, about the
+    /// same on both backends), checked against the budget before anything is allocated. The
+    /// default counts one `f32` map; techniques with more layers or scratch say so.
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        crate::memory::maps(1, resolution, 4)
+    }
+
+    /// The common input checks: light valid and modelled, geometry non-empty, resolution in
+    /// range, [`memory_estimate`](Self::memory_estimate) within `memory_budget` bytes
+    /// ([`crate::memory::cpu_budget`], [`crate::memory::gpu_budget`]).
     fn check_inputs(
         &self,
         geometry: &SceneGeometry,
         light: &Light,
         resolution: u32,
         max_resolution: u32,
+        memory_budget: u64,
     ) -> Result<()> {
         light.validate()?;
         if !self.models(light.kind()) {
@@ -244,6 +254,14 @@ pub trait ShadowTechnique: Send + Sync + 'static {
             return Err(ShadowError::InvalidResolution {
                 requested: resolution,
                 max: max_resolution,
+            });
+        }
+        let need = self.memory_estimate(light, resolution);
+        if need > memory_budget {
+            return Err(ShadowError::OverBudget {
+                what: format!("{} {} at {resolution}²", self.name(), self.variant()),
+                need,
+                budget: memory_budget,
             });
         }
         geometry.validate()

@@ -122,7 +122,13 @@ impl ShadowTechnique for ShadowMapBaseline {
         light: &Light,
         resolution: u32,
     ) -> Result<CpuShadowMaps> {
-        self.check_inputs(geometry, light, resolution, MAX_CPU_RESOLUTION)?;
+        self.check_inputs(
+            geometry,
+            light,
+            resolution,
+            MAX_CPU_RESOLUTION,
+            shadow_core::memory::cpu_budget(),
+        )?;
         let views = sample_views(
             light,
             &shadow_core::Coverage::new(geometry, light),
@@ -142,6 +148,11 @@ impl ShadowTechnique for ShadowMapBaseline {
         Ok(filters::evaluate_cpu(&params, maps, receivers))
     }
 
+    /// One `f32` depth map per light sample.
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        shadow_core::memory::maps(self.map_count() as u64, resolution, 4)
+    }
+
     fn record_gpu(
         &self,
         gpu: &GpuContext,
@@ -151,7 +162,13 @@ impl ShadowTechnique for ShadowMapBaseline {
         resolution: u32,
     ) -> Result<gpu::GpuShadowMaps> {
         let geometry = scene.geometry();
-        self.check_inputs(geometry, light, resolution, gpu.max_texture_size())?;
+        self.check_inputs(
+            geometry,
+            light,
+            resolution,
+            gpu.max_texture_size(),
+            shadow_core::memory::gpu_budget(),
+        )?;
         let views = sample_views(
             light,
             &shadow_core::Coverage::new(geometry, light),

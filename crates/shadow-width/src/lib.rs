@@ -73,7 +73,13 @@ impl ShadowTechnique for ShadowWidth {
         resolution: u32,
     ) -> Result<cpu::CpuWidthMaps> {
         self.validate()?;
-        self.check_inputs(geometry, light, resolution, MAX_CPU_RESOLUTION.min(65535))?;
+        self.check_inputs(
+            geometry,
+            light,
+            resolution,
+            MAX_CPU_RESOLUTION.min(65535),
+            shadow_core::memory::cpu_budget(),
+        )?;
         Ok(cpu::generate(self, geometry, light, resolution))
     }
 
@@ -81,6 +87,15 @@ impl ShadowTechnique for ShadowWidth {
         self.validate()?;
         receivers.validate()?;
         Ok(cpu::evaluate(self, maps, receivers))
+    }
+
+    /// The depth layers, two width buffers, the mask and the jump-flood seeds.
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        let depth = match self.depth {
+            DepthLayer::Front => 4,
+            DepthLayer::BackFaces => 8,
+        };
+        shadow_core::memory::maps(1, resolution, depth + 20)
     }
 
     fn record_gpu(
@@ -92,7 +107,13 @@ impl ShadowTechnique for ShadowWidth {
         resolution: u32,
     ) -> Result<gpu::GpuWidthMaps> {
         self.validate()?;
-        self.check_inputs(scene.geometry(), light, resolution, gpu.max_texture_size())?;
+        self.check_inputs(
+            scene.geometry(),
+            light,
+            resolution,
+            gpu.max_texture_size(),
+            shadow_core::memory::gpu_budget(),
+        )?;
         gpu::generate(gpu, enc, self, scene, light, resolution)
     }
 

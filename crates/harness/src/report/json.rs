@@ -16,6 +16,9 @@ pub struct Report {
     pub runs: Vec<Run>,
     /// What each column of each scene's PNG strip shows.
     pub strips: Vec<Strip>,
+    /// Configurations that did not run, each with the reason (a light kind the technique does
+    /// not model, a resolution above the backend's limit, a memory need over the budget).
+    pub skipped: Vec<String>,
 }
 
 /// The columns of one scene's PNG strip (top: `V`, bottom: signed error, red = too dark, blue = too bright).

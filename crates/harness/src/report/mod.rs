@@ -251,7 +251,9 @@ impl Runner<'_> {
         let m = match measure::measure(t, backend, self.gpu.as_ref(), p, res, reps, warm_up) {
             Ok(m) => m,
             Err(
-                e @ (ShadowError::InvalidResolution { .. } | ShadowError::UnsupportedLight { .. }),
+                e @ (ShadowError::InvalidResolution { .. }
+                | ShadowError::UnsupportedLight { .. }
+                | ShadowError::OverBudget { .. }),
             ) => {
                 let line = format!("skipped {name} {} {} {res}: {e}", t.name(), backend.name());
                 // On stderr whether or not a terminal shows the bar (`println` drops the line
@@ -569,11 +571,13 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         references: Vec::new(),
         runs: Vec::new(),
         strips: Vec::new(),
+        skipped: Vec::new(),
     };
     for job in jobs {
         runner.scene(job, &mut report)?;
     }
     runner.bar.finish();
+    report.skipped = runner.skipped.clone();
     if report.runs.is_empty() {
         return Err(ShadowError::NothingRan(format!(
             "every configuration was skipped ({})",

@@ -306,3 +306,25 @@ fn report_list_names_scenes_techniques_and_variants() {
     );
     assert_eq!(text.matches("\n  pcf ").count(), 1, "{text}");
 }
+
+/// A configuration over the memory budget is refused before it allocates, naming the need and
+/// the budget (accumulation n64 at 16384² asks for 64 GiB of maps).
+#[test]
+fn a_configuration_over_the_memory_budget_is_a_typed_error() {
+    use shadow_core::ShadowTechnique;
+    let spec = harness::scenes::catalogue::build("plane-occluder").unwrap();
+    let geometry = spec.to_scene().unwrap().geometry();
+    let t = shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Accumulate { samples: 64 });
+    assert_eq!(t.memory_estimate(&spec.light, 16384), 64 << 30);
+    let e = t
+        .check_inputs(&geometry, &spec.light, 16384, 16384, 6 << 30)
+        .unwrap_err();
+    assert!(
+        matches!(e, shadow_core::ShadowError::OverBudget { need, budget, .. } if need == 64 << 30 && budget == 6 << 30),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("64.0 GiB") && e.to_string().contains("6.0 GiB"),
+        "{e}"
+    );
+}
