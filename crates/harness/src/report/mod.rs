@@ -255,11 +255,32 @@ impl Runner<'_> {
                 | ShadowError::UnsupportedLight { .. }
                 | ShadowError::OverBudget { .. }),
             ) => {
-                let line = format!("skipped {name} {} {} {res}: {e}", t.name(), backend.name());
-                // On stderr whether or not a terminal shows the bar (`println` drops the line
-                // when the bar is hidden).
-                self.bar.suspend(|| eprintln!("{line}"));
-                self.skipped.push(line);
+                skip(
+                    &self.bar,
+                    &mut self.skipped,
+                    format!(
+                        "{name} {} {} {} {res}",
+                        t.name(),
+                        t.variant(),
+                        backend.name()
+                    ),
+                    &e,
+                );
+                return Ok(None);
+            }
+            // A GPU fault (out of memory, a lost device) skips the GPU row; the CPU rows go on.
+            Err(e @ ShadowError::Gpu(_)) if backend == Backend::Gpu => {
+                skip(
+                    &self.bar,
+                    &mut self.skipped,
+                    format!(
+                        "{name} {} {} {} {res}",
+                        t.name(),
+                        t.variant(),
+                        backend.name()
+                    ),
+                    &e,
+                );
                 return Ok(None);
             }
             Err(e) => return Err(e),
@@ -605,4 +626,12 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         &html::render_report(&md, &report.strips),
     )?;
     Ok(report)
+}
+
+/// Prints (on stderr, whether or not a terminal shows the bar: `println` drops the line when
+/// the bar is hidden) and records why configuration `label` did not run.
+fn skip(bar: &Progress, skipped: &mut Vec<String>, label: String, e: &ShadowError) {
+    let line = format!("skipped {label}: {e}");
+    bar.suspend(|| eprintln!("{line}"));
+    skipped.push(line);
 }
