@@ -80,3 +80,49 @@ fn a_device_below_the_default_limits_is_refused_by_name() {
         other => panic!("expected a refusal, got {:?}", other.map(|c| c.describe())),
     }
 }
+
+/// A lost device (here destroyed by its renderer) turns every later generation and evaluation
+/// into a typed `ShadowError::Gpu`, for every technique, instead of a panic.
+#[test]
+fn a_lost_device_is_a_typed_error() {
+    if gpu_for_test("a_lost_device_is_a_typed_error").is_none() {
+        return;
+    }
+    let (device, queue) = renderer_device(wgpu::Limits::default()).expect("a default device");
+    let ctx = GpuContext::from_device(device, queue).expect("default limits suffice");
+    let spec = build("plane-occluder").unwrap();
+    let r = receivers(&spec, 16);
+    let recv = Recv {
+        positions: &r.positions,
+        normals: &r.normals,
+    };
+    let mut techniques = all_techniques(true);
+    techniques.dedup_by_key(|t| t.name());
+    // Maps made before the loss, evaluated after it.
+    let before: Vec<_> = techniques
+        .iter()
+        .map(|t| {
+            let light = relight(&spec.light, &r.geometry.bounds, |k| t.models(k)).unwrap();
+            t.generate(Backend::Gpu, Some(&ctx), &r.geometry, &light, 32)
+                .unwrap()
+        })
+        .collect();
+    ctx.device.destroy();
+    for (t, maps) in techniques.iter().zip(&before) {
+        let light = relight(&spec.light, &r.geometry.bounds, |k| t.models(k)).unwrap();
+        let generated = t.generate(Backend::Gpu, Some(&ctx), &r.geometry, &light, 32);
+        assert!(
+            matches!(generated, Err(ShadowError::Gpu(_))),
+            "{}: generate on a lost device: {:?}",
+            t.name(),
+            generated.err()
+        );
+        let evaluated = t.evaluate(Some(&ctx), maps, &recv);
+        assert!(
+            matches!(evaluated, Err(ShadowError::Gpu(_))),
+            "{}: evaluate on a lost device: {:?}",
+            t.name(),
+            evaluated.err()
+        );
+    }
+}

@@ -23,7 +23,6 @@ use shadow_core::gpu::timer::PassSlot;
 use shadow_core::gpu::{GpuRasterizer, GpuScene};
 use shadow_core::raster::DepthPass;
 use shadow_core::{Bias, GpuContext, Map2D, MapParams, Result, ShadowError};
-use wgpu::util::DeviceExt;
 
 /// One sample as the shaders read it (`Sample` in `sample.wgsl`).
 #[repr(C)]
@@ -190,13 +189,11 @@ fn encode_find_skins(
         usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     });
-    let draw = ctx
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("skin draw"),
-            contents: bytemuck::cast_slice(&[0u32, 1, 0, 0]),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-        });
+    let draw = ctx.buffer_with(
+        "skin draw",
+        bytemuck::cast_slice(&[0u32, 1, 0, 0]),
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+    );
     let pair = Pair {
         src: k,
         dst: k,

@@ -5,7 +5,6 @@ use std::any::{Any, TypeId};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
-use wgpu::util::DeviceExt;
 
 type Cache = Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>;
 
@@ -196,26 +195,40 @@ impl GpuContext {
             .map_err(|e| ShadowError::Gpu(format!("poll: {e}")))
     }
 
+    /// A buffer of `usage` (plus `COPY_DST`) holding `data`, written through the queue: unlike
+    /// wgpu's `create_buffer_init`, which maps the buffer and panics when the device is lost,
+    /// this raises a wgpu error that [`GpuContext::checked`] turns into [`ShadowError::Gpu`].
+    /// Sizes are rounded up to 4 bytes (at least 4), the tail zeroed.
+    pub fn buffer_with(&self, label: &str, data: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        let size = (data.len() as u64)
+            .max(4)
+            .next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        if !data.is_empty() {
+            let mut padded = data.to_vec();
+            padded.resize(size as usize, 0);
+            self.queue.write_buffer(&buffer, 0, &padded);
+        }
+        buffer
+    }
+
     /// A storage buffer initialised with `data`.
     pub fn storage_buffer(&self, label: &str, data: &[u8]) -> wgpu::Buffer {
-        self.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: data,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-            })
+        self.buffer_with(
+            label,
+            data,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        )
     }
 
     /// A uniform buffer initialised with `data`.
     pub fn uniform_buffer(&self, label: &str, data: &[u8]) -> wgpu::Buffer {
-        self.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: data,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            })
+        self.buffer_with(label, data, wgpu::BufferUsages::UNIFORM)
     }
 
     /// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) back to the CPU.

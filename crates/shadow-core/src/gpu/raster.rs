@@ -12,7 +12,6 @@ use crate::map2d::Map2D;
 use crate::raster::{DepthPass, DepthTest, Faces, GBufferTexel, facing_normal};
 use crate::view::View;
 use glam::{Mat4, Vec3};
-use wgpu::util::DeviceExt;
 
 /// Depth format of every light-space map.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -58,12 +57,12 @@ pub struct GpuRasterizer {
 
 /// A vertex buffer holding `bytes` (one zero vertex when empty: wgpu rejects empty buffers).
 fn vertex_buffer(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: if bytes.is_empty() { &[0u8; 24] } else { bytes },
-            usage: wgpu::BufferUsages::VERTEX,
-        })
+    let bytes = if bytes.is_empty() {
+        &[0u8; 24][..]
+    } else {
+        bytes
+    };
+    ctx.buffer_with(label, bytes, wgpu::BufferUsages::VERTEX)
 }
 
 fn pass_index(pass: DepthPass) -> usize {

@@ -29,7 +29,7 @@ impl GpuScene {
     /// Validates `geometry` and uploads its casters and its [surfaces](SceneGeometry::surfaces).
     pub fn new(ctx: &GpuContext, geometry: &SceneGeometry) -> Result<Self> {
         geometry.validate()?;
-        let casters = GpuTriangles::new(ctx, &geometry.casters)?;
+        let casters = ctx.checked("scene upload", || GpuTriangles::new(ctx, &geometry.casters))?;
         ctx.count_geometry_upload();
         Ok(Self {
             geometry: geometry.clone(),
@@ -71,7 +71,7 @@ impl GpuScene {
         {
             return Ok(t);
         }
-        let value = Arc::new(init(ctx, &self.geometry)?);
+        let value = Arc::new(ctx.checked("scene upload", || init(ctx, &self.geometry))?);
         ctx.count_geometry_upload();
         lock().insert(key, value.clone());
         Ok(value)
