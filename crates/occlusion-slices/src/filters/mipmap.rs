@@ -4,7 +4,7 @@
 
 use super::nbuffer::floor_log2;
 use super::sat::Sat;
-use super::{bilinear, level_count, unorm8};
+use super::{bilinear, level_count, unorm8_pow2};
 use glam::Vec2;
 use rayon::prelude::*;
 
@@ -26,18 +26,28 @@ impl Mipmap {
     /// Every level down to 1x1, from the slice's table.
     pub fn new(sat: &Sat) -> Mipmap {
         let res = sat.res;
+        let (r, w) = (res as usize, res as usize + 1);
         let levels = (0..level_count(res))
             .map(|l| {
                 let n = mip_size(res, l) as usize;
-                let s = 1i64 << l;
-                let area = 1u64 << (2 * l);
+                let s = 1usize << l;
+                let shift = 2 * l;
                 let mut out = vec![0u8; n * n];
                 out.par_chunks_mut(n.max(1))
                     .enumerate()
                     .for_each(|(y, row)| {
+                        // Block [x s, x s + s) x [y s, y s + s), clipped to the slice, from the
+                        // table's rows.
+                        let (y0, y1) = (y * s, (y * s + s).min(r));
+                        let r0 = &sat.data[y0 * w..(y0 + 1) * w];
+                        let r1 = &sat.data[y1 * w..(y1 + 1) * w];
                         for (x, v) in row.iter_mut().enumerate() {
-                            let (x, y) = (x as i64 * s, y as i64 * s);
-                            *v = unorm8(sat.count(x, y, x + s, y + s) as u32, area);
+                            let (x0, x1) = (x * s, (x * s + s).min(r));
+                            let c = r1[x1]
+                                .wrapping_sub(r0[x1])
+                                .wrapping_sub(r1[x0])
+                                .wrapping_add(r0[x0]);
+                            *v = unorm8_pow2(c, shift);
                         }
                     });
                 out

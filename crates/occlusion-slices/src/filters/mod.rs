@@ -24,6 +24,31 @@ pub fn unorm8(count: u32, area: u64) -> u8 {
     ((count as u64 * 255 + area / 2) / area) as u8
 }
 
+/// [`unorm8`] for an area of `1 << shift` texels, as a shift (the same value; the level
+/// builders' inner loop).
+#[inline]
+pub fn unorm8_pow2(count: u32, shift: u32) -> u8 {
+    ((count as u64 * 255 + ((1u64 << shift) >> 1)) >> shift) as u8
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn unorm8_pow2_is_unorm8() {
+        for shift in 0..24 {
+            let area = 1u64 << shift;
+            for count in [0, 1, 2, 3, area / 2, area / 2 + 1, area - 1, area] {
+                let c = count as u32;
+                assert_eq!(
+                    super::unorm8_pow2(c, shift),
+                    super::unorm8(c, area),
+                    "{c}/{area}"
+                );
+            }
+        }
+    }
+}
+
 /// Bilinear interpolation of `texel(x, y)` (0 outside, the caller's choice) at the continuous
 /// index position `p`: `texel(floor(p))` has weight 1 at `p = floor(p)`. The N-Buffer reads at
 /// box starts, the mipmap at `c / 2^l - 1/2` (texel centres).

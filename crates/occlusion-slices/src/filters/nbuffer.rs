@@ -6,7 +6,7 @@
 //! error of a stored value is its rounding, at every level.
 
 use super::sat::Sat;
-use super::{bilinear, level_count, unorm8};
+use super::{bilinear, level_count, unorm8_pow2};
 use glam::Vec2;
 use rayon::prelude::*;
 
@@ -24,17 +24,33 @@ impl NBuffer {
     pub fn new(sat: &Sat) -> NBuffer {
         let res = sat.res;
         let n = res as usize;
+        let w = n + 1;
         let levels = (0..level_count(res))
             .map(|l| {
-                let s = 1i64 << l;
-                let area = 1u64 << (2 * l);
+                let s = 1usize << l;
+                let shift = 2 * l;
                 let mut out = vec![0u8; n * n];
                 out.par_chunks_mut(n.max(1))
                     .enumerate()
                     .for_each(|(y, row)| {
-                        for (x, v) in row.iter_mut().enumerate() {
-                            let (x, y) = (x as i64, y as i64);
-                            *v = unorm8(sat.count(x, y, x + s, y + s) as u32, area);
+                        // The box [x, x + s) x [y, y + s), clipped to the slice: table rows y and
+                        // min(y + s, n), columns x and min(x + s, n).
+                        let r0 = &sat.data[y * w..(y + 1) * w];
+                        let y1 = (y + s).min(n);
+                        let r1 = &sat.data[y1 * w..(y1 + 1) * w];
+                        let value = |x: usize, x1: usize| {
+                            let c = r1[x1]
+                                .wrapping_sub(r0[x1])
+                                .wrapping_sub(r1[x])
+                                .wrapping_add(r0[x]);
+                            unorm8_pow2(c, shift)
+                        };
+                        let inner = n.saturating_sub(s);
+                        for (x, v) in row[..inner].iter_mut().enumerate() {
+                            *v = value(x, x + s);
+                        }
+                        for (x, v) in row.iter_mut().enumerate().skip(inner) {
+                            *v = value(x, n);
                         }
                     });
                 out
