@@ -42,31 +42,32 @@ pub fn steps(resolution: u32) -> Vec<u32> {
     v
 }
 
-/// One pass with step `k` over a `res`-wide square map: reads `src`, writes `dst`.
+/// One pass with step `k` over a `res`-wide square map: reads `src`, writes `dst`. Each row
+/// reads the three source rows `k` apart once, and the neighbours in the fixed order (rows
+/// `y - k, y, y + k`, then columns `x - k, x, x + k`).
 pub fn pass(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
-    let r = res as i32;
-    let k = k as i32;
-    dst.par_chunks_mut(res as usize)
+    let (n, k) = (res as usize, k as usize);
+    dst.par_chunks_mut(n.max(1))
         .enumerate()
-        .for_each(|(y, row)| {
-            let y = y as i32;
-            for (x, out) in row.iter_mut().enumerate() {
-                let x = x as i32;
-                let mut best = src[(y * r + x) as usize];
+        .for_each(|(y, out)| {
+            let rows = [y.checked_sub(k), Some(y), (y + k < n).then_some(y + k)]
+                .map(|r| r.map(|r| &src[r * n..(r + 1) * n]));
+            let centre = &src[y * n..(y + 1) * n];
+            let yi = y as i32;
+            for (x, o) in out.iter_mut().enumerate() {
+                let xi = x as i32;
+                let mut best = centre[x];
                 let mut best_d = if best == NONE {
                     i64::MAX
                 } else {
-                    dist2(x, y, best)
+                    dist2(xi, yi, best)
                 };
-                for dy in -1..=1 {
-                    for dx in -1..=1 {
-                        let (qx, qy) = (x + dx * k, y + dy * k);
-                        if qx < 0 || qy < 0 || qx >= r || qy >= r {
-                            continue;
-                        }
-                        let s = src[(qy * r + qx) as usize];
+                let cols = [x.checked_sub(k), Some(x), (x + k < n).then_some(x + k)];
+                for row in rows.iter().flatten() {
+                    for &q in cols.iter().flatten() {
+                        let s = row[q];
                         if s != NONE {
-                            let d = dist2(x, y, s);
+                            let d = dist2(xi, yi, s);
                             if d < best_d {
                                 best = s;
                                 best_d = d;
@@ -74,7 +75,7 @@ pub fn pass(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
                         }
                     }
                 }
-                *out = best;
+                *o = best;
             }
         });
 }
