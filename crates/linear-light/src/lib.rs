@@ -144,8 +144,8 @@ impl ShadowTechnique for LinearLight {
 /// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
 #[cfg(feature = "frame")]
 pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
-    ("linear-light", "n5", LightKind::Linear, 26.5, 2.5),
-    ("linear-light", "n5", LightKind::Triangle, 67.1, 7.8),
+    ("linear-light", "n5", LightKind::Linear, 16.5, 2.5),
+    ("linear-light", "n5", LightKind::Triangle, 43.3, 7.8),
 ];
 
 /// Registers this technique with a frame pipeline: its system set (which runs only while a

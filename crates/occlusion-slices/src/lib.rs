@@ -151,10 +151,10 @@ impl ShadowTechnique for OcclusionSlices {
 /// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
 #[cfg(feature = "frame")]
 pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
-    ("occlusion-slices", "sat-8", LightKind::Rect, 4.8, 13.6),
-    ("occlusion-slices", "nbuffer-8", LightKind::Rect, 23.8, 14.3),
-    ("occlusion-slices", "sat-16", LightKind::Sphere, 12.8, 9.3),
-    ("occlusion-slices", "sat-8", LightKind::Triangle, 7.8, 4.4),
+    ("occlusion-slices", "sat-8", LightKind::Rect, 3.5, 13.6),
+    ("occlusion-slices", "nbuffer-8", LightKind::Rect, 7.3, 14.3),
+    ("occlusion-slices", "sat-16", LightKind::Sphere, 7.9, 9.3),
+    ("occlusion-slices", "sat-8", LightKind::Triangle, 3.9, 4.4),
 ];
 
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
