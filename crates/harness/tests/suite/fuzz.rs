@@ -5,7 +5,8 @@
 //! Mutations: a digit of the GLB's JSON changed, a JSON number replaced by an extreme one (the
 //! GLB re-encoded with correct chunk lengths, so the change reaches glTF validation), a bit
 //! flipped anywhere, the file truncated, a buffer view moved off alignment; and digit, number and
-//! truncation mutations of the scene TOML. CI runs [`CI_CASES`] of each; a long run:
+//! truncation mutations of the scene TOML. CI runs the same [`CI_CASES`] of each every time; a
+//! long run draws new ones:
 //!
 //! `FUZZ_CASES=5000 cargo test --release -p harness --test suite fuzz`
 
@@ -181,11 +182,22 @@ fn load_and_render(dir: &Path, what: &str) -> Outcome {
 fn run(family: &str, strategy: impl Strategy<Value = (Vec<u8>, String)>) {
     let dir = std::env::temp_dir().join(format!("shadow-fuzz-{family}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut runner = TestRunner::new(Config {
+    let config = Config {
         cases: cases(),
         failure_persistence: None,
         ..Config::default()
-    });
+    };
+    // CI's cases are the same every run; a long run (`FUZZ_CASES`) draws new ones.
+    let mut runner = if std::env::var_os("FUZZ_CASES").is_some() {
+        TestRunner::new(config)
+    } else {
+        TestRunner::new_with_rng(
+            config,
+            proptest::test_runner::TestRng::deterministic_rng(
+                proptest::test_runner::RngAlgorithm::ChaCha,
+            ),
+        )
+    };
     let tally = std::sync::Mutex::new(std::collections::HashMap::<Outcome, usize>::new());
     let result = runner.run(&strategy, |(glb, toml)| {
         std::fs::write(dir.join("suzanne.glb"), &glb).unwrap();
