@@ -78,18 +78,30 @@ fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
         )
         .unwrap();
     let shade = ShadeUniform::new(&light).unwrap();
-    let mut sq = 0.0f64;
+    // Squared error and count: all, ground (y = 0, facing up), model; penumbra (0 < V < 1).
+    let mut sums = [(0.0f64, 0usize); 4];
     let mut shadowed = 0;
     for (k, &i) in covered.iter().enumerate() {
         let want = shade.radiance(positions[k], normals[k], v[k]);
         let got = image.as_raw()[i * 4] as f32 / 255.0;
-        sq += ((got - want) as f64 * 255.0).powi(2);
+        let e = ((got - want) as f64 * 255.0).powi(2);
+        let ground = positions[k].y.abs() < 1e-4 && normals[k].y > 0.99;
+        let penumbra = v[k] > 0.0 && v[k] < 1.0;
+        for (s, on) in sums.iter_mut().zip([true, ground, !ground, penumbra]) {
+            if on {
+                *s = (s.0 + e, s.1 + 1);
+            }
+        }
         shadowed += (v[k] < 0.5) as usize;
     }
-    let rms = (sq / covered.len() as f64).sqrt();
+    let [rms, ground, model, penumbra] = sums.map(|(e, n)| (e / n.max(1) as f64).sqrt());
     println!(
-        "{test}: {} covered pixels, {shadowed} with V < 0.5, rms {rms:.3}/255",
-        covered.len()
+        "{test}: {} covered pixels ({} ground, {} model, {} penumbra), {shadowed} with V < 0.5, \
+         rms {rms:.3}/255 (ground {ground:.3}, model {model:.3}, penumbra {penumbra:.3})",
+        covered.len(),
+        sums[1].1,
+        sums[2].1,
+        sums[3].1
     );
     assert!(
         shadowed > covered.len() / 50,

@@ -37,6 +37,30 @@ fn looks_like_gltf(bytes: &[u8]) -> bool {
         .is_some_and(|&b| b == b'{')
 }
 
+/// A GLB container of a glTF JSON document and its binary chunk, each padded to 4 bytes (JSON
+/// with spaces, binary with zeros), with correct lengths: what tests and tools write files with.
+pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let pad = |mut v: Vec<u8>, with: u8| {
+        while !v.len().is_multiple_of(4) {
+            v.push(with);
+        }
+        v
+    };
+    let (j, b) = (pad(json.as_bytes().to_vec(), b' '), pad(bin.to_vec(), 0));
+    let total = 12 + 8 + j.len() + 8 + b.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(j.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&j);
+    out.extend_from_slice(&(b.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&b);
+    out
+}
+
 /// Imports a `.glb`/`.gltf` file as one world-space mesh (node transforms applied).
 pub fn import_gltf_file(path: &Path) -> Result<TriangleMesh> {
     let bytes = std::fs::read(path).map_err(|source| ShadowError::Io {

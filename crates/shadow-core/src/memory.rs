@@ -43,12 +43,16 @@ fn address_space_limit() -> Option<u64> {
     line.split_whitespace().nth(3)?.parse().ok()
 }
 
-/// The memory this process may use: the smallest limit that can be read.
+/// The memory this process may use: the smallest limit that can be read (read once per
+/// process: generation checks it on every call).
 pub fn usable_memory() -> Option<u64> {
-    [meminfo_total(), cgroup_limit(), address_space_limit()]
-        .into_iter()
-        .flatten()
-        .min()
+    static USABLE: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
+    *USABLE.get_or_init(|| {
+        [meminfo_total(), cgroup_limit(), address_space_limit()]
+            .into_iter()
+            .flatten()
+            .min()
+    })
 }
 
 /// Bytes one CPU generation may allocate (module docs).

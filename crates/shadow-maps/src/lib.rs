@@ -80,6 +80,15 @@ impl ShadowMapBaseline {
         v
     }
 
+    /// The light-sample views of its maps, fitted to `geometry`'s casters.
+    pub fn views(&self, geometry: &SceneGeometry, light: &Light) -> Vec<shadow_core::SampleView> {
+        sample_views(
+            light,
+            &shadow_core::Coverage::new(geometry, light),
+            self.map_count(),
+        )
+    }
+
     /// Number of depth maps this baseline renders.
     pub fn map_count(&self) -> u32 {
         match self.filter {
@@ -129,11 +138,7 @@ impl ShadowTechnique for ShadowMapBaseline {
             MAX_CPU_RESOLUTION,
             shadow_core::memory::cpu_budget(),
         )?;
-        let views = sample_views(
-            light,
-            &shadow_core::Coverage::new(geometry, light),
-            self.map_count(),
-        );
+        let views = self.views(geometry, light);
         Ok(CpuShadowMaps::render(
             &views,
             &geometry.casters,
@@ -169,11 +174,7 @@ impl ShadowTechnique for ShadowMapBaseline {
             gpu.max_texture_size(),
             shadow_core::memory::gpu_budget(),
         )?;
-        let views = sample_views(
-            light,
-            &shadow_core::Coverage::new(geometry, light),
-            self.map_count(),
-        );
+        let views = self.views(geometry, light);
         gpu::GpuShadowMaps::record(gpu, enc, &views, scene, resolution, light.size())
     }
 

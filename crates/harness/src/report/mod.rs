@@ -250,26 +250,17 @@ impl Runner<'_> {
         };
         let m = match measure::measure(t, backend, self.gpu.as_ref(), p, res, reps, warm_up) {
             Ok(m) => m,
-            Err(
-                e @ (ShadowError::InvalidResolution { .. }
-                | ShadowError::UnsupportedLight { .. }
-                | ShadowError::OverBudget { .. }),
-            ) => {
-                skip(
-                    &self.bar,
-                    &mut self.skipped,
-                    format!(
-                        "{name} {} {} {} {res}",
-                        t.name(),
-                        t.variant(),
-                        backend.name()
-                    ),
-                    &e,
-                );
-                return Ok(None);
-            }
-            // A GPU fault (out of memory, a lost device) skips the GPU row; the CPU rows go on.
-            Err(e @ ShadowError::Gpu(_)) if backend == Backend::Gpu => {
+            // A light the technique does not model, a resolution or memory need over the
+            // backend's limits, or a GPU fault (out of memory, a lost device) on the GPU row:
+            // that configuration is skipped and the others go on.
+            Err(e)
+                if matches!(
+                    e,
+                    ShadowError::InvalidResolution { .. }
+                        | ShadowError::UnsupportedLight { .. }
+                        | ShadowError::OverBudget { .. }
+                ) || (backend == Backend::Gpu && matches!(e, ShadowError::Gpu(_))) =>
+            {
                 skip(
                     &self.bar,
                     &mut self.skipped,

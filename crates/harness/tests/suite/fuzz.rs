@@ -14,6 +14,7 @@ use harness::scenes::scene_file;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 use shadow_core::ShadowTechnique;
+use shadow_core::gltf_import::glb;
 use shadow_maps::{Filter, ShadowMapBaseline};
 use std::path::Path;
 use std::time::Instant;
@@ -66,30 +67,6 @@ fn glb_split(glb: &[u8]) -> (String, Vec<u8>) {
     let bin_at = 20 + json_len;
     let bin_len = u32_at(bin_at);
     (json, glb[bin_at + 8..bin_at + 8 + bin_len].to_vec())
-}
-
-/// A GLB of `json` and `bin`, with padded chunks and correct lengths.
-fn glb_join(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut j = json.as_bytes().to_vec();
-    while !j.len().is_multiple_of(4) {
-        j.push(b' ');
-    }
-    let mut b = bin.to_vec();
-    while !b.len().is_multiple_of(4) {
-        b.push(0);
-    }
-    let total = 12 + 8 + j.len() + 8 + b.len();
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(j.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&j);
-    out.extend_from_slice(&(b.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&b);
-    out
 }
 
 /// Byte ranges of the numbers in `text`.
@@ -225,12 +202,12 @@ fn mutated_glb_json_is_a_typed_error_or_a_valid_scene() {
     run(
         "glb-digit",
         (any::<usize>(), 0u8..10)
-            .prop_map(move |(k, d)| (glb_join(&mutate_digit(&j1, k, d), &b1), t1.clone())),
+            .prop_map(move |(k, d)| (glb(&mutate_digit(&j1, k, d), &b1), t1.clone())),
     );
     run(
         "glb-number",
         (any::<usize>(), any::<usize>())
-            .prop_map(move |(k, n)| (glb_join(&mutate_number(&json, k, n), &bin), toml.clone())),
+            .prop_map(move |(k, n)| (glb(&mutate_number(&json, k, n), &bin), toml.clone())),
     );
 }
 
@@ -284,7 +261,7 @@ fn a_misaligned_buffer_view_is_refused() {
     let (json, bin) = glb_split(&asset("suzanne.glb"));
     let moved = json.replace("\"byteOffset\":11616", "\"byteOffset\":11611");
     assert_ne!(moved, json, "suzanne.glb's second view starts at 11616");
-    let e = shadow_core::gltf_import::import_gltf_slice(&glb_join(&moved, &bin), "suzanne", None)
+    let e = shadow_core::gltf_import::import_gltf_slice(&glb(&moved, &bin), "suzanne", None)
         .unwrap_err()
         .to_string();
     assert!(e.contains("misaligned"), "{e}");

@@ -1,35 +1,11 @@
 //! Bad input gets a typed error naming the problem; nothing panics.
 
 use glam::{Mat4, Vec3};
-use shadow_core::gltf_import::import_gltf_slice;
+use shadow_core::gltf_import::{glb, import_gltf_slice};
 use shadow_core::{Light, Scene, ShadowError, TriangleMesh};
 use std::sync::Arc;
 
 const BUNNY: &[u8] = include_bytes!("../../../../assets/stanford-bunny.glb");
-
-/// A GLB from a JSON document and a binary chunk.
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut j = json.as_bytes().to_vec();
-    while !j.len().is_multiple_of(4) {
-        j.push(b' ');
-    }
-    let mut b = bin.to_vec();
-    while !b.len().is_multiple_of(4) {
-        b.push(0);
-    }
-    let total = 12 + 8 + j.len() + 8 + b.len();
-    let mut out = Vec::new();
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(j.len() as u32).to_le_bytes());
-    out.extend_from_slice(&0x4E4F_534Au32.to_le_bytes());
-    out.extend_from_slice(&j);
-    out.extend_from_slice(&(b.len() as u32).to_le_bytes());
-    out.extend_from_slice(&0x004E_4942u32.to_le_bytes());
-    out.extend_from_slice(&b);
-    out
-}
 
 fn triangle_glb(mode: u32, index: u16) -> Vec<u8> {
     let mut bin = Vec::new();
