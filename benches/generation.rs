@@ -37,13 +37,19 @@ fn generation(c: &mut Criterion) {
             let scene = GpuScene::new(g, geo).expect("gpu scene");
             group.bench_with_input(BenchmarkId::new("gpu-wall", res), &res, |b, &res| {
                 b.iter(|| {
-                    t.generate_gpu_on(g, &scene, light, res)
-                        .expect("gpu generation")
+                    let maps = t
+                        .generate_gpu_on(g, &scene, light, res)
+                        .expect("gpu generation");
+                    t.recycle(Some(g), maps);
                 })
             });
             if g.has_timestamps() {
                 group.bench_with_input(BenchmarkId::new("gpu-device", res), &res, |b, &res| {
-                    iter_device_time(b, g, || t.generate_gpu_on(g, &scene, light, res))
+                    iter_device_time(b, g, || {
+                        let maps = t.generate_gpu_on(g, &scene, light, res)?;
+                        t.recycle(Some(g), maps);
+                        Ok(())
+                    })
                 });
             }
         }

@@ -331,6 +331,8 @@ impl<T: ShadowTechnique> Renderer<T> {
                 size: (width, height),
             },
         );
+        // Done reading the maps: their textures serve the next frame's generation.
+        technique.recycle_gpu(gpu, maps);
         let mut pass = enc.begin_compute_pass(&Default::default());
         pass.set_pipeline(&self.shade_pipeline);
         pass.set_bind_group(0, &self.shade_bind, &[]);

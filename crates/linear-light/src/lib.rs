@@ -129,6 +129,11 @@ impl ShadowTechnique for LinearLight {
         gpu::maps_layout_entries()
     }
 
+    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuLinearMaps) {
+        gpu.recycle_texture(maps.depth);
+        gpu.recycle_texture(maps.channel);
+    }
+
     fn bind_maps(
         &self,
         gpu: &GpuContext,

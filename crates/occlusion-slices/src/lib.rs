@@ -136,6 +136,12 @@ impl ShadowTechnique for OcclusionSlices {
         gpu::maps_layout_entries()
     }
 
+    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuSliceMaps) {
+        for t in [maps.occupancy, maps.sat, maps.filtered] {
+            gpu.recycle_texture(t);
+        }
+    }
+
     fn bind_maps(
         &self,
         gpu: &GpuContext,

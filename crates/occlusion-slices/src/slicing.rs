@@ -23,6 +23,10 @@ pub fn slice(frame: &Frame, geometry: &SceneGeometry) -> Vec<Vec<bool>> {
         }
     });
     (0..n)
-        .map(|k| masks.data().iter().map(|m| m & (1 << k) != 0).collect())
+        .map(|k| {
+            let mut s = shadow_core::pool::take(texels);
+            s.extend(masks.data().iter().map(|m| m & (1 << k) != 0));
+            s
+        })
         .collect()
 }

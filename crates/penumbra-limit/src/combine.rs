@@ -21,7 +21,6 @@
 
 use crate::storage::{MAX_P, Storage, Texel};
 use crate::warp::{NONE_DEPTH, Warp};
-use rayon::prelude::*;
 use shadow_core::Map2D;
 
 /// The generators' output, before storage.
@@ -88,9 +87,8 @@ pub fn combine_texel(l: &Layers, warp: &Warp, transition_gap: f32, x: u32, y: u3
 /// The stored map: every texel combined, then quantised by `storage`.
 pub fn combine(l: &Layers, warp: &Warp, transition_gap: f32, storage: Storage) -> Map2D<Texel> {
     let (w, h) = (l.geom.width(), l.geom.height());
-    let data: Vec<Texel> = (0..w * h)
-        .into_par_iter()
-        .map(|i| combine_texel(l, warp, transition_gap, i % w, i / w).stored(storage))
-        .collect();
-    Map2D::from_vec(w, h, data).unwrap_or_else(|| Map2D::new(0, 0, Texel::default()))
+    Map2D::from_par_fn(w, h, |i| {
+        let i = i as u32;
+        combine_texel(l, warp, transition_gap, i % w, i / w).stored(storage)
+    })
 }

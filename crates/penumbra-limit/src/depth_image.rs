@@ -19,8 +19,8 @@ use crate::combine::NO_EDGE;
 use crate::storage::MAX_P;
 use crate::warp::{NONE_DEPTH, Warp};
 use rayon::prelude::*;
-use shadow_core::Map2D;
 use shadow_core::jump_flood::{NONE, dist2, flood, pack};
+use shadow_core::{Map2D, pool};
 
 const NEIGHBOURS: [(i64, i64); 4] = [(-1, 0), (1, 0), (0, -1), (0, 1)];
 
@@ -56,6 +56,8 @@ pub fn near_side(
 /// The seeds of step 1: `(near side, far side)`, packed texel coordinates or [`NONE`].
 pub fn seeds(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u32>) {
     let (w, h) = (geom.width(), geom.height());
+    let n = (w * h) as usize;
+    let (mut near, mut far) = (pool::take(n), pool::take(n));
     (0..w * h)
         .into_par_iter()
         .map(|i| {
@@ -69,7 +71,8 @@ pub fn seeds(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u
             let me = pack(x as u32, y as u32);
             (if a { me } else { NONE }, if b { me } else { NONE })
         })
-        .unzip()
+        .unzip_into_vecs(&mut near, &mut far);
+    (near, far)
 }
 
 /// Steps 2 and 3 for one texel, from its nearest seeds: `([c, p_i], lower)`.
@@ -108,13 +111,17 @@ pub fn limits(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Map2D<[f32; 2]
     let res = geom.width();
     let (a, b) = seeds(geom, warp, layer_gap);
     let (a, b) = (flood(a, res), flood(b, res));
-    let (edge, lower): (Vec<_>, Vec<_>) = (0..res * res)
+    let n = (res * res) as usize;
+    let (mut edge, mut lower) = (pool::take(n), pool::take(n));
+    (0..res * res)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % res, i / res);
             texel_limits(geom, warp, layer_gap, x, y, a[i as usize], b[i as usize])
         })
-        .unzip();
+        .unzip_into_vecs(&mut edge, &mut lower);
+    pool::give(a);
+    pool::give(b);
     (
         Map2D::from_vec(res, res, edge).unwrap_or_else(|| Map2D::new(0, 0, NO_EDGE)),
         Map2D::from_vec(res, res, lower).unwrap_or_else(|| Map2D::new(0, 0, NONE_DEPTH)),

@@ -137,6 +137,10 @@ impl ShadowTechnique for PenumbraLimit {
         gpu::maps_layout_entries()
     }
 
+    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuPenumbraMaps) {
+        gpu.recycle_texture(maps.map);
+    }
+
     fn bind_maps(
         &self,
         gpu: &GpuContext,

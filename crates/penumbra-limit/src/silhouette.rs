@@ -288,7 +288,7 @@ pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 
                 })
         })
         .collect();
-    let mut data = vec![NO_EDGE; res as usize * res as usize];
+    let mut data = shadow_core::pool::filled(res as usize * res as usize, NO_EDGE);
     data.par_chunks_mut((res * BAND) as usize)
         .enumerate()
         .for_each(|(band, rows)| {

@@ -7,7 +7,7 @@
 //! - [`light`]: the light kinds, their validation and sampling; [`view`]: camera and light frusta;
 //!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
 //! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers);
-//!   [`jump_flood`]: nearest-seed maps (CPU and GPU).
+//!   [`jump_flood`]: nearest-seed maps (CPU and GPU); [`pool`]: reuse of large CPU buffers.
 //! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
 //! - `gltf_import` (feature `gltf`): glTF/GLB meshes.
 //!
@@ -31,6 +31,7 @@ pub mod light_space;
 pub mod map2d;
 pub mod memory;
 pub mod mesh;
+pub mod pool;
 pub mod raster;
 #[cfg(feature = "ecs")]
 pub mod scene;

@@ -3,25 +3,49 @@
 use glam::Vec2;
 
 /// A row-major `width x height` grid of `T`; row 0 is the top row (v = 0).
+///
+/// Its texels live in storage from [`crate::pool`] and go back there when the map is dropped,
+/// so the next map of the same size and texel type reuses pages already faulted in.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Map2D<T> {
+pub struct Map2D<T: Send + 'static> {
     width: u32,
     height: u32,
     data: Vec<T>,
 }
 
-impl<T: Clone> Map2D<T> {
+impl<T: Send + 'static> Drop for Map2D<T> {
+    fn drop(&mut self) {
+        crate::pool::give(std::mem::take(&mut self.data));
+    }
+}
+
+impl<T: Clone + Send + 'static> Map2D<T> {
     /// A map filled with `value`.
     pub fn new(width: u32, height: u32, value: T) -> Self {
         Self {
             width,
             height,
-            data: vec![value; width as usize * height as usize],
+            data: crate::pool::filled(width as usize * height as usize, value),
         }
     }
 }
 
-impl<T> Map2D<T> {
+impl<T: Send + Sync + 'static> Map2D<T> {
+    /// A map whose texel `i` (row-major) is `f(i)`, computed in parallel into pooled storage.
+    pub fn from_par_fn(width: u32, height: u32, f: impl Fn(usize) -> T + Sync + Send) -> Self {
+        use rayon::prelude::*;
+        let n = width as usize * height as usize;
+        let mut data = crate::pool::take(n);
+        (0..n).into_par_iter().map(f).collect_into_vec(&mut data);
+        Self {
+            width,
+            height,
+            data,
+        }
+    }
+}
+
+impl<T: Send + 'static> Map2D<T> {
     /// A map over existing row-major data; `None` when the length is not `width * height`.
     pub fn from_vec(width: u32, height: u32, data: Vec<T>) -> Option<Self> {
         (data.len() == width as usize * height as usize).then_some(Self {
@@ -52,8 +76,8 @@ impl<T> Map2D<T> {
     }
 
     /// Consumes the map, returning its texels.
-    pub fn into_vec(self) -> Vec<T> {
-        self.data
+    pub fn into_vec(mut self) -> Vec<T> {
+        std::mem::take(&mut self.data)
     }
 
     /// The texel at `(x, y)`, clamped to the edge.
@@ -88,11 +112,13 @@ impl<T> Map2D<T> {
     }
 
     /// Maps every texel.
-    pub fn map<U>(&self, f: impl Fn(&T) -> U) -> Map2D<U> {
+    pub fn map<U: Send + 'static>(&self, f: impl Fn(&T) -> U) -> Map2D<U> {
+        let mut data = crate::pool::take(self.data.len());
+        data.extend(self.data.iter().map(f));
         Map2D {
             width: self.width,
             height: self.height,
-            data: self.data.iter().map(f).collect(),
+            data,
         }
     }
 }

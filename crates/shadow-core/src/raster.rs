@@ -324,20 +324,23 @@ fn raster_band<T>(
         let py0 = (((t.y_min - half) as f64 / sub as f64).ceil() as i64).max(row0 as i64);
         let py1 =
             (((t.y_max - half) as f64 / sub as f64).floor() as i64).min((row0 + n_rows) as i64 - 1);
+        // Edge functions at the first pixel centre of a row, and their exact integer step per
+        // pixel: the same values as evaluating each pixel afresh.
+        let edge = |i: usize, cx: i64, cy: i64| {
+            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+            (t.x[b] - t.x[a]) * (cy - t.y[a]) - (t.y[b] - t.y[a]) * (cx - t.x[a])
+        };
+        let step = [0, 1, 2].map(|i| -(t.y[(i + 2) % 3] - t.y[(i + 1) % 3]) * sub);
+        // A zero edge value covers the pixel only on a top or left edge: a bias of -1 turns the
+        // test into `e > 0` for the others (the values are integers).
+        let bias = t.top_left.map(|tl| if tl { 0 } else { -1 });
         for py in py0..=py1 {
             let cy = py * sub + half;
+            let cx0 = px0 * sub + half;
+            let mut e = [0, 1, 2].map(|i| edge(i, cx0, cy) + bias[i]);
             for px in px0..=px1 {
-                let cx = px * sub + half;
-                let mut e = [0i64; 3];
-                let mut inside = true;
-                for (i, ei) in e.iter_mut().enumerate() {
-                    let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-                    *ei = (t.x[b] - t.x[a]) * (cy - t.y[a]) - (t.y[b] - t.y[a]) * (cx - t.x[a]);
-                    if *ei < 0 || (*ei == 0 && !t.top_left[i]) {
-                        inside = false;
-                        break;
-                    }
-                }
+                let inside = (e[0] | e[1] | e[2]) >= 0;
+                e = [e[0] + step[0], e[1] + step[1], e[2] + step[2]];
                 if !inside {
                     continue;
                 }
@@ -351,7 +354,7 @@ fn raster_band<T>(
                     };
                     [fe(1, 2) / t.farea, fe(2, 0) / t.farea, fe(0, 1) / t.farea]
                 } else {
-                    e.map(|ei| ei as f64 / t.area as f64)
+                    [0, 1, 2].map(|i| edge(i, px * sub + half, cy) as f64 / t.area as f64)
                 };
                 let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
                 let texel = &mut rows[(py as usize - row0) * w + px as usize];
@@ -374,32 +377,46 @@ fn fragment(t: &ScreenTri, l: [f64; 3], z: f32) -> Fragment {
 }
 
 /// How one raster pass stores its texels: the cleared texel, its NDC depth, the texel of a
-/// fragment, and which fragments (pixel x, y, NDC depth) may enter the depth test at all.
-struct Target<T, Z, S, A> {
+/// fragment, which fragments (pixel x, y, NDC depth) may enter the depth test at all, and what
+/// becomes of every texel once its band is rasterized (while the band is still in cache).
+struct Target<T, Z, S, A, F> {
     empty: T,
     z_of: Z,
     shade: S,
     accept: A,
+    finish: F,
 }
 
-fn rasterize_into<T, Z, S, A>(
+/// Clears, rasterizes and finishes the map band by band in parallel (each band's texels are
+/// written while they are in cache; the storage comes from [`crate::pool`]).
+fn rasterize_into<T, Z, S, A, F>(
     screen: &[ScreenTri],
     width: u32,
     height: u32,
     pass: DepthPass,
-    target: Target<T, Z, S, A>,
+    target: Target<T, Z, S, A, F>,
 ) -> Map2D<T>
 where
-    T: Clone + Send,
+    T: Clone + Send + Sync + 'static,
     Z: Fn(&T) -> f32 + Sync,
     S: Fn(&ScreenTri, [f64; 3], f32) -> T + Sync,
     A: Fn(usize, usize, f32) -> bool + Sync,
+    F: Fn(&mut T) + Sync,
 {
-    let mut out = Map2D::new(width, height, target.empty);
     let w = width as usize;
-    if w == 0 || height == 0 {
-        return out;
+    let n = w * height as usize;
+    let mut data = crate::pool::take(n);
+    if n == 0 {
+        return Map2D::from_vec(width, height, data)
+            .unwrap_or_else(|| Map2D::new(0, 0, target.empty));
     }
+    // The clear is as parallel as the raster (a serial fill of 4 M texels costs as much).
+    (0..n)
+        .into_par_iter()
+        .map(|_| target.empty.clone())
+        .collect_into_vec(&mut data);
+    let mut out = Map2D::from_vec(width, height, data)
+        .unwrap_or_else(|| Map2D::new(0, 0, target.empty.clone()));
     out.data_mut()
         .par_chunks_mut(w * BAND_ROWS)
         .enumerate()
@@ -415,6 +432,7 @@ where
                     }
                 },
             );
+            rows.iter_mut().for_each(&target.finish);
         });
     out
 }
@@ -450,6 +468,7 @@ pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Ma
             z_of: |f: &Fragment| f.z_ndc,
             shade: fragment,
             accept: |_, _, _| true,
+            finish: |_: &mut Fragment| {},
         },
     )
 }
@@ -488,12 +507,9 @@ pub fn depth_map_filtered(
         accept: |x: usize, y: usize, z: f32| {
             accept(x as u32, y as u32, view.linear_depth_from_ndc(z))
         },
+        finish: |d: &mut f32| *d = pass.linear_depth(view, *d),
     };
-    let mut z = rasterize_into(&screen, resolution, resolution, pass, target);
-    z.data_mut()
-        .par_iter_mut()
-        .for_each(|d| *d = pass.linear_depth(view, *d));
-    z
+    rasterize_into(&screen, resolution, resolution, pass, target)
 }
 
 /// Rasterizes `tris` through `view` with no depth test: every covered fragment calls

@@ -144,6 +144,12 @@ pub trait ShadowTechnique: Send + Sync + 'static {
         maps: &Self::GpuMaps,
     ) -> Result<wgpu::BindGroup>;
 
+    /// Gives `maps`' textures and buffers back to `gpu`'s pool ([`crate::gpu::pool`]) for the
+    /// next generation of the same size: call it once the maps are no longer read (work already
+    /// recorded with them still runs first). A renderer that recycles last frame's maps before
+    /// recording the next allocates nothing per frame. Dropping the maps instead frees them.
+    fn recycle_gpu(&self, gpu: &GpuContext, maps: Self::GpuMaps);
+
     /// Builds the light-space maps on the GPU and waits: uploads `geometry`, then
     /// [`generate_gpu_on`](Self::generate_gpu_on).
     fn generate_gpu(
@@ -315,6 +321,9 @@ pub trait DynTechnique: Send + Sync {
         maps: &AnyMaps,
         receivers: &Receivers,
     ) -> Result<Vec<f32>>;
+    /// Gives GPU maps back to `gpu`'s pool ([`ShadowTechnique::recycle_gpu`]); CPU maps (and
+    /// maps of another technique) are dropped, their storage going back to [`crate::pool`].
+    fn recycle(&self, gpu: Option<&GpuContext>, maps: AnyMaps);
 }
 
 fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
@@ -388,6 +397,13 @@ impl<T: ShadowTechnique> DynTechnique for T {
                 maps.maps.downcast_ref().ok_or_else(mismatch)?,
                 receivers,
             ),
+        }
+    }
+    fn recycle(&self, gpu: Option<&GpuContext>, maps: AnyMaps) {
+        if let (Backend::Gpu, Some(gpu)) = (maps.backend, gpu)
+            && let Ok(m) = maps.maps.downcast::<T::GpuMaps>()
+        {
+            self.recycle_gpu(gpu, *m);
         }
     }
 }

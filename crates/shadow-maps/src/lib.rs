@@ -186,6 +186,10 @@ impl ShadowTechnique for ShadowMapBaseline {
         gpu::maps_layout_entries()
     }
 
+    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuShadowMaps) {
+        gpu.recycle_texture(maps.texture);
+    }
+
     fn bind_maps(
         &self,
         gpu: &GpuContext,

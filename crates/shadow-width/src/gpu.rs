@@ -11,7 +11,7 @@ use shadow_core::gpu::compute::{
     bind_group, compute_pipelines, depth_array_entry, depth_array_view, storage_entry,
     uniform_entry,
 };
-use shadow_core::gpu::resources::{layout, wgsl_module};
+use shadow_core::gpu::resources::{layout, storage_buffer, wgsl_module};
 use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, wgsl};
 use shadow_core::raster::DepthPass;
 use shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
@@ -141,15 +141,6 @@ pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     ]
 }
 
-fn buffer(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
-    ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: bytes.max(4),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    })
-}
-
 /// One dispatch of the width kernels: pipeline, step, and the buffers in bindings 2..=7.
 struct Dispatch<'a> {
     pipeline: &'a wgpu::ComputePipeline,
@@ -233,8 +224,8 @@ pub fn generate(
         raster.encode_depth_pass(ctx, enc, tris, &view.view, &depth, layer as u32, *pass);
     }
     let f = [
-        buffer(ctx, "width a", texels * 4),
-        buffer(ctx, "width b", texels * 4),
+        storage_buffer(ctx, "width a", texels * 4),
+        storage_buffer(ctx, "width b", texels * 4),
     ];
     let jfa_bytes = if t.method == WidthMethod::JumpFlood {
         texels * 4
@@ -242,8 +233,8 @@ pub fn generate(
         4
     };
     let u = [
-        buffer(ctx, "seeds a", jfa_bytes),
-        buffer(ctx, "seeds b", jfa_bytes),
+        storage_buffer(ctx, "seeds a", jfa_bytes),
+        storage_buffer(ctx, "seeds b", jfa_bytes),
     ];
     let (v_bytes, z_bytes) = if t.method == WidthMethod::Exact {
         (texels * 4, (texels + resolution as u64) * 4)
@@ -251,8 +242,8 @@ pub fn generate(
         (4, 4)
     };
     let env = [
-        buffer(ctx, "envelope v", v_bytes),
-        buffer(ctx, "envelope z", z_bytes),
+        storage_buffer(ctx, "envelope v", v_bytes),
+        storage_buffer(ctx, "envelope z", z_bytes),
     ];
     let neighbours = match t.method {
         WidthMethod::Propagate { neighbours } => Some(neighbours),
@@ -346,12 +337,17 @@ pub fn generate(
             }
         }
     }
+    // Scratch back to the pool: the passes recorded above still run first.
     let [a, b] = f;
+    let (width, other) = if cur == 0 { (a, b) } else { (b, a) };
+    for scratch in [other].into_iter().chain(u).chain(env) {
+        ctx.recycle_buffer(scratch);
+    }
     Ok(GpuWidthMaps {
         view,
         params,
         depth,
-        width: if cur == 0 { a } else { b },
+        width,
         light_size: crate::params::softness_size(light),
     })
 }

@@ -125,6 +125,11 @@ impl ShadowTechnique for ShadowWidth {
         gpu::maps_layout_entries()
     }
 
+    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuWidthMaps) {
+        gpu.recycle_texture(maps.depth);
+        gpu.recycle_buffer(maps.width);
+    }
+
     fn bind_maps(
         &self,
         gpu: &GpuContext,

@@ -4,7 +4,7 @@ use crate::metrics::Errors;
 use serde::Serialize;
 
 /// The whole report.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Report {
     /// Format version (1).
     pub version: u32,
@@ -52,7 +52,7 @@ pub struct StripTile {
 }
 
 /// The machine the report ran on.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Machine {
     /// CPU model.
     pub cpu: String,
@@ -60,10 +60,14 @@ pub struct Machine {
     pub threads: usize,
     /// GPU adapter, or why there is none.
     pub gpu_adapter: String,
+    /// Milliseconds to write one `f32` map of the largest resolution a run reached once on the CPU
+    /// (every thread, storage already faulted in): the floor under any map's generation
+    /// ([`super::cost::write_once_ms`]).
+    pub write_once_ms: f64,
 }
 
 /// The reference of one scene.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct ReferenceInfo {
     /// Scene name.
     pub scene: String,
@@ -94,7 +98,7 @@ pub struct ReferenceInfo {
 }
 
 /// One measured configuration.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Run {
     /// Scene name.
     pub scene: String,

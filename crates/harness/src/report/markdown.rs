@@ -138,6 +138,7 @@ fn summary(s: &mut String, report: &Report) {
         "\nEvery configuration, mean error against mean time over the scenes (log axes, Pareto front ringed):\n\n![all scenes: mean error vs mean time](pareto.png)"
     );
     scaling(s, report);
+    super::cost::markdown(s, report);
     s.push('\n');
 }
 

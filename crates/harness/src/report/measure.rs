@@ -28,7 +28,9 @@ pub struct Measured {
 /// Generates and evaluates `t` on `p` at `res`, `reps` times or until
 /// [`REP_BUDGET_S`] is spent. On the GPU the scene is uploaded once, untimed
 /// ([`GpuScene`]), and generation is timed from it; one unmeasured warm-up run comes first when
-/// `warm_up` is set (pipelines compile on first use and are cached per device).
+/// `warm_up` is set (pipelines compile on first use and are cached per device). Maps are
+/// recycled after each repetition ([`DynTechnique::recycle`]), so repetitions after the first
+/// reuse their textures and pages as a renderer's frames do.
 pub fn measure(
     t: &dyn DynTechnique,
     backend: Backend,
@@ -50,6 +52,7 @@ pub fn measure(
     if backend == Backend::Gpu && warm_up {
         let maps = generate()?;
         t.evaluate(gpu, &maps, &p.receivers())?;
+        t.recycle(gpu, maps);
     }
     let (mut gen_t, mut eval_t) = (Vec::new(), Vec::new());
     let start = Instant::now();
@@ -60,6 +63,8 @@ pub fn measure(
         let t1 = Instant::now();
         v = t.evaluate(gpu, &maps, &p.receivers())?;
         let t2 = Instant::now();
+        // The next repetition reuses the maps' storage, as a renderer's next frame does.
+        t.recycle(gpu, maps);
         gen_t.push((t1 - t0).as_secs_f64() * 1e3);
         eval_t.push((t2 - t1).as_secs_f64() * 1e3);
         if start.elapsed().as_secs_f64() > REP_BUDGET_S {

@@ -1,5 +1,6 @@
 //! The `report` subcommand: every technique on every scene against the ground truth, with times.
 
+pub mod cost;
 pub mod flicker;
 pub mod html;
 pub mod images;
@@ -579,6 +580,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
             cpu: cpu_name(),
             threads: rayon::current_num_threads(),
             gpu_adapter,
+            write_once_ms: 0.0,
         },
         references: Vec::new(),
         runs: Vec::new(),
@@ -590,6 +592,10 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     }
     runner.bar.finish();
     report.skipped = runner.skipped.clone();
+    // Measured after the runs, at the largest resolution one of them reached (a resolution
+    // every configuration refused is never allocated).
+    let largest = report.runs.iter().map(|r| r.resolution).max().unwrap_or(0);
+    report.machine.write_once_ms = cost::write_once_ms(largest);
     if report.runs.is_empty() {
         return Err(ShadowError::NothingRan(format!(
             "every configuration was skipped ({})",

@@ -1,5 +1,6 @@
-//! Every technique x every hard-case scene x {16, 256, 2048} x both backends, two properties
-//! over the registry of techniques:
+//! Every technique x every hard-case scene x {16, 256, 2048} x both backends (the GPU at 2048
+//! only where its own arithmetic at fine texels is what can fail: [`GPU_FINE_CASES`]), two
+//! properties over the registry of techniques:
 //!
 //! - **stable**: finite `V` in [0, 1], one value per receiver;
 //! - **accurate**: `rms_255` against the reference is no worse than the "no shadow" image
@@ -23,6 +24,23 @@ use std::collections::HashMap;
 
 /// G-buffer side of the receivers.
 const SIZE: u32 = 48;
+
+/// The hard cases that also run on the GPU at the finest resolution: reversed-Z depth
+/// precision over 1e-3..1e4 (`huge-depth-range`) and biases of a texel at grazing light on
+/// curved and flat receivers (`acne`), where the GPU's own f32 arithmetic per texel decides.
+/// Elsewhere the finest row is the geometry's question, which the CPU at 2048 answers with the
+/// same kernels; the GPU's agreement with it is its own property (`gpu_agreement`, the
+/// technique suites), and `resolved_gap` holds the GPU's biases at 2048 too. On lavapipe the
+/// GPU at 2048 was 80% of a hard case's time (contact: 48.6 of 61.0 s).
+const GPU_FINE_CASES: [&str; 2] = ["huge-depth-range", "acne"];
+
+/// The finest of [`RESOLUTIONS`].
+const FINEST: u32 = RESOLUTIONS[RESOLUTIONS.len() - 1];
+
+/// Whether the hard case `name` runs at `res` on `backend`.
+fn runs_at(name: &str, res: u32, backend: Backend) -> bool {
+    res != FINEST || backend == Backend::Cpu || GPU_FINE_CASES.contains(&name)
+}
 
 /// `(scene, technique or "*", variant or "*", resolution or 0 for all, why)`: configurations
 /// allowed to lose to the no-shadow image or the hard shadow map, and the measured reason
@@ -189,7 +207,7 @@ fn hard_case(name: &str) {
         let (r, reference, hard_rms) = bench;
         let no_shadow = rms_255(&vec![1.0; reference.len()], reference);
         for res in RESOLUTIONS {
-            for be in backends() {
+            for be in backends().into_iter().filter(|&be| runs_at(name, res, be)) {
                 let what = label(t.as_ref(), &scene.name, res, be);
                 let v = visibility(t.as_ref(), be, r, &scene.light, res, &what);
                 assert_stable(&v, r.positions.len(), &what);
@@ -211,7 +229,12 @@ fn hard_case(name: &str) {
             }
         }
     }
-    let expected = all.len() * RESOLUTIONS.len() * backends().len();
+    let per_technique = RESOLUTIONS
+        .iter()
+        .flat_map(|&res| backends().into_iter().map(move |be| (res, be)))
+        .filter(|&(res, be)| runs_at(name, res, be))
+        .count();
+    let expected = all.len() * per_technique;
     assert_eq!(runs, expected);
     assert!(
         failures.is_empty(),

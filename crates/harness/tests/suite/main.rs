@@ -12,6 +12,7 @@ mod occlusion_slices;
 mod own_device;
 mod papers;
 mod penumbra_limit;
+mod pool;
 mod report;
 mod shadow_width;
 mod wgsl;

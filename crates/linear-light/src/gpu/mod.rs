@@ -183,7 +183,7 @@ fn encode_find_skins(
     k: u32,
     res: u32,
 ) -> SkinList {
-    let quads = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+    let quads = ctx.buffer(&wgpu::BufferDescriptor {
         label: Some("skin quads"),
         size: 4 * (res as u64 - 1).pow(2).max(1),
         usage: wgpu::BufferUsages::STORAGE,
@@ -354,6 +354,13 @@ pub fn generate(
         pass.set_bind_group(0, &bind, &[]);
         let g = res.div_ceil(8);
         pass.dispatch_workgroups(g, g, 1);
+    }
+    // Scratch back to the pool: the passes recorded above still run first.
+    for texture in [grid, skin_depth].into_iter().chain(values) {
+        ctx.recycle_texture(texture);
+    }
+    for list in lists {
+        ctx.recycle_buffer(list.quads);
     }
     Ok(GpuLinearMaps {
         samples,

@@ -22,6 +22,13 @@ pub fn mip_size(res: u32, l: u32) -> u32 {
     res.div_ceil(1 << l)
 }
 
+impl Drop for Mipmap {
+    /// The levels' storage goes back to [`shadow_core::pool`].
+    fn drop(&mut self) {
+        self.levels.drain(..).for_each(shadow_core::pool::give);
+    }
+}
+
 impl Mipmap {
     /// Every level down to 1x1, from the slice's table.
     pub fn new(sat: &Sat) -> Mipmap {
@@ -32,7 +39,7 @@ impl Mipmap {
                 let n = mip_size(res, l) as usize;
                 let s = 1usize << l;
                 let shift = 2 * l;
-                let mut out = vec![0u8; n * n];
+                let mut out = shadow_core::pool::filled(n * n, 0u8);
                 out.par_chunks_mut(n.max(1))
                     .enumerate()
                     .for_each(|(y, row)| {

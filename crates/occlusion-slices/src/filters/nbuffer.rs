@@ -19,6 +19,13 @@ pub struct NBuffer {
     pub levels: Vec<Vec<u8>>,
 }
 
+impl Drop for NBuffer {
+    /// The levels' storage goes back to [`shadow_core::pool`].
+    fn drop(&mut self) {
+        self.levels.drain(..).for_each(shadow_core::pool::give);
+    }
+}
+
 impl NBuffer {
     /// The levels `0..level_count(res)` of the slice whose table is `sat`.
     pub fn new(sat: &Sat) -> NBuffer {
@@ -29,7 +36,7 @@ impl NBuffer {
             .map(|l| {
                 let s = 1usize << l;
                 let shift = 2 * l;
-                let mut out = vec![0u8; n * n];
+                let mut out = shadow_core::pool::filled(n * n, 0u8);
                 out.par_chunks_mut(n.max(1))
                     .enumerate()
                     .for_each(|(y, row)| {

@@ -19,12 +19,19 @@ pub struct Sat {
     pub data: Vec<u32>,
 }
 
+impl Drop for Sat {
+    /// The table's storage goes back to [`shadow_core::pool`].
+    fn drop(&mut self) {
+        shadow_core::pool::give(std::mem::take(&mut self.data));
+    }
+}
+
 impl Sat {
     /// The table of a `res x res` binary slice (`occupied(x, y)`, row-major).
     pub fn new(res: u32, occupied: &[bool]) -> Sat {
         let n = res as usize;
         let w = n + 1;
-        let mut data = vec![0u32; w * w];
+        let mut data = shadow_core::pool::filled(w * w, 0u32);
         // Row prefix sums in parallel, then a running sum down each column.
         data[w..]
             .par_chunks_mut(w)

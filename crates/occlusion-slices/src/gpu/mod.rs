@@ -21,7 +21,6 @@ use shadow_core::gpu::resources::{Kernel, texture_2d};
 use shadow_core::gpu::timer::PassSlot;
 use shadow_core::gpu::{GpuScene, GpuTriangles};
 use shadow_core::{GpuContext, Light, Result, ShadowError};
-use std::sync::Mutex;
 
 /// The occlusion textures of one light, kept on the GPU.
 pub struct GpuSliceMaps {
@@ -58,27 +57,6 @@ impl GpuSliceMaps {
             }
         }
         Ok(out)
-    }
-}
-
-/// The row-prefix table, a pure temporary of generation, kept between generations of the same
-/// size: allocating fresh GPU memory costs more than the prefiltering itself at 2048² (it
-/// scales with the bytes allocated; measured on an H100). It holds `(res + 1)² * groups * 16`
-/// bytes until a generation of another size replaces it.
-#[derive(Default)]
-struct RowsTexture(Mutex<Option<(u32, u32, wgpu::Texture)>>);
-
-impl RowsTexture {
-    fn get(&self, res: u32, groups: u32, make: impl FnOnce() -> wgpu::Texture) -> wgpu::Texture {
-        let mut slot = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        match &*slot {
-            Some((r, g, t)) if *r == res && *g == groups => t.clone(),
-            _ => {
-                let t = make();
-                *slot = Some((res, groups, t.clone()));
-                t
-            }
-        }
     }
 }
 
@@ -280,9 +258,9 @@ pub fn generate(
             storage_usage(),
         )
     };
-    let rows = ctx
-        .cached(|_| RowsTexture::default())
-        .get(res, groups, || table("sat rows"));
+    // The row-prefix table is a pure temporary, from the pool and back: allocating fresh GPU
+    // memory cost more than the prefiltering itself at 2048² (measured on an H100).
+    let rows = table("sat rows");
     let sat = table("summed-area table");
     let filtered = match t.filter {
         Filter::Sat => texture_2d(ctx, "no levels", 1, (1, 1), LEVEL_FORMAT, storage_usage()),
@@ -346,9 +324,11 @@ pub fn generate(
             ctx, enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,
         );
     }
+    ctx.recycle_texture(rows);
     let sat = if t.filter == Filter::Sat {
         sat
     } else {
+        ctx.recycle_texture(sat);
         texture_2d(ctx, "no table", 1, (1, 1), SAT_FORMAT, storage_usage())
     };
     Ok(GpuSliceMaps {

@@ -23,7 +23,7 @@ use pipelines::{
 };
 use shadow_core::gpu::compute::{self, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
-use shadow_core::gpu::resources::{FLOAT, texture_2d, texture_entry};
+use shadow_core::gpu::resources::{FLOAT, storage_buffer, texture_2d, texture_entry};
 use shadow_core::gpu::timer::PassSlot;
 use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene};
 use shadow_core::raster::DepthPass;
@@ -78,15 +78,6 @@ struct GenParams {
     layer_gap: f32,
     transition_gap: f32,
     _pad: f32,
-}
-
-fn buffer(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
-    ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: bytes.max(4),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    })
 }
 
 fn layer_usage() -> wgpu::TextureUsages {
@@ -252,6 +243,9 @@ fn encode_silhouette(
         rp.set_vertex_buffer(0, tris.vertices.slice(..));
         rp.draw(0..tris.vertex_count, 0..1);
     }
+    drop(rp);
+    ctx.recycle_texture(depth);
+    ctx.recycle_texture(dummy);
     Ok(())
 }
 
@@ -295,8 +289,8 @@ pub fn generate(
     } else {
         4
     };
-    let geom = buffer(ctx, "penumbra geometry", texels * 4);
-    let seeds = [0, 1, 2, 3].map(|_| buffer(ctx, "penumbra seeds", seeds_bytes));
+    let geom = storage_buffer(ctx, "penumbra geometry", texels * 4);
+    let seeds = [0, 1, 2, 3].map(|_| storage_buffer(ctx, "penumbra seeds", seeds_bytes));
     let edge = texture_2d(
         ctx,
         "penumbra edge",
@@ -375,6 +369,13 @@ pub fn generate(
         ],
     );
     dispatch(ctx, enc, &comb.pipelines[k], &cb, res);
+    // Scratch back to the pool: the passes recorded above still run first.
+    for texture in [depth, edge, lower] {
+        ctx.recycle_texture(texture);
+    }
+    for buffer in [geom].into_iter().chain(seeds) {
+        ctx.recycle_buffer(buffer);
+    }
     Ok(GpuPenumbraMaps {
         view,
         params,

@@ -27,6 +27,7 @@ pub struct GpuContext {
     pub(super) timer: Mutex<Option<Arc<super::timer::TimerState>>>,
     geometry_uploads: AtomicU64,
     buffer_maps: AtomicU64,
+    pub(super) pool: super::pool::GpuPool,
 }
 
 impl GpuContext {
@@ -117,6 +118,7 @@ impl GpuContext {
             timer: Mutex::new(None),
             geometry_uploads: AtomicU64::new(0),
             buffer_maps: AtomicU64::new(0),
+            pool: Default::default(),
         })
     }
 

@@ -3,6 +3,7 @@
 pub mod compute;
 mod context;
 pub mod jump_flood;
+pub mod pool;
 pub mod raster;
 pub mod resources;
 mod scene;

@@ -214,7 +214,7 @@ impl GpuRasterizer {
                 "{layers} depth layers asked for; the device allows 1..={max_layers}"
             )));
         }
-        Ok(ctx.device.create_texture(&wgpu::TextureDescriptor {
+        Ok(ctx.texture(&wgpu::TextureDescriptor {
             label: Some("depth maps"),
             size: wgpu::Extent3d {
                 width: resolution,

@@ -103,7 +103,19 @@ pub fn storage_texture_entry(
     }
 }
 
-/// A square 2D texture of side `size` with `layers` array layers and `mips` mip levels.
+/// A `STORAGE | COPY_SRC` buffer of `bytes` (at least 4), from the context's pool
+/// ([`GpuContext::buffer`]): its contents are undefined until written.
+pub fn storage_buffer(ctx: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
+    ctx.buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(4),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+/// A square 2D texture of side `size` with `layers` array layers and `mips` mip levels, from the
+/// context's pool ([`GpuContext::texture`]).
 pub fn texture_2d(
     ctx: &GpuContext,
     label: &str,
@@ -112,7 +124,7 @@ pub fn texture_2d(
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
+    ctx.texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
             width: size,

@@ -88,7 +88,7 @@ pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
     let g = columns(mask);
     let cap = super::cap(mask.width());
-    let mut out = vec![0.0f32; w * h];
+    let mut out = shadow_core::pool::filled(w * h, 0.0f32);
     out.par_chunks_mut(w.max(1))
         .zip(g.par_chunks(w.max(1)))
         .for_each(|(row, f)| {

@@ -84,16 +84,14 @@ pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
 /// The propagated width map of `mask`, capped at [`super::cap`].
 pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
     let res = mask.width();
-    let mut a: Vec<f32> = mask
-        .data()
-        .iter()
-        .map(|&b| if b { UNREACHED } else { 0.0 })
-        .collect();
-    let mut b = vec![0.0f32; a.len()];
+    let mut a = shadow_core::pool::take(mask.data().len());
+    a.extend(mask.data().iter().map(|&b| if b { UNREACHED } else { 0.0 }));
+    let mut b = shadow_core::pool::filled(a.len(), 0.0f32);
     for step in steps(res) {
         pass(&a, &mut b, res, step, n);
         std::mem::swap(&mut a, &mut b);
     }
+    shadow_core::pool::give(b);
     let cap = super::cap(res);
     a.iter_mut().for_each(|w| *w = w.min(cap));
     Map2D::from_vec(res, mask.height(), a).unwrap_or_else(|| Map2D::new(0, 0, 0.0))

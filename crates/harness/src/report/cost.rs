@@ -1,0 +1,271 @@
+//! What each configuration costs against the hard shadow map, in the same run: generation at
+//! the largest map resolution measured (the issue's 2048²) and evaluation per million
+//! receivers, as ratios to the hard map's on the same scene and backend, with the measured cause
+//! of every generation above [`GENERATION_LIMIT`].
+
+use super::json::Report;
+use crate::metrics::median;
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+/// Generation within this many times the hard shadow map's is the goal; above it the table
+/// names the cause.
+pub const GENERATION_LIMIT: f64 = 4.0;
+
+/// The goal for single-lookup evaluation (shadow-width, penumbra-limit) against the hard map's.
+pub const EVALUATION_LIMIT: f64 = 2.0;
+
+/// One configuration's cost at the table's resolution, medians over the scenes it ran on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CostRow {
+    /// `technique variant`.
+    pub configuration: String,
+    /// `cpu` or `gpu`.
+    pub backend: String,
+    /// Median generation milliseconds.
+    pub generate_ms: f64,
+    /// Median over scenes of generation time over the hard map's on the same scene.
+    pub generate_ratio: f64,
+    /// Median evaluation milliseconds per million receivers.
+    pub evaluate_ms_per_m: f64,
+    /// Median over scenes of evaluation time over the hard map's on the same scene.
+    pub evaluate_ratio: f64,
+    /// Scenes measured.
+    pub scenes: usize,
+}
+
+/// Median milliseconds of 7 parallel writes of a `res²` `f32` map into storage already faulted
+/// in: what writing a map's texels once costs on this machine; 0 (not measured) when the map
+/// cannot be allocated.
+pub fn write_once_ms(res: u32) -> f64 {
+    use rayon::prelude::*;
+    let n = res as usize * res as usize;
+    let mut map = Vec::new();
+    if n == 0 || map.try_reserve_exact(n).is_err() {
+        return 0.0;
+    }
+    map.resize(n, 0.0f32);
+    let times: Vec<f64> = (0..7)
+        .map(|i| {
+            let start = std::time::Instant::now();
+            map.par_chunks_mut(1 << 14).for_each(|c| c.fill(i as f32));
+            start.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    median(&times)
+}
+
+/// The rows at the largest resolution in `report` (and that resolution); empty without the hard
+/// shadow map.
+pub fn cost_rows(report: &Report) -> (u32, Vec<CostRow>) {
+    let Some(res) = report.runs.iter().map(|r| r.resolution).max() else {
+        return (0, Vec::new());
+    };
+    let receivers: BTreeMap<&str, usize> = report
+        .references
+        .iter()
+        .map(|r| (r.scene.as_str(), r.receivers.max(1)))
+        .collect();
+    let at = |r: &&super::json::Run| r.resolution == res;
+    let hard: BTreeMap<(&str, &str), (f64, f64)> = report
+        .runs
+        .iter()
+        .filter(at)
+        .filter(|r| r.technique == "hard-shadow-map")
+        .map(|r| {
+            let key = (r.scene.as_str(), r.backend.as_str());
+            (key, (r.generate_ms.max(1e-6), r.evaluate_ms.max(1e-6)))
+        })
+        .collect();
+    type Samples = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+    let mut per: BTreeMap<(String, String), Samples> = BTreeMap::new();
+    for r in report.runs.iter().filter(at) {
+        let Some(&(hg, he)) = hard.get(&(r.scene.as_str(), r.backend.as_str())) else {
+            continue;
+        };
+        let n = receivers.get(r.scene.as_str()).copied().unwrap_or(1) as f64;
+        let e = per
+            .entry((format!("{} {}", r.technique, r.variant), r.backend.clone()))
+            .or_default();
+        e.0.push(r.generate_ms);
+        e.1.push(r.generate_ms / hg);
+        e.2.push(r.evaluate_ms * 1e6 / n);
+        e.3.push(r.evaluate_ms / he);
+    }
+    let rows = per
+        .into_iter()
+        .map(|((configuration, backend), (g, gr, e, er))| CostRow {
+            configuration,
+            backend,
+            generate_ms: median(&g),
+            generate_ratio: median(&gr),
+            evaluate_ms_per_m: median(&e),
+            evaluate_ratio: median(&er),
+            scenes: g.len(),
+        })
+        .collect();
+    (res, rows)
+}
+
+/// Why a configuration's generation costs more than [`GENERATION_LIMIT`] hard maps: the work
+/// its algorithm does per map, against the hard map's one depth pass (measured on `torus` at
+/// 2048² on 2 cores, in the closing note of the issue that added this table).
+pub fn generation_cause(configuration: &str) -> &'static str {
+    let mut words = configuration.split(' ');
+    let technique = words.next().unwrap_or("");
+    let variant = words.next().unwrap_or("");
+    match (technique, variant.split('-').next().unwrap_or("")) {
+        ("accumulation", _) => {
+            "one depth pass per light sample: n samples cost n hard maps by definition"
+        }
+        ("shadow-width", "jfa") => {
+            "jump flooding of the occlusion mask: log2(side) + 1 passes, 9 reads per texel each \
+             (12 passes at 2048)"
+        }
+        ("shadow-width", "propagate") => {
+            "the paper's doubling propagation: log2(side) + 1 passes over every texel, 4 or 8 \
+             neighbour reads each"
+        }
+        ("shadow-width", _) => {
+            "a second depth pass (occlusion mask), then the linear-time distance transform: two \
+             sweeps per axis"
+        }
+        ("penumbra-limit", "depth") => {
+            "two jump floods (near-side and far-side seeds of every depth edge): 2 x (log2(side) \
+             + 1) passes of 9 reads per texel, 24 at 2048"
+        }
+        ("penumbra-limit", _) => {
+            "a ribbon of up to the widest penumbra's texels rasterized per silhouette edge, a \
+             lower-limit depth pass and a combine pass over every texel"
+        }
+        ("occlusion-slices", "nbuffer") => {
+            "log2(side) + 1 full-resolution levels per slice: 12 x 4 MiB per slice written at \
+             2048, from a 16 MiB summed-area table per slice"
+        }
+        ("occlusion-slices", _) => {
+            "one (side + 1)² u32 summed-area table per slice (16 MiB each at 2048) built before \
+             any level: the cost grows with the slice count"
+        }
+        ("linear-light", _) => {
+            "one depth pass per sample along the light plus the skin passes (edge finding, \
+             warping into the neighbours' views)"
+        }
+        _ => "",
+    }
+}
+
+/// The cost section of `report.md`.
+pub fn markdown(s: &mut String, report: &Report) {
+    let (res, rows) = cost_rows(report);
+    if rows.is_empty() {
+        return;
+    }
+    let write = report.machine.write_once_ms;
+    let hard_over_write = rows
+        .iter()
+        .find(|r| r.configuration.starts_with("hard-shadow-map ") && r.backend == "cpu")
+        .filter(|_| write > 0.0)
+        .map_or("not measured against".to_string(), |h| {
+            format!("{:.1}x", h.generate_ms / write)
+        });
+    let _ = writeln!(
+        s,
+        "\n## Cost at {res}²\n\nGeneration at map resolution {res} and evaluation per million \
+         receivers, medians over the scenes; `x hard`: the median over scenes of the ratio to the \
+         hard shadow map on the same scene and backend, in this run. Goals: generation within \
+         {GENERATION_LIMIT}x (above it, the cause), single-lookup evaluation (shadow-width, \
+         penumbra-limit) within {EVALUATION_LIMIT}x. Writing one `f32` map of {res}² once \
+         takes {:.2} ms here (every thread); the hard map's generation is {} that.\n\n\
+         | configuration | backend | generate ms | x hard | evaluate ms / M receivers | x hard | \
+         scenes | why above {GENERATION_LIMIT}x |\n|---|---|---:|---:|---:|---:|---:|---|",
+        write, hard_over_write
+    );
+    for r in rows {
+        let why = if r.generate_ratio > GENERATION_LIMIT {
+            generation_cause(&r.configuration)
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {why} |",
+            r.configuration,
+            r.backend,
+            r.generate_ms,
+            r.generate_ratio,
+            r.evaluate_ms_per_m,
+            r.evaluate_ratio,
+            r.scenes
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::json::{ReferenceInfo, Run};
+
+    fn run(scene: &str, technique: &str, res: u32, gen_ms: f64, eval_ms: f64) -> Run {
+        Run {
+            scene: scene.into(),
+            technique: technique.into(),
+            variant: "v".into(),
+            backend: "cpu".into(),
+            resolution: res,
+            generate_ms: gen_ms,
+            evaluate_ms: eval_ms,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn ratios_are_per_scene_at_the_largest_resolution() {
+        let reference = |scene: &str, receivers| ReferenceInfo {
+            scene: scene.into(),
+            receivers,
+            ..Default::default()
+        };
+        let report = Report {
+            references: vec![reference("a", 1000), reference("b", 4000)],
+            runs: vec![
+                run("a", "hard-shadow-map", 2048, 10.0, 1.0),
+                run("b", "hard-shadow-map", 2048, 20.0, 2.0),
+                run("a", "x", 2048, 50.0, 1.0),
+                run("b", "x", 2048, 60.0, 8.0),
+                // Another resolution does not count.
+                run("a", "x", 256, 1.0, 1.0),
+            ],
+            ..Default::default()
+        };
+        let (res, rows) = cost_rows(&report);
+        assert_eq!(res, 2048);
+        let x = rows.iter().find(|r| r.configuration == "x v").unwrap();
+        // Per scene: 5x and 3x generation, 1x and 4x evaluation; medians of two are means.
+        assert_eq!(
+            (x.generate_ratio, x.evaluate_ratio, x.scenes),
+            (4.0, 2.5, 2)
+        );
+        // 1 ms over 1000 receivers and 8 ms over 4000: 1000 and 2000 ms per million.
+        assert_eq!(x.evaluate_ms_per_m, 1500.0);
+        let hard = rows
+            .iter()
+            .find(|r| r.configuration == "hard-shadow-map v")
+            .unwrap();
+        assert_eq!(hard.generate_ratio, 1.0);
+        let mut md = String::new();
+        markdown(&mut md, &report);
+        assert!(md.contains("## Cost at 2048²"));
+        assert!(md.contains("| x v | cpu | 55.00 | 4.00 | 1500.00 | 2.50 | 2 |  |"));
+    }
+
+    #[test]
+    fn every_technique_of_the_report_has_a_cause() {
+        for t in crate::report::options::all_techniques(false) {
+            if t.name() == "hard-shadow-map" || t.name() == "pcf" || t.name() == "pcss" {
+                continue;
+            }
+            let key = format!("{} {}", t.name(), t.variant());
+            assert!(!generation_cause(&key).is_empty(), "{key}");
+        }
+    }
+}

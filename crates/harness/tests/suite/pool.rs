@@ -1,0 +1,62 @@
+//! Reuse across generations of one size (`shadow_core::gpu::pool`): for every technique, maps
+//! recycled after a generation of another scene serve the next generation without a new texture
+//! or buffer, and that generation's `V` is bit for bit the one from fresh resources (no kernel
+//! reads what it did not write).
+
+use super::receivers;
+use harness::report::all_techniques;
+use harness::scenes::catalogue::build;
+use harness::scenes::relight::relight;
+use shadow_core::gpu::GpuScene;
+use shadow_core::gpu::testing::gpu_for_test;
+use shadow_core::{GpuContext, Receivers as Recv};
+
+#[test]
+fn recycled_maps_serve_the_next_generation_unchanged() {
+    let test = "recycled_maps_serve_the_next_generation_unchanged";
+    let Some(ctx) = gpu_for_test(test) else {
+        return;
+    };
+    let (a_spec, b_spec) = (build("torus").unwrap(), build("plane-occluder").unwrap());
+    let (a, b) = (receivers(&a_spec, 8), receivers(&b_spec, 48));
+    let recv = Recv {
+        positions: &b.positions,
+        normals: &b.normals,
+    };
+    let counts = |g: &GpuContext| (g.textures_created(), g.buffers_created());
+    for t in all_techniques(true) {
+        let models = |k| t.models(k);
+        let (Some(a_light), Some(b_light)) = (
+            relight(&a_spec.light, &a.geometry.bounds, models),
+            relight(&b_spec.light, &b.geometry.bounds, models),
+        ) else {
+            continue;
+        };
+        let (a_scene, b_scene) = (
+            GpuScene::new(&ctx, &a.geometry).unwrap(),
+            GpuScene::new(&ctx, &b.geometry).unwrap(),
+        );
+        let label = format!("{test}: {} {}", t.name(), t.variant());
+        // Fresh resources.
+        ctx.clear_pool();
+        let fresh = t.generate_gpu_on(&ctx, &b_scene, &b_light, 64).unwrap();
+        let want = t.evaluate(Some(&ctx), &fresh, &recv).unwrap();
+        drop(fresh);
+        // Resources full of another scene's maps.
+        let other = t.generate_gpu_on(&ctx, &a_scene, &a_light, 64).unwrap();
+        t.recycle(Some(&ctx), other);
+        let before = counts(&ctx);
+        let reused = t.generate_gpu_on(&ctx, &b_scene, &b_light, 64).unwrap();
+        assert_eq!(
+            counts(&ctx),
+            before,
+            "{label}: allocated with its maps recycled"
+        );
+        let got = t.evaluate(Some(&ctx), &reused, &recv).unwrap();
+        let differ = want.iter().zip(&got).filter(|(x, y)| x != y).count();
+        assert_eq!(
+            differ, 0,
+            "{label}: {differ} receivers differ from fresh resources"
+        );
+    }
+}

@@ -1,0 +1,198 @@
+//! Reuse of large CPU buffers across generations of one size: a process-wide pool keyed by
+//! element type and length.
+//!
+//! A generation at 2048² writes maps of 4 M texels. Freshly allocated, every 4 KiB page of such
+//! a map is faulted in and zeroed by the kernel on first touch (about 7 ms per 16 MiB map on
+//! the machine the issue measured), which for the hard shadow map costs as much as rasterizing
+//! it. [`crate::Map2D`] therefore takes its texels from this pool and gives them back when it is
+//! dropped, and scratch buffers ([`take`], [`give`]) do the same: the second generation of one
+//! size touches no new page.
+//!
+//! Buffers below [`MIN_BYTES`] are not kept (the allocator serves them from its own free lists).
+//! At most [`limit`] bytes are kept, oldest given back first out; [`set_limit`] changes it (0
+//! turns the pool off) and [`clear`] frees everything kept.
+
+use std::any::{Any, TypeId};
+use std::collections::VecDeque;
+use std::sync::Mutex;
+
+/// Smallest buffer kept, in bytes (a 512² map of `f32` is 1 MiB).
+pub const MIN_BYTES: usize = 256 << 10;
+
+/// Default of [`limit`]: the smaller of 1 GiB and a quarter of the CPU memory budget.
+fn default_limit() -> usize {
+    (crate::memory::cpu_budget() / 4).min(1 << 30) as usize
+}
+
+struct Entry {
+    key: (TypeId, usize),
+    bytes: usize,
+    buffer: Box<dyn Any + Send>,
+}
+
+struct Pool {
+    limit: Option<usize>,
+    kept: usize,
+    entries: VecDeque<Entry>,
+}
+
+static POOL: Mutex<Pool> = Mutex::new(Pool::new(None));
+
+fn pool() -> std::sync::MutexGuard<'static, Pool> {
+    // A panic while the lock was held leaves only a list of free buffers behind: still valid.
+    POOL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+impl Pool {
+    const fn new(limit: Option<usize>) -> Self {
+        Self {
+            limit,
+            kept: 0,
+            entries: VecDeque::new(),
+        }
+    }
+
+    fn limit(&mut self) -> usize {
+        *self.limit.get_or_insert_with(default_limit)
+    }
+
+    fn evict_to(&mut self, limit: usize) {
+        while self.kept > limit {
+            match self.entries.pop_front() {
+                Some(e) => self.kept -= e.bytes,
+                None => break,
+            }
+        }
+    }
+
+    /// The newest kept vector of `T` with capacity `len`, removed from the pool.
+    fn take<T: Send + 'static>(&mut self, len: usize) -> Option<Vec<T>> {
+        let key = (TypeId::of::<T>(), len);
+        let i = self.entries.iter().rposition(|e| e.key == key)?;
+        let e = self.entries.remove(i)?;
+        self.kept -= e.bytes;
+        e.buffer.downcast::<Vec<T>>().ok().map(|v| *v)
+    }
+
+    /// Keeps `v` (emptied) unless it is small or over the limit; then frees the oldest buffers
+    /// over the limit.
+    fn give<T: Send + 'static>(&mut self, mut v: Vec<T>) {
+        let bytes = v.capacity() * size_of::<T>();
+        let limit = self.limit();
+        if bytes < MIN_BYTES || bytes > limit {
+            return;
+        }
+        v.clear();
+        self.kept += bytes;
+        self.entries.push_back(Entry {
+            key: (TypeId::of::<T>(), v.capacity()),
+            bytes,
+            buffer: Box::new(v),
+        });
+        self.evict_to(limit);
+    }
+}
+
+/// An empty vector with capacity for exactly `len` elements: a kept one when the pool has one of
+/// this type and length, else a new allocation.
+pub fn take<T: Send + 'static>(len: usize) -> Vec<T> {
+    if len * size_of::<T>() >= MIN_BYTES
+        && let Some(v) = pool().take(len)
+    {
+        return v;
+    }
+    Vec::with_capacity(len)
+}
+
+/// A vector of `len` copies of `value`, its storage from [`take`].
+pub fn filled<T: Clone + Send + 'static>(len: usize, value: T) -> Vec<T> {
+    let mut v = take(len);
+    v.resize(len, value);
+    v
+}
+
+/// Gives `v`'s storage back for a later [`take`] of the same type and capacity (its elements
+/// are dropped); small buffers, and buffers past the [`limit`], are freed instead.
+pub fn give<T: Send + 'static>(v: Vec<T>) {
+    if v.capacity() * size_of::<T>() >= MIN_BYTES {
+        pool().give(v);
+    }
+}
+
+/// Most bytes the pool keeps.
+pub fn limit() -> usize {
+    pool().limit()
+}
+
+/// Keeps at most `bytes` from now on (0: keep nothing), freeing the oldest buffers over it.
+pub fn set_limit(bytes: usize) {
+    let mut p = pool();
+    p.limit = Some(bytes);
+    p.evict_to(bytes);
+}
+
+/// Bytes kept now.
+pub fn kept_bytes() -> usize {
+    pool().kept
+}
+
+/// Frees every kept buffer.
+pub fn clear() {
+    let mut p = pool();
+    p.entries.clear();
+    p.kept = 0;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn storage_is_reused_by_type_and_length() {
+        let mut p = Pool::new(Some(1 << 30));
+        let n = MIN_BYTES / 4;
+        let a = vec![1.0f32; n];
+        let ptr = a.as_ptr();
+        p.give(a);
+        assert_eq!(p.kept, n * 4);
+        // Another length or type does not get it.
+        assert!(p.take::<f32>(n + 1).is_none());
+        assert!(p.take::<u32>(n).is_none());
+        // The same type and length does, emptied.
+        let b = p.take::<f32>(n).unwrap();
+        assert_eq!((b.as_ptr(), b.len(), b.capacity(), p.kept), (ptr, 0, n, 0));
+        // Small buffers are not kept.
+        p.give(vec![0.0f32; 16]);
+        assert_eq!(p.kept, 0);
+    }
+
+    #[test]
+    fn the_oldest_buffers_go_first_past_the_limit() {
+        let n = MIN_BYTES;
+        let mut p = Pool::new(Some(3 * n));
+        p.give(Vec::<u8>::with_capacity(4 * n));
+        assert_eq!(p.kept, 0, "a buffer over the limit is freed");
+        for len in [n, n + 1, n + 2, n + 3] {
+            p.give(Vec::<u8>::with_capacity(len));
+        }
+        assert!(p.take::<u8>(n).is_none(), "the oldest was freed");
+        assert!(p.take::<u8>(n + 3).is_some());
+        assert_eq!(p.kept, n + 2);
+        p.limit = Some(0);
+        p.evict_to(0);
+        assert_eq!((p.kept, p.entries.len()), (0, 0));
+    }
+
+    #[test]
+    fn the_process_pool_serves_maps() {
+        /// A type no other test pools: the pool is process-wide and tests run side by side.
+        #[derive(Clone, Copy, PartialEq, Debug)]
+        struct Probe(f32);
+        let m = crate::Map2D::new(512, 512, Probe(1.0));
+        let ptr = m.data().as_ptr();
+        drop(m);
+        let again = crate::Map2D::new(512, 512, Probe(2.0));
+        assert_eq!(again.data().as_ptr(), ptr);
+        assert!(again.data().iter().all(|t| *t == Probe(2.0)));
+    }
+}
