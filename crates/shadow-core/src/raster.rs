@@ -299,10 +299,41 @@ fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
     })
 }
 
-/// Rasterizes `tris` into the rows `row0..` of a band; `write(texel, triangle, barycentrics,
-/// ndc_depth, x, y)` merges each covered fragment into its texel, in submission order.
+/// The first and last pixel row whose centre `t`'s box spans (`first > last`: none).
+fn pixel_rows(t: &ScreenTri) -> (i64, i64) {
+    let (half, sub) = ((SUB / 2.0) as i64, SUB as i64);
+    (
+        ((t.y_min - half) as f64 / sub as f64).ceil() as i64,
+        ((t.y_max - half) as f64 / sub as f64).floor() as i64,
+    )
+}
+
+/// Per band of [`BAND_ROWS`] rows of a `width x height` target, the triangles whose box reaches
+/// it, in submission order: each band then visits only its own triangles instead of all of them
+/// (a 2048² map of the 69,451-triangle bunny has 128 bands).
+fn bins(tris: &[ScreenTri], width: u32, height: u32) -> Vec<Vec<u32>> {
+    let bands = (height as usize).div_ceil(BAND_ROWS);
+    let mut bins = vec![Vec::new(); bands];
+    let x_end = width as i64 * SUB as i64;
+    for (i, t) in tris.iter().enumerate() {
+        let (first, last) = pixel_rows(t);
+        let (first, last) = (first.max(0), last.min(height as i64 - 1));
+        if first > last || t.x_max < 0 || t.x_min >= x_end {
+            continue;
+        }
+        for bin in &mut bins[first as usize / BAND_ROWS..=last as usize / BAND_ROWS] {
+            bin.push(i as u32);
+        }
+    }
+    bins
+}
+
+/// Rasterizes the triangles `order` names (indices into `tris`, its band's [`bins`]) into the
+/// rows `row0..` of a band; `write(texel, triangle, barycentrics, ndc_depth, x, y)` merges each
+/// covered fragment into its texel, in submission order.
 fn raster_band<T>(
     tris: &[ScreenTri],
+    order: &[u32],
     width: u32,
     row0: usize,
     rows: &mut [T],
@@ -314,16 +345,15 @@ fn raster_band<T>(
     let sub = SUB as i64;
     let band_y0 = row0 as i64 * sub;
     let band_y1 = (row0 + n_rows) as i64 * sub;
-    for t in tris {
+    for t in order.iter().map(|&i| &tris[i as usize]) {
         if t.y_max < band_y0 || t.y_min >= band_y1 || t.x_max < 0 || t.x_min >= width as i64 * sub {
             continue;
         }
         // Pixel centres (p + 0.5) * SUB inside the bounding box.
         let px0 = ((t.x_min - half) as f64 / sub as f64).ceil().max(0.0) as i64;
         let px1 = (((t.x_max - half) as f64 / sub as f64).floor() as i64).min(w as i64 - 1);
-        let py0 = (((t.y_min - half) as f64 / sub as f64).ceil() as i64).max(row0 as i64);
-        let py1 =
-            (((t.y_max - half) as f64 / sub as f64).floor() as i64).min((row0 + n_rows) as i64 - 1);
+        let (first, last) = pixel_rows(t);
+        let (py0, py1) = (first.max(row0 as i64), last.min((row0 + n_rows) as i64 - 1));
         // Edge functions at the first pixel centre of a row, and their exact integer step per
         // pixel: the same values as evaluating each pixel afresh.
         let edge = |i: usize, cx: i64, cy: i64| {
@@ -334,25 +364,31 @@ fn raster_band<T>(
         // A zero edge value covers the pixel only on a top or left edge: a bias of -1 turns the
         // test into `e > 0` for the others (the values are integers).
         let bias = t.top_left.map(|tl| if tl { 0 } else { -1 });
+        // Coverage uses the snapped vertices, interpolation the unsnapped ones (as GPUs set up
+        // their attribute planes); degenerate float areas fall back to the snapped weights. The
+        // weights are affine in the pixel centre: each is its value at the row's first pixel
+        // plus a per-pixel slope times the offset (no division per pixel).
+        let planar = t.farea.abs() > 1e-12;
+        let fe = |a: usize, b: usize, pxc: f64, pyc: f64| {
+            (t.fx[b] - t.fx[a]) * (pyc - t.fy[a]) - (t.fy[b] - t.fy[a]) * (pxc - t.fx[a])
+        };
+        const PAIRS: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
+        let slope = PAIRS.map(|(a, b)| -(t.fy[b] - t.fy[a]) / t.farea);
         for py in py0..=py1 {
             let cy = py * sub + half;
             let cx0 = px0 * sub + half;
             let mut e = [0, 1, 2].map(|i| edge(i, cx0, cy) + bias[i]);
+            let pyc = py as f64 + 0.5;
+            let l0 = PAIRS.map(|(a, b)| fe(a, b, px0 as f64 + 0.5, pyc) / t.farea);
             for px in px0..=px1 {
                 let inside = (e[0] | e[1] | e[2]) >= 0;
                 e = [e[0] + step[0], e[1] + step[1], e[2] + step[2]];
                 if !inside {
                     continue;
                 }
-                // Coverage uses the snapped vertices, interpolation the unsnapped ones (as GPUs set up
-                // their attribute planes); degenerate float areas fall back to the snapped weights.
-                let (pxc, pyc) = (px as f64 + 0.5, py as f64 + 0.5);
-                let l = if t.farea.abs() > 1e-12 {
-                    let fe = |a: usize, b: usize| {
-                        (t.fx[b] - t.fx[a]) * (pyc - t.fy[a])
-                            - (t.fy[b] - t.fy[a]) * (pxc - t.fx[a])
-                    };
-                    [fe(1, 2) / t.farea, fe(2, 0) / t.farea, fe(0, 1) / t.farea]
+                let l = if planar {
+                    let k = (px - px0) as f64;
+                    [0, 1, 2].map(|i| l0[i] + k * slope[i])
                 } else {
                     [0, 1, 2].map(|i| edge(i, px * sub + half, cy) as f64 / t.area as f64)
                 };
@@ -417,12 +453,14 @@ where
         .collect_into_vec(&mut data);
     let mut out = Map2D::from_vec(width, height, data)
         .unwrap_or_else(|| Map2D::new(0, 0, target.empty.clone()));
+    let bins = bins(screen, width, height);
     out.data_mut()
         .par_chunks_mut(w * BAND_ROWS)
         .enumerate()
         .for_each(|(band, rows)| {
             raster_band(
                 screen,
+                &bins[band],
                 width,
                 band * BAND_ROWS,
                 rows,
@@ -528,12 +566,14 @@ pub fn rasterize_fold<T: Clone + Send>(
     if w == 0 {
         return out;
     }
+    let bins = bins(&screen, resolution, resolution);
     out.data_mut()
         .par_chunks_mut(w * BAND_ROWS)
         .enumerate()
         .for_each(|(band, rows)| {
             raster_band(
                 &screen,
+                &bins[band],
                 resolution,
                 band * BAND_ROWS,
                 rows,
