@@ -20,6 +20,7 @@
 use clap::Parser;
 use glam::Vec3;
 use harness::ground_truth::{GroundTruthSettings, RayTracer};
+use harness::metrics::median;
 use harness::scenes::catalogue::build;
 use harness::setup::scene_receivers;
 use rayon::prelude::*;
@@ -61,11 +62,6 @@ fn rand01(i: u64) -> f32 {
     x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
     x ^= x >> 29;
     (x >> 40) as f32 / (1u64 << 24) as f32
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -134,7 +130,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     t.elapsed().as_secs_f64()
                 })
                 .collect();
-            let rate = rays.len() as f64 / median(times) / threads as f64 / 1e6;
+            let rate = rays.len() as f64 / median(&times) / threads as f64 / 1e6;
             let lit = lit as f64 / rays.len() as f64;
             println!("{name} {threads} {} {rate:.2} {lit:.4}", rays.len());
         }

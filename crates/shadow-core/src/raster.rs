@@ -439,40 +439,43 @@ where
     A: Fn(usize, usize, f32) -> bool + Sync,
     F: Fn(&mut T) + Sync,
 {
-    let w = width as usize;
-    let n = w * height as usize;
-    let mut data = crate::pool::take(n);
-    if n == 0 {
-        return Map2D::from_vec(width, height, data)
-            .unwrap_or_else(|| Map2D::new(0, 0, target.empty));
-    }
     // The clear is as parallel as the raster (a serial fill of 4 M texels costs as much).
-    (0..n)
-        .into_par_iter()
-        .map(|_| target.empty.clone())
-        .collect_into_vec(&mut data);
-    let mut out = Map2D::from_vec(width, height, data)
-        .unwrap_or_else(|| Map2D::new(0, 0, target.empty.clone()));
-    let bins = bins(screen, width, height);
-    out.data_mut()
-        .par_chunks_mut(w * BAND_ROWS)
+    let mut out = Map2D::from_par_fn(width, height, |_| target.empty.clone());
+    raster_bands(
+        screen,
+        width,
+        out.data_mut(),
+        |texel: &mut T, t: &ScreenTri, l: [f64; 3], z: f32, x: usize, y: usize| {
+            if pass.passes(z, (target.z_of)(texel)) && (target.accept)(x, y, z) {
+                *texel = (target.shade)(t, l, z);
+            }
+        },
+        &target.finish,
+    );
+    out
+}
+
+/// Rasterizes `screen` into `data` (row-major, `width` wide) band by band in parallel, each band
+/// over its own triangles only ([`bins`]); `write` merges fragments as in [`raster_band`], then
+/// `finish` runs on every texel of the band while it is still in cache.
+fn raster_bands<T: Send>(
+    screen: &[ScreenTri],
+    width: u32,
+    data: &mut [T],
+    write: impl Fn(&mut T, &ScreenTri, [f64; 3], f32, usize, usize) + Sync,
+    finish: impl Fn(&mut T) + Sync,
+) {
+    let w = width as usize;
+    if w == 0 || data.is_empty() {
+        return;
+    }
+    let bins = bins(screen, width, (data.len() / w) as u32);
+    data.par_chunks_mut(w * BAND_ROWS)
         .enumerate()
         .for_each(|(band, rows)| {
-            raster_band(
-                screen,
-                &bins[band],
-                width,
-                band * BAND_ROWS,
-                rows,
-                |texel: &mut T, t: &ScreenTri, l: [f64; 3], z: f32, x: usize, y: usize| {
-                    if pass.passes(z, (target.z_of)(texel)) && (target.accept)(x, y, z) {
-                        *texel = (target.shade)(t, l, z);
-                    }
-                },
-            );
-            rows.iter_mut().for_each(&target.finish);
+            raster_band(screen, &bins[band], width, band * BAND_ROWS, rows, &write);
+            rows.iter_mut().for_each(&finish);
         });
-    out
 }
 
 /// Screen triangles of world-space `tris` seen through `view`.
@@ -562,24 +565,13 @@ pub fn rasterize_fold<T: Clone + Send>(
 ) -> Map2D<T> {
     let screen = setup_world(view, resolution, resolution, tris, Faces::All);
     let mut out = Map2D::new(resolution, resolution, empty);
-    let w = resolution as usize;
-    if w == 0 {
-        return out;
-    }
-    let bins = bins(&screen, resolution, resolution);
-    out.data_mut()
-        .par_chunks_mut(w * BAND_ROWS)
-        .enumerate()
-        .for_each(|(band, rows)| {
-            raster_band(
-                &screen,
-                &bins[band],
-                resolution,
-                band * BAND_ROWS,
-                rows,
-                |texel, _, _, z, _, _| update(texel, view.linear_depth_from_ndc(z)),
-            );
-        });
+    raster_bands(
+        &screen,
+        resolution,
+        out.data_mut(),
+        |texel, _, _, z, _, _| update(texel, view.linear_depth_from_ndc(z)),
+        |_| {},
+    );
     out
 }
 
