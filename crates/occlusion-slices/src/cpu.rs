@@ -7,15 +7,15 @@ use crate::frame::Frame;
 use crate::params::OcclusionSlices;
 use crate::slicing::slice;
 use rayon::prelude::*;
-use shadow_core::{Light, Receivers, SceneGeometry};
+use shadow_core::{Light, Map2D, Receivers, SceneGeometry};
 
 /// The prefiltered occlusion textures of one light.
 #[derive(Clone, Debug)]
 pub struct CpuSliceMaps {
     /// The slicing frame.
     pub frame: Frame,
-    /// The binary slices (`res²` flags each), kept for tests and images.
-    pub slices: Vec<Vec<bool>>,
+    /// The binary slices packed per texel: bit `k` is slice `k` ([`crate::slicing::slice`]).
+    pub masks: Map2D<u32>,
     /// The filtered form the evaluation reads.
     pub filtered: Filtered,
 }
@@ -28,12 +28,21 @@ pub fn generate(
     res: u32,
 ) -> CpuSliceMaps {
     let frame = Frame::fit(light, geometry, t.slices, res, t.thin_fix);
-    let slices = slice(&frame, geometry);
-    let filtered = Filtered::build(t.filter, res, &slices);
+    let masks = slice(&frame, geometry);
+    let filtered = Filtered::build(t.filter, res, masks.data(), frame.slices);
     CpuSliceMaps {
         frame,
-        slices,
+        masks,
         filtered,
+    }
+}
+
+impl CpuSliceMaps {
+    /// The binary slices, `res²` flags each, row-major (tests and images).
+    pub fn slices(&self) -> Vec<Vec<bool>> {
+        (0..self.frame.slices)
+            .map(|k| crate::slicing::unpack(&self.masks, k))
+            .collect()
     }
 }
 

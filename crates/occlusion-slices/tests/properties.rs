@@ -3,7 +3,8 @@
 
 use glam::Vec2;
 use occlusion_slices::combine::combine;
-use occlusion_slices::filters::{Mipmap, NBuffer, Sat};
+use occlusion_slices::filters::mipmap::mip_size;
+use occlusion_slices::filters::{Mipmap, NBuffer, Sat, unorm8};
 use occlusion_slices::{Combination, Filter, OcclusionSlices};
 use proptest::prelude::*;
 use shadow_core::{Light, SceneGeometry, ShadowError, ShadowTechnique};
@@ -74,6 +75,37 @@ proptest! {
             let (y0, y1) = (b.min(d), b.max(d));
             prop_assert_eq!(sat.count(x0, y0, x1, y1) as i64, brute(&mask, res, x0, y0, x1, y1));
         }
+    }
+
+    /// Every mipmap level holds each block's exact count rounded to 8 bits (the pyramid of 2x2
+    /// sums equals counting each block, clipped to the slice, in the summed-area table), and a
+    /// slice packed as bit `k` of the slicing masks builds the same table and pyramid as the
+    /// slice alone.
+    #[test]
+    fn mipmap_levels_are_rounded_block_counts(
+        res in 1u32..70,
+        density in 0.0f64..=1.0,
+        seed in any::<u64>(),
+        k in 0u32..16,
+    ) {
+        let mask = random_mask(res, density, seed);
+        let sat = Sat::new(res, &mask);
+        let mm = Mipmap::new(res, &mask);
+        for (l, level) in mm.levels.iter().enumerate() {
+            let (s, n) = (1i64 << l, mip_size(res, l as u32) as i64);
+            prop_assert_eq!(level.len() as i64, n * n);
+            for y in 0..n {
+                for x in 0..n {
+                    let c = sat.count(x * s, y * s, x * s + s, y * s + s) as u32;
+                    prop_assert_eq!(level[(y * n + x) as usize], unorm8(c, (s * s) as u64));
+                }
+            }
+        }
+        // Another slice's bit set wherever this one is empty.
+        let other = (k + 1) % 16;
+        let masks: Vec<u32> = mask.iter().map(|&b| ((b as u32) << k) | ((!b as u32) << other)).collect();
+        prop_assert!(Sat::from_masks(res, &masks, k) == sat);
+        prop_assert!(Mipmap::from_masks(res, &masks, k) == mm);
     }
 
     /// With fractional corners the SAT mean is the exact integral of the piecewise-constant
@@ -152,7 +184,7 @@ fn nbuffer_and_mipmap_errors_against_brute_force() {
     for seed in 1..=20u64 {
         let mask = random_mask(res, 0.05 * seed as f64, seed);
         let sat = Sat::new(res, &mask);
-        let (nb, mm) = (NBuffer::new(&sat), Mipmap::new(&sat));
+        let (nb, mm) = (NBuffer::new(&sat), Mipmap::new(res, &mask));
         let mut s = seed;
         for _ in 0..200 {
             s = s

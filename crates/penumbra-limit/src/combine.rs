@@ -19,8 +19,9 @@
 //!
 //! `combine.wgsl` is the same per-texel code.
 
-use crate::storage::{MAX_P, Storage, Texel};
+use crate::storage::{MAX_P, Storage, StoreScratch, Texel};
 use crate::warp::{NONE_DEPTH, Warp};
+use rayon::prelude::*;
 use shadow_core::Map2D;
 
 /// The generators' output, before storage.
@@ -43,9 +44,29 @@ pub fn has_edge(e: [f32; 2]) -> bool {
 
 /// The stored texel at `(x, y)` (before quantisation).
 pub fn combine_texel(l: &Layers, warp: &Warp, transition_gap: f32, x: u32, y: u32) -> Texel {
-    let geom = *l.geom.get(x, y);
-    let lower = *l.lower.get(x, y);
-    let e = *l.edge.get(x, y);
+    let (xi, yi) = (x as i64, y as i64);
+    let neighbours =
+        [(-1, 0), (1, 0), (0, -1), (0, 1)].map(|(dx, dy)| *l.edge.get_clamped(xi + dx, yi + dy));
+    texel(
+        *l.geom.get(x, y),
+        *l.lower.get(x, y),
+        *l.edge.get(x, y),
+        neighbours,
+        warp,
+        transition_gap,
+    )
+}
+
+/// The stored texel from its geometry depth, lower limit, edge and its four neighbours' edges
+/// (left, right, up, down; clamped to the map).
+fn texel(
+    geom: f32,
+    lower: f32,
+    e: [f32; 2],
+    neighbours: [[f32; 2]; 4],
+    warp: &Warp,
+    transition_gap: f32,
+) -> Texel {
     if !has_edge(e) {
         let solid = geom < NONE_DEPTH;
         return Texel {
@@ -57,9 +78,6 @@ pub fn combine_texel(l: &Layers, warp: &Warp, transition_gap: f32, x: u32, y: u3
     }
     let [c, p] = e;
     let gap = warp.depth_gap(warp.linear(c), transition_gap);
-    let (xi, yi) = (x as i64, y as i64);
-    let neighbours =
-        [(-1, 0), (1, 0), (0, -1), (0, 1)].map(|(dx, dy)| *l.edge.get_clamped(xi + dx, yi + dy));
     let transition = neighbours
         .iter()
         .any(|n| has_edge(*n) && (n[0] - c).abs() > gap);
@@ -87,8 +105,31 @@ pub fn combine_texel(l: &Layers, warp: &Warp, transition_gap: f32, x: u32, y: u3
 /// The stored map: every texel combined, then quantised by `storage`.
 pub fn combine(l: &Layers, warp: &Warp, transition_gap: f32, storage: Storage) -> Map2D<Texel> {
     let (w, h) = (l.geom.width(), l.geom.height());
-    Map2D::from_par_fn(w, h, |i| {
-        let i = i as u32;
-        combine_texel(l, warp, transition_gap, i % w, i / w).stored(storage)
-    })
+    let mut data = shadow_core::pool::filled(w as usize * h as usize, Texel::default());
+    data.par_chunks_mut(w.max(1) as usize)
+        .enumerate()
+        .for_each_init(StoreScratch::default, |scratch, (y, row)| {
+            // Rows of the layers as slices: no per-texel index arithmetic or bounds clamping
+            // beyond the two row ends.
+            let (w, h) = (w as usize, h as usize);
+            let at = |y: usize| y * w..(y + 1) * w;
+            let edge = l.edge.data();
+            let (up, here, down) = (
+                &edge[at(y.saturating_sub(1))],
+                &edge[at(y)],
+                &edge[at((y + 1).min(h - 1))],
+            );
+            let (geom, lower) = (&l.geom.data()[at(y)], &l.lower.data()[at(y)]);
+            for (x, t) in row.iter_mut().enumerate() {
+                let neighbours = [
+                    here[x.saturating_sub(1)],
+                    here[(x + 1).min(w - 1)],
+                    up[x],
+                    down[x],
+                ];
+                *t = texel(geom[x], lower[x], here[x], neighbours, warp, transition_gap);
+            }
+            storage.store(row, scratch);
+        });
+    Map2D::from_vec(w, h, data).unwrap_or_else(|| Map2D::new(0, 0, Texel::default()))
 }

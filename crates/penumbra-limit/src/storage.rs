@@ -56,6 +56,7 @@ impl Storage {
 
     /// Stores one channel value (already in `[0, 1]`) and reads it back: to nearest, ties to
     /// even (`combine.wgsl` rounds the same way before the hardware conversion).
+    #[inline]
     pub fn round_trip(self, v: f32) -> f32 {
         match self {
             Storage::F32 => v,
@@ -103,5 +104,46 @@ impl Texel {
     /// The texel as `storage` keeps it: encoded, quantised, decoded.
     pub fn stored(self, storage: Storage) -> Self {
         Self::decode(self.encode().map(|v| storage.round_trip(v)))
+    }
+}
+
+/// Scratch of [`Storage::store`]: the encoded channels and their f16 form.
+#[derive(Default)]
+pub struct StoreScratch {
+    raw: Vec<f32>,
+    half: Vec<f16>,
+}
+
+impl Storage {
+    /// [`Texel::stored`] for every texel of `texels`, the f16 conversions in bulk (the `half`
+    /// crate's slice conversions use the processor's F16C instructions where it has them;
+    /// one value at a time they cost a feature check and a call each). The same bits.
+    pub fn store(self, texels: &mut [Texel], scratch: &mut StoreScratch) {
+        match self {
+            Storage::F32 => {
+                texels
+                    .iter_mut()
+                    .for_each(|t| *t = Texel::decode(t.encode()));
+            }
+            Storage::Rgba8 => {
+                let q = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round_ties_even() / 255.0;
+                texels
+                    .iter_mut()
+                    .for_each(|t| *t = Texel::decode(t.encode().map(q)));
+            }
+            Storage::F16 => {
+                use half::slice::HalfFloatSliceExt;
+                let StoreScratch { raw, half } = scratch;
+                raw.clear();
+                raw.extend(texels.iter().flat_map(|t| t.encode()));
+                half.clear();
+                half.resize(raw.len(), f16::ZERO);
+                half.convert_from_f32_slice(raw);
+                half.convert_to_f32_slice(raw);
+                for (t, c) in texels.iter_mut().zip(raw.chunks_exact(4)) {
+                    *t = Texel::decode([c[0], c[1], c[2], c[3]]);
+                }
+            }
+        }
     }
 }

@@ -65,6 +65,26 @@ proptest! {
         }
     }
 
+    /// Storing a row in bulk (`Storage::store`, the CPU generation's path) gives the bits of
+    /// storing each texel alone, out-of-range channels and subnormal f16 values included.
+    #[test]
+    fn bulk_storage_equals_per_texel(values in prop::collection::vec(
+        (-0.5f32..1.5, -1e-5f32..1e-5, 0.0f32..1.0, -3.0f32..3.0), 1..40)) {
+        let texels: Vec<Texel> = values.iter().map(|&(c, g, b, p)| Texel { c, g, b, p }).collect();
+        for s in Storage::ALL {
+            let mut bulk = texels.clone();
+            s.store(&mut bulk, &mut Default::default());
+            for (a, t) in bulk.iter().zip(&texels) {
+                let e = t.stored(s);
+                prop_assert_eq!(
+                    [a.c, a.g, a.b, a.p].map(f32::to_bits),
+                    [e.c, e.g, e.b, e.p].map(f32::to_bits),
+                    "{:?} {:?}", s, t
+                );
+            }
+        }
+    }
+
     /// The table: monotone, odd-symmetric about (1/2, 1/2), endpoints 0 and 1, for any size.
     #[test]
     fn table_is_monotone_and_odd_symmetric(n in 2u32..2000, u in 0.0f32..=1.0, which: u8) {

@@ -111,15 +111,13 @@ impl<T: Send + 'static> Map2D<T> {
         bilinear_texels(st, self.width, self.height).map(|(x, y, w)| (self.get(x, y), w))
     }
 
-    /// Maps every texel.
-    pub fn map<U: Send + 'static>(&self, f: impl Fn(&T) -> U) -> Map2D<U> {
-        let mut data = crate::pool::take(self.data.len());
-        data.extend(self.data.iter().map(f));
-        Map2D {
-            width: self.width,
-            height: self.height,
-            data,
-        }
+    /// Maps every texel, in parallel.
+    pub fn map<U: Send + Sync + 'static>(&self, f: impl Fn(&T) -> U + Sync + Send) -> Map2D<U>
+    where
+        T: Sync,
+    {
+        let d = &self.data;
+        Map2D::from_par_fn(self.width, self.height, |i| f(&d[i]))
     }
 }
 

@@ -15,5 +15,6 @@ pub fn is_blocked(near: f32) -> bool {
 
 /// The inverted occlusion map (`true` = blocked) from the nearest depth map.
 pub fn occlusion_mask(near: &Map2D<f32>) -> Map2D<bool> {
-    near.map(|&n| is_blocked(n))
+    let d = near.data();
+    Map2D::from_par_fn(near.width(), near.height(), |i| is_blocked(d[i]))
 }

@@ -127,8 +127,9 @@ pub fn generation_cause(configuration: &str) -> &'static str {
              neighbour reads each"
         }
         ("shadow-width", _) => {
-            "a second depth pass (occlusion mask), then the linear-time distance transform: two \
-             sweeps per axis"
+            "the occlusion mask, then the linear-time distance transform (two sweeps down the \
+             columns, a lower envelope of parabolas per row); edt-back adds a second depth pass \
+             for the back faces"
         }
         ("penumbra-limit", "depth") => {
             "two jump floods (near-side and far-side seeds of every depth edge): 2 x (log2(side) \
@@ -142,9 +143,13 @@ pub fn generation_cause(configuration: &str) -> &'static str {
             "log2(side) + 1 full-resolution levels per slice: 12 x 4 MiB per slice written at \
              2048, from a 16 MiB summed-area table per slice"
         }
+        ("occlusion-slices", "mipmap") => {
+            "a pyramid of exact counts per slice: a full-resolution 8-bit level 0 and level 1 \
+             summed from the 16 MiB slice masks, per slice: the cost grows with the slice count"
+        }
         ("occlusion-slices", _) => {
-            "one (side + 1)² u32 summed-area table per slice (16 MiB each at 2048) built before \
-             any level: the cost grows with the slice count"
+            "one (side + 1)² u32 summed-area table per slice (16 MiB each at 2048): the cost \
+             grows with the slice count"
         }
         ("linear-light", _) => {
             "one depth pass per sample along the light plus the skin passes (edge finding, \

@@ -153,9 +153,9 @@ pub fn scaling_cause(key: &str) -> &'static str {
     let backend = key.rsplit(' ').next().unwrap_or("");
     match (technique, backend) {
         ("occlusion-slices", "cpu") => {
-            "one u32 summed-area table per slice, (side+1)² x 4 bytes: 16 MiB per slice at 2048 \
-             against 1 MiB at 512, so 8 or 16 slices (128-256 MiB) leave the last-level cache \
-             and every texel of the scans and level builds costs a memory access"
+            "N-Buffers keep log2(side) + 1 full-resolution levels per slice (O(n log n)), each \
+             read from the slice's u32 summed-area table: 16 MiB per slice at 2048 against 1 MiB \
+             at 512, outside the last-level cache"
         }
         ("occlusion-slices", _) => {
             "N-Buffers keep log2(side) full-resolution levels per slice group (O(n log n))"

@@ -96,7 +96,7 @@ fn occlusion_slices_agree_between_cpu_and_gpu_on_every_scene() {
                 let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
                 let gs = gm.read_slices(&ctx).unwrap();
                 let differ: usize = cm
-                    .slices
+                    .slices()
                     .iter()
                     .zip(&gs)
                     .map(|(a, b)| a.iter().zip(b).filter(|(x, y)| x != y).count())

@@ -3,7 +3,6 @@
 //! 8-bit unorm from exact counts, like the N-Buffers.
 
 use super::nbuffer::floor_log2;
-use super::sat::Sat;
 use super::{bilinear, level_count, unorm8_pow2};
 use glam::Vec2;
 use rayon::prelude::*;
@@ -30,36 +29,49 @@ impl Drop for Mipmap {
 }
 
 impl Mipmap {
-    /// Every level down to 1x1, from the slice's table.
-    pub fn new(sat: &Sat) -> Mipmap {
-        let res = sat.res;
-        let (r, w) = (res as usize, res as usize + 1);
-        let levels = (0..level_count(res))
-            .map(|l| {
-                let n = mip_size(res, l) as usize;
-                let s = 1usize << l;
-                let shift = 2 * l;
-                let mut out = shadow_core::pool::filled(n * n, 0u8);
-                out.par_chunks_mut(n.max(1))
-                    .enumerate()
-                    .for_each(|(y, row)| {
-                        // Block [x s, x s + s) x [y s, y s + s), clipped to the slice, from the
-                        // table's rows.
-                        let (y0, y1) = (y * s, (y * s + s).min(r));
-                        let r0 = &sat.data[y0 * w..(y0 + 1) * w];
-                        let r1 = &sat.data[y1 * w..(y1 + 1) * w];
-                        for (x, v) in row.iter_mut().enumerate() {
-                            let (x0, x1) = (x * s, (x * s + s).min(r));
-                            let c = r1[x1]
-                                .wrapping_sub(r0[x1])
-                                .wrapping_sub(r1[x0])
-                                .wrapping_add(r0[x0]);
-                            *v = unorm8_pow2(c, shift);
-                        }
-                    });
-                out
-            })
-            .collect();
+    /// Every level down to 1x1 of a `res x res` binary slice (`occupied(x, y)`, row-major).
+    pub fn new(res: u32, occupied: &[bool]) -> Mipmap {
+        Mipmap::build(res, occupied, |&o| o as u32)
+    }
+
+    /// Every level of slice `k` of the slice masks (bit `k` of each texel,
+    /// [`crate::slicing::slice`]).
+    pub fn from_masks(res: u32, masks: &[u32], k: u32) -> Mipmap {
+        Mipmap::build(res, masks, |&m| (m >> k) & 1)
+    }
+
+    /// The pyramid of exact counts, each level the sums of 2x2 blocks of the one below (a
+    /// missing row or column beyond an odd side counts as empty), each count stored as
+    /// [`unorm8_pow2`] of its block's area: the same bits as counting each block directly.
+    fn build<T: Sync>(res: u32, cells: &[T], bit: impl Fn(&T) -> u32 + Sync) -> Mipmap {
+        let n = res as usize;
+        let mut level0 = shadow_core::pool::filled(n * n, 0u8);
+        level0
+            .par_chunks_mut(n.max(1))
+            .zip(cells.par_chunks(n.max(1)))
+            .for_each(|(out, row)| {
+                for (o, c) in out.iter_mut().zip(row) {
+                    *o = (bit(c) * 255) as u8;
+                }
+            });
+        let mut levels = vec![level0];
+        let mut counts: Vec<u32> = Vec::new();
+        for l in 1..level_count(res) {
+            let (src, dst) = (mip_size(res, l - 1) as usize, mip_size(res, l) as usize);
+            let next = if l == 1 {
+                sum_blocks(src, dst, |y| &cells[y * src..(y + 1) * src], &bit)
+            } else {
+                let c = &counts;
+                sum_blocks(src, dst, |y| &c[y * src..(y + 1) * src], |&c| c)
+            };
+            shadow_core::pool::give(std::mem::replace(&mut counts, next));
+            let mut out = shadow_core::pool::filled(dst * dst, 0u8);
+            out.par_iter_mut()
+                .zip(counts.par_iter())
+                .for_each(|(o, &c)| *o = unorm8_pow2(c, 2 * l));
+            levels.push(out);
+        }
+        shadow_core::pool::give(counts);
         Mipmap { res, levels }
     }
 
@@ -100,4 +112,31 @@ pub fn mip_mean(c: Vec2, size: f32, levels: u32, texel: impl Fn(u32, i64, i64) -
     let v0 = level_bilinear(c, l, &texel);
     let v1 = level_bilinear(c, l + 1, &texel);
     v0 + (v1 - v0) * t
+}
+
+/// The `dst x dst` sums of the 2x2 blocks of a `src x src` grid whose row `y` is `row(y)`, each
+/// cell counting `value(cell)`; cells beyond `src` count 0.
+fn sum_blocks<'a, S: Sync + 'a>(
+    src: usize,
+    dst: usize,
+    row: impl Fn(usize) -> &'a [S] + Sync,
+    value: impl Fn(&S) -> u32 + Sync,
+) -> Vec<u32> {
+    let mut out = shadow_core::pool::filled(dst * dst, 0u32);
+    out.par_chunks_mut(dst.max(1))
+        .enumerate()
+        .for_each(|(y, out)| {
+            for sy in [2 * y, 2 * y + 1].into_iter().filter(|&sy| sy < src) {
+                let cells = row(sy);
+                let pairs = cells.chunks_exact(2);
+                let odd = pairs.remainder().first();
+                for (o, p) in out.iter_mut().zip(pairs) {
+                    *o += value(&p[0]) + value(&p[1]);
+                }
+                if let (Some(c), Some(o)) = (odd, out.last_mut()) {
+                    *o += value(c);
+                }
+            }
+        });
+    out
 }

@@ -1,6 +1,7 @@
 //! The three box filters of section 3.2 over binary slices: [`mipmap`], [`nbuffer`] and the exact
-//! [`sat`]. Each builds from the slice's summed-area table of integer counts and answers the
-//! mean occupancy over a square kernel; `evaluate.wgsl` holds the same lookups.
+//! [`sat`]. Each stores exact integer counts (the N-Buffers read them from the slice's
+//! summed-area table, the mipmap sums them level by level) and answers the mean occupancy over
+//! a square kernel; `evaluate.wgsl` holds the same lookups.
 
 pub mod mipmap;
 pub mod nbuffer;
@@ -10,6 +11,7 @@ use crate::params::Filter;
 use glam::Vec2;
 pub use mipmap::Mipmap;
 pub use nbuffer::NBuffer;
+use rayon::prelude::*;
 pub use sat::Sat;
 
 /// Number of levels (mipmap or N-Buffer) of a `res`-wide slice: up to the first box of side
@@ -73,13 +75,19 @@ pub enum Filtered {
 }
 
 impl Filtered {
-    /// Prefilters binary slices (`res²` each) with `filter`.
-    pub fn build(filter: Filter, res: u32, slices: &[Vec<bool>]) -> Filtered {
-        let sats = slices.iter().map(|s| Sat::new(res, s));
+    /// Prefilters the `slices` binary slices packed in `masks` (`res²` texels, bit `k` for
+    /// slice `k`: [`crate::slicing::slice`]) with `filter`, the slices in parallel.
+    pub fn build(filter: Filter, res: u32, masks: &[u32], slices: u32) -> Filtered {
+        let each = (0..slices).into_par_iter();
         match filter {
-            Filter::Sat => Filtered::Sat(sats.collect()),
-            Filter::NBuffer => Filtered::NBuffer(sats.map(|s| NBuffer::new(&s)).collect()),
-            Filter::Mipmap => Filtered::Mipmap(sats.map(|s| Mipmap::new(&s)).collect()),
+            Filter::Sat => Filtered::Sat(each.map(|k| Sat::from_masks(res, masks, k)).collect()),
+            Filter::NBuffer => Filtered::NBuffer(
+                each.map(|k| NBuffer::new(&Sat::from_masks(res, masks, k)))
+                    .collect(),
+            ),
+            Filter::Mipmap => {
+                Filtered::Mipmap(each.map(|k| Mipmap::from_masks(res, masks, k)).collect())
+            }
         }
     }
 

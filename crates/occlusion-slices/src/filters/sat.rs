@@ -8,7 +8,6 @@
 //! precision does not decay with resolution, unlike the paper's f32 table.
 
 use glam::Vec2;
-use rayon::prelude::*;
 
 /// The table of one slice: `(res + 1)²` counts, row-major, `S(i, j)` at `j * (res + 1) + i`.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,25 +28,28 @@ impl Drop for Sat {
 impl Sat {
     /// The table of a `res x res` binary slice (`occupied(x, y)`, row-major).
     pub fn new(res: u32, occupied: &[bool]) -> Sat {
+        Sat::build(res, occupied, |&o| o as u32)
+    }
+
+    /// The table of slice `k` of the slice masks (bit `k` of each texel,
+    /// [`crate::slicing::slice`]).
+    pub fn from_masks(res: u32, masks: &[u32], k: u32) -> Sat {
+        Sat::build(res, masks, |&m| (m >> k) & 1)
+    }
+
+    /// One pass down the rows: each row's running count plus the table row above it. Row `y`
+    /// reads only row `y - 1`, still in cache; the slices of one light build in parallel.
+    fn build<T>(res: u32, cells: &[T], bit: impl Fn(&T) -> u32) -> Sat {
         let n = res as usize;
         let w = n + 1;
         let mut data = shadow_core::pool::filled(w * w, 0u32);
-        // Row prefix sums in parallel, then a running sum down each column.
-        data[w..]
-            .par_chunks_mut(w)
-            .zip(occupied.par_chunks(n.max(1)))
-            .for_each(|(row, occ)| {
-                let mut s = 0u32;
-                for (i, &o) in occ.iter().enumerate() {
-                    s += o as u32;
-                    row[i + 1] = s;
-                }
-            });
-        for j in 1..w {
-            let (above, rest) = data.split_at_mut(j * w);
-            let prev = &above[(j - 1) * w..];
-            for (v, p) in rest[..w].iter_mut().zip(prev) {
-                *v = v.wrapping_add(*p);
+        for (y, cells) in cells.chunks_exact(n.max(1)).take(n).enumerate() {
+            let (above, below) = data.split_at_mut((y + 1) * w);
+            let prev = &above[y * w + 1..];
+            let mut s = 0u32;
+            for ((o, &p), c) in below[1..w].iter_mut().zip(prev).zip(cells) {
+                s += bit(c);
+                *o = p.wrapping_add(s);
             }
         }
         Sat { res, data }

@@ -2,99 +2,166 @@
 //! Transforms of Sampled Functions*, 2012): per column the 1D distance to the nearest unblocked
 //! texel (two sweeps), then per row the lower envelope of the parabolas `(x - q)² + g(q)²`.
 //! `width.wgsl` runs the same two passes with one invocation per column, then per row.
+//!
+//! On the CPU both passes run in parallel: the column pass over strips of [`STRIP`] columns
+//! (each sweep walks the strip's rows in order, so memory is read in cache lines), the row pass
+//! over rows with its scratch kept per thread. Rows without a blocked texel are written as 0
+//! without an envelope.
 
 use rayon::prelude::*;
-use shadow_core::Map2D;
+use shadow_core::{Map2D, pool};
+
+/// Column distance of a texel whose column has no unblocked texel.
+const NONE: u32 = u32::MAX;
+
+/// Columns per strip of the column pass.
+const STRIP: usize = 64;
 
 /// Column pass: for every texel, the vertical distance to the nearest unblocked texel of its
-/// column, or `None` when the column has none. Both sweeps walk whole rows (every column at once),
-/// so memory is read in order.
-pub fn columns(mask: &Map2D<bool>) -> Vec<Option<u32>> {
+/// column ([`NONE`] when the column has none), as strips of [`STRIP`] columns: strip `s` holds
+/// columns `s * STRIP ..` (the last one narrower), row-major.
+fn columns(mask: &Map2D<bool>) -> Vec<Vec<u32>> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
     let m = mask.data();
-    let mut out: Vec<Option<u32>> = vec![None; w * h];
-    let mut run: Vec<Option<u32>> = vec![None; w];
-    for y in 0..h {
-        for (r, &blocked) in run.iter_mut().zip(&m[y * w..(y + 1) * w]) {
-            *r = if !blocked { Some(0) } else { r.map(|d| d + 1) };
-        }
-        out[y * w..(y + 1) * w].copy_from_slice(&run);
-    }
-    run.iter_mut().for_each(|r| *r = None);
-    for y in (0..h).rev() {
-        for (x, r) in run.iter_mut().enumerate() {
-            let i = y * w + x;
-            *r = if !m[i] { Some(0) } else { r.map(|d| d + 1) };
-            out[i] = match (out[i], *r) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
+    (0..w.div_ceil(STRIP))
+        .into_par_iter()
+        .map(|s| {
+            let x0 = s * STRIP;
+            let sw = STRIP.min(w - x0);
+            let mut out = pool::filled(sw * h, NONE);
+            let mut run = [NONE; STRIP];
+            // Branch-free, so the sweeps vectorize: one more than above when blocked, else 0.
+            let step = |r: &mut u32, blocked: bool| {
+                *r = r.saturating_add(1) & (blocked as u32).wrapping_neg();
+                *r
             };
-        }
-    }
-    out
+            for (y, o) in out.chunks_exact_mut(sw).enumerate() {
+                let cells = &m[y * w + x0..y * w + x0 + sw];
+                for ((o, r), &b) in o.iter_mut().zip(&mut run).zip(cells) {
+                    *o = step(r, b);
+                }
+            }
+            run = [NONE; STRIP];
+            for (y, o) in out.chunks_exact_mut(sw).enumerate().rev() {
+                let cells = &m[y * w + x0..y * w + x0 + sw];
+                for ((o, r), &b) in o.iter_mut().zip(&mut run).zip(cells) {
+                    *o = (*o).min(step(r, b));
+                }
+            }
+            out
+        })
+        .collect()
 }
 
-/// Squared distance to the nearest finite parabola of one row (`f[q]` = squared column distance
-/// or `None`), for every `x` of the row; `None` when the row has no finite parabola.
-pub fn row_envelope(f: &[Option<u32>]) -> Vec<Option<u64>> {
-    let n = f.len();
-    let mut v: Vec<usize> = Vec::with_capacity(n);
-    let mut z: Vec<f64> = Vec::with_capacity(n + 1);
-    let fv = |q: usize| {
-        let g = f[q].unwrap_or(0) as f64;
-        g * g + (q * q) as f64
-    };
-    for (q, fq) in f.iter().enumerate() {
-        if fq.is_none() {
-            continue;
-        }
-        loop {
-            let Some(&p) = v.last() else {
-                v.push(q);
-                z.clear();
-                z.push(f64::NEG_INFINITY);
-                break;
-            };
-            let s = (fv(q) - fv(p)) / (2.0 * (q as f64 - p as f64));
-            if s <= *z.last().unwrap_or(&f64::NEG_INFINITY) && v.len() > 1 {
-                v.pop();
-                z.pop();
+/// Scratch of the row pass, one per thread: the row's column distances, the envelope's
+/// parabolas and the boundaries between them.
+#[derive(Default)]
+struct Envelope {
+    g: Vec<u32>,
+    v: Vec<usize>,
+    z: Vec<Boundary>,
+    d2: Vec<f64>,
+}
+
+/// Where parabola `q` overtakes parabola `p < q` of a row: `x = num / den` exactly, with
+/// `num = f(q) - f(p)` and `den = 2 (q - p) > 0`, `f(q) = g(q)² + q²`. Comparisons cross-multiply
+/// in `i64` (`|num| < 2^29`, `den <= 2^15` up to 16384² maps), so no division and no rounding.
+#[derive(Clone, Copy)]
+struct Boundary {
+    num: i64,
+    den: i64,
+}
+
+impl Boundary {
+    /// Whether this boundary lies at or left of `other`.
+    fn at_or_before(self, other: Boundary) -> bool {
+        self.num * other.den <= other.num * self.den
+    }
+
+    /// Whether this boundary lies strictly left of texel `x`.
+    fn before(self, x: usize) -> bool {
+        self.num < x as i64 * self.den
+    }
+}
+
+impl Envelope {
+    /// Writes into `out` the distance of every texel of the row whose column distances are
+    /// `self.g` ([`NONE`]: no parabola) to the nearest unblocked texel, capped at `cap`.
+    fn row(&mut self, out: &mut [f32], cap: f32) {
+        let (g, v, z) = (&self.g, &mut self.v, &mut self.z);
+        let f = |q: usize| {
+            let d = g[q] as i64;
+            d * d + (q * q) as i64
+        };
+        v.clear();
+        z.clear();
+        for (q, &gq) in g.iter().enumerate() {
+            if gq == NONE {
                 continue;
             }
-            v.push(q);
-            z.push(s);
-            break;
+            loop {
+                let Some(&p) = v.last() else {
+                    v.push(q);
+                    // The first parabola's left boundary (minus infinity) is never read.
+                    z.push(Boundary { num: 0, den: 1 });
+                    break;
+                };
+                let s = Boundary {
+                    num: f(q) - f(p),
+                    den: 2 * (q - p) as i64,
+                };
+                if v.len() > 1 && s.at_or_before(z[z.len() - 1]) {
+                    v.pop();
+                    z.pop();
+                    continue;
+                }
+                v.push(q);
+                z.push(s);
+                break;
+            }
         }
-    }
-    if v.is_empty() {
-        return vec![None; n];
-    }
-    let mut k = 0;
-    (0..n)
-        .map(|x| {
-            while k + 1 < v.len() && z[k + 1] < x as f64 {
+        if v.is_empty() {
+            out.fill(cap);
+            return;
+        }
+        // Squared distances first, then the square roots in a loop of their own (it vectorizes).
+        let d2 = &mut self.d2;
+        d2.clear();
+        let mut k = 0;
+        d2.extend((0..out.len()).map(|x| {
+            while k + 1 < v.len() && z[k + 1].before(x) {
                 k += 1;
             }
             let q = v[k];
-            let g = f[q].unwrap_or(0) as u64;
-            let d = x.abs_diff(q) as u64;
-            Some(d * d + g * g)
-        })
-        .collect()
+            let (d, gq) = (x.abs_diff(q) as u64, g[q] as u64);
+            (d * d + gq * gq) as f64
+        }));
+        for (o, &d2) in out.iter_mut().zip(d2.iter()) {
+            *o = d2.sqrt().min(cap as f64) as f32;
+        }
+    }
 }
 
 /// The exact width map of `mask`, capped at [`super::cap`].
 pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
-    let g = columns(mask);
+    let strips = columns(mask);
     let cap = super::cap(mask.width());
-    let mut out = shadow_core::pool::filled(w * h, 0.0f32);
+    let mut out = pool::filled(mask.data().len(), 0.0f32);
     out.par_chunks_mut(w.max(1))
-        .zip(g.par_chunks(w.max(1)))
-        .for_each(|(row, f)| {
-            for (o, d2) in row.iter_mut().zip(row_envelope(f)) {
-                *o = d2.map_or(cap, |d2| (d2 as f64).sqrt() as f32).min(cap);
+        .enumerate()
+        .for_each_init(Envelope::default, |e, (y, row)| {
+            e.g.clear();
+            for s in &strips {
+                let sw = s.len() / h;
+                e.g.extend_from_slice(&s[y * sw..(y + 1) * sw]);
+            }
+            if e.g.iter().all(|&d| d == 0) {
+                row.fill(0.0);
+            } else {
+                e.row(row, cap);
             }
         });
+    strips.into_iter().for_each(pool::give);
     Map2D::from_vec(mask.width(), mask.height(), out).unwrap_or_else(|| Map2D::new(0, 0, 0.0))
 }
