@@ -174,6 +174,51 @@ proptest! {
     }
 }
 
+/// One propagation pass texel by texel, offset by offset: the paper's loop, which
+/// `propagate::pass` must equal bit for bit.
+fn pass_per_texel(src: &[f32], res: u32, step: u32, n: Neighbours) -> Vec<f32> {
+    let r = res as i32;
+    let offs = propagate::offsets(n, step);
+    (0..r * r)
+        .map(|i| {
+            let (x, y) = (i % r, i / r);
+            let mut w = src[i as usize];
+            for &(dx, dy, len) in &offs {
+                let (qx, qy) = (x + dx, y + dy);
+                if qx >= 0 && qy >= 0 && qx < r && qy < r {
+                    w = w.min(src[(qy * r + qx) as usize] + len);
+                }
+            }
+            w
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    /// A propagation pass over whole rows equals the per-texel loop bit for bit, for every
+    /// neighbourhood and steps up to beyond the map side.
+    #[test]
+    fn propagation_pass_equals_the_per_texel_loop(
+        res in 1u32..40,
+        step in 1u32..50,
+        values in prop::collection::vec(prop_oneof![Just(0.0f32), Just(propagate::UNREACHED), 0.0f32..100.0], 1600),
+    ) {
+        let src = &values[..(res * res) as usize];
+        for n in [Neighbours::Three, Neighbours::Four, Neighbours::Six, Neighbours::Eight] {
+            let mut dst = vec![0.0; src.len()];
+            propagate::pass(src, &mut dst, res, step, n);
+            let expected = pass_per_texel(src, res, step, n);
+            prop_assert_eq!(
+                dst.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                expected.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                "{:?} step {}", n, step
+            );
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
 

@@ -59,24 +59,34 @@ pub fn steps(resolution: u32) -> Vec<u32> {
     v
 }
 
-/// One pass with step `step`: reads `src`, writes `dst`.
+/// One pass with step `step`: reads `src`, writes `dst`. Each row starts from its own texels
+/// and takes one offset at a time over the whole row (the source row shifted by `dx`, clipped
+/// to the map): the same minimum in the same order per texel as offset by offset per texel, in
+/// a loop that vectorizes.
 pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
-    let r = res as i32;
+    let (r, w) = (res as i64, res as usize);
     let offs = offsets(n, step);
-    dst.par_chunks_mut(res as usize)
+    dst.par_chunks_mut(w.max(1))
         .enumerate()
         .for_each(|(y, row)| {
-            let y = y as i32;
-            for (x, out) in row.iter_mut().enumerate() {
-                let x = x as i32;
-                let mut w = src[(y * r + x) as usize];
-                for &(dx, dy, len) in &offs {
-                    let (qx, qy) = (x + dx, y + dy);
-                    if qx >= 0 && qy >= 0 && qx < r && qy < r {
-                        w = w.min(src[(qy * r + qx) as usize] + len);
-                    }
+            row.copy_from_slice(&src[y * w..(y + 1) * w]);
+            for &(dx, dy, len) in &offs {
+                let qy = y as i64 + dy as i64;
+                if qy < 0 || qy >= r {
+                    continue;
                 }
-                *out = w;
+                // Texels x with 0 <= x + dx < res.
+                let dx = dx as i64;
+                let (x0, x1) = ((-dx).clamp(0, r), (r - dx).clamp(0, r));
+                if x0 >= x1 {
+                    continue;
+                }
+                let from = (qy * r + x0 + dx) as usize;
+                let shifted = &src[from..from + (x1 - x0) as usize];
+                for (o, &v) in row[x0 as usize..x1 as usize].iter_mut().zip(shifted) {
+                    let c = v + len;
+                    *o = if c < *o { c } else { *o };
+                }
             }
         });
 }
