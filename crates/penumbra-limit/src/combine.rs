@@ -42,21 +42,6 @@ pub fn has_edge(e: [f32; 2]) -> bool {
     e[0] < NONE_DEPTH
 }
 
-/// The stored texel at `(x, y)` (before quantisation).
-pub fn combine_texel(l: &Layers, warp: &Warp, transition_gap: f32, x: u32, y: u32) -> Texel {
-    let (xi, yi) = (x as i64, y as i64);
-    let neighbours =
-        [(-1, 0), (1, 0), (0, -1), (0, 1)].map(|(dx, dy)| *l.edge.get_clamped(xi + dx, yi + dy));
-    texel(
-        *l.geom.get(x, y),
-        *l.lower.get(x, y),
-        *l.edge.get(x, y),
-        neighbours,
-        warp,
-        transition_gap,
-    )
-}
-
 /// The stored texel from its geometry depth, lower limit, edge and its four neighbours' edges
 /// (left, right, up, down; clamped to the map).
 fn texel(

@@ -1,5 +1,5 @@
 // requires: light_space.wgsl warp.wgsl
-// The stored texel (c, g, b, p_i / 4 + 1/2); mirrors penumbra_limit::combine::combine_texel.
+// The stored texel (c, g, b, p_i / 4 + 1/2); mirrors penumbra_limit::combine::combine (its per-texel `texel`).
 // The storage format below (rgba32float) and STORAGE are replaced by the map's format when the
 // pipeline is built. Values are rounded to the format here (to nearest, ties to even, as
 // penumbra_limit::storage does), so the hardware's conversion, whose rounding mode varies
