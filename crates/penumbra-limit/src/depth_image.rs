@@ -25,6 +25,7 @@ use shadow_core::{Map2D, pool};
 const NEIGHBOURS: [(i64, i64); 4] = [(-1, 0), (1, 0), (0, -1), (0, 1)];
 
 /// Whether `t = (x, y)` is on the near side of an edge towards neighbour `(x, y) + d`.
+#[inline(always)]
 pub fn near_side(
     geom: &Map2D<f32>,
     warp: &Warp,

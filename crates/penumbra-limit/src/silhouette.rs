@@ -19,6 +19,7 @@ use crate::warp::Warp;
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
+use shadow_core::raster::snapped::{SUB, SnappedTri};
 use shadow_core::raster::{DepthPass, DepthTest, Faces, depth_map_filtered};
 use shadow_core::{Map2D, MapParams, View};
 use std::collections::HashMap;
@@ -213,82 +214,11 @@ impl Ribbon {
     }
 }
 
-/// Sub-texel precision of ribbon vertices, as GPUs snap them (8 bits).
-const SUB: i64 = 256;
-
-/// A ribbon triangle snapped to the sub-texel grid, oriented, with its top-left edges.
-struct FixedTri {
-    x: [i64; 3],
-    y: [i64; 3],
-    top_left: [bool; 3],
-}
-
-impl FixedTri {
-    /// `None` for a zero-area triangle.
-    fn new(p: [Vec2; 3]) -> Option<Self> {
-        let snap = |v: f32| (v * SUB as f32).round() as i64;
-        let mut x = p.map(|q| snap(q.x));
-        let mut y = p.map(|q| snap(q.y));
-        let area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
-        if area == 0 {
-            return None;
-        }
-        if area < 0 {
-            x.swap(1, 2);
-            y.swap(1, 2);
-        }
-        let mut top_left = [false; 3];
-        for (i, tl) in top_left.iter_mut().enumerate() {
-            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-            *tl = (y[a] == y[b] && x[b] > x[a]) || y[b] < y[a];
-        }
-        Some(Self { x, y, top_left })
-    }
-
-    /// Whether the centre of texel `(px, py)` is covered (top-left fill rule, as the GPU fills):
-    /// the definition [`FixedTri::span`] is tested against.
-    #[cfg(test)]
-    fn covers(&self, px: u32, py: u32) -> bool {
-        let (cx, cy) = (px as i64 * SUB + SUB / 2, py as i64 * SUB + SUB / 2);
-        (0..3).all(|i| {
-            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-            let e = (self.x[b] - self.x[a]) * (cy - self.y[a])
-                - (self.y[b] - self.y[a]) * (cx - self.x[a]);
-            e > 0 || (e == 0 && self.top_left[i])
-        })
-    }
-
-    /// The texels of row `py` within `[x0, x1]` whose centres are covered: the same set as
-    /// [`FixedTri::covers`] (each edge's condition is a half-line along the row, solved in
-    /// integers), as one inclusive range; `None` when empty.
-    fn span(&self, py: u32, x0: i64, x1: i64) -> Option<(i64, i64)> {
-        let cy = py as i64 * SUB + SUB / 2;
-        let (mut lo, mut hi) = (x0, x1);
-        for i in 0..3 {
-            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-            // e(px) = e0 + d px at the centre of texel px; covered where e(px) >= t.
-            let e0 = (self.x[b] - self.x[a]) * (cy - self.y[a])
-                - (self.y[b] - self.y[a]) * (SUB / 2 - self.x[a]);
-            let d = -(self.y[b] - self.y[a]) * SUB;
-            let t = if self.top_left[i] { 0 } else { 1 };
-            let k = t - e0;
-            match d.cmp(&0) {
-                std::cmp::Ordering::Greater => lo = lo.max(-(-k).div_euclid(d)),
-                std::cmp::Ordering::Less => hi = hi.min((-k).div_euclid(-d)),
-                std::cmp::Ordering::Equal if e0 < t => return None,
-                std::cmp::Ordering::Equal => {}
-            }
-        }
-        (lo <= hi).then_some((lo, hi))
-    }
-
-    /// Texel range `(x0, x1, y0, y1)` whose centres the bounding box may cover.
-    fn texel_box(&self) -> (i64, i64, i64, i64) {
-        let lo = |v: &[i64; 3]| (v.iter().min().copied().unwrap_or(0) - SUB / 2).div_euclid(SUB);
-        let hi =
-            |v: &[i64; 3]| (v.iter().max().copied().unwrap_or(0) - SUB / 2).div_euclid(SUB) + 1;
-        (lo(&self.x), hi(&self.x), lo(&self.y), hi(&self.y))
-    }
+/// A ribbon triangle snapped to the sub-texel grid as the GPU snaps it (from `f32` texel
+/// coordinates), oriented; `None` for zero area.
+fn snap(p: [Vec2; 3]) -> Option<SnappedTri> {
+    let snap = |v: f32| (v * SUB as f32).round() as i64;
+    SnappedTri::new(p.map(|q| snap(q.x)), p.map(|q| snap(q.y))).map(|(t, _)| t)
 }
 
 const BAND: u32 = 16;
@@ -297,10 +227,52 @@ const BAND: u32 = 16;
 /// 1 is "no ribbon" (the cleared depth), which a ribbon at `c = 1`, `|p_i| = MAX_P` never beats.
 pub const KEY_SCALE: f32 = 1.0 / (1.0 + crate::storage::MAX_P);
 
+/// One map row of a band while ribbons are rasterized: each texel's key and `[c, p_i]`.
+struct Row<'a> {
+    keys: &'a mut [f32],
+    out: &'a mut [[f32; 2]],
+    /// The row's texel centre y.
+    y: f32,
+}
+
+/// Texels per block of a span: [`Ribbon::fragment`] of a block is computed lane by lane, which
+/// vectorizes, and the block's keys and values stored whole (branch-free).
+const LANES: usize = 8;
+
+impl Row<'_> {
+    /// Offers `ribbon`'s fragments to texels `x0..=x1`, keeping a strictly smaller key.
+    fn fill(mut self, ribbon: &Ribbon, sign: f32, ppt: f32, x0: usize, x1: usize) {
+        let mut x = x0;
+        while x + LANES <= x1 + 1 {
+            self.block::<LANES>(ribbon, sign, ppt, x);
+            x += LANES;
+        }
+        for x in x..=x1 {
+            self.block::<1>(ribbon, sign, ppt, x);
+        }
+    }
+
+    #[inline(always)]
+    fn block<const L: usize>(&mut self, ribbon: &Ribbon, sign: f32, ppt: f32, x: usize) {
+        let f: [(f32, f32, f32); L] = std::array::from_fn(|l| {
+            ribbon.fragment(Vec2::new((x + l) as f32 + 0.5, self.y), ppt, sign)
+        });
+        let mut keys: [f32; L] = std::array::from_fn(|l| self.keys[x + l]);
+        let mut out: [[f32; 2]; L] = std::array::from_fn(|l| self.out[x + l]);
+        for l in 0..L {
+            let nearer = f[l].0 < keys[l];
+            keys[l] = if nearer { f[l].0 } else { keys[l] };
+            out[l] = if nearer { [f[l].1, f[l].2] } else { out[l] };
+        }
+        self.keys[x..x + L].copy_from_slice(&keys);
+        self.out[x..x + L].copy_from_slice(&out);
+    }
+}
+
 /// Step 2 on the CPU: the winning `[c, p_i]` per texel ([`NO_EDGE`] where no ribbon reaches).
 pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 2]> {
     // Each quad as the GPU draws it: triangles (0, 1, 2) and (0, 2, 3), inner strip first.
-    let tris: Vec<(usize, FixedTri, f32)> = ribbons
+    let tris: Vec<(usize, SnappedTri, f32)> = ribbons
         .iter()
         .enumerate()
         .flat_map(|(i, r)| {
@@ -310,35 +282,33 @@ pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 
                 .flat_map(move |(q, sign)| {
                     [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
                         .into_iter()
-                        .filter_map(move |t| FixedTri::new(t).map(|t| (i, t, sign)))
+                        .filter_map(move |t| snap(t).map(|t| (i, t, sign)))
                 })
         })
         .collect();
+    let boxes: Vec<_> = tris.iter().map(|(_, t, _)| t.texel_box()).collect();
     let mut data = shadow_core::pool::filled(res as usize * res as usize, NO_EDGE);
-    data.par_chunks_mut((res * BAND) as usize)
+    let w = res as usize;
+    data.par_chunks_mut(w * BAND as usize)
         .enumerate()
         .for_each(|(band, rows)| {
             let y0 = band as u32 * BAND;
             let y1 = (y0 + BAND).min(res);
             let mut keys = vec![1.0f32; rows.len()];
-            for (i, t, sign) in &tris {
-                let (bx0, bx1, by0, by1) = t.texel_box();
+            for ((i, t, sign), &(bx0, bx1, by0, by1)) in tris.iter().zip(&boxes) {
                 let (rx0, rx1) = (bx0.max(0), bx1.min(res as i64 - 1));
                 let (ry0, ry1) = (by0.max(y0 as i64), by1.min(y1 as i64 - 1));
                 for y in ry0..=ry1 {
-                    let Some((sx0, sx1)) = t.span(y as u32, rx0, rx1) else {
+                    let Some((sx0, sx1)) = t.span(y, rx0, rx1) else {
                         continue;
                     };
-                    for x in sx0..=sx1 {
-                        let (x, y) = (x as u32, y as u32);
-                        let c = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-                        let (k, cc, p) = ribbons[*i].fragment(c, ppt, *sign);
-                        let j = ((y - y0) * res + x) as usize;
-                        if k < keys[j] {
-                            keys[j] = k;
-                            rows[j] = [cc, p];
-                        }
-                    }
+                    let at = (y as usize - y0 as usize) * w;
+                    let row = Row {
+                        keys: &mut keys[at..at + w],
+                        out: &mut rows[at..at + w],
+                        y: y as f32 + 0.5,
+                    };
+                    row.fill(&ribbons[*i], *sign, ppt, sx0 as usize, sx1 as usize);
                 }
             }
         });
@@ -369,43 +339,4 @@ pub fn lower_limit(
 pub fn deeper_than_edge(warp: &Warp, c: f32, z: f32, layer_gap: f32) -> bool {
     let zc = warp.linear(c);
     warp.normalized(z) > c + warp.depth_gap(zc, layer_gap)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A row's span is exactly the texels `covers` accepts, on random snapped triangles
-    /// (slivers, axis-aligned and shared edges included by the small coordinate range).
-    #[test]
-    fn spans_are_the_covered_texels() {
-        let mut s = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = |n: f32| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32 * n - 2.0
-        };
-        let mut checked = 0;
-        for case in 0..4000 {
-            // Small ranges make ties with texel centres and horizontal edges common.
-            let n = if case % 2 == 0 { 12.0 } else { 40.0 };
-            let p = [0, 1, 2].map(|_| Vec2::new(next(n), next(n)));
-            let p = if case % 3 == 0 {
-                p.map(|q| (q * 2.0).round() / 2.0)
-            } else {
-                p
-            };
-            let Some(t) = FixedTri::new(p) else { continue };
-            for y in 0..40u32 {
-                let span = t.span(y, 0, 39);
-                for x in 0..40u32 {
-                    let inside = span.is_some_and(|(a, b)| (a..=b).contains(&(x as i64)));
-                    assert_eq!(inside, t.covers(x, y), "{p:?} texel ({x}, {y})");
-                    checked += inside as usize;
-                }
-            }
-        }
-        assert!(checked > 10_000, "{checked} covered texels checked");
-    }
 }

@@ -42,55 +42,117 @@ pub fn steps(resolution: u32) -> Vec<u32> {
     v
 }
 
-/// Offsets beyond this many texels count as this many in [`pass`]: no two texels of a map up to
-/// [`crate::technique::MAX_CPU_RESOLUTION`] are farther apart, and [`NONE`] (texel 65535,
-/// 65535) always is, so it never wins against a seed and ties with itself.
+/// Offsets beyond this many texels count as this many in the `i32` distance: no two texels of
+/// a map up to [`crate::technique::MAX_CPU_RESOLUTION`] are farther apart, and [`NONE`] (texel
+/// 65535, 65535) always is, so it never wins against a seed and ties with itself.
 const CLAMP: i32 = 32767;
 const _: () = assert!(crate::technique::MAX_CPU_RESOLUTION <= 16384);
 
-/// Squared distance from texel `(x, y)` to `seed`, each offset clamped to [`CLAMP`] (at most
-/// `2 * 32767²`, which fits an `i32`).
-#[inline(always)]
-fn clamped_dist2(x: i32, y: i32, seed: u32) -> i32 {
-    let dx = ((seed & 0xffff) as i32 - x).abs().min(CLAMP);
-    let dy = ((seed >> 16) as i32 - y).abs().min(CLAMP);
-    dx * dx + dy * dy
+/// The largest side whose squared texel distances (at most `2 (side - 1)²`) an `f32` holds
+/// exactly (below 2^24): up to it a pass compares distances in `f32`, which SSE2 multiplies four
+/// at a time; it has no 32-bit integer multiply.
+pub const F32_EXACT_SIDE: u32 = 2896;
+const _: () = assert!(2 * (F32_EXACT_SIDE as u64 - 1).pow(2) < 1 << 24);
+
+/// A squared distance a pass compares: the same order on every pair of seeds of the map, so
+/// both kinds pick the same seed.
+trait Dist2: Copy + PartialOrd + Send {
+    /// Squared distance from texel `(x, y)` to `seed`.
+    fn of(x: i32, y: i32, seed: u32) -> Self;
 }
 
-/// Offers `cand[i]` to texel `x0 + i` of row `y` for every `i`, keeping a strictly nearer one.
-#[inline(always)]
-fn offer(out: &mut [u32], best_d: &mut [i32], cand: &[u32], x0: usize, y: i32) {
-    for (i, ((o, bd), &s)) in out.iter_mut().zip(best_d.iter_mut()).zip(cand).enumerate() {
-        let d = clamped_dist2((x0 + i) as i32, y, s);
-        let nearer = d < *bd;
-        *bd = if nearer { d } else { *bd };
-        *o = if nearer { s } else { *o };
+/// Each offset clamped to [`CLAMP`] (at most `2 * 32767²`, which fits an `i32`): exact for every
+/// pair of texels of a map.
+impl Dist2 for i32 {
+    #[inline(always)]
+    fn of(x: i32, y: i32, seed: u32) -> i32 {
+        let dx = ((seed & 0xffff) as i32 - x).abs().min(CLAMP);
+        let dy = ((seed >> 16) as i32 - y).abs().min(CLAMP);
+        dx * dx + dy * dy
     }
+}
+
+/// Exact between texels of a map up to [`F32_EXACT_SIDE`]; [`NONE`]'s (at least `2 * 62639²`
+/// from such a texel, rounded) still exceeds every seed's and equals itself.
+impl Dist2 for f32 {
+    #[inline(always)]
+    fn of(x: i32, y: i32, seed: u32) -> f32 {
+        let dx = (seed & 0xffff) as i32 as f32 - x as f32;
+        let dy = (seed >> 16) as i32 as f32 - y as f32;
+        dx * dx + dy * dy
+    }
+}
+
+/// Texels per block of a row: the 3x3 candidates of a block are compared in registers and the
+/// block's seeds stored once.
+const BLOCK: usize = 8;
+
+/// The nearest of the 3x3 candidates for texels `x0 .. x0 + L` of row `y` (each texel's own seed
+/// first, then the rows in order, each at columns `x - k, x, x + k`, keeping a strictly nearer
+/// one). `rows[r]` is row `r` padded with `k` [`NONE`] on either side (a texel outside the map
+/// offers [`NONE`], which never wins: the same as offering nothing).
+#[inline(always)]
+fn block<const L: usize, D: Dist2>(
+    rows: &[Option<&[u32]>; 3],
+    centre: &[u32],
+    out: &mut [u32],
+    x0: usize,
+    y: i32,
+    k: usize,
+) {
+    let xs: [i32; L] = std::array::from_fn(|l| (x0 + l) as i32);
+    let mut best: [u32; L] = std::array::from_fn(|l| centre[x0 + l]);
+    let mut best_d: [D; L] = std::array::from_fn(|l| D::of(xs[l], y, best[l]));
+    for row in rows.iter().flatten() {
+        // Padded: column x + c - k is at x + c.
+        for c in [0, k, 2 * k] {
+            let cand = &row[x0 + c..x0 + c + L];
+            for l in 0..L {
+                let d = D::of(xs[l], y, cand[l]);
+                let nearer = d < best_d[l];
+                best_d[l] = if nearer { d } else { best_d[l] };
+                best[l] = if nearer { cand[l] } else { best[l] };
+            }
+        }
+    }
+    out[x0..x0 + L].copy_from_slice(&best);
 }
 
 /// One pass with step `k` over a `res`-wide square map: reads `src`, writes `dst`. Every texel
 /// starts from its own seed and is offered the 3x3 texels `k` apart in a fixed order (rows
-/// `y - k, y, y + k`, then columns `x - k, x, x + k`), keeping a strictly nearer seed. Each row
-/// runs candidate by candidate over the whole row (the same order per texel) and branch-free
-/// over seeds: a third faster than texel by texel with a test for [`NONE`].
+/// `y - k, y, y + k`, then columns `x - k, x, x + k`), keeping a strictly nearer seed. Texels go
+/// in blocks of [`BLOCK`] whose candidates are compared in registers, branch-free over seeds.
+/// Distances are compared in `f32` up to [`F32_EXACT_SIDE`], in `i32` beyond: the same seeds
+/// either way.
 pub fn pass(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
+    if res <= F32_EXACT_SIDE {
+        pass_in::<f32>(src, dst, res, k)
+    } else {
+        pass_in::<i32>(src, dst, res, k)
+    }
+}
+
+fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
     let (n, k) = (res as usize, (k as usize).min(res as usize));
     dst.par_chunks_mut(n.max(1)).enumerate().for_each_init(
-        || vec![0i32; n],
-        |best_d, (y, out)| {
-            let rows = [y.checked_sub(k), Some(y), (y + k < n).then_some(y + k)]
-                .map(|r| r.map(|r| &src[r * n..(r + 1) * n]));
+        || [(); 3].map(|_| vec![NONE; n + 2 * k]),
+        |padded, (y, out)| {
             let centre = &src[y * n..(y + 1) * n];
-            let yi = y as i32;
-            out.copy_from_slice(centre);
-            for (x, (d, &s)) in best_d.iter_mut().zip(centre).enumerate() {
-                *d = clamped_dist2(x as i32, yi, s);
+            let mut rows: [Option<&[u32]>; 3] = [None; 3];
+            let sources = [y.checked_sub(k), Some(y), (y + k < n).then_some(y + k)];
+            for ((r, buf), slot) in sources.into_iter().zip(padded.iter_mut()).zip(&mut rows) {
+                if let Some(r) = r {
+                    buf[k..k + n].copy_from_slice(&src[r * n..(r + 1) * n]);
+                    *slot = Some(&buf[..]);
+                }
             }
-            for row in rows.iter().flatten() {
-                // Column x - k for x in k..n, then x, then x + k for x in 0..n - k.
-                offer(&mut out[k..], &mut best_d[k..], &row[..n - k], k, yi);
-                offer(out, best_d, row, 0, yi);
-                offer(&mut out[..n - k], &mut best_d[..n - k], &row[k..], 0, yi);
+            let yi = y as i32;
+            let whole = n / BLOCK * BLOCK;
+            for x0 in (0..whole).step_by(BLOCK) {
+                block::<BLOCK, D>(&rows, centre, out, x0, yi, k);
+            }
+            for x0 in whole..n {
+                block::<1, D>(&rows, centre, out, x0, yi, k);
             }
         },
     );
@@ -109,4 +171,88 @@ pub fn flood(seeds: Vec<u32>, res: u32) -> Vec<u32> {
     }
     crate::pool::give(b);
     a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The pass by its definition, texel by texel: own seed first, then rows `y - k, y, y + k`,
+    /// each at columns `x - k, x, x + k` (inside the map), keeping a strictly nearer seed by the
+    /// exact `i64` distance; only rows `y % every == 0` (the others stay [`NONE`]).
+    fn reference_pass(src: &[u32], n: u32, k: u32, every: usize) -> Vec<u32> {
+        let (n, k) = (n as i64, k as i64);
+        let at = |x: i64, y: i64| src[(y * n + x) as usize];
+        let mut out = vec![NONE; src.len()];
+        let rows = out.par_chunks_mut(n as usize).enumerate();
+        rows.filter(|(y, _)| y % every == 0).for_each(|(y, row)| {
+            let y = y as i64;
+            for (x, o) in (0..n).zip(row) {
+                let d = |s: u32| {
+                    if s == NONE {
+                        i64::MAX
+                    } else {
+                        dist2(x as i32, y as i32, s)
+                    }
+                };
+                *o = at(x, y);
+                for cy in [y - k, y, y + k].into_iter().filter(|c| (0..n).contains(c)) {
+                    for cx in [x - k, x, x + k].into_iter().filter(|c| (0..n).contains(c)) {
+                        if d(at(cx, cy)) < d(*o) {
+                            *o = at(cx, cy);
+                        }
+                    }
+                }
+            }
+        });
+        out
+    }
+
+    /// Every pass of a flood equals the texel-by-texel definition: in `f32` at the largest side
+    /// it is used for (a lattice of seeds, whose ties the fixed order decides, sparse random
+    /// seeds and the two far corners, so the longest distances of
+    /// the map are compared; every 8th row checked) and at a side whose rows end in a partial
+    /// block, and in `i32` there.
+    #[test]
+    fn passes_follow_the_definition() {
+        for (n, kind, every) in [
+            (F32_EXACT_SIDE, "f32", 8),
+            (1003, "f32", 1),
+            (1003, "i32", 1),
+        ] {
+            let mut s = 0x2545_F491_4F6C_DD1Du64;
+            let mut a: Vec<u32> = (0..n * n)
+                .map(|i| {
+                    s ^= s << 13;
+                    s ^= s >> 7;
+                    s ^= s << 17;
+                    let (x, y) = (i % n, i / n);
+                    // A lattice (many texels equidistant from two seeds: ties) and noise.
+                    let lattice = x % 96 == 5 && y % 88 == 7;
+                    if lattice || s.is_multiple_of(40_000) {
+                        pack(x, y)
+                    } else {
+                        NONE
+                    }
+                })
+                .collect();
+            a[0] = pack(0, 0);
+            a[(n * n - 1) as usize] = pack(n - 1, n - 1);
+            let mut b = vec![NONE; a.len()];
+            for k in steps(n) {
+                match kind {
+                    "f32" => pass_in::<f32>(&a, &mut b, n, k),
+                    _ => pass_in::<i32>(&a, &mut b, n, k),
+                }
+                let expect = reference_pass(&a, n, k, every);
+                let mut rows = b
+                    .chunks(n as usize)
+                    .zip(expect.chunks(n as usize))
+                    .step_by(every);
+                assert!(rows.all(|(b, e)| b == e), "{kind} side {n} step {k}");
+                std::mem::swap(&mut a, &mut b);
+            }
+            assert!(a.iter().all(|&s| s != NONE), "side {n}: flooded");
+        }
+    }
 }

@@ -145,6 +145,35 @@ fn orthographic_depth_matches_plane() {
     }
 }
 
+/// A band's depths linearized in place equal `linear_depth` texel by texel, bit for bit, for both
+/// projections and both depth tests (cleared values, the near and far planes, and between).
+#[test]
+fn linearize_is_linear_depth_per_texel() {
+    use shadow_core::raster::DepthPass;
+    let bounds = Aabb {
+        min: Vec3::splat(-1.0),
+        max: Vec3::splat(1.0),
+    };
+    let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
+    let coverage = shadow_core::Coverage::whole(&bounds);
+    let views = [
+        View::fit_light(LightPoint::Direction(dir), -dir, &coverage),
+        View::fit_light(LightPoint::Position(dir * 4.0), -dir, &coverage),
+    ];
+    let mut z: Vec<f32> = (0..=1000).map(|i| i as f32 / 1000.0).collect();
+    z.extend([-0.0, f32::MIN_POSITIVE, 1.0 - f32::EPSILON, 1.5, -1.0]);
+    for view in &views {
+        for pass in [DepthPass::NEAREST, DepthPass::FARTHEST] {
+            let mut band = z.clone();
+            pass.linearize(view, &mut band);
+            for (&zi, &got) in z.iter().zip(&band) {
+                let expect = pass.linear_depth(view, zi);
+                assert_eq!(got.to_bits(), expect.to_bits(), "{pass:?} {view:?} z {zi}");
+            }
+        }
+    }
+}
+
 /// Empty texels hold the sentinel; a G-buffer pixel lies on the plane it shows, with the plane's normal.
 #[test]
 fn gbuffer_positions_lie_on_the_receiver() {

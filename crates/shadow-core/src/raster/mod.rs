@@ -5,14 +5,15 @@
 //! reversed-Z depth range, a `Greater` depth test on NDC depth in submission order, and
 //! perspective-correct barycentrics. Rows are split into bands rasterized in parallel with rayon.
 
+pub mod snapped;
+
 use crate::map2d::Map2D;
 use crate::view::View;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
+pub use snapped::{SUBPIXEL_BITS, SnappedTri};
 
-/// Sub-pixel precision of vertex snapping (8 bits, as GPUs use).
-pub const SUBPIXEL_BITS: u32 = 8;
-const SUB: f64 = (1 << SUBPIXEL_BITS) as f64;
+const SUB: f64 = snapped::SUB as f64;
 const BAND_ROWS: usize = 16;
 const GUARD_BAND: f32 = 64.0;
 
@@ -106,6 +107,29 @@ impl DepthPass {
         }
     }
 
+    /// [`DepthPass::linear_depth`] of every texel of `depths` in place, bit for bit: the
+    /// projection and the test are resolved once, so the loop has no branch and vectorizes.
+    pub fn linearize(self, view: &View, depths: &mut [f32]) {
+        use crate::view::{NO_OCCLUDER, ProjectionKind};
+        let (n, f) = (view.near, view.far);
+        // Cleared texels: `<= 0` always (the far plane), `>= 1` too for the farthest pass.
+        let cleared_hi = match self.test {
+            DepthTest::Nearest => f32::INFINITY,
+            DepthTest::Farthest => 1.0,
+        };
+        let empty = |z: f32| z <= 0.0 || z >= cleared_hi;
+        match view.kind {
+            ProjectionKind::Perspective { .. } => depths.iter_mut().for_each(|z| {
+                let d = n * f / (*z * (f - n) + n);
+                *z = if empty(*z) { NO_OCCLUDER } else { d };
+            }),
+            ProjectionKind::Orthographic { .. } => depths.iter_mut().for_each(|z| {
+                let d = f - *z * (f - n);
+                *z = if empty(*z) { NO_OCCLUDER } else { d };
+            }),
+        }
+    }
+
     fn passes(self, z: f32, stored: f32) -> bool {
         match self.test {
             DepthTest::Nearest => z > stored,
@@ -121,20 +145,16 @@ struct ClipVertex {
 }
 
 struct ScreenTri {
-    x: [i64; 3],
-    y: [i64; 3],
+    /// Coverage: the snapped vertices.
+    snap: SnappedTri,
+    /// Texel rectangle `(x0, x1, y0, y1)` whose centres the bounding box holds.
+    texels: (i64, i64, i64, i64),
     fx: [f64; 3],
     fy: [f64; 3],
     farea: f64,
     z: [f64; 3],
     inv_w: [f64; 3],
     bary: [Vec3; 3],
-    area: i64,
-    y_min: i64,
-    y_max: i64,
-    x_min: i64,
-    x_max: i64,
-    top_left: [bool; 3],
     triangle: u32,
 }
 
@@ -256,56 +276,29 @@ struct Vert {
 
 fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
     let mut v = v;
-    let edge = |a: (i64, i64), b: (i64, i64), p: (i64, i64)| {
-        (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0)
-    };
-    let mut area = edge((v[0].x, v[0].y), (v[1].x, v[1].y), (v[2].x, v[2].y));
-    // y points down on screen, so a counter-clockwise (front) triangle in NDC has area < 0 here.
-    if area == 0 || (faces == Faces::Back && area < 0) {
+    let (snap, swapped) = SnappedTri::new(v.map(|v| v.x), v.map(|v| v.y))?;
+    // y points down on screen, so a counter-clockwise (front) triangle in NDC is clockwise here
+    // (negative area): swapped into the positive orientation.
+    if faces == Faces::Back && swapped {
         return None;
     }
-    if area < 0 {
+    if swapped {
         v.swap(1, 2);
-        area = -area;
     }
-    let x = [v[0].x, v[1].x, v[2].x];
-    let y = [v[0].y, v[1].y, v[2].y];
     let fx = [v[0].fx, v[1].fx, v[2].fx];
     let fy = [v[0].fy, v[1].fy, v[2].fy];
     let farea = (fx[1] - fx[0]) * (fy[2] - fy[0]) - (fy[1] - fy[0]) * (fx[2] - fx[0]);
-    // Edge i goes from vertex i+1 to i+2 (opposite vertex i). Top: horizontal, interior below,
-    // going right; left: going up (y decreasing) in y-down screen space.
-    let mut top_left = [false; 3];
-    for (i, tl) in top_left.iter_mut().enumerate() {
-        let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-        *tl = (y[a] == y[b] && x[b] > x[a]) || y[b] < y[a];
-    }
     Some(ScreenTri {
-        x,
-        y,
+        snap,
+        texels: snap.texel_box(),
         fx,
         fy,
         farea,
         z: [v[0].z, v[1].z, v[2].z],
         inv_w: [v[0].inv_w, v[1].inv_w, v[2].inv_w],
         bary: [v[0].bary, v[1].bary, v[2].bary],
-        area,
-        x_min: *x.iter().min().unwrap_or(&0),
-        x_max: *x.iter().max().unwrap_or(&0),
-        y_min: *y.iter().min().unwrap_or(&0),
-        y_max: *y.iter().max().unwrap_or(&0),
-        top_left,
         triangle,
     })
-}
-
-/// The first and last pixel row whose centre `t`'s box spans (`first > last`: none).
-fn pixel_rows(t: &ScreenTri) -> (i64, i64) {
-    let (half, sub) = ((SUB / 2.0) as i64, SUB as i64);
-    (
-        ((t.y_min - half) as f64 / sub as f64).ceil() as i64,
-        ((t.y_max - half) as f64 / sub as f64).floor() as i64,
-    )
 }
 
 /// Per band of [`BAND_ROWS`] rows of a `width x height` target, the triangles whose box reaches
@@ -314,11 +307,10 @@ fn pixel_rows(t: &ScreenTri) -> (i64, i64) {
 fn bins(tris: &[ScreenTri], width: u32, height: u32) -> Vec<Vec<u32>> {
     let bands = (height as usize).div_ceil(BAND_ROWS);
     let mut bins = vec![Vec::new(); bands];
-    let x_end = width as i64 * SUB as i64;
     for (i, t) in tris.iter().enumerate() {
-        let (first, last) = pixel_rows(t);
-        let (first, last) = (first.max(0), last.min(height as i64 - 1));
-        if first > last || t.x_max < 0 || t.x_min >= x_end {
+        let (x0, x1, y0, y1) = t.texels;
+        let (first, last) = (y0.max(0), y1.min(height as i64 - 1));
+        if first > last || x1 < 0 || x0 >= width as i64 {
             continue;
         }
         for bin in &mut bins[first as usize / BAND_ROWS..=last as usize / BAND_ROWS] {
@@ -341,33 +333,19 @@ fn raster_band<T>(
 ) {
     let w = width as usize;
     let n_rows = rows.len() / w;
-    let half = (SUB / 2.0) as i64;
-    let sub = SUB as i64;
-    let band_y0 = row0 as i64 * sub;
-    let band_y1 = (row0 + n_rows) as i64 * sub;
+    let (half, sub) = (snapped::SUB / 2, snapped::SUB);
     for t in order.iter().map(|&i| &tris[i as usize]) {
-        if t.y_max < band_y0 || t.y_min >= band_y1 || t.x_max < 0 || t.x_min >= width as i64 * sub {
+        let (x0, x1, y0, y1) = t.texels;
+        let (px0, px1) = (x0.max(0), x1.min(w as i64 - 1));
+        let (py0, py1) = (y0.max(row0 as i64), y1.min((row0 + n_rows) as i64 - 1));
+        if px0 > px1 || py0 > py1 {
             continue;
         }
-        // Pixel centres (p + 0.5) * SUB inside the bounding box.
-        let px0 = ((t.x_min - half) as f64 / sub as f64).ceil().max(0.0) as i64;
-        let px1 = (((t.x_max - half) as f64 / sub as f64).floor() as i64).min(w as i64 - 1);
-        let (first, last) = pixel_rows(t);
-        let (py0, py1) = (first.max(row0 as i64), last.min((row0 + n_rows) as i64 - 1));
-        // Edge functions at the first pixel centre of a row, and their exact integer step per
-        // pixel: the same values as evaluating each pixel afresh.
-        let edge = |i: usize, cx: i64, cy: i64| {
-            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
-            (t.x[b] - t.x[a]) * (cy - t.y[a]) - (t.y[b] - t.y[a]) * (cx - t.x[a])
-        };
-        let step = [0, 1, 2].map(|i| -(t.y[(i + 2) % 3] - t.y[(i + 1) % 3]) * sub);
-        // A zero edge value covers the pixel only on a top or left edge: a bias of -1 turns the
-        // test into `e > 0` for the others (the values are integers).
-        let bias = t.top_left.map(|tl| if tl { 0 } else { -1 });
-        // Coverage uses the snapped vertices, interpolation the unsnapped ones (as GPUs set up
-        // their attribute planes); degenerate float areas fall back to the snapped weights. The
-        // weights are affine in the pixel centre: each is its value at the row's first pixel
-        // plus a per-pixel slope times the offset (no division per pixel).
+        // Coverage uses the snapped vertices (each row's covered texels are one span solved in
+        // integers), interpolation the unsnapped ones (as GPUs set up their attribute planes);
+        // degenerate float areas fall back to the snapped weights. The weights are affine in
+        // the pixel centre: each is its value at the box's first pixel of the row plus a
+        // per-pixel slope times the offset (no division per pixel).
         let planar = t.farea.abs() > 1e-12;
         let fe = |a: usize, b: usize, pxc: f64, pyc: f64| {
             (t.fx[b] - t.fx[a]) * (pyc - t.fy[a]) - (t.fy[b] - t.fy[a]) * (pxc - t.fx[a])
@@ -375,26 +353,23 @@ fn raster_band<T>(
         const PAIRS: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
         let slope = PAIRS.map(|(a, b)| -(t.fy[b] - t.fy[a]) / t.farea);
         for py in py0..=py1 {
+            let Some((sx0, sx1)) = t.snap.span(py, px0, px1) else {
+                continue;
+            };
             let cy = py * sub + half;
-            let cx0 = px0 * sub + half;
-            let mut e = [0, 1, 2].map(|i| edge(i, cx0, cy) + bias[i]);
             let pyc = py as f64 + 0.5;
             let l0 = PAIRS.map(|(a, b)| fe(a, b, px0 as f64 + 0.5, pyc) / t.farea);
-            for px in px0..=px1 {
-                let inside = (e[0] | e[1] | e[2]) >= 0;
-                e = [e[0] + step[0], e[1] + step[1], e[2] + step[2]];
-                if !inside {
-                    continue;
-                }
+            let row = &mut rows[(py as usize - row0) * w..][..w];
+            for px in sx0..=sx1 {
                 let l = if planar {
                     let k = (px - px0) as f64;
                     [0, 1, 2].map(|i| l0[i] + k * slope[i])
                 } else {
-                    [0, 1, 2].map(|i| edge(i, px * sub + half, cy) as f64 / t.area as f64)
+                    let c = px * sub + half;
+                    [0, 1, 2].map(|i| t.snap.edge(i, c, cy) as f64 / t.snap.area as f64)
                 };
                 let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
-                let texel = &mut rows[(py as usize - row0) * w + px as usize];
-                write(texel, t, l, z, px as usize, py as usize);
+                write(&mut row[px as usize], t, l, z, px as usize, py as usize);
             }
         }
     }
@@ -414,7 +389,8 @@ fn fragment(t: &ScreenTri, l: [f64; 3], z: f32) -> Fragment {
 
 /// How one raster pass stores its texels: the cleared texel, its NDC depth, the texel of a
 /// fragment, which fragments (pixel x, y, NDC depth) may enter the depth test at all, and what
-/// becomes of every texel once its band is rasterized (while the band is still in cache).
+/// becomes of the texels once their band is rasterized (while the band is still in cache; a
+/// whole band at once, so that the pass can loop over it without a per-texel branch).
 struct Target<T, Z, S, A, F> {
     empty: T,
     z_of: Z,
@@ -437,7 +413,7 @@ where
     Z: Fn(&T) -> f32 + Sync,
     S: Fn(&ScreenTri, [f64; 3], f32) -> T + Sync,
     A: Fn(usize, usize, f32) -> bool + Sync,
-    F: Fn(&mut T) + Sync,
+    F: Fn(&mut [T]) + Sync,
 {
     // The clear is as parallel as the raster (a serial fill of 4 M texels costs as much).
     let mut out = Map2D::from_par_fn(width, height, |_| target.empty.clone());
@@ -457,13 +433,13 @@ where
 
 /// Rasterizes `screen` into `data` (row-major, `width` wide) band by band in parallel, each band
 /// over its own triangles only ([`bins`]); `write` merges fragments as in [`raster_band`], then
-/// `finish` runs on every texel of the band while it is still in cache.
+/// `finish` runs on the band's texels while they are still in cache.
 fn raster_bands<T: Send>(
     screen: &[ScreenTri],
     width: u32,
     data: &mut [T],
     write: impl Fn(&mut T, &ScreenTri, [f64; 3], f32, usize, usize) + Sync,
-    finish: impl Fn(&mut T) + Sync,
+    finish: impl Fn(&mut [T]) + Sync,
 ) {
     let w = width as usize;
     if w == 0 || data.is_empty() {
@@ -474,7 +450,7 @@ fn raster_bands<T: Send>(
         .enumerate()
         .for_each(|(band, rows)| {
             raster_band(screen, &bins[band], width, band * BAND_ROWS, rows, &write);
-            rows.iter_mut().for_each(&finish);
+            finish(rows);
         });
 }
 
@@ -509,7 +485,7 @@ pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Ma
             z_of: |f: &Fragment| f.z_ndc,
             shade: fragment,
             accept: |_, _, _| true,
-            finish: |_: &mut Fragment| {},
+            finish: |_: &mut [Fragment]| {},
         },
     )
 }
@@ -548,7 +524,7 @@ pub fn depth_map_filtered(
         accept: |x: usize, y: usize, z: f32| {
             accept(x as u32, y as u32, view.linear_depth_from_ndc(z))
         },
-        finish: |d: &mut f32| *d = pass.linear_depth(view, *d),
+        finish: |band: &mut [f32]| pass.linearize(view, band),
     };
     rasterize_into(&screen, resolution, resolution, pass, target)
 }
