@@ -228,8 +228,18 @@ impl Frame {
     /// The slice of a fragment at COP view depth `z` (`z = d + h`).
     pub fn slice_of(&self, z: f32) -> u32 {
         let h = z - self.d;
-        let k = ((h - self.near) / self.spacing - SLICE_TOLERANCE).ceil();
-        k.clamp(0.0, (self.slices - 1) as f32) as u32
+        let v = (h - self.near) / self.spacing - SLICE_TOLERANCE;
+        // ceil(v) clamped to [0, slices - 1] (NaN: 0), without `f32::ceil`: SSE2 has no rounding
+        // instruction, so that is a libm call per fragment. Below `last`, `v as u32` is floor(v).
+        let last = self.slices - 1;
+        if v.is_nan() || v <= 0.0 {
+            return 0;
+        }
+        if v >= last as f32 {
+            return last;
+        }
+        let t = v as u32;
+        t + ((t as f32) < v) as u32
     }
 
     /// A world point in light coordinates.
@@ -267,5 +277,41 @@ impl Frame {
     /// slice's lower plane (in it or nearer the light), rising linearly to 1 one slice beyond it.
     pub fn fade(&self, k: u32, h: f32) -> f32 {
         ((h - self.plane(k)) / self.spacing).clamp(0.0, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `slice_of` is `ceil((h - near) / spacing - tolerance)` clamped to the slices (the
+    /// definition `frame.wgsl` also follows), exactly: on every slice plane, a step either
+    /// side of it, far outside the range, and NaN.
+    #[test]
+    fn slice_of_is_the_clamped_ceiling() {
+        let frame = Frame {
+            d: 2.0,
+            near: 0.25,
+            spacing: 0.1,
+            slices: 24,
+            ..Frame::zeroed()
+        };
+        let definition = |z: f32| {
+            let k = ((z - frame.d - frame.near) / frame.spacing - SLICE_TOLERANCE).ceil();
+            k.clamp(0.0, (frame.slices - 1) as f32) as u32
+        };
+        let mut zs = vec![f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -1e30, 1e30, 0.0];
+        for k in -3..30 {
+            let h = frame.near + k as f32 * frame.spacing;
+            for z in [h + frame.d, (h + SLICE_TOLERANCE * frame.spacing) + frame.d] {
+                zs.extend([z, z.next_up(), z.next_down(), z + 0.03, z - 0.03]);
+            }
+        }
+        let mut hit = std::collections::BTreeSet::new();
+        for z in zs {
+            assert_eq!(frame.slice_of(z), definition(z), "z = {z}");
+            hit.insert(frame.slice_of(z));
+        }
+        assert_eq!(hit.len(), frame.slices as usize, "every slice reached");
     }
 }

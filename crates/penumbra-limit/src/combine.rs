@@ -90,7 +90,8 @@ fn texel(
 /// The stored map: every texel combined, then quantised by `storage`.
 pub fn combine(l: &Layers, warp: &Warp, transition_gap: f32, storage: Storage) -> Map2D<Texel> {
     let (w, h) = (l.geom.width(), l.geom.height());
-    let mut data = shadow_core::pool::filled(w as usize * h as usize, Texel::default());
+    // Every texel is written below: no clearing pass.
+    let mut data = shadow_core::pool::overwrite(w as usize * h as usize, Texel::default());
     data.par_chunks_mut(w.max(1) as usize)
         .enumerate()
         .for_each_init(StoreScratch::default, |scratch, (y, row)| {

@@ -287,13 +287,15 @@ pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 
         })
         .collect();
     let boxes: Vec<_> = tris.iter().map(|(_, t, _)| t.texel_box()).collect();
-    let mut data = shadow_core::pool::filled(res as usize * res as usize, NO_EDGE);
+    // Each band clears its own rows (in cache) before its ribbons: no clearing pass.
+    let mut data = shadow_core::pool::overwrite(res as usize * res as usize, NO_EDGE);
     let w = res as usize;
     data.par_chunks_mut(w * BAND as usize)
         .enumerate()
         .for_each(|(band, rows)| {
             let y0 = band as u32 * BAND;
             let y1 = (y0 + BAND).min(res);
+            rows.fill(NO_EDGE);
             let mut keys = vec![1.0f32; rows.len()];
             for ((i, t, sign), &(bx0, bx1, by0, by1)) in tris.iter().zip(&boxes) {
                 let (rx0, rx1) = (bx0.max(0), bx1.min(res as i64 - 1));

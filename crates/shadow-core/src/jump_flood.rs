@@ -164,7 +164,8 @@ fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
 /// read ([`crate::pool::give`]).
 pub fn flood(seeds: Vec<u32>, res: u32) -> Vec<u32> {
     let mut a = seeds;
-    let mut b = crate::pool::filled(a.len(), NONE);
+    // Each pass writes every texel of its destination: no clearing pass.
+    let mut b = crate::pool::overwrite(a.len(), NONE);
     for k in steps(res) {
         pass(&a, &mut b, res, k);
         std::mem::swap(&mut a, &mut b);

@@ -28,15 +28,41 @@ impl<T: Clone + Send + 'static> Map2D<T> {
             data: crate::pool::filled(width as usize * height as usize, value),
         }
     }
+
+    /// A map of unspecified texels ([`crate::pool::overwrite`]; `fill` where fresh), for a
+    /// caller that writes every texel before anything reads it.
+    pub(crate) fn for_overwrite(width: u32, height: u32, fill: T) -> Self {
+        Self {
+            width,
+            height,
+            data: crate::pool::overwrite(width as usize * height as usize, fill),
+        }
+    }
 }
 
-impl<T: Send + Sync + 'static> Map2D<T> {
-    /// A map whose texel `i` (row-major) is `f(i)`, computed in parallel into pooled storage.
+impl<T: Clone + Send + Sync + 'static> Map2D<T> {
+    /// A map whose texel `i` (row-major) is `f(i)`, computed in parallel into pooled storage
+    /// ([`crate::pool::overwrite`]: no clearing pass), rows at a time (the loop over a row's
+    /// texels vectorizes where `f` does).
     pub fn from_par_fn(width: u32, height: u32, f: impl Fn(usize) -> T + Sync + Send) -> Self {
         use rayon::prelude::*;
         let n = width as usize * height as usize;
-        let mut data = crate::pool::take(n);
-        (0..n).into_par_iter().map(f).collect_into_vec(&mut data);
+        if n == 0 {
+            return Self {
+                width,
+                height,
+                data: Vec::new(),
+            };
+        }
+        let mut data = crate::pool::overwrite(n, f(0));
+        let rows = (width as usize).max(1) * 16;
+        data.par_chunks_mut(rows)
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                for (j, o) in chunk.iter_mut().enumerate() {
+                    *o = f(c * rows + j);
+                }
+            });
         Self {
             width,
             height,
@@ -112,7 +138,10 @@ impl<T: Send + 'static> Map2D<T> {
     }
 
     /// Maps every texel, in parallel.
-    pub fn map<U: Send + Sync + 'static>(&self, f: impl Fn(&T) -> U + Sync + Send) -> Map2D<U>
+    pub fn map<U: Clone + Send + Sync + 'static>(
+        &self,
+        f: impl Fn(&T) -> U + Sync + Send,
+    ) -> Map2D<U>
     where
         T: Sync,
     {

@@ -6,7 +6,8 @@
 //! the machine the issue measured), which for the hard shadow map costs as much as rasterizing
 //! it. [`crate::Map2D`] therefore takes its texels from this pool and gives them back when it is
 //! dropped, and scratch buffers ([`take`], [`give`]) do the same: the second generation of one
-//! size touches no new page.
+//! size touches no new page. A buffer whose every element its caller writes comes from
+//! [`overwrite`], which skips clearing it (16 MiB of stores at 2048²) when the pool has one.
 //!
 //! Buffers below [`MIN_BYTES`] are not kept (the allocator serves them from its own free lists).
 //! At most [`limit`] bytes are kept, oldest given back first out; [`set_limit`] changes it (0
@@ -74,15 +75,18 @@ impl Pool {
         e.buffer.downcast::<Vec<T>>().ok().map(|v| *v)
     }
 
-    /// Keeps `v` (emptied) unless it is small or over the limit; then frees the oldest buffers
-    /// over the limit.
+    /// Keeps `v` unless it is small or over the limit (its elements dropped, unless they have
+    /// no drop glue: then they stay, for [`overwrite`]); then frees the oldest buffers over the
+    /// limit.
     fn give<T: Send + 'static>(&mut self, mut v: Vec<T>) {
         let bytes = v.capacity() * size_of::<T>();
         let limit = self.limit();
         if bytes < MIN_BYTES || bytes > limit {
             return;
         }
-        v.clear();
+        if std::mem::needs_drop::<T>() {
+            v.clear();
+        }
         self.kept += bytes;
         self.entries.push_back(Entry {
             key: (TypeId::of::<T>(), v.capacity()),
@@ -97,11 +101,30 @@ impl Pool {
 /// this type and length, else a new allocation.
 pub fn take<T: Send + 'static>(len: usize) -> Vec<T> {
     if len * size_of::<T>() >= MIN_BYTES
-        && let Some(v) = pool().take(len)
+        && let Some(mut v) = pool().take(len)
     {
+        v.clear();
         return v;
     }
     Vec::with_capacity(len)
+}
+
+/// A vector of exactly `len` elements whose values are unspecified, for a caller that overwrites
+/// every one (in parallel, or band by band while in cache): a kept one of this type and length
+/// as it was given back (a type without drop glue keeps its elements there), without a clearing
+/// pass; else `len` clones of `fill` (an all-zero `fill` of a primitive type allocates zeroed
+/// pages, faulted in by whichever thread writes them first).
+pub fn overwrite<T: Clone + Send + 'static>(len: usize, fill: T) -> Vec<T> {
+    if len * size_of::<T>() >= MIN_BYTES
+        && let Some(mut v) = pool().take(len)
+    {
+        if v.len() != len {
+            v.clear();
+            v.resize(len, fill);
+        }
+        return v;
+    }
+    vec![fill; len]
 }
 
 /// A vector of `len` copies of `value`, its storage from [`take`].
@@ -158,9 +181,10 @@ mod tests {
         // Another length or type does not get it.
         assert!(p.take::<f32>(n + 1).is_none());
         assert!(p.take::<u32>(n).is_none());
-        // The same type and length does, emptied.
+        // The same type and length does, elements and all (`f32` has no drop glue).
         let b = p.take::<f32>(n).unwrap();
-        assert_eq!((b.as_ptr(), b.len(), b.capacity(), p.kept), (ptr, 0, n, 0));
+        assert_eq!((b.as_ptr(), b.len(), b.capacity(), p.kept), (ptr, n, n, 0));
+        assert!(b.iter().all(|&v| v == 1.0));
         // Small buffers are not kept.
         p.give(vec![0.0f32; 16]);
         assert_eq!(p.kept, 0);
@@ -181,6 +205,39 @@ mod tests {
         p.limit = Some(0);
         p.evict_to(0);
         assert_eq!((p.kept, p.entries.len()), (0, 0));
+    }
+
+    /// `overwrite` hands a kept buffer back as it was given when its type has no drop glue (no
+    /// clearing pass), and refilled when it has; `take` always hands it back empty.
+    #[test]
+    fn overwrite_keeps_elements_only_without_drop_glue() {
+        // Types no other test pools: the pool is process-wide and tests run side by side.
+        #[derive(Clone, PartialEq, Debug)]
+        struct Plain(u64);
+        #[derive(Clone, PartialEq, Debug)]
+        struct Owned(Option<Box<u64>>);
+        let n = MIN_BYTES / 8;
+        let mut a = overwrite(n, Plain(7));
+        assert!(a.iter().all(|v| *v == Plain(7)), "fresh storage is filled");
+        a[0] = Plain(9);
+        let ptr = a.as_ptr();
+        give(a);
+        let b = overwrite(n, Plain(1));
+        assert_eq!(
+            (b.as_ptr(), b.len(), &b[0], &b[1]),
+            (ptr, n, &Plain(9), &Plain(7))
+        );
+        give(b);
+        let t = take::<Plain>(n);
+        assert_eq!((t.as_ptr(), t.len()), (ptr, 0));
+
+        let mut a = overwrite(n, Owned(None));
+        a[0] = Owned(Some(Box::new(3)));
+        let ptr = a.as_ptr();
+        give(a);
+        let b = overwrite(n, Owned(None));
+        assert_eq!((b.as_ptr(), b.len()), (ptr, n));
+        assert!(b.iter().all(|v| *v == Owned(None)), "dropped and refilled");
     }
 
     #[test]

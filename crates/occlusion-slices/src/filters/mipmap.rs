@@ -45,7 +45,7 @@ impl Mipmap {
     /// [`unorm8_pow2`] of its block's area: the same bits as counting each block directly.
     fn build<T: Sync>(res: u32, cells: &[T], bit: impl Fn(&T) -> u32 + Sync) -> Mipmap {
         let n = res as usize;
-        let mut level0 = shadow_core::pool::filled(n * n, 0u8);
+        let mut level0 = shadow_core::pool::overwrite(n * n, 0u8);
         level0
             .par_chunks_mut(n.max(1))
             .zip(cells.par_chunks(n.max(1)))
@@ -65,7 +65,7 @@ impl Mipmap {
                 sum_blocks(src, dst, |y| &c[y * src..(y + 1) * src], |&c| c)
             };
             shadow_core::pool::give(std::mem::replace(&mut counts, next));
-            let mut out = shadow_core::pool::filled(dst * dst, 0u8);
+            let mut out = shadow_core::pool::overwrite(dst * dst, 0u8);
             out.par_iter_mut()
                 .zip(counts.par_iter())
                 .for_each(|(o, &c)| *o = unorm8_pow2(c, 2 * l));
@@ -122,10 +122,11 @@ fn sum_blocks<'a, S: Sync + 'a>(
     row: impl Fn(usize) -> &'a [S] + Sync,
     value: impl Fn(&S) -> u32 + Sync,
 ) -> Vec<u32> {
-    let mut out = shadow_core::pool::filled(dst * dst, 0u32);
+    let mut out = shadow_core::pool::overwrite(dst * dst, 0u32);
     out.par_chunks_mut(dst.max(1))
         .enumerate()
         .for_each(|(y, out)| {
+            out.fill(0);
             for sy in [2 * y, 2 * y + 1].into_iter().filter(|&sy| sy < src) {
                 let cells = row(sy);
                 let pairs = cells.chunks_exact(2);

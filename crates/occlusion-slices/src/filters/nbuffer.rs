@@ -36,7 +36,8 @@ impl NBuffer {
             .map(|l| {
                 let s = 1usize << l;
                 let shift = 2 * l;
-                let mut out = shadow_core::pool::filled(n * n, 0u8);
+                // Every texel is written below: no clearing pass.
+                let mut out = shadow_core::pool::overwrite(n * n, 0u8);
                 out.par_chunks_mut(n.max(1))
                     .enumerate()
                     .for_each(|(y, row)| {

@@ -42,10 +42,13 @@ impl Sat {
     fn build<T>(res: u32, cells: &[T], bit: impl Fn(&T) -> u32) -> Sat {
         let n = res as usize;
         let w = n + 1;
-        let mut data = shadow_core::pool::filled(w * w, 0u32);
+        // Row 0 and column 0 are zeros, every other entry is written below: no clearing pass.
+        let mut data = shadow_core::pool::overwrite(w * w, 0u32);
+        data[..w].fill(0);
         for (y, cells) in cells.chunks_exact(n.max(1)).take(n).enumerate() {
             let (above, below) = data.split_at_mut((y + 1) * w);
             let prev = &above[y * w + 1..];
+            below[0] = 0;
             let mut s = 0u32;
             for ((o, &p), c) in below[1..w].iter_mut().zip(prev).zip(cells) {
                 s += bit(c);

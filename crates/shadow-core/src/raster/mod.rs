@@ -415,12 +415,12 @@ where
     A: Fn(usize, usize, f32) -> bool + Sync,
     F: Fn(&mut [T]) + Sync,
 {
-    // The clear is as parallel as the raster (a serial fill of 4 M texels costs as much).
-    let mut out = Map2D::from_par_fn(width, height, |_| target.empty.clone());
+    let mut out = Map2D::for_overwrite(width, height, target.empty.clone());
     raster_bands(
         screen,
         width,
         out.data_mut(),
+        &target.empty,
         |texel: &mut T, t: &ScreenTri, l: [f64; 3], z: f32, x: usize, y: usize| {
             if pass.passes(z, (target.z_of)(texel)) && (target.accept)(x, y, z) {
                 *texel = (target.shade)(t, l, z);
@@ -432,12 +432,14 @@ where
 }
 
 /// Rasterizes `screen` into `data` (row-major, `width` wide) band by band in parallel, each band
-/// over its own triangles only ([`bins`]); `write` merges fragments as in [`raster_band`], then
-/// `finish` runs on the band's texels while they are still in cache.
-fn raster_bands<T: Send>(
+/// over its own triangles only ([`bins`]): the band is cleared to `empty` (whatever `data` held),
+/// `write` merges fragments as in [`raster_band`], then `finish` runs on the band's texels, all
+/// while they are in cache.
+fn raster_bands<T: Clone + Send + Sync>(
     screen: &[ScreenTri],
     width: u32,
     data: &mut [T],
+    empty: &T,
     write: impl Fn(&mut T, &ScreenTri, [f64; 3], f32, usize, usize) + Sync,
     finish: impl Fn(&mut [T]) + Sync,
 ) {
@@ -449,6 +451,7 @@ fn raster_bands<T: Send>(
     data.par_chunks_mut(w * BAND_ROWS)
         .enumerate()
         .for_each(|(band, rows)| {
+            rows.fill(empty.clone());
             raster_band(screen, &bins[band], width, band * BAND_ROWS, rows, &write);
             finish(rows);
         });
@@ -532,7 +535,7 @@ pub fn depth_map_filtered(
 /// Rasterizes `tris` through `view` with no depth test: every covered fragment calls
 /// `update(texel, linear_depth)` in submission order, starting from `empty` (as a render pass
 /// with an order-independent blend does, e.g. `Max` into slice masks).
-pub fn rasterize_fold<T: Clone + Send>(
+pub fn rasterize_fold<T: Clone + Send + Sync + 'static>(
     view: &View,
     resolution: u32,
     tris: &[[Vec3; 3]],
@@ -540,11 +543,12 @@ pub fn rasterize_fold<T: Clone + Send>(
     update: impl Fn(&mut T, f32) + Sync,
 ) -> Map2D<T> {
     let screen = setup_world(view, resolution, resolution, tris, Faces::All);
-    let mut out = Map2D::new(resolution, resolution, empty);
+    let mut out = Map2D::for_overwrite(resolution, resolution, empty.clone());
     raster_bands(
         &screen,
         resolution,
         out.data_mut(),
+        &empty,
         |texel, _, _, z, _, _| update(texel, view.linear_depth_from_ndc(z)),
         |_| {},
     );

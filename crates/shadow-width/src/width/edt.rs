@@ -28,7 +28,8 @@ fn columns(mask: &Map2D<bool>) -> Vec<Vec<u32>> {
         .map(|s| {
             let x0 = s * STRIP;
             let sw = STRIP.min(w - x0);
-            let mut out = pool::filled(sw * h, NONE);
+            // The downward sweep writes every texel: no clearing pass.
+            let mut out = pool::overwrite(sw * h, NONE);
             let mut run = [NONE; STRIP];
             // Branch-free, so the sweeps vectorize: one more than above when blocked, else 0.
             let step = |r: &mut u32, blocked: bool| {
@@ -147,7 +148,8 @@ pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
     let strips = columns(mask);
     let cap = super::cap(mask.width());
-    let mut out = pool::filled(mask.data().len(), 0.0f32);
+    // Every row is written below: no clearing pass.
+    let mut out = pool::overwrite(mask.data().len(), 0.0f32);
     out.par_chunks_mut(w.max(1))
         .enumerate()
         .for_each_init(Envelope::default, |e, (y, row)| {

@@ -96,7 +96,8 @@ pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
     let res = mask.width();
     let mut a = shadow_core::pool::take(mask.data().len());
     a.extend(mask.data().iter().map(|&b| if b { UNREACHED } else { 0.0 }));
-    let mut b = shadow_core::pool::filled(a.len(), 0.0f32);
+    // Each pass writes every texel of its destination: no clearing pass.
+    let mut b = shadow_core::pool::overwrite(a.len(), 0.0f32);
     for step in steps(res) {
         pass(&a, &mut b, res, step, n);
         std::mem::swap(&mut a, &mut b);
