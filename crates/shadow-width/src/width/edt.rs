@@ -96,8 +96,13 @@ impl Envelope {
         };
         v.clear();
         z.clear();
+        let last = g.len().saturating_sub(1);
         for (q, &gq) in g.iter().enumerate() {
-            if gq == NONE {
+            // Inside a run of unblocked texels (0 on both sides) a parabola is never nearer than
+            // the run's ends to a texel outside the run, and a texel inside reads 0 (below):
+            // only the ends enter the envelope.
+            let interior = gq == 0 && q > 0 && q < last && g[q - 1] == 0 && g[q + 1] == 0;
+            if gq == NONE || interior {
                 continue;
             }
             loop {
@@ -132,6 +137,9 @@ impl Envelope {
         d2.extend((0..out.len()).map(|x| {
             while k + 1 < v.len() && z[k + 1].before(x) {
                 k += 1;
+            }
+            if g[x] == 0 {
+                return 0.0;
             }
             let q = v[k];
             let (d, gq) = (x.abs_diff(q) as u64, g[q] as u64);
