@@ -9,18 +9,18 @@ pub const SUBPIXEL_BITS: u32 = 8;
 pub const SUB: i64 = 1 << SUBPIXEL_BITS;
 
 /// A triangle with vertices in 1/[`SUB`] texel units (y down), ordered so that its edge
-/// functions are positive inside, with its top-left edges.
+/// functions are positive inside, with its top-left edges; only [`SnappedTri::new`] makes one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SnappedTri {
     /// Vertex x in sub-texel units.
-    pub x: [i64; 3],
+    pub(crate) x: [i64; 3],
     /// Vertex y in sub-texel units (down).
-    pub y: [i64; 3],
+    pub(crate) y: [i64; 3],
     /// Twice the (positive) area in sub-texel units squared.
-    pub area: i64,
+    pub(crate) area: i64,
     /// Edge `i` (from vertex `i + 1` to `i + 2`) is a top or left edge: texel centres exactly on
     /// it are covered.
-    pub top_left: [bool; 3],
+    pub(crate) top_left: [bool; 3],
 }
 
 impl SnappedTri {
