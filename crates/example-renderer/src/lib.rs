@@ -5,7 +5,7 @@
 //! Per frame it records into one encoder: its G-buffer pass, the technique's generation
 //! ([`ShadowTechnique::record_gpu`] from a [`GpuScene`] uploaded once), the technique's
 //! visibility over the G-buffer ([`ShadowTechnique::record_visibility`]) and its own Lambert
-//! shading of one rectangular area light times `V`. [`shade::radiance`] is the same shading
+//! shading of one rectangular area light times `V`. [`shade::ShadeUniform::radiance`] is the same shading
 //! in Rust, for the test that compares a frame with the CPU path.
 
 pub mod shade;

@@ -11,8 +11,8 @@
 //! channel, summed ([`eval`]).
 //!
 //! - Lights: segments, and triangles as three linear lights along their edges (section 4,
-//!   [`segments`]). Other kinds are [`shadow_core::ShadowError::UnsupportedLight`].
-//! - Modules, one concept each: [`params`], [`segments`], [`samples`], [`skins`], [`warp`],
+//!   [`mod@segments`]). Other kinds are [`shadow_core::ShadowError::UnsupportedLight`].
+//! - Modules, one concept each: [`params`], [`mod@segments`], [`samples`], [`skins`], [`warp`],
 //!   [`eval`], [`cpu`], [`gpu`].
 //!
 //! ```no_run

@@ -121,7 +121,7 @@ fn block<const L: usize, D: Dist2>(
 /// One pass with step `k` over a `res`-wide square map: reads `src`, writes `dst`. Every texel
 /// starts from its own seed and is offered the 3x3 texels `k` apart in a fixed order (rows
 /// `y - k, y, y + k`, then columns `x - k, x, x + k`), keeping a strictly nearer seed. Texels go
-/// in blocks of [`BLOCK`] whose candidates are compared in registers, branch-free over seeds.
+/// in blocks of 8 whose candidates are compared in registers, branch-free over seeds.
 /// Distances are compared in `f32` up to [`F32_EXACT_SIDE`], in `i32` beyond: the same seeds
 /// either way.
 pub fn pass(src: &[u32], dst: &mut [u32], res: u32, k: u32) {

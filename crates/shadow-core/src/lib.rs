@@ -6,7 +6,8 @@
 //!   per-frame pipeline that schedules techniques.
 //! - [`light`]: the light kinds, their validation and sampling; [`view`]: camera and light frusta;
 //!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
-//! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers);
+//! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers) and
+//!   [`raster::snapped`], which texels a triangle covers under the GPU's fill rule;
 //!   [`jump_flood`]: nearest-seed maps (CPU and GPU); [`pool`]: reuse of large CPU buffers.
 //! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
 //! - `gltf_import` (feature `gltf`): glTF/GLB meshes.

@@ -12,12 +12,12 @@ pub struct CpuShadowMaps {
     pub views: Vec<SampleView>,
     /// Map side.
     pub resolution: u32,
-    /// [`Light::size`] of the light.
+    /// [`shadow_core::Light::size`] of the light.
     pub light_size: f32,
 }
 
 impl CpuShadowMaps {
-    /// Rasterizes one depth map per view; `light_size` is [`Light::size`], kept for PCSS.
+    /// Rasterizes one depth map per view; `light_size` is [`shadow_core::Light::size`], kept for PCSS.
     pub fn render(
         views: &[SampleView],
         casters: &[[Vec3; 3]],

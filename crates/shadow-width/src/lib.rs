@@ -10,13 +10,13 @@
 //!   (orthographic map), an **angle in radians** at the light for local lights (perspective map:
 //!   the texel distance times the texel's angular size on the map's tangent plane, exact to first
 //!   order near the axis),
-//! - `V = I(sd, sw) = f(c_scale * sw / sd)` ([`attenuation`]).
+//! - `V = I(sd, sw) = f(c_scale * sw / sd)` ([`mod@attenuation`]).
 //!
 //! The technique only darkens inside the geometric (hard) shadow: the outer half of a penumbra
 //! stays lit, as the paper says. Every light kind is modelled through its centre; the softness
 //! follows the light's size ([`Softness::FromLight`]) or a constant.
 //!
-//! Modules, one concept each: [`params`] (configuration), [`attenuation`] (`I`, falloffs,
+//! Modules, one concept each: [`params`] (configuration), [`mod@attenuation`] (`I`, falloffs,
 //! lookup table), [`occlusion`] (which texels block), [`width`] (three width-map builders),
 //! [`eval`] (per-receiver shading shared by both backends), [`cpu`] and [`gpu`] (the two
 //! paths; `width.wgsl` and `evaluate.wgsl` beside them).

@@ -3,7 +3,7 @@
 //! texel (two sweeps), then per row the lower envelope of the parabolas `(x - q)² + g(q)²`.
 //! `width.wgsl` runs the same two passes with one invocation per column, then per row.
 //!
-//! On the CPU both passes run in parallel: the column pass over strips of [`STRIP`] columns
+//! On the CPU both passes run in parallel: the column pass over strips of 64 columns
 //! (each sweep walks the strip's rows in order, so memory is read in cache lines), the row pass
 //! over rows with its scratch kept per thread. Rows without a blocked texel are written as 0
 //! without an envelope.
