@@ -200,6 +200,16 @@ impl Ribbon {
         ]
     }
 
+    /// A key no fragment of this ribbon goes below: [`Ribbon::fragment`]'s `c` lies between the
+    /// ends' depths (up to the rounding of its interpolation, which the margin covers) and
+    /// `|p_i| >= 0`. A texel whose key is already at or below it keeps its value.
+    pub fn key_floor(&self) -> f32 {
+        let lo = self.ca.min(self.cb);
+        let margin = 4.0 * f32::EPSILON * (self.ca.abs().max(self.cb.abs()) + 1.0);
+        let f = (lo - margin) * KEY_SCALE;
+        f - f.abs() * 4.0 * f32::EPSILON - f32::MIN_POSITIVE
+    }
+
     /// The fragment at texel centre `q`: `(key, c, p_i)` with `p_i` per texel `ppt`.
     ///
     /// `sign` is the strip's: -1 for the inner strip, +1 for the outer one (a texel on the edge's
@@ -242,9 +252,17 @@ const LANES: usize = 8;
 impl Row<'_> {
     /// Offers `ribbon`'s fragments to texels `x0..=x1`, keeping a strictly smaller key.
     fn fill(mut self, ribbon: &Ribbon, sign: f32, ppt: f32, x0: usize, x1: usize) {
+        let floor = ribbon.key_floor();
         let mut x = x0;
         while x + LANES <= x1 + 1 {
-            self.block::<LANES>(ribbon, sign, ppt, x);
+            // A block whose every key is at or below anything this ribbon can offer keeps
+            // its values: its fragments are not computed.
+            let kmax = self.keys[x..x + LANES]
+                .iter()
+                .fold(f32::MIN, |a, &k| a.max(k));
+            if kmax > floor {
+                self.block::<LANES>(ribbon, sign, ppt, x);
+            }
             x += LANES;
         }
         for x in x..=x1 {

@@ -86,6 +86,37 @@ proptest! {
     }
 
     /// The table: monotone, odd-symmetric about (1/2, 1/2), endpoints 0 and 1, for any size.
+    /// No fragment of a ribbon has a key below its `key_floor` (what lets the CPU rasterizer skip
+    /// blocks whose keys are already at or below it): ends at any depths, texels anywhere, on
+    /// either strip, including the ends themselves and points beyond them.
+    #[test]
+    fn no_fragment_key_is_below_the_ribbon_floor(
+        ax in -50.0f32..50.0, ay in -50.0f32..50.0, bx in -50.0f32..50.0, by in -50.0f32..50.0,
+        ca in 0.0f32..=1.0, cb in 0.0f32..=1.0, qx in -80.0f32..80.0, qy in -80.0f32..80.0,
+        ppt in 0.0f32..0.05, end: bool, outer: bool,
+    ) {
+        use glam::Vec2;
+        let r = penumbra_limit::silhouette::Ribbon {
+            a: Vec2::new(ax, ay),
+            b: Vec2::new(bx, by),
+            ca,
+            cb,
+            out: Vec2::Y,
+            ha: 4.0,
+            hb: 4.0,
+        };
+        let q = match (end, outer) {
+            (true, true) => r.a,
+            (true, false) => r.b,
+            _ => Vec2::new(qx, qy),
+        };
+        let (key, _, _) = r.fragment(q, ppt, if outer { 1.0 } else { -1.0 });
+        // A zero-length edge's fragments are NaN, which never win a texel either.
+        prop_assert!(key.is_nan() || key >= r.key_floor(), "{key} below {}", r.key_floor());
+        // Not vacuous: the floor is within a few ulps of the nearer end's key.
+        prop_assert!(r.key_floor() >= ca.min(cb) * penumbra_limit::silhouette::KEY_SCALE - 1e-5);
+    }
+
     #[test]
     fn table_is_monotone_and_odd_symmetric(n in 2u32..2000, u in 0.0f32..=1.0, which: u8) {
         let profile = match which % 3 {
