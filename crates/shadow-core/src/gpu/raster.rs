@@ -303,8 +303,9 @@ impl GpuRasterizer {
         pass: DepthPass,
     ) -> Result<Map2D<f32>> {
         let (w, h) = (target.width(), target.height());
-        let raw: Vec<f32> = read_texture(ctx, target, layer, wgpu::TextureAspect::DepthOnly, 4)?;
-        let lin = raw.iter().map(|&z| pass.linear_depth(view, z)).collect();
+        let mut lin: Vec<f32> =
+            read_texture(ctx, target, layer, wgpu::TextureAspect::DepthOnly, 4)?;
+        pass.linearize(view, &mut lin);
         Map2D::from_vec(w, h, lin).ok_or_else(|| ShadowError::Gpu("depth readback size".into()))
     }
 

@@ -6,18 +6,21 @@ use shadow_core::raster::{depth_map, gbuffer, rasterize};
 use shadow_core::view::{NO_OCCLUDER, View};
 use shadow_core::{Aabb, Camera};
 
+/// The light view from `light` along `axis` fitted to the box `min..max`.
+fn fitted(light: LightPoint, axis: Vec3, min: Vec3, max: Vec3) -> View {
+    View::fit_light(
+        light,
+        axis,
+        &shadow_core::Coverage::whole(&Aabb { min, max }),
+    )
+}
+
 /// Two triangles sharing a diagonal cover a full-screen quad: with the top-left rule every pixel is
 /// covered exactly once (no gap, no double coverage along the shared edge), whatever the diagonal.
 #[test]
 fn shared_edges_cover_each_pixel_once() {
-    let view = View::fit_light(
-        LightPoint::Direction(Vec3::Y),
-        Vec3::NEG_Y,
-        &shadow_core::Coverage::whole(&Aabb {
-            min: Vec3::new(-1.0, 0.0, -1.0),
-            max: Vec3::new(1.0, 0.0, 1.0),
-        }),
-    );
+    let (min, max) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 0.0, 1.0));
+    let view = fitted(LightPoint::Direction(Vec3::Y), Vec3::NEG_Y, min, max);
     for (k, skew) in [0.0f32, 0.137, -0.31, 0.5].into_iter().enumerate() {
         // A fan of 6 triangles around an off-centre point: every edge is shared by two triangles.
         let c = Vec3::new(skew, 0.0, -skew * 0.7);
@@ -62,14 +65,11 @@ fn perspective_depth_matches_ray_plane_intersection() {
         [q(-20., -20.), q(20., -20.), q(20., 20.)],
         [q(-20., -20.), q(20., 20.), q(-20., 20.)],
     ];
-    let bounds = Aabb {
-        min: Vec3::splat(-3.0),
-        max: Vec3::new(3.0, 1.0, 3.0),
-    };
-    let view = View::fit_light(
+    let view = fitted(
         LightPoint::Position(eye),
         axis,
-        &shadow_core::Coverage::whole(&bounds),
+        Vec3::splat(-3.0),
+        Vec3::new(3.0, 1.0, 3.0),
     );
     let res = 64;
     let map = depth_map(&view, res, &tris);
@@ -107,15 +107,12 @@ fn perspective_depth_matches_ray_plane_intersection() {
 /// Orthographic depth of a tilted plane is affine in the texel centre: exact to 1e-5 of the range.
 #[test]
 fn orthographic_depth_matches_plane() {
-    let bounds = Aabb {
-        min: Vec3::splat(-1.0),
-        max: Vec3::splat(1.0),
-    };
     let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
-    let view = View::fit_light(
+    let view = fitted(
         LightPoint::Direction(dir),
         -dir,
-        &shadow_core::Coverage::whole(&bounds),
+        Vec3::splat(-1.0),
+        Vec3::ONE,
     );
     let normal = Vec3::new(0.1, 1.0, 0.3).normalize();
     let (t, b) = shadow_core::light::orthonormal_basis(normal);
@@ -150,16 +147,9 @@ fn orthographic_depth_matches_plane() {
 #[test]
 fn linearize_is_linear_depth_per_texel() {
     use shadow_core::raster::DepthPass;
-    let bounds = Aabb {
-        min: Vec3::splat(-1.0),
-        max: Vec3::splat(1.0),
-    };
     let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
-    let coverage = shadow_core::Coverage::whole(&bounds);
-    let views = [
-        View::fit_light(LightPoint::Direction(dir), -dir, &coverage),
-        View::fit_light(LightPoint::Position(dir * 4.0), -dir, &coverage),
-    ];
+    let views = [LightPoint::Direction(dir), LightPoint::Position(dir * 4.0)]
+        .map(|light| fitted(light, -dir, Vec3::splat(-1.0), Vec3::ONE));
     let mut z: Vec<f32> = (0..=1000).map(|i| i as f32 / 1000.0).collect();
     z.extend([-0.0, f32::MIN_POSITIVE, 1.0 - f32::EPSILON, 1.5, -1.0]);
     for view in &views {
