@@ -1,6 +1,8 @@
-//! Shadow-ray throughput of the ground truth's tracer (`harness::ground_truth::RayTracer`, over
-//! `obvhs`'s CWBVH) on catalogue scenes, per core, and the same rays written out so that another
-//! tracer can be timed on exactly them (`benches/embree_rays.py` times Embree).
+//! Shadow-ray throughput of the ground truth's tracers on catalogue scenes, per core: ray by ray
+//! through `obvhs`'s CWBVH (`RayTracer::unoccluded`), and each receiver's rays together as the
+//! reference traces them (`OriginRays`: its candidate casters found and binned once, that setup
+//! timed with the rays). The same rays are written out so that another tracer can be timed on
+//! exactly them (`benches/embree_rays.py` times Embree).
 //!
 //! The rays are the reference's kind: from every receiver of the camera's G-buffer that is not
 //! proven lit, `--per-receiver` points of the light drawn uniformly, kept where they reach the
@@ -12,8 +14,9 @@
 //! python3 benches/embree_rays.py rays
 //! ```
 //!
-//! Output: one line per scene and thread count, `scene threads rays M_rays_per_s_per_core
-//! lit_fraction` (the fraction of rays that reach the light unoccluded).
+//! Output: one line per scene, tracer and thread count, `scene tracer threads rays
+//! M_rays_per_s_per_core lit_fraction` (the fraction of rays that reach the light unoccluded),
+//! with `tracer` `cwbvh` (ray by ray) or `origin` (per receiver).
 //! With `--out DIR`, `DIR/<scene>.tris` (f32 x 9 per triangle) and `DIR/<scene>.rays` (f32 x 8
 //! per ray: origin, direction, t_min, t_max), little-endian.
 
@@ -70,17 +73,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir)?;
     }
-    println!("scene threads rays M_rays_per_s_per_core lit_fraction");
+    println!("scene tracer threads rays M_rays_per_s_per_core lit_fraction");
     for name in &args.scenes {
         let spec = build(name)?;
         let (geometry, positions, normals) = scene_receivers(&spec, args.size)?;
         let tracer = RayTracer::new(&geometry.casters);
         let light = spec.light;
         let mut rays = Vec::new();
+        // Receivers traced: position, normal, their rays' range in `rays`.
+        let mut receivers = Vec::new();
         for (i, (&p, &n)) in positions.iter().zip(&normals).enumerate() {
             if !light.reaches_any(p, n) || tracer.proven_lit(&light, p, n, offset) {
                 continue;
             }
+            let first = rays.len();
             let eps = offset * (p.abs().max_element() + 0.01);
             let origin = p + n * eps;
             for k in 0..args.per_receiver {
@@ -109,30 +115,45 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     },
                 });
             }
+            receivers.push((p, n, first..rays.len()));
         }
         if rays.is_empty() {
             println!("{name}: no ray (every receiver proven lit)");
             continue;
         }
+        let cwbvh = |r: &ShadowRay| tracer.unoccluded(r.origin, r.dir, r.t_min, r.t_max);
+        let origin = |(p, n, range): &(Vec3, Vec3, std::ops::Range<usize>)| {
+            let Some(together) = tracer.origin_rays(&light, *p, *n, offset) else {
+                return rays[range.clone()].iter().filter(|r| cwbvh(r)).count();
+            };
+            rays[range.clone()]
+                .iter()
+                .filter(|r| together.unoccluded(r.dir, r.t_min, r.t_max))
+                .count()
+        };
         for threads in [1, rayon::current_num_threads()] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()?;
-            let mut lit = 0;
-            let times: Vec<f64> = (0..args.reps)
-                .map(|_| {
-                    let t = Instant::now();
-                    lit = pool.install(|| {
-                        rays.par_iter()
-                            .filter(|r| tracer.unoccluded(r.origin, r.dir, r.t_min, r.t_max))
-                            .count()
-                    });
-                    t.elapsed().as_secs_f64()
-                })
-                .collect();
-            let rate = rays.len() as f64 / median(&times) / threads as f64 / 1e6;
-            let lit = lit as f64 / rays.len() as f64;
-            println!("{name} {threads} {} {rate:.2} {lit:.4}", rays.len());
+            for tracer in ["cwbvh", "origin"] {
+                let mut lit = 0;
+                let times: Vec<f64> = (0..args.reps)
+                    .map(|_| {
+                        let t = Instant::now();
+                        lit = pool.install(|| match tracer {
+                            "cwbvh" => rays.par_iter().filter(|r| cwbvh(r)).count(),
+                            _ => receivers.par_iter().map(origin).sum(),
+                        });
+                        t.elapsed().as_secs_f64()
+                    })
+                    .collect();
+                let rate = rays.len() as f64 / median(&times) / threads as f64 / 1e6;
+                let lit = lit as f64 / rays.len() as f64;
+                println!(
+                    "{name} {tracer} {threads} {} {rate:.2} {lit:.4}",
+                    rays.len()
+                );
+            }
         }
         if let Some(dir) = &args.out {
             let tris: Vec<f32> = geometry

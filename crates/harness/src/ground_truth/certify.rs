@@ -16,6 +16,9 @@ pub struct Hull {
     points: Vec<Vec3A>,
     edges: Vec<Vec3A>,
     planes: Vec<(Vec3A, f32)>,
+    /// The hull between two parallel planes per axis (axis, low, high): its faces, or for a
+    /// flat hull its plane and in-plane edge normals. [`Hull::near`] tests only these.
+    slabs: Vec<(Vec3A, f32, f32)>,
     lo: Vec3A,
     hi: Vec3A,
     tol: f32,
@@ -60,6 +63,21 @@ impl Hull {
             }
             add(base[0], base[1], base[2]);
         }
+        let mut slabs: Vec<(Vec3A, f32, f32)> = planes
+            .iter()
+            .map(|&(n, d)| (n, f32::NEG_INFINITY, d))
+            .collect();
+        if planes.is_empty() && edges.len() >= 2 {
+            let hn = edges[0].cross(edges[1]).normalize_or_zero();
+            let ring = [points[0], points[1], points[2], points[0]];
+            let axes = std::iter::once(hn).chain(ring.windows(2).map(|w| (w[1] - w[0]).cross(hn)));
+            for axis in axes {
+                if axis.length_squared() > 0.0 {
+                    let (a, b) = Self::range(&points, axis);
+                    slabs.push((axis, a, b));
+                }
+            }
+        }
         let lo = points
             .iter()
             .fold(Vec3A::splat(f32::INFINITY), |m, p| m.min(*p));
@@ -70,6 +88,7 @@ impl Hull {
             points,
             edges,
             planes,
+            slabs,
             lo,
             hi,
             tol,
@@ -139,6 +158,42 @@ impl Hull {
 
     /// Whether no triangle of `bvh` may touch the hull.
     pub fn clear_of(&self, bvh: &Bvh2, tris: &[Triangle]) -> bool {
+        self.visit(bvh, tris, Self::may_touch, |_| false)
+    }
+
+    /// Whether the triangle may touch the hull by a looser, cheaper test than
+    /// [`Hull::may_touch`]: its bounds, and the hull's slabs as separating axes. Every triangle
+    /// that touches the hull passes (a doubt passes too).
+    pub fn near(&self, t: &Triangle) -> bool {
+        let lo = t.v0.min(t.v1).min(t.v2);
+        let hi = t.v0.max(t.v1).max(t.v2);
+        if (lo.cmpgt(self.hi + self.tol) | hi.cmplt(self.lo - self.tol)).any() {
+            return false;
+        }
+        self.slabs.iter().all(|&(n, a, b)| {
+            let (x, y, z) = (n.dot(t.v0), n.dot(t.v1), n.dot(t.v2));
+            x.min(y).min(z) <= b + self.tol && x.max(y).max(z) >= a - self.tol
+        })
+    }
+
+    /// Appends to `out` the index of every triangle of `bvh` that is [`Hull::near`] the hull,
+    /// in the BVH's leaf order.
+    pub fn near_of(&self, bvh: &Bvh2, tris: &[Triangle], out: &mut Vec<u32>) {
+        self.visit(bvh, tris, Self::near, |i| {
+            out.push(i);
+            true
+        });
+    }
+
+    /// Calls `found` with each triangle of `bvh` that passes `test` until it returns false;
+    /// returns whether it never did.
+    fn visit(
+        &self,
+        bvh: &Bvh2,
+        tris: &[Triangle],
+        test: impl Fn(&Self, &Triangle) -> bool,
+        mut found: impl FnMut(u32) -> bool,
+    ) -> bool {
         if bvh.nodes.is_empty() {
             return true;
         }
@@ -152,8 +207,8 @@ impl Hull {
             if node.is_leaf() {
                 let first = node.first_index as usize;
                 for k in first..first + node.prim_count as usize {
-                    let t = &tris[bvh.primitive_indices[k] as usize];
-                    if self.may_touch(t) {
+                    let id = bvh.primitive_indices[k];
+                    if test(self, &tris[id as usize]) && !found(id) {
                         return false;
                     }
                 }

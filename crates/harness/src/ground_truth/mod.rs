@@ -14,8 +14,13 @@
 //!   Where every ray agreed (umbra, or lit without proof) the spread is 0 but a feature smaller
 //!   than the sample spacing may be missed: the stated error is then the 99% upper bound on the
 //!   missed fraction, `-ln(0.01) / rays` (0.29/255 at the default 4096 rays).
+//!
+//! A receiver's rays share its origin, so they are traced together ([`packet`]): the casters near
+//! the hull of the origin and the light are found once and binned by direction, and each ray
+//! tests its bin with `obvhs`'s own triangle test, giving the answer the BVH gives ray by ray.
 
 pub mod certify;
+pub mod packet;
 
 use certify::Hull;
 use glam::{Vec2, Vec3, Vec3A};
@@ -26,6 +31,7 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
 use obvhs::ray::Ray;
 use obvhs::triangle::Triangle;
+use packet::OriginRays;
 use rayon::prelude::*;
 use shadow_core::{Light, LightPoint};
 use std::time::Duration;
@@ -157,25 +163,49 @@ impl RayTracer {
     /// Whether `p`, offset along `n` by `offset` (relative), sees the light sample `q`.
     pub fn sees_with(&self, p: Vec3, n: Vec3, q: LightPoint, offset: f32) -> bool {
         let (o, eps) = Self::origin(p, n, offset);
+        Self::shadow_ray(o, eps, q).is_none_or(|(dir, t_max)| self.unoccluded(o, dir, eps, t_max))
+    }
+
+    /// The shadow ray from origin `o` (offset `eps`) to `q`: unit direction and `t_max`
+    /// (`None` when `q` lies within `eps`: seen).
+    fn shadow_ray(o: Vec3, eps: f32, q: LightPoint) -> Option<(Vec3, f32)> {
         match q {
             LightPoint::Position(x) => {
                 let d = x - o;
                 let len = d.length();
-                if len <= eps {
-                    return true;
-                }
-                self.unoccluded(o, d / len, eps, len * (1.0 - 1e-5))
+                (len > eps).then(|| (d / len, len * (1.0 - 1e-5)))
             }
-            LightPoint::Direction(dir) => self.unoccluded(o, dir, eps, f32::INFINITY),
+            LightPoint::Direction(dir) => Some((dir, f32::INFINITY)),
         }
     }
 
     /// Whether no caster crosses the hull of `p`'s ray origin and the light's outline: then
     /// every light point is visible and `V = 1` exactly.
     pub fn proven_lit(&self, light: &Light, p: Vec3, n: Vec3, offset: f32) -> bool {
-        if self.tris.is_empty() {
-            return true;
-        }
+        self.tris.is_empty()
+            || self
+                .hull_points(light, p, n, offset)
+                .is_some_and(|(o, points)| Hull::new(o, &points).clear_of(&self.bvh2, &self.tris))
+    }
+
+    /// `p`'s shadow rays, traced together ([`OriginRays`]), or `None` where the light's outline
+    /// does not bound them (a distant light's cone too wide, a receiver inside a sphere light).
+    pub fn origin_rays(&self, light: &Light, p: Vec3, n: Vec3, offset: f32) -> Option<OriginRays> {
+        let (o, points) = self.hull_points(light, p, n, offset)?;
+        let (_, eps) = Self::origin(p, n, offset);
+        (points.len() >= 2).then(|| OriginRays::new(o, eps, &points, &self.bvh2, &self.tris))
+    }
+
+    /// `p`'s ray origin and the points whose hull with it holds every shadow ray of `p`: the
+    /// light's outline, or for a distant light its directions carried beyond the casters (`None`
+    /// when its cone is too wide to bound).
+    fn hull_points(
+        &self,
+        light: &Light,
+        p: Vec3,
+        n: Vec3,
+        offset: f32,
+    ) -> Option<(Vec3, Vec<Vec3>)> {
         let (o, _) = Self::origin(p, n, offset);
         let outline = light.outline(p);
         let points: Vec<Vec3> = match outline[0] {
@@ -199,16 +229,19 @@ impl RayTracer {
                 let axis = dirs.iter().copied().sum::<Vec3>().normalize_or_zero();
                 let cos = dirs.iter().fold(1.0f32, |m, d| m.min(d.dot(axis)));
                 if cos < 0.05 {
-                    return false;
+                    return None;
                 }
                 // Every vertex on one plane across the axis, at least `reach` from `o`.
                 dirs.iter().map(|d| o + *d * (reach / cos)).collect()
             }
         };
-        Hull::new(o, &points).clear_of(&self.bvh2, &self.tris)
+        Some((o, points))
     }
 
-    /// One stratified estimate over `side²` strata: (visible weight, reaching weight, reaching samples).
+    /// One stratified estimate over `side²` strata: (visible weight, reaching weight, reaching
+    /// samples). `rays` traces `p`'s rays together where it is given; every answer is the one
+    /// [`RayTracer::sees_with`] gives.
+    #[allow(clippy::too_many_arguments)]
     fn estimate(
         &self,
         light: &Light,
@@ -217,7 +250,12 @@ impl RayTracer {
         side: u32,
         seed: u64,
         offset: f32,
+        rays: Option<&OriginRays>,
     ) -> (f64, f64, u64) {
+        let sees = |q: LightPoint| match rays {
+            Some(rays) => rays.sees(q),
+            None => self.sees_with(p, n, q, offset),
+        };
         let (mut sum_w, mut sum_v, mut count_reach) = (0.0f64, 0.0f64, 0u64);
         let count = side * side;
         for k in 0..count {
@@ -232,7 +270,7 @@ impl RayTracer {
             }
             sum_w += w as f64;
             count_reach += 1;
-            if self.sees_with(p, n, q, offset) {
+            if sees(q) {
                 sum_v += w as f64;
             }
         }
@@ -317,6 +355,7 @@ impl RayTracer {
         let side = ((settings.strata_side as f32 / f.sqrt()).ceil() as u32)
             .clamp(settings.strata_side, 4 * settings.strata_side);
         let k = settings.replicates.max(2);
+        let rays = self.origin_rays(light, p, n, offset);
         let reps: Vec<(f64, f64, u64)> = (0..k)
             .map(|r| {
                 self.estimate(
@@ -326,6 +365,7 @@ impl RayTracer {
                     side,
                     hash(seed.wrapping_mul(31).wrapping_add(r as u64 + 1)),
                     offset,
+                    rays.as_ref(),
                 )
             })
             .collect();

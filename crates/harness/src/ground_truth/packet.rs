@@ -1,0 +1,286 @@
+//! One receiver's shadow rays, traced together. Every ray of a receiver leaves the same origin
+//! towards the light, so the casters that may block any of them are found once
+//! ([`Hull::near_of`]: those near the hull of the origin and the light's outline) and
+//! binned by the directions they cover seen from the origin: a grid over the central projection
+//! onto a plane across the light's axis. A ray then tests only its cell's triangles, eight at a
+//! time.
+//!
+//! The test is `obvhs`'s own: [`Triangle::intersect`] (Möller-Trumbore) and the any-hit rule of
+//! [`obvhs::cwbvh::CwBvh::ray_traverse_miss`] (`t_min <= t <= t_max` and `t < t_max`), operation
+//! for operation in the same order, lane by lane, so a ray's answer is the one the BVH gives
+//! ([`RayTracer::unoccluded`]); a test holds the two equal on every catalogue scene.
+//!
+//! Binning is conservative: a triangle goes to every cell its projected bounds (widened by a
+//! margin far above rounding) touch, and to every cell when part of it lies behind the origin;
+//! a ray whose projection is undefined tests every candidate.
+
+use super::RayTracer;
+use super::certify::Hull;
+use glam::{Vec3, Vec3A};
+use obvhs::bvh2::Bvh2;
+use obvhs::triangle::Triangle;
+use shadow_core::LightPoint;
+
+/// Triangles per block: the lanes one test runs over.
+const LANES: usize = 8;
+
+/// Most cells per side of the direction grid.
+const MAX_SIDE: usize = 16;
+
+/// Eight triangles in the form the intersection needs, lane by lane: `c = v0 - origin`,
+/// `e1 = v0 - v1`, `e2 = v2 - v0`, `n = e1 x e2`, `nc = n . c`. Unused lanes have `nc = NaN`,
+/// which no comparison accepts.
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+struct Block {
+    c: [[f32; LANES]; 3],
+    e1: [[f32; LANES]; 3],
+    e2: [[f32; LANES]; 3],
+    n: [[f32; LANES]; 3],
+    nc: [f32; LANES],
+}
+
+impl Block {
+    const EMPTY: Block = Block {
+        c: [[0.0; LANES]; 3],
+        e1: [[0.0; LANES]; 3],
+        e2: [[0.0; LANES]; 3],
+        n: [[0.0; LANES]; 3],
+        nc: [f32::NAN; LANES],
+    };
+
+    /// Whether the ray from the origin along `d` hits a triangle of the block within
+    /// `[t_min, t_max]` and before `t_max` ([`Triangle::intersect`] lane by lane).
+    #[inline(always)]
+    fn any_hit(&self, d: [f32; 3], t_min: f32, t_max: f32) -> bool {
+        let mut hit = [0u32; LANES];
+        for (l, hit) in hit.iter_mut().enumerate() {
+            let (cx, cy, cz) = (self.c[0][l], self.c[1][l], self.c[2][l]);
+            // r = d x c
+            let rx = d[1] * cz - d[2] * cy;
+            let ry = d[2] * cx - d[0] * cz;
+            let rz = d[0] * cy - d[1] * cx;
+            let det = self.n[0][l] * d[0] + self.n[1][l] * d[1] + self.n[2][l] * d[2];
+            let inv_det = 1.0 / det;
+            let u = (rx * self.e2[0][l] + ry * self.e2[1][l] + rz * self.e2[2][l]) * inv_det;
+            let v = (rx * self.e1[0][l] + ry * self.e1[1][l] + rz * self.e1[2][l]) * inv_det;
+            let w = 1.0 - u - v;
+            let inside = (u.to_bits() | v.to_bits() | w.to_bits()) & 0x8000_0000 == 0;
+            let t = self.nc[l] * inv_det;
+            let ok = inv_det != 0.0 && inside && t >= t_min && t <= t_max && t < t_max;
+            *hit = ok as u32;
+        }
+        hit.iter().fold(0, |a, &h| a | h) != 0
+    }
+}
+
+/// One triangle seen from the origin, in a block's terms, with `obvhs`'s arithmetic.
+struct Lanes {
+    c: Vec3A,
+    e1: Vec3A,
+    e2: Vec3A,
+    n: Vec3A,
+    nc: f32,
+}
+
+impl Lanes {
+    fn new(t: &Triangle, origin: Vec3A) -> Self {
+        let e1 = t.v0 - t.v1;
+        let e2 = t.v2 - t.v0;
+        let n = e1.cross(e2);
+        let c = t.v0 - origin;
+        Lanes {
+            c,
+            e1,
+            e2,
+            n,
+            nc: n.dot(c),
+        }
+    }
+
+    /// Writes the triangle into lane `l` of `block`.
+    fn put(&self, block: &mut Block, l: usize) {
+        for k in 0..3 {
+            block.c[k][l] = self.c[k];
+            block.e1[k][l] = self.e1[k];
+            block.e2[k][l] = self.e2[k];
+            block.n[k][l] = self.n[k];
+        }
+        block.nc[l] = self.nc;
+    }
+}
+
+/// The shadow rays of one origin: its candidate casters, binned by direction.
+pub struct OriginRays {
+    /// The rays' origin and their `t_min` (the receiver's offset).
+    origin: Vec3,
+    eps: f32,
+    /// Light axis and the two directions across it (orthonormal).
+    axis: Vec3,
+    across: [Vec3; 2],
+    /// Grid: lower corner, cells per unit, cells per side.
+    lo: [f32; 2],
+    scale: [f32; 2],
+    side: usize,
+    /// Blocks of cell `k` (row-major, `side²` cells, then one cell holding every candidate) are
+    /// `blocks[first[k]..first[k + 1]]`.
+    first: Vec<u32>,
+    blocks: Vec<Block>,
+}
+
+impl OriginRays {
+    /// The rays from `origin` (a receiver's, offset by `eps`, which is also their `t_min`) to
+    /// the points of `outline` (positions whose convex hull holds every light point): the casters
+    /// of `tris` near their hull, found through `bvh`, binned.
+    pub fn new(origin: Vec3, eps: f32, outline: &[Vec3], bvh: &Bvh2, tris: &[Triangle]) -> Self {
+        let mut ids = Vec::new();
+        Hull::new(origin, outline).near_of(bvh, tris, &mut ids);
+        let o = Vec3A::from(origin);
+        // The axis: towards the outline's centroid; a grid only where every outline point lies
+        // well in front (then so does every light point, a convex combination of them).
+        let centroid = outline.iter().copied().sum::<Vec3>() / outline.len() as f32;
+        let axis = (centroid - origin).normalize_or_zero();
+        let front = outline.iter().all(|&q| {
+            let w = q - origin;
+            axis.dot(w) > 0.1 * w.length()
+        });
+        let side = if front && axis != Vec3::ZERO {
+            (((ids.len() as f32).sqrt() / 1.5).ceil() as usize).clamp(1, MAX_SIDE)
+        } else {
+            1
+        };
+        let (t, b) = axis.any_orthonormal_pair();
+        let mut rays = OriginRays {
+            origin,
+            eps,
+            axis,
+            across: [t, b],
+            lo: [0.0; 2],
+            scale: [0.0; 2],
+            side,
+            first: Vec::new(),
+            blocks: Vec::new(),
+        };
+        // Cell ranges of every candidate (inclusive), or `None` for every cell.
+        let ranges: Vec<Option<[usize; 4]>> = if side > 1 {
+            let mut lo = [f32::INFINITY; 2];
+            let mut hi = [f32::NEG_INFINITY; 2];
+            for &q in outline {
+                let p = rays.project(q - origin).unwrap_or([0.0; 2]);
+                for k in 0..2 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            for k in 0..2 {
+                let extent = (hi[k] - lo[k]).max(1e-6);
+                rays.lo[k] = lo[k];
+                rays.scale[k] = side as f32 / extent;
+            }
+            ids.iter()
+                .map(|&i| {
+                    let t = &tris[i as usize];
+                    let mut lo = [f32::INFINITY; 2];
+                    let mut hi = [f32::NEG_INFINITY; 2];
+                    for v in [t.v0, t.v1, t.v2] {
+                        let w = Vec3::from(v) - origin;
+                        if rays.axis.dot(w) <= 1e-6 * w.length() {
+                            return None;
+                        }
+                        let p = rays.project(w)?;
+                        for k in 0..2 {
+                            lo[k] = lo[k].min(p[k]);
+                            hi[k] = hi[k].max(p[k]);
+                        }
+                    }
+                    let mut r = [0; 4];
+                    for k in 0..2 {
+                        let margin = 1e-3 * (hi[k] - lo[k]) + 1e-4 * lo[k].abs().max(hi[k].abs());
+                        r[2 * k] = rays.cell(k, lo[k] - margin);
+                        r[2 * k + 1] = rays.cell(k, hi[k] + margin);
+                    }
+                    Some(r)
+                })
+                .collect()
+        } else {
+            vec![None; ids.len()]
+        };
+        // Each cell's triangles, then the catch-all cell's (every candidate), packed into
+        // blocks of `LANES`: count, place, fill.
+        let cells = side * side;
+        let covered = |r: &Option<[usize; 4]>, f: &mut dyn FnMut(usize)| {
+            match *r {
+                Some([x0, x1, y0, y1]) => {
+                    for y in y0..=y1 {
+                        for x in x0..=x1 {
+                            f(y * side + x);
+                        }
+                    }
+                }
+                None => (0..cells).for_each(&mut *f),
+            }
+            f(cells);
+        };
+        let mut count = vec![0u32; cells + 1];
+        for r in &ranges {
+            covered(r, &mut |k| count[k] += 1);
+        }
+        rays.first = Vec::with_capacity(cells + 2);
+        let mut total = 0u32;
+        for &c in &count {
+            rays.first.push(total);
+            total += c.div_ceil(LANES as u32);
+        }
+        rays.first.push(total);
+        rays.blocks = vec![Block::EMPTY; total as usize];
+        let mut fill = vec![0u32; cells + 1];
+        for (&i, r) in ids.iter().zip(&ranges) {
+            let lanes = Lanes::new(&tris[i as usize], o);
+            covered(r, &mut |k| {
+                let at = fill[k] as usize;
+                fill[k] += 1;
+                let block = &mut rays.blocks[rays.first[k] as usize + at / LANES];
+                lanes.put(block, at % LANES);
+            });
+        }
+        rays
+    }
+
+    /// Central projection of the offset `w` from the origin onto the plane one unit along the
+    /// axis (`None` when it does not lie in front).
+    fn project(&self, w: Vec3) -> Option<[f32; 2]> {
+        let s = self.axis.dot(w);
+        let p = [self.across[0].dot(w) / s, self.across[1].dot(w) / s];
+        (s > 0.0 && p[0].is_finite() && p[1].is_finite()).then_some(p)
+    }
+
+    /// The grid column (`k = 0`) or row (`k = 1`) of coordinate `x`, clamped to the grid.
+    fn cell(&self, k: usize, x: f32) -> usize {
+        // The saturating cast floors a non-negative value and sends NaN and negatives to 0.
+        (((x - self.lo[k]) * self.scale[k]) as usize).min(self.side - 1)
+    }
+
+    /// Whether the origin sees the light point `q`: the answer of
+    /// [`RayTracer::sees_with`] for the receiver these rays were made for.
+    pub fn sees(&self, q: LightPoint) -> bool {
+        RayTracer::shadow_ray(self.origin, self.eps, q)
+            .is_none_or(|(dir, t_max)| self.unoccluded(dir, self.eps, t_max))
+    }
+
+    /// Whether the ray from the origin along unit `dir` hits no candidate within
+    /// `[t_min, t_max)`: the answer of [`RayTracer::unoccluded`] from the origin, for a ray
+    /// that stays in the hull of the origin and the outline.
+    pub fn unoccluded(&self, dir: Vec3, t_min: f32, t_max: f32) -> bool {
+        let cell = if self.side > 1 {
+            match self.project(dir) {
+                Some(p) => self.cell(1, p[1]) * self.side + self.cell(0, p[0]),
+                None => self.side * self.side,
+            }
+        } else {
+            0
+        };
+        let blocks = &self.blocks[self.first[cell] as usize..self.first[cell + 1] as usize];
+        let d = dir.to_array();
+        !blocks.iter().any(|b| b.any_hit(d, t_min, t_max))
+    }
+}
