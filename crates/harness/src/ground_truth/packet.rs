@@ -118,11 +118,11 @@ pub struct OriginRays {
     /// Light axis and the two directions across it (orthonormal).
     axis: Vec3,
     across: [Vec3; 2],
-    /// Grid: lower corner, cells per unit, cells per side.
+    /// Grid: lower corner, cells per unit, cells per side (1 and 1: no grid).
     lo: [f32; 2],
     scale: [f32; 2],
-    side: usize,
-    /// Blocks of cell `k` (row-major, `side²` cells, then one cell holding every candidate) are
+    side: [usize; 2],
+    /// Blocks of cell `k` (row-major, then one cell holding every candidate) are
     /// `blocks[first[k]..first[k + 1]]`.
     first: Vec<u32>,
     blocks: Vec<Block>,
@@ -157,7 +157,7 @@ impl OriginRays {
             across: [t, b],
             lo: [0.0; 2],
             scale: [0.0; 2],
-            side,
+            side: [1; 2],
             first: Vec::new(),
             blocks: Vec::new(),
         };
@@ -172,10 +172,13 @@ impl OriginRays {
                     hi[k] = hi[k].max(p[k]);
                 }
             }
+            // A segment light projects to a line: one cell across it.
+            let widest = (hi[0] - lo[0]).max(hi[1] - lo[1]);
             for k in 0..2 {
-                let extent = (hi[k] - lo[k]).max(1e-6);
+                let extent = hi[k] - lo[k];
+                rays.side[k] = if extent > 0.05 * widest { side } else { 1 };
                 rays.lo[k] = lo[k];
-                rays.scale[k] = side as f32 / extent;
+                rays.scale[k] = rays.side[k] as f32 / extent.max(1e-6);
             }
             ids.iter()
                 .map(|&i| {
@@ -207,13 +210,14 @@ impl OriginRays {
         };
         // Each cell's triangles, then the catch-all cell's (every candidate), packed into
         // blocks of `LANES`: count, place, fill.
-        let cells = side * side;
+        let cells = rays.side[0] * rays.side[1];
+        let columns = rays.side[0];
         let covered = |r: &Option<[usize; 4]>, f: &mut dyn FnMut(usize)| {
             match *r {
                 Some([x0, x1, y0, y1]) => {
                     for y in y0..=y1 {
                         for x in x0..=x1 {
-                            f(y * side + x);
+                            f(y * columns + x);
                         }
                     }
                 }
@@ -250,14 +254,15 @@ impl OriginRays {
     /// axis (`None` when it does not lie in front).
     fn project(&self, w: Vec3) -> Option<[f32; 2]> {
         let s = self.axis.dot(w);
-        let p = [self.across[0].dot(w) / s, self.across[1].dot(w) / s];
+        let r = 1.0 / s;
+        let p = [self.across[0].dot(w) * r, self.across[1].dot(w) * r];
         (s > 0.0 && p[0].is_finite() && p[1].is_finite()).then_some(p)
     }
 
     /// The grid column (`k = 0`) or row (`k = 1`) of coordinate `x`, clamped to the grid.
     fn cell(&self, k: usize, x: f32) -> usize {
         // The saturating cast floors a non-negative value and sends NaN and negatives to 0.
-        (((x - self.lo[k]) * self.scale[k]) as usize).min(self.side - 1)
+        (((x - self.lo[k]) * self.scale[k]) as usize).min(self.side[k] - 1)
     }
 
     /// Whether the origin sees the light point `q`: the answer of
@@ -271,10 +276,11 @@ impl OriginRays {
     /// `[t_min, t_max)`: the answer of [`RayTracer::unoccluded`] from the origin, for a ray
     /// that stays in the hull of the origin and the outline.
     pub fn unoccluded(&self, dir: Vec3, t_min: f32, t_max: f32) -> bool {
-        let cell = if self.side > 1 {
+        let cells = self.side[0] * self.side[1];
+        let cell = if cells > 1 {
             match self.project(dir) {
-                Some(p) => self.cell(1, p[1]) * self.side + self.cell(0, p[0]),
-                None => self.side * self.side,
+                Some(p) => self.cell(1, p[1]) * self.side[0] + self.cell(0, p[0]),
+                None => cells,
             }
         } else {
             0
