@@ -533,8 +533,9 @@ pub fn depth_map_filtered(
 }
 
 /// Rasterizes `tris` through `view` with no depth test: every covered fragment calls
-/// `update(texel, linear_depth)` in submission order, starting from `empty` (as a render pass
-/// with an order-independent blend does, e.g. `Max` into slice masks).
+/// `update(texel, z)` with its NDC depth `z` (reversed Z; [`View::linear_depth_from_ndc`] turns
+/// it into linear depth) in submission order, starting from `empty` (as a render pass with an
+/// order-independent blend does, e.g. `Max` into slice masks).
 pub fn rasterize_fold<T: Clone + Send + Sync + 'static>(
     view: &View,
     resolution: u32,
@@ -549,7 +550,7 @@ pub fn rasterize_fold<T: Clone + Send + Sync + 'static>(
         resolution,
         out.data_mut(),
         &empty,
-        |texel, _, _, z, _, _| update(texel, view.linear_depth_from_ndc(z)),
+        |texel, _, _, z, _, _| update(texel, z),
         |_| {},
     );
     out
