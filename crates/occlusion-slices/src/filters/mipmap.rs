@@ -44,27 +44,15 @@ impl Mipmap {
     /// missing row or column beyond an odd side counts as empty), each count stored as
     /// [`unorm8_pow2`] of its block's area: the same bits as counting each block directly.
     fn build<T: Sync>(res: u32, cells: &[T], bit: impl Fn(&T) -> u32 + Sync) -> Mipmap {
-        let n = res as usize;
-        let mut level0 = shadow_core::pool::overwrite(n * n, 0u8);
-        level0
-            .par_chunks_mut(n.max(1))
-            .zip(cells.par_chunks(n.max(1)))
-            .for_each(|(out, row)| {
-                for (o, c) in out.iter_mut().zip(row) {
-                    *o = (bit(c) * 255) as u8;
-                }
-            });
+        let (level0, mut counts) = level0_and_counts(res as usize, cells, bit);
         let mut levels = vec![level0];
-        let mut counts: Vec<u32> = Vec::new();
         for l in 1..level_count(res) {
             let (src, dst) = (mip_size(res, l - 1) as usize, mip_size(res, l) as usize);
-            let next = if l == 1 {
-                sum_blocks(src, dst, |y| &cells[y * src..(y + 1) * src], &bit)
-            } else {
+            if l > 1 {
                 let c = &counts;
-                sum_blocks(src, dst, |y| &c[y * src..(y + 1) * src], |&c| c)
-            };
-            shadow_core::pool::give(std::mem::replace(&mut counts, next));
+                let next = sum_blocks(src, dst, |y| &c[y * src..(y + 1) * src], |&c| c);
+                shadow_core::pool::give(std::mem::replace(&mut counts, next));
+            }
             let mut out = shadow_core::pool::overwrite(dst * dst, 0u8);
             out.par_iter_mut()
                 .zip(counts.par_iter())
@@ -112,6 +100,43 @@ pub fn mip_mean(c: Vec2, size: f32, levels: u32, texel: impl Fn(u32, i64, i64) -
     let v0 = level_bilinear(c, l, &texel);
     let v1 = level_bilinear(c, l + 1, &texel);
     v0 + (v1 - v0) * t
+}
+
+/// Level 0 of an `n x n` slice (each cell's bit as 0 or 255) and the counts of level 1 (the
+/// [`sum_blocks`] of the bits), in one pass over the cells: each pair of rows is read once for
+/// both.
+fn level0_and_counts<T: Sync>(
+    n: usize,
+    cells: &[T],
+    bit: impl Fn(&T) -> u32 + Sync,
+) -> (Vec<u8>, Vec<u32>) {
+    let half = n.div_ceil(2);
+    let mut level0 = shadow_core::pool::overwrite(n * n, 0u8);
+    let mut counts = shadow_core::pool::overwrite(half * half, 0u32);
+    level0
+        .par_chunks_mut(2 * n.max(1))
+        .zip(counts.par_chunks_mut(half.max(1)))
+        .enumerate()
+        .for_each(|(y, (rows, out))| {
+            out.fill(0);
+            for (r, row) in rows.chunks_mut(n).enumerate() {
+                let sy = 2 * y + r;
+                let src = &cells[sy * n..(sy + 1) * n];
+                let mut pairs = row.chunks_exact_mut(2).zip(src.chunks_exact(2));
+                for (o, (b, c)) in out.iter_mut().zip(&mut pairs) {
+                    let (b0, b1) = (bit(&c[0]), bit(&c[1]));
+                    b[0] = (b0 * 255) as u8;
+                    b[1] = (b1 * 255) as u8;
+                    *o += b0 + b1;
+                }
+                if n % 2 == 1 {
+                    let b = bit(&src[n - 1]);
+                    row[n - 1] = (b * 255) as u8;
+                    out[half - 1] += b;
+                }
+            }
+        });
+    (level0, counts)
 }
 
 /// The `dst x dst` sums of the 2x2 blocks of a `src x src` grid whose row `y` is `row(y)`, each
