@@ -80,7 +80,7 @@ proptest! {
     /// Every mipmap level holds each block's exact count rounded to 8 bits (the pyramid of 2x2
     /// sums equals counting each block, clipped to the slice, in the summed-area table), and a
     /// slice packed as bit `k` of the slicing masks builds the same table and pyramid as the
-    /// slice alone.
+    /// slice alone, whether built on its own or together with its neighbouring slices.
     #[test]
     fn mipmap_levels_are_rounded_block_counts(
         res in 1u32..70,
@@ -106,6 +106,10 @@ proptest! {
         let masks: Vec<u32> = mask.iter().map(|&b| ((b as u32) << k) | ((!b as u32) << other)).collect();
         prop_assert!(Sat::from_masks(res, &masks, k) == sat);
         prop_assert!(Mipmap::from_masks(res, &masks, k) == mm);
+        let (lo, hi) = (k.min(other), k.max(other));
+        let together = Mipmap::from_masks_together(res, &masks, lo..hi + 1);
+        prop_assert!(together[(k - lo) as usize] == mm);
+        prop_assert!(together[(other - lo) as usize] == Mipmap::from_masks(res, &masks, other));
     }
 
     /// With fractional corners the SAT mean is the exact integral of the piecewise-constant

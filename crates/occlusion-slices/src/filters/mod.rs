@@ -86,7 +86,16 @@ impl Filtered {
                     .collect(),
             ),
             Filter::Mipmap => {
-                Filtered::Mipmap(each.map(|k| Mipmap::from_masks(res, masks, k)).collect())
+                // One group of slices per thread, each group's bases built together.
+                let group = slices.div_ceil(rayon::current_num_threads() as u32).max(1);
+                let groups: Vec<Vec<Mipmap>> = (0..slices.div_ceil(group))
+                    .into_par_iter()
+                    .map(|g| {
+                        let ks = g * group..((g + 1) * group).min(slices);
+                        Mipmap::from_masks_together(res, masks, ks)
+                    })
+                    .collect();
+                Filtered::Mipmap(groups.into_iter().flatten().collect())
             }
         }
     }
