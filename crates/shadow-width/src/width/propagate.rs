@@ -94,9 +94,16 @@ pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
 /// The propagated width map of `mask`, capped at [`super::cap`].
 pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
     let res = mask.width();
-    let mut a = shadow_core::pool::take(mask.data().len());
-    a.extend(mask.data().iter().map(|&b| if b { UNREACHED } else { 0.0 }));
-    // Each pass writes every texel of its destination: no clearing pass.
+    let rows = (res as usize).max(1);
+    // The start and each pass write every texel of their destination: no clearing pass.
+    let mut a = shadow_core::pool::overwrite(mask.data().len(), 0.0f32);
+    a.par_chunks_mut(rows)
+        .zip(mask.data().par_chunks(rows))
+        .for_each(|(a, m)| {
+            for (a, &b) in a.iter_mut().zip(m) {
+                *a = if b { UNREACHED } else { 0.0 };
+            }
+        });
     let mut b = shadow_core::pool::overwrite(a.len(), 0.0f32);
     for step in steps(res) {
         pass(&a, &mut b, res, step, n);
@@ -104,6 +111,7 @@ pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
     }
     shadow_core::pool::give(b);
     let cap = super::cap(res);
-    a.iter_mut().for_each(|w| *w = w.min(cap));
+    a.par_chunks_mut(rows)
+        .for_each(|row| row.iter_mut().for_each(|w| *w = w.min(cap)));
     Map2D::from_vec(res, mask.height(), a).unwrap_or_else(|| Map2D::new(0, 0, 0.0))
 }
