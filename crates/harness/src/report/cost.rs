@@ -144,8 +144,9 @@ pub fn generation_cause(configuration: &str) -> &'static str {
              2048, from a 16 MiB summed-area table per slice"
         }
         ("occlusion-slices", "mipmap") => {
-            "a pyramid of exact counts per slice: a full-resolution 8-bit level 0 and level 1 \
-             summed from the 16 MiB slice masks, per slice: the cost grows with the slice count"
+            "a pyramid of exact counts per slice: a full-resolution 8-bit level 0 (4 MiB at \
+             2048) and every coarser level per slice, the 16 MiB slice masks read once per group \
+             of slices: the cost grows with the slice count"
         }
         ("occlusion-slices", _) => {
             "one (side + 1)² u32 summed-area table per slice (16 MiB each at 2048): the cost \
