@@ -27,13 +27,13 @@ pub struct Measured {
 
 /// Generates and evaluates `t` on `p` at `res`, `reps` times or until
 /// [`REP_BUDGET_S`] is spent. On the GPU the scene is uploaded once, untimed
-/// ([`GpuScene`]), and generation is timed from it; one unmeasured warm-up run comes first when
-/// `warm_up` is set (pipelines compile on first use and are cached per device). On the CPU one
-/// unmeasured generation always comes first: the configuration before may have left storage of
-/// other sizes in the pool, and a first generation that faults in fresh pages measured 3-8x its
-/// steady time (occlusion-slices sat-8 on `torus` at 2048²: 152 ms, then 18-22 ms). Maps are
-/// recycled after each generation ([`DynTechnique::recycle`]), so every timed repetition reuses
-/// their textures and pages as a renderer's frames do.
+/// ([`GpuScene`]), and generation is timed from it. One unmeasured generation always comes
+/// first: the configuration before may have left storage of other sizes in the pools, and a
+/// first CPU generation that faults in fresh pages measured 3-8x its steady time
+/// (occlusion-slices sat-8 on `torus` at 2048²: 152 ms, then 18-22 ms). With `warm_up` (a
+/// technique's first GPU use) that run evaluates too: pipelines compile on first use and are
+/// cached per device. Maps are recycled after each generation ([`DynTechnique::recycle`]), so
+/// every timed repetition reuses their textures and pages as a renderer's frames do.
 pub fn measure(
     t: &dyn DynTechnique,
     backend: Backend,
@@ -52,14 +52,13 @@ pub fn measure(
         Some((g, s)) => t.generate_gpu_on(g, s, light, res),
         None => t.generate(backend, gpu, &p.geometry, light, res),
     };
-    if backend == Backend::Gpu && warm_up {
-        let maps = generate()?;
+    // One unmeasured generation puts storage of this size in the pools; on a technique's first
+    // GPU use its evaluation runs too, compiling its pipelines.
+    let maps = generate()?;
+    if warm_up {
         t.evaluate(gpu, &maps, &p.receivers())?;
-        t.recycle(gpu, maps);
-    } else if backend == Backend::Cpu {
-        let maps = generate()?;
-        t.recycle(gpu, maps);
     }
+    t.recycle(gpu, maps);
     let (mut gen_t, mut eval_t) = (Vec::new(), Vec::new());
     let start = Instant::now();
     let mut v = Vec::new();

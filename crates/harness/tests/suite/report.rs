@@ -300,8 +300,8 @@ fn report_recasts_hard_cases_and_measures_flicker() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The report times a renderer's steady state: on the CPU one unmeasured generation precedes the
-/// timed ones, since a first generation that faults in fresh pages measured 3-8x the steady
+/// The report times a renderer's steady state: one unmeasured generation precedes the timed
+/// ones, since a first CPU generation that faults in fresh pages measured 3-8x the steady
 /// time (occlusion-slices sat-8 on `torus` at 2048²: 152 ms, then 18-22 ms) and configurations
 /// slower than the repetition budget are timed once. One timed repetition therefore costs two
 /// generations and one evaluation.
