@@ -239,23 +239,15 @@ impl RayTracer {
     }
 
     /// One stratified estimate over `side²` strata: (visible weight, reaching weight, reaching
-    /// samples). `rays` traces `p`'s rays together where it is given; every answer is the one
-    /// [`RayTracer::sees_with`] gives.
-    #[allow(clippy::too_many_arguments)]
+    /// samples); `sees(q)` says whether `p` sees the light point `q`.
     fn estimate(
-        &self,
         light: &Light,
         p: Vec3,
         n: Vec3,
         side: u32,
         seed: u64,
-        offset: f32,
-        rays: Option<&OriginRays>,
+        sees: impl Fn(LightPoint) -> bool,
     ) -> (f64, f64, u64) {
-        let sees = |q: LightPoint| match rays {
-            Some(rays) => rays.sees(q),
-            None => self.sees_with(p, n, q, offset),
-        };
         let (mut sum_w, mut sum_v, mut count_reach) = (0.0f64, 0.0f64, 0u64);
         let count = side * side;
         for k in 0..count {
@@ -355,18 +347,17 @@ impl RayTracer {
         let side = ((settings.strata_side as f32 / f.sqrt()).ceil() as u32)
             .clamp(settings.strata_side, 4 * settings.strata_side);
         let k = settings.replicates.max(2);
+        // Every answer is the one `sees_with` gives; traced together where the outline bounds
+        // the rays.
         let rays = self.origin_rays(light, p, n, offset);
+        let sees = |q: LightPoint| match &rays {
+            Some(rays) => rays.sees(q),
+            None => self.sees_with(p, n, q, offset),
+        };
         let reps: Vec<(f64, f64, u64)> = (0..k)
             .map(|r| {
-                self.estimate(
-                    light,
-                    p,
-                    n,
-                    side,
-                    hash(seed.wrapping_mul(31).wrapping_add(r as u64 + 1)),
-                    offset,
-                    rays.as_ref(),
-                )
+                let seed = hash(seed.wrapping_mul(31).wrapping_add(r as u64 + 1));
+                Self::estimate(light, p, n, side, seed, sees)
             })
             .collect();
         let (sv, sw, count) = reps

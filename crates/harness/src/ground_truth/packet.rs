@@ -8,7 +8,11 @@
 //! The test is `obvhs`'s own: [`Triangle::intersect`] (Möller-Trumbore) and the any-hit rule of
 //! [`obvhs::cwbvh::CwBvh::ray_traverse_miss`] (`t_min <= t <= t_max` and `t < t_max`), operation
 //! for operation in the same order, lane by lane, so a ray's answer is the one the BVH gives
-//! ([`RayTracer::unoccluded`]); a test holds the two equal on every catalogue scene.
+//! ([`RayTracer::unoccluded`]); a test holds the two equal on every catalogue scene. Two ways
+//! they could part, neither seen: the BVH never tests a triangle whose box a ray misses, which a
+//! hit just outside the box by rounding would need; and a build with FMA (`-C
+//! target-cpu=native`) makes `glam` fuse the BVH path's cross product `d x c`, which the lanes
+//! compute unfused.
 //!
 //! Binning is conservative: a triangle goes to every cell its projected bounds (widened by a
 //! margin far above rounding) touch, and to every cell when part of it lies behind the origin;
