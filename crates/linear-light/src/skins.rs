@@ -90,24 +90,38 @@ impl Unproject {
 /// (empty texels have `w = 0`). A neighbour beyond the border is extrapolated linearly from the
 /// other side (`2 w - w_opposite`), so a plane stays free of edges up to the border.
 pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
-    let (w, h) = (depth.width() as i64, depth.height() as i64);
-    let inv = |x: i64, y: i64| {
-        let z = *depth.get_clamped(x, y);
-        if z >= NO_OCCLUDER { 0.0 } else { 1.0 / z }
-    };
-    let data = (0..w * h)
-        .into_par_iter()
-        .map(|i| {
-            let (x, y) = (i % w, i / w);
-            let c = inv(x, y);
+    let (w, h) = (depth.width() as usize, depth.height() as usize);
+    let rows = w.max(1);
+    // `w = 1/z` once per texel (its five readers share it).
+    let mut inv = shadow_core::pool::overwrite(w * h, 0.0f32);
+    inv.par_chunks_mut(rows)
+        .zip(depth.data().par_chunks(rows))
+        .for_each(|(o, d)| {
+            for (o, &z) in o.iter_mut().zip(d) {
+                *o = if z >= NO_OCCLUDER { 0.0 } else { 1.0 / z };
+            }
+        });
+    let mut data = shadow_core::pool::overwrite(w * h, false);
+    data.par_chunks_mut(rows).enumerate().for_each(|(y, row)| {
+        let at = |x: usize, y: usize| inv[y * w + x];
+        for (x, e) in row.iter_mut().enumerate() {
+            let c = at(x, y);
             // Both neighbours inside: their sum; one missing: extrapolated, the sum is 2c.
-            let pair = |inside: bool, lo: f32, hi: f32| if inside { lo + hi } else { 2.0 * c };
-            let sx = pair(x > 0 && x + 1 < w, inv(x - 1, y), inv(x + 1, y));
-            let sy = pair(y > 0 && y + 1 < h, inv(x, y - 1), inv(x, y + 1));
+            let sx = if x > 0 && x + 1 < w {
+                at(x - 1, y) + at(x + 1, y)
+            } else {
+                2.0 * c
+            };
+            let sy = if y > 0 && y + 1 < h {
+                at(x, y - 1) + at(x, y + 1)
+            } else {
+                2.0 * c
+            };
             let lap = 4.0 * c - sx - sy;
-            c > 0.0 && lap.abs() > t * c
-        })
-        .collect();
+            *e = c > 0.0 && lap.abs() > t * c;
+        }
+    });
+    shadow_core::pool::give(inv);
     Map2D::from_vec(w as u32, h as u32, data).unwrap_or_else(|| Map2D::new(0, 0, false))
 }
 

@@ -16,6 +16,7 @@
 
 use crate::skins::{Skin, Unproject};
 use glam::{DVec2, Vec3};
+use rayon::prelude::*;
 use shadow_core::map2d::bilinear_texels;
 use shadow_core::raster::rasterize;
 use shadow_core::view::{NO_OCCLUDER, View};
@@ -81,35 +82,43 @@ pub fn warp(skins: &[Skin], view: &View, depth: &Map2D<f32>, src: &Source) -> Ma
         )
     };
     let mut out = Map2D::new(res, res, NO_SKIN);
-    for (i, f) in frags.data().iter().enumerate() {
-        if !f.is_covered() {
-            continue;
-        }
-        let (x, y) = (i as u32 % res, i as u32 / res);
-        let z = view.linear_depth_from_ndc(f.z_ndc);
-        let d = *depth.get(x, y);
-        if d < NO_OCCLUDER && z > d * (1.0 + SKIN_DEPTH_TOLERANCE) {
-            continue;
-        }
-        let unseen = if d < NO_OCCLUDER {
-            1.0 - lit_fraction(src.params, src.depth, un.point(x, y, d), src.threshold)
-        } else {
-            1.0
-        };
-        let s = &skins[f.triangle as usize];
-        let [a, b, c] = s.vertices.map(screen);
-        let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
-        let area = (b - a).perp_dot(c - a);
-        let value = if area.abs() > 1e-12 {
-            let l1 = (c - b).perp_dot(p - b) / area;
-            let l2 = (a - c).perp_dot(p - c) / area;
-            let l3 = 1.0 - l1 - l2;
-            (l1 * s.values[0] as f64 + l2 * s.values[1] as f64 + l3 * s.values[2] as f64) as f32
-        } else {
-            s.values[0]
-        };
-        let v = value.clamp(0.0, 1.0);
-        out.set(x, y, (src.piece * v - 0.5 * src.piece) * unseen);
-    }
+    let w = (res as usize).max(1);
+    out.data_mut()
+        .par_chunks_mut(w)
+        .zip(frags.data().par_chunks(w))
+        .enumerate()
+        .for_each(|(y, (row, frags))| {
+            let y = y as u32;
+            for ((x, o), f) in (0u32..).zip(row.iter_mut()).zip(frags) {
+                if !f.is_covered() {
+                    continue;
+                }
+                let z = view.linear_depth_from_ndc(f.z_ndc);
+                let d = *depth.get(x, y);
+                if d < NO_OCCLUDER && z > d * (1.0 + SKIN_DEPTH_TOLERANCE) {
+                    continue;
+                }
+                let unseen = if d < NO_OCCLUDER {
+                    1.0 - lit_fraction(src.params, src.depth, un.point(x, y, d), src.threshold)
+                } else {
+                    1.0
+                };
+                let s = &skins[f.triangle as usize];
+                let [a, b, c] = s.vertices.map(screen);
+                let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                let area = (b - a).perp_dot(c - a);
+                let value = if area.abs() > 1e-12 {
+                    let l1 = (c - b).perp_dot(p - b) / area;
+                    let l2 = (a - c).perp_dot(p - c) / area;
+                    let l3 = 1.0 - l1 - l2;
+                    (l1 * s.values[0] as f64 + l2 * s.values[1] as f64 + l3 * s.values[2] as f64)
+                        as f32
+                } else {
+                    s.values[0]
+                };
+                let v = value.clamp(0.0, 1.0);
+                *o = (src.piece * v - 0.5 * src.piece) * unseen;
+            }
+        });
     out
 }
