@@ -153,8 +153,10 @@ pub fn generation_cause(configuration: &str) -> &'static str {
              grows with the slice count"
         }
         ("linear-light", _) => {
-            "one depth pass per sample along the light plus the skin passes (edge finding, \
-             warping into the neighbours' views)"
+            "two depth passes per sample along the light (the casters, and the casters with the \
+             receivers for the skins), edge finding over every texel of each, and per \
+             neighbouring pair a rasterization of the skins into a full fragment map of the other \
+             view and a warp over every texel of it"
         }
         _ => "",
     }
