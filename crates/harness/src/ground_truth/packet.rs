@@ -15,8 +15,11 @@
 //! compute unfused.
 //!
 //! Binning is conservative: a triangle goes to every cell its projected bounds (widened by a
-//! margin far above rounding) touch, and to every cell when part of it lies behind the origin;
-//! a ray whose projection is undefined tests every candidate.
+//! margin far above rounding) touch. One that reaches behind the origin is bounded by its part
+//! inside the cone of the rays (the planes through the origin and the outline's edges, widened),
+//! goes to no cell when every ray moves away from its plane (a receiver's own triangle), and to
+//! every cell when neither bounds it. A ray whose projection is undefined tests every
+//! candidate.
 
 use super::RayTracer;
 use super::certify::Hull;
@@ -114,6 +117,17 @@ impl Lanes {
     }
 }
 
+/// The grid cells whose rays may hit a candidate (the catch-all cell holds every candidate).
+#[derive(Clone, Copy)]
+enum Cells {
+    /// Every cell.
+    Every,
+    /// Columns `[0]..=[1]` of rows `[2]..=[3]`.
+    Range([usize; 4]),
+    /// None: no ray in the grid can reach it.
+    Nowhere,
+}
+
 /// The shadow rays of one origin: its candidate casters, binned by direction.
 pub struct OriginRays {
     /// The rays' origin and their `t_min` (the receiver's offset).
@@ -165,8 +179,9 @@ impl OriginRays {
             first: Vec::new(),
             blocks: Vec::new(),
         };
-        // Cell ranges of every candidate (inclusive), or `None` for every cell.
-        let ranges: Vec<Option<[usize; 4]>> = if side > 1 {
+        // The cells of every candidate.
+        let cone = Self::cone(origin, outline, axis);
+        let ranges: Vec<Cells> = if side > 1 {
             let mut lo = [f32::INFINITY; 2];
             let mut hi = [f32::NEG_INFINITY; 2];
             for &q in outline {
@@ -187,18 +202,23 @@ impl OriginRays {
             ids.iter()
                 .map(|&i| {
                     let t = &tris[i as usize];
-                    let mut lo = [f32::INFINITY; 2];
-                    let mut hi = [f32::NEG_INFINITY; 2];
-                    for v in [t.v0, t.v1, t.v2] {
-                        let w = Vec3::from(v) - origin;
-                        if rays.axis.dot(w) <= 1e-6 * w.length() {
-                            return None;
-                        }
-                        let p = rays.project(w)?;
-                        for k in 0..2 {
-                            lo[k] = lo[k].min(p[k]);
-                            hi[k] = hi[k].max(p[k]);
-                        }
+                    let w = [t.v0, t.v1, t.v2].map(|v| Vec3::from(v) - origin);
+                    let behind = w.iter().any(|&w| rays.axis.dot(w) <= 1e-6 * w.length());
+                    // A triangle reaching behind the origin: only its part inside the cone of
+                    // the rays can be hit, which lies in front.
+                    if behind && Self::receding(w, outline, origin) {
+                        return Cells::Nowhere;
+                    }
+                    let bounds = if behind {
+                        rays.clipped_bounds(w, &cone)
+                    } else {
+                        rays.bounds(&w)
+                    };
+                    let Some((lo, hi)) = bounds else {
+                        return Cells::Every;
+                    };
+                    if lo[0] > hi[0] {
+                        return Cells::Nowhere;
                     }
                     let mut r = [0; 4];
                     for k in 0..2 {
@@ -206,26 +226,27 @@ impl OriginRays {
                         r[2 * k] = rays.cell(k, lo[k] - margin);
                         r[2 * k + 1] = rays.cell(k, hi[k] + margin);
                     }
-                    Some(r)
+                    Cells::Range(r)
                 })
                 .collect()
         } else {
-            vec![None; ids.len()]
+            vec![Cells::Every; ids.len()]
         };
         // Each cell's triangles, then the catch-all cell's (every candidate), packed into
         // blocks of `LANES`: count, place, fill.
         let cells = rays.side[0] * rays.side[1];
         let columns = rays.side[0];
-        let covered = |r: &Option<[usize; 4]>, f: &mut dyn FnMut(usize)| {
+        let covered = |r: &Cells, f: &mut dyn FnMut(usize)| {
             match *r {
-                Some([x0, x1, y0, y1]) => {
+                Cells::Range([x0, x1, y0, y1]) => {
                     for y in y0..=y1 {
                         for x in x0..=x1 {
                             f(y * columns + x);
                         }
                     }
                 }
-                None => (0..cells).for_each(&mut *f),
+                Cells::Every => (0..cells).for_each(&mut *f),
+                Cells::Nowhere => {}
             }
             f(cells);
         };
@@ -252,6 +273,98 @@ impl OriginRays {
             });
         }
         rays
+    }
+
+    /// The inward unit normals of the planes through `origin` that bound the cone of its rays
+    /// to a convex `outline` of 3 or more points (empty for fewer: no cone to clip by).
+    fn cone(origin: Vec3, outline: &[Vec3], axis: Vec3) -> Vec<Vec3> {
+        if outline.len() < 3 {
+            return Vec::new();
+        }
+        (0..outline.len())
+            .filter_map(|i| {
+                let a = outline[i] - origin;
+                let b = outline[(i + 1) % outline.len()] - origin;
+                let n = a.cross(b).normalize_or_zero();
+                (n != Vec3::ZERO).then(|| if n.dot(axis) < 0.0 { -n } else { n })
+            })
+            .collect()
+    }
+
+    /// Whether every ray moves away from the plane of the triangle `w` (offsets from the origin):
+    /// the origin and every outline point lie on one side of it, each outline point farther
+    /// than the origin, all by a margin far above rounding (`1e-4` of their distances to the
+    /// triangle's first vertex). A receiver's own triangle, lit from above its tangent plane, is
+    /// the common case.
+    fn receding(w: [Vec3; 3], outline: &[Vec3], origin: Vec3) -> bool {
+        let n = (w[1] - w[0]).cross(w[2] - w[0]).normalize_or_zero();
+        if n == Vec3::ZERO {
+            return false;
+        }
+        // Heights above the plane: the origin's, then each outline point's.
+        let h_o = -n.dot(w[0]);
+        let n = if h_o < 0.0 { -n } else { n };
+        let h_o = h_o.abs();
+        // False for NaN too.
+        let clear = h_o > 1e-4 * w[0].length();
+        if !clear {
+            return false;
+        }
+        outline.iter().all(|&q| {
+            let to = q - origin - w[0];
+            n.dot(to) > h_o + 1e-4 * (to.length() + w[0].length())
+        })
+    }
+
+    /// Bounds of the projections of the offsets `w` from the origin (`None`: one does not
+    /// project).
+    fn bounds(&self, w: &[Vec3]) -> Option<([f32; 2], [f32; 2])> {
+        let mut lo = [f32::INFINITY; 2];
+        let mut hi = [f32::NEG_INFINITY; 2];
+        for &w in w {
+            let p = self.project(w)?;
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        Some((lo, hi))
+    }
+
+    /// Bounds of the projection of the part of the triangle `w` (offsets from the origin) inside
+    /// the cone of the rays (`cone`: [`OriginRays::cone`]), each plane widened by `1e-4` of the
+    /// triangle's reach so that rounding only adds; `Some` of empty bounds where no part is
+    /// inside, `None` where the part cannot be bounded (no cone, or it comes near the origin).
+    fn clipped_bounds(&self, w: [Vec3; 3], cone: &[Vec3]) -> Option<([f32; 2], [f32; 2])> {
+        if cone.is_empty() {
+            return None;
+        }
+        let reach = w.iter().fold(0.0f32, |m, v| m.max(v.length()));
+        let slack = 1e-4 * reach;
+        let mut poly = w.to_vec();
+        for &n in cone {
+            let mut next = Vec::with_capacity(poly.len() + 1);
+            for (i, &a) in poly.iter().enumerate() {
+                let b = poly[(i + 1) % poly.len()];
+                let (da, db) = (n.dot(a) + slack, n.dot(b) + slack);
+                if da >= 0.0 {
+                    next.push(a);
+                }
+                if (da >= 0.0) != (db >= 0.0) {
+                    next.push(a + (b - a) * (da / (da - db)));
+                }
+            }
+            poly = next;
+            if poly.is_empty() {
+                return Some(([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]));
+            }
+        }
+        // Every vertex well in front (false for NaN too), so that it projects stably.
+        let in_front = |v: &Vec3| self.axis.dot(*v) > 1e-3 * reach;
+        if !poly.iter().all(in_front) {
+            return None;
+        }
+        self.bounds(&poly)
     }
 
     /// Central projection of the offset `w` from the origin onto the plane one unit along the

@@ -346,8 +346,9 @@ fn the_reference_does_not_depend_on_the_ray_offset() {
 /// casters, binned by direction), every shadow ray gets the answer the BVH gives ray by ray
 /// ([`RayTracer::sees_with`]): on every catalogue scene with an extended light, 256 light points
 /// for each receiver of a 24² G-buffer that is not proven lit, over 100,000 rays blocked and as
-/// many seen. Binning a triangle that reaches behind the origin by its projection,
-/// or one cell short, fails this.
+/// many seen. Binning a triangle that reaches behind the origin by its projection, one cell
+/// short, by nothing when only the origin is above its plane, or by nothing when it reaches
+/// behind the origin, fails this.
 #[test]
 fn rays_traced_together_get_the_bvh_answer() {
     use harness::scenes::catalogue::{SCENE_NAMES, build};
