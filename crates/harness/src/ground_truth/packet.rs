@@ -14,12 +14,12 @@
 //! target-cpu=native`) makes `glam` fuse the BVH path's cross product `d x c`, which the lanes
 //! compute unfused.
 //!
-//! Binning is conservative: a triangle goes to every cell its projected bounds (widened by a
-//! margin far above rounding) touch. One that reaches behind the origin is bounded by its part
-//! inside the cone of the rays (the planes through the origin and the outline's edges, widened),
-//! goes to no cell when every ray moves away from its plane (a receiver's own triangle), and to
-//! every cell when neither bounds it. A ray whose projection is undefined tests every
-//! candidate.
+//! Binning is conservative: a triangle goes to no cell when every ray moves away from its plane
+//! (a receiver's own triangle), else to every cell its projected bounds (widened by a margin far
+//! above rounding) touch. One that reaches behind the origin is bounded by its part inside the
+//! cone of the rays (the planes through the origin and the outline's edges, widened), and goes
+//! to every cell when that part cannot be bounded. A ray whose projection is undefined tests
+//! every candidate.
 
 use super::RayTracer;
 use super::certify::Hull;
@@ -181,7 +181,7 @@ impl OriginRays {
         };
         // The cells of every candidate.
         let cone = Self::cone(origin, outline, axis);
-        let ranges: Vec<Cells> = if side > 1 {
+        if side > 1 {
             let mut lo = [f32::INFINITY; 2];
             let mut hi = [f32::NEG_INFINITY; 2];
             for &q in outline {
@@ -199,39 +199,42 @@ impl OriginRays {
                 rays.lo[k] = lo[k];
                 rays.scale[k] = rays.side[k] as f32 / extent.max(1e-6);
             }
-            ids.iter()
-                .map(|&i| {
-                    let t = &tris[i as usize];
-                    let w = [t.v0, t.v1, t.v2].map(|v| Vec3::from(v) - origin);
-                    let behind = w.iter().any(|&w| rays.axis.dot(w) <= 1e-6 * w.length());
-                    // A triangle reaching behind the origin: only its part inside the cone of
-                    // the rays can be hit, which lies in front.
-                    if behind && Self::receding(w, outline, origin) {
-                        return Cells::Nowhere;
-                    }
-                    let bounds = if behind {
-                        rays.clipped_bounds(w, &cone)
-                    } else {
-                        rays.bounds(&w)
-                    };
-                    let Some((lo, hi)) = bounds else {
-                        return Cells::Every;
-                    };
-                    if lo[0] > hi[0] {
-                        return Cells::Nowhere;
-                    }
-                    let mut r = [0; 4];
-                    for k in 0..2 {
-                        let margin = 1e-3 * (hi[k] - lo[k]) + 1e-4 * lo[k].abs().max(hi[k].abs());
-                        r[2 * k] = rays.cell(k, lo[k] - margin);
-                        r[2 * k + 1] = rays.cell(k, hi[k] + margin);
-                    }
-                    Cells::Range(r)
-                })
-                .collect()
-        } else {
-            vec![Cells::Every; ids.len()]
-        };
+        }
+        let grid = rays.side[0] * rays.side[1] > 1;
+        let ranges: Vec<Cells> = ids
+            .iter()
+            .map(|&i| {
+                let t = &tris[i as usize];
+                let w = [t.v0, t.v1, t.v2].map(|v| Vec3::from(v) - origin);
+                if Self::receding(w, outline, origin) {
+                    return Cells::Nowhere;
+                }
+                if !grid {
+                    return Cells::Every;
+                }
+                // A triangle reaching behind the origin: only its part inside the cone of the
+                // rays can be hit, which lies in front.
+                let behind = w.iter().any(|&w| rays.axis.dot(w) <= 1e-6 * w.length());
+                let bounds = if behind {
+                    rays.clipped_bounds(w, &cone)
+                } else {
+                    rays.bounds(&w)
+                };
+                let Some((lo, hi)) = bounds else {
+                    return Cells::Every;
+                };
+                if lo[0] > hi[0] {
+                    return Cells::Nowhere;
+                }
+                let mut r = [0; 4];
+                for k in 0..2 {
+                    let margin = 1e-3 * (hi[k] - lo[k]) + 1e-4 * lo[k].abs().max(hi[k].abs());
+                    r[2 * k] = rays.cell(k, lo[k] - margin);
+                    r[2 * k + 1] = rays.cell(k, hi[k] + margin);
+                }
+                Cells::Range(r)
+            })
+            .collect();
         // Each cell's triangles, then the catch-all cell's (every candidate), packed into
         // blocks of `LANES`: count, place, fill.
         let cells = rays.side[0] * rays.side[1];
