@@ -52,13 +52,32 @@ pub fn measure(
         Some((g, s)) => t.generate_gpu_on(g, s, light, res),
         None => t.generate(backend, gpu, &p.geometry, light, res),
     };
+    repeat(
+        generate,
+        |maps| t.evaluate(gpu, maps, &p.receivers()),
+        |maps| t.recycle(gpu, maps),
+        reps,
+        warm_up,
+    )
+}
+
+/// The timing loop of [`measure`] over one frame's three steps: `generate` maps, `evaluate`
+/// them, `recycle` them. One unmeasured generation comes first (evaluated too when `warm_up`),
+/// then `reps` timed frames or as many as [`REP_BUDGET_S`] allows; the times are their medians.
+pub fn repeat<M>(
+    generate: impl Fn() -> Result<M>,
+    evaluate: impl Fn(&M) -> Result<Vec<f32>>,
+    recycle: impl Fn(M),
+    reps: usize,
+    warm_up: bool,
+) -> Result<Measured> {
     // One unmeasured generation puts storage of this size in the pools; on a technique's first
     // GPU use its evaluation runs too, compiling its pipelines.
     let maps = generate()?;
     if warm_up {
-        t.evaluate(gpu, &maps, &p.receivers())?;
+        evaluate(&maps)?;
     }
-    t.recycle(gpu, maps);
+    recycle(maps);
     let (mut gen_t, mut eval_t) = (Vec::new(), Vec::new());
     let start = Instant::now();
     let mut v = Vec::new();
@@ -66,10 +85,10 @@ pub fn measure(
         let t0 = Instant::now();
         let maps = generate()?;
         let t1 = Instant::now();
-        v = t.evaluate(gpu, &maps, &p.receivers())?;
+        v = evaluate(&maps)?;
         let t2 = Instant::now();
         // The next repetition reuses the maps' storage, as a renderer's next frame does.
-        t.recycle(gpu, maps);
+        recycle(maps);
         gen_t.push((t1 - t0).as_secs_f64() * 1e3);
         eval_t.push((t2 - t1).as_secs_f64() * 1e3);
         if start.elapsed().as_secs_f64() > REP_BUDGET_S {

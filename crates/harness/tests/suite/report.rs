@@ -309,96 +309,39 @@ fn report_recasts_hard_cases_and_measures_flicker() {
 fn cpu_timings_follow_an_unmeasured_generation() {
     use harness::ground_truth::GroundTruthSettings;
     use harness::report::all_techniques;
-    use harness::report::measure::measure;
+    use harness::report::measure::repeat;
     use harness::scenes::catalogue::build;
     use harness::setup::PreparedScene;
-    use shadow_core::gpu::GpuScene;
-    use shadow_core::{
-        AnyMaps, Backend, DynTechnique, GpuContext, Light, LightKind, Receivers, Result,
-        SceneGeometry,
-    };
-    use std::sync::atomic::{AtomicUsize, Ordering};
+    use shadow_core::Backend;
+    use std::cell::Cell;
 
-    /// A technique that counts its generations and evaluations.
-    struct Counting {
-        inner: Box<dyn DynTechnique>,
-        generated: AtomicUsize,
-        evaluated: AtomicUsize,
-    }
-    impl DynTechnique for Counting {
-        fn name(&self) -> &'static str {
-            self.inner.name()
-        }
-        fn variant(&self) -> String {
-            self.inner.variant()
-        }
-        fn models(&self, kind: LightKind) -> bool {
-            self.inner.models(kind)
-        }
-        fn generate(
-            &self,
-            backend: Backend,
-            gpu: Option<&GpuContext>,
-            geometry: &SceneGeometry,
-            light: &Light,
-            resolution: u32,
-        ) -> Result<AnyMaps> {
-            self.generated.fetch_add(1, Ordering::Relaxed);
-            self.inner
-                .generate(backend, gpu, geometry, light, resolution)
-        }
-        fn generate_gpu_on(
-            &self,
-            gpu: &GpuContext,
-            scene: &GpuScene,
-            light: &Light,
-            resolution: u32,
-        ) -> Result<AnyMaps> {
-            self.generated.fetch_add(1, Ordering::Relaxed);
-            self.inner.generate_gpu_on(gpu, scene, light, resolution)
-        }
-        fn visibility_wgsl(&self) -> String {
-            self.inner.visibility_wgsl()
-        }
-        fn evaluate(
-            &self,
-            gpu: Option<&GpuContext>,
-            maps: &AnyMaps,
-            receivers: &Receivers,
-        ) -> Result<Vec<f32>> {
-            self.evaluated.fetch_add(1, Ordering::Relaxed);
-            self.inner.evaluate(gpu, maps, receivers)
-        }
-        fn recycle(&self, gpu: Option<&GpuContext>, maps: AnyMaps) {
-            self.inner.recycle(gpu, maps)
-        }
-    }
-
-    let inner = all_techniques(false)
+    let t = all_techniques(false)
         .into_iter()
         .find(|t| t.name() == "hard-shadow-map")
         .expect("the hard shadow map is registered");
-    let t = Counting {
-        inner,
-        generated: AtomicUsize::new(0),
-        evaluated: AtomicUsize::new(0),
-    };
     let settings = GroundTruthSettings {
         strata_side: 2,
         replicates: 2,
         ..GroundTruthSettings::default()
     };
     let p = PreparedScene::new(build("plane-occluder").unwrap(), 16, settings).unwrap();
-    let m = measure(&t, Backend::Cpu, None, &p, 64, 1, false).unwrap();
-    assert_eq!(m.v.len(), p.positions.len());
-    assert_eq!(
-        t.generated.load(Ordering::Relaxed),
-        2,
-        "one unmeasured, one timed"
-    );
-    assert_eq!(
-        t.evaluated.load(Ordering::Relaxed),
+    let (generated, evaluated) = (Cell::new(0), Cell::new(0));
+    // The report's own call on the CPU: no warm-up evaluation (that is the GPU's first use).
+    let m = repeat(
+        || {
+            generated.set(generated.get() + 1);
+            t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, 64)
+        },
+        |maps| {
+            evaluated.set(evaluated.get() + 1);
+            t.evaluate(None, maps, &p.receivers())
+        },
+        |maps| t.recycle(None, maps),
         1,
-        "only the timed one evaluated"
-    );
+        false,
+    )
+    .unwrap();
+    assert_eq!(m.v.len(), p.positions.len());
+    assert_eq!(generated.get(), 2, "one unmeasured, one timed");
+    assert_eq!(evaluated.get(), 1, "only the timed one evaluated");
 }
