@@ -108,9 +108,10 @@ impl DepthPass {
     }
 
     /// [`DepthPass::linear_depth`] of every texel of `depths` in place, bit for bit: the
-    /// projection and the test are resolved once, so the loop has no branch and vectorizes.
+    /// projection and the test are resolved once, so the loop has no branch and vectorizes, and
+    /// runs of cleared texels are filled without the division.
     pub fn linearize(self, view: &View, depths: &mut [f32]) {
-        use crate::view::{NO_OCCLUDER, ProjectionKind};
+        use crate::view::ProjectionKind;
         let (n, f) = (view.near, view.far);
         // Cleared texels: `<= 0` always (the far plane), `>= 1` too for the farthest pass.
         let cleared_hi = match self.test {
@@ -119,14 +120,12 @@ impl DepthPass {
         };
         let empty = |z: f32| z <= 0.0 || z >= cleared_hi;
         match view.kind {
-            ProjectionKind::Perspective { .. } => depths.iter_mut().for_each(|z| {
-                let d = n * f / (*z * (f - n) + n);
-                *z = if empty(*z) { NO_OCCLUDER } else { d };
-            }),
-            ProjectionKind::Orthographic { .. } => depths.iter_mut().for_each(|z| {
-                let d = f - *z * (f - n);
-                *z = if empty(*z) { NO_OCCLUDER } else { d };
-            }),
+            ProjectionKind::Perspective { .. } => {
+                linearize_with(depths, empty, |z| n * f / (z * (f - n) + n))
+            }
+            ProjectionKind::Orthographic { .. } => {
+                linearize_with(depths, empty, |z| f - z * (f - n))
+            }
         }
     }
 
@@ -134,6 +133,23 @@ impl DepthPass {
         match self.test {
             DepthTest::Nearest => z > stored,
             DepthTest::Farthest => z < stored,
+        }
+    }
+}
+
+/// `depth(z)` of every texel of `depths` that is not `empty(z)`, [`crate::view::NO_OCCLUDER`]
+/// where it is; a chunk of texels with no fragment (most of a map's background) is one fill.
+#[inline]
+fn linearize_with(depths: &mut [f32], empty: impl Fn(f32) -> bool, depth: impl Fn(f32) -> f32) {
+    use crate::view::NO_OCCLUDER;
+    for chunk in depths.chunks_mut(16) {
+        if chunk.iter().fold(true, |all, &z| all & empty(z)) {
+            chunk.fill(NO_OCCLUDER);
+        } else {
+            for z in chunk {
+                let d = depth(*z);
+                *z = if empty(*z) { NO_OCCLUDER } else { d };
+            }
         }
     }
 }
@@ -149,9 +165,15 @@ struct ScreenTri {
     snap: SnappedTri,
     /// Texel rectangle `(x0, x1, y0, y1)` whose centres the bounding box holds.
     texels: (i64, i64, i64, i64),
+    /// The walk down the rows' spans from row `y0` of `texels`.
+    rows: snapped::Rows,
     fx: [f64; 3],
     fy: [f64; 3],
     farea: f64,
+    /// Change of the barycentric weights per pixel to the right.
+    slope: [f64; 3],
+    /// NDC depth's plane: its change per pixel right and down.
+    dz: [f64; 2],
     z: [f64; 3],
     inv_w: [f64; 3],
     bary: [Vec3; 3],
@@ -188,6 +210,44 @@ impl Poly {
     }
 }
 
+/// Input triangles set up together, in submission order: one chunk's screen triangles are one
+/// allocation, large enough for [`crate::pool`] to keep between passes (no page faulted in per
+/// pass, nothing copied to concatenate).
+const CHUNK: usize = crate::pool::MIN_BYTES.div_ceil(size_of::<ScreenTri>());
+/// Screen triangles one input triangle can become: its clipped polygon's fan.
+const FAN_MAX: usize = 8;
+
+/// The screen triangles of a pass, in submission order: [`CHUNK`] input triangles' worth per
+/// chunk, addressed by `chunk * CHUNK * FAN_MAX + index in the chunk`.
+struct Screen {
+    chunks: Vec<Vec<ScreenTri>>,
+}
+
+impl Drop for Screen {
+    fn drop(&mut self) {
+        self.chunks.drain(..).for_each(crate::pool::give);
+    }
+}
+
+impl Screen {
+    #[inline]
+    fn get(&self, i: u32) -> &ScreenTri {
+        let i = i as usize;
+        &self.chunks[i / (CHUNK * FAN_MAX)][i % (CHUNK * FAN_MAX)]
+    }
+
+    /// Every triangle with its address, in submission order.
+    fn iter(&self) -> impl Iterator<Item = (u32, &ScreenTri)> {
+        self.chunks.iter().enumerate().flat_map(|(c, chunk)| {
+            let base = (c * CHUNK * FAN_MAX) as u32;
+            chunk
+                .iter()
+                .enumerate()
+                .map(move |(j, t)| (base + j as u32, t))
+        })
+    }
+}
+
 /// Screen triangles of `count` triangles whose clip-space vertices `clip(i)` gives.
 fn setup(
     count: usize,
@@ -195,71 +255,82 @@ fn setup(
     width: u32,
     height: u32,
     faces: Faces,
-) -> Vec<ScreenTri> {
+) -> Screen {
     let (w, h) = (width as f64, height as f64);
-    (0..count)
+    let chunks = (0..count.div_ceil(CHUNK))
         .into_par_iter()
-        .fold(Vec::new, |mut out, index| {
-            let tri = clip(index);
-            let cv = |k: usize, bary: Vec3| ClipVertex { pos: tri[k], bary };
-            let first = cv(0, Vec3::X);
-            let mut poly = Poly {
-                v: [first; 10],
-                n: 3,
-            };
-            poly.v[1] = cv(1, Vec3::Y);
-            poly.v[2] = cv(2, Vec3::Z);
-            // Reversed Z: 0 <= z <= w; plus a guard band on x and y that keeps fixed point small.
-            // Most triangles lie inside every plane and skip clipping.
-            let inside = |p: Vec4| {
-                p.z <= p.w
-                    && p.z >= 0.0
-                    && p.x.abs() <= GUARD_BAND * p.w
-                    && p.y.abs() <= GUARD_BAND * p.w
-            };
-            if !poly.v[..3].iter().all(|v| inside(v.pos)) {
-                poly = poly.clip(|p| p.w - p.z);
-                poly = poly.clip(|p| p.z);
-                for (sx, sy) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
-                    if poly.n < 3 {
-                        break;
-                    }
-                    poly = poly.clip(|p| GUARD_BAND * p.w - sx * p.x - sy * p.y);
-                }
-            }
-            if poly.n < 3 || poly.v[..poly.n].iter().any(|v| v.pos.w <= 0.0) {
-                return out;
-            }
-            let vert = |v: &ClipVertex| {
-                let inv_w = 1.0 / v.pos.w as f64;
-                let fx = (v.pos.x as f64 * inv_w * 0.5 + 0.5) * w;
-                let fy = (0.5 - v.pos.y as f64 * inv_w * 0.5) * h;
-                Vert {
-                    x: (fx * SUB).round() as i64,
-                    y: (fy * SUB).round() as i64,
-                    fx,
-                    fy,
-                    z: v.pos.z as f64 * inv_w,
-                    inv_w,
-                    bary: v.bary,
-                }
-            };
-            let v0 = vert(&poly.v[0]);
-            for k in 1..poly.n - 1 {
-                if let Some(t) = screen_tri(
-                    [v0, vert(&poly.v[k]), vert(&poly.v[k + 1])],
-                    index as u32,
-                    faces,
-                ) {
-                    out.push(t);
-                }
-            }
+        .map(|c| {
+            let indices = c * CHUNK..(c * CHUNK + CHUNK).min(count);
+            let mut out = crate::pool::take(CHUNK);
+            indices.for_each(|index| set_up(index, clip(index), (w, h), faces, &mut out));
             out
         })
-        .reduce(Vec::new, |mut a, mut b| {
-            a.append(&mut b);
-            a
-        })
+        .collect();
+    Screen { chunks }
+}
+
+/// Appends the screen triangles of input triangle `index` (clip-space vertices `tri`) on a
+/// `w x h` target to `out`.
+fn set_up(
+    index: usize,
+    tri: [Vec4; 3],
+    (w, h): (f64, f64),
+    faces: Faces,
+    out: &mut Vec<ScreenTri>,
+) {
+    let cv = |k: usize, bary: Vec3| ClipVertex { pos: tri[k], bary };
+    let corners = [cv(0, Vec3::X), cv(1, Vec3::Y), cv(2, Vec3::Z)];
+    // Reversed Z: 0 <= z <= w; plus a guard band on x and y that keeps fixed point small.
+    // Most triangles lie inside every plane and skip clipping.
+    let inside = |p: Vec4| {
+        p.z <= p.w && p.z >= 0.0 && p.x.abs() <= GUARD_BAND * p.w && p.y.abs() <= GUARD_BAND * p.w
+    };
+    let vert = |v: &ClipVertex| {
+        let inv_w = 1.0 / v.pos.w as f64;
+        let fx = (v.pos.x as f64 * inv_w * 0.5 + 0.5) * w;
+        let fy = (0.5 - v.pos.y as f64 * inv_w * 0.5) * h;
+        Vert {
+            x: (fx * SUB).round() as i64,
+            y: (fy * SUB).round() as i64,
+            fx,
+            fy,
+            z: v.pos.z as f64 * inv_w,
+            inv_w,
+            bary: v.bary,
+        }
+    };
+    if corners.iter().all(|v| inside(v.pos) && v.pos.w > 0.0) {
+        if let Some(t) = screen_tri(corners.map(|v| vert(&v)), index as u32, faces) {
+            out.push(t);
+        }
+        return;
+    }
+    let mut poly = Poly {
+        v: [corners[0]; 10],
+        n: 3,
+    };
+    poly.v[..3].copy_from_slice(&corners);
+    poly = poly.clip(|p| p.w - p.z);
+    poly = poly.clip(|p| p.z);
+    for (sx, sy) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
+        if poly.n < 3 {
+            break;
+        }
+        poly = poly.clip(|p| GUARD_BAND * p.w - sx * p.x - sy * p.y);
+    }
+    if poly.n < 3 || poly.v[..poly.n].iter().any(|v| v.pos.w <= 0.0) {
+        return;
+    }
+    let v0 = vert(&poly.v[0]);
+    for k in 1..poly.n - 1 {
+        if let Some(t) = screen_tri(
+            [v0, vert(&poly.v[k]), vert(&poly.v[k + 1])],
+            index as u32,
+            faces,
+        ) {
+            out.push(t);
+        }
+    }
 }
 
 /// A projected vertex: snapped fixed-point position (coverage), float position (interpolation).
@@ -285,16 +356,35 @@ fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
     if swapped {
         v.swap(1, 2);
     }
+    let texels = snap.texel_box();
     let fx = [v[0].fx, v[1].fx, v[2].fx];
     let fy = [v[0].fy, v[1].fy, v[2].fy];
     let farea = (fx[1] - fx[0]) * (fy[2] - fy[0]) - (fy[1] - fy[0]) * (fx[2] - fx[0]);
+    let z = [v[0].z, v[1].z, v[2].z];
+    // Weight i is edge (i + 1, i + 2)'s function over the area.
+    let edge = |i: usize| ((i + 1) % 3, (i + 2) % 3);
+    let slope = [0, 1, 2].map(|i| {
+        let (a, b) = edge(i);
+        -(fy[b] - fy[a]) / farea
+    });
+    let down = [0, 1, 2].map(|i| {
+        let (a, b) = edge(i);
+        (fx[b] - fx[a]) / farea
+    });
+    let dz = [
+        slope[0] * z[0] + slope[1] * z[1] + slope[2] * z[2],
+        down[0] * z[0] + down[1] * z[1] + down[2] * z[2],
+    ];
     Some(ScreenTri {
         snap,
-        texels: snap.texel_box(),
+        texels,
+        rows: snap.rows(texels.2),
         fx,
         fy,
         farea,
-        z: [v[0].z, v[1].z, v[2].z],
+        slope,
+        dz,
+        z,
         inv_w: [v[0].inv_w, v[1].inv_w, v[2].inv_w],
         bary: [v[0].bary, v[1].bary, v[2].bary],
         triangle,
@@ -304,73 +394,155 @@ fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
 /// Per band of [`BAND_ROWS`] rows of a `width x height` target, the triangles whose box reaches
 /// it, in submission order: each band then visits only its own triangles instead of all of them
 /// (a 2048² map of the 69,451-triangle bunny has 128 bands).
-fn bins(tris: &[ScreenTri], width: u32, height: u32) -> Vec<Vec<u32>> {
+fn bins(tris: &Screen, width: u32, height: u32) -> Vec<Vec<u32>> {
     let bands = (height as usize).div_ceil(BAND_ROWS);
     let mut bins = vec![Vec::new(); bands];
-    for (i, t) in tris.iter().enumerate() {
+    for (i, t) in tris.iter() {
         let (x0, x1, y0, y1) = t.texels;
         let (first, last) = (y0.max(0), y1.min(height as i64 - 1));
         if first > last || x1 < 0 || x0 >= width as i64 {
             continue;
         }
         for bin in &mut bins[first as usize / BAND_ROWS..=last as usize / BAND_ROWS] {
-            bin.push(i as u32);
+            bin.push(i);
         }
     }
     bins
 }
 
+/// One row's covered texels of a triangle and how its depth and weights vary along them.
+///
+/// Coverage uses the snapped vertices (each row's covered texels are one span solved in
+/// integers), interpolation the unsnapped ones (as GPUs set up their attribute planes);
+/// degenerate float areas fall back to the snapped weights. Depth and weights are affine in the
+/// pixel centre: each is its value at the span's first texel plus a per-pixel slope times the
+/// offset (no division per pixel).
+struct Span<'a> {
+    t: &'a ScreenTri,
+    /// Whether the float area is usable (else the snapped weights).
+    planar: bool,
+    /// The span's first texel's column.
+    x0: i64,
+    /// The row.
+    y: i64,
+    /// NDC depth at the span's first texel (planar triangles).
+    z0: f64,
+}
+
+impl<'a> Span<'a> {
+    fn new(t: &'a ScreenTri, x0: i64, y: i64) -> Self {
+        // The depth plane through vertex 0, at the texel centre.
+        let z0 =
+            t.z[0] + (x0 as f64 + 0.5 - t.fx[0]) * t.dz[0] + (y as f64 + 0.5 - t.fy[0]) * t.dz[1];
+        Span {
+            t,
+            planar: t.farea.abs() > 1e-12,
+            x0,
+            y,
+            z0,
+        }
+    }
+
+    /// Barycentric weights along the span: `at(j)` is the `j`-th texel's.
+    #[inline]
+    fn weights(&self) -> impl Fn(usize) -> [f64; 3] + '_ {
+        let t = self.t;
+        let (sub, cy) = (snapped::SUB, self.y * snapped::SUB + snapped::SUB / 2);
+        let fe = |a: usize, b: usize, pxc: f64, pyc: f64| {
+            (t.fx[b] - t.fx[a]) * (pyc - t.fy[a]) - (t.fy[b] - t.fy[a]) * (pxc - t.fx[a])
+        };
+        let (xc, yc) = (self.x0 as f64 + 0.5, self.y as f64 + 0.5);
+        let l0 = [(1, 2), (2, 0), (0, 1)].map(|(a, b)| fe(a, b, xc, yc) / t.farea);
+        move |j| {
+            if self.planar {
+                let k = j as f64;
+                [0, 1, 2].map(|i| l0[i] + k * t.slope[i])
+            } else {
+                let c = (self.x0 + j as i64) * sub + sub / 2;
+                [0, 1, 2].map(|i| t.snap.edge(i, c, cy) as f64 / t.snap.area as f64)
+            }
+        }
+    }
+
+    /// NDC depth at the span's `j`-th texel with weights `l` (which only the snapped fallback
+    /// reads).
+    #[inline]
+    fn depth(&self, j: usize, l: [f64; 3]) -> f32 {
+        if self.planar {
+            (self.z0 + j as f64 * self.t.dz[0]) as f32
+        } else {
+            let z = &self.t.z;
+            (l[0] * z[0] + l[1] * z[1] + l[2] * z[2]) as f32
+        }
+    }
+
+    /// Merges the span's depths into `texels` (the span's texels) with `keep(z, stored)`: the
+    /// same depths as [`Span::depth`], in a loop without branches or calls (so it vectorizes)
+    /// where the triangle is planar.
+    #[inline]
+    fn merge_depths(&self, texels: &mut [f32], keep: impl Fn(f32, f32) -> f32) {
+        if !self.planar {
+            let at = self.weights();
+            for (j, texel) in texels.iter_mut().enumerate() {
+                *texel = keep(self.depth(j, at(j)), *texel);
+            }
+            return;
+        }
+        let (z0, dz) = (self.z0, self.t.dz[0]);
+        for (j, texel) in texels.iter_mut().enumerate() {
+            // Spans lie in the target, so `j` fits in 32 bits (which convert to f64 in vector
+            // registers where 64-bit integers do not).
+            let z = (z0 + (j as u32) as f64 * dz) as f32;
+            *texel = keep(z, *texel);
+        }
+    }
+}
+
 /// Rasterizes the triangles `order` names (indices into `tris`, its band's [`bins`]) into the
-/// rows `row0..` of a band; `write(texel, triangle, barycentrics, ndc_depth, x, y)` merges each
-/// covered fragment into its texel, in submission order.
+/// rows `row0..` of a band; `write(texels, span)` merges each row's covered texels of a
+/// triangle (`texels`, the row's texels from `span.x0`) in submission order.
 fn raster_band<T>(
-    tris: &[ScreenTri],
+    tris: &Screen,
     order: &[u32],
     width: u32,
     row0: usize,
     rows: &mut [T],
-    write: impl Fn(&mut T, &ScreenTri, [f64; 3], f32, usize, usize),
+    write: impl Fn(&mut [T], &Span),
 ) {
     let w = width as usize;
     let n_rows = rows.len() / w;
-    let (half, sub) = (snapped::SUB / 2, snapped::SUB);
-    for t in order.iter().map(|&i| &tris[i as usize]) {
+    for t in order.iter().map(|&i| tris.get(i)) {
         let (x0, x1, y0, y1) = t.texels;
         let (px0, px1) = (x0.max(0), x1.min(w as i64 - 1));
         let (py0, py1) = (y0.max(row0 as i64), y1.min((row0 + n_rows) as i64 - 1));
         if px0 > px1 || py0 > py1 {
             continue;
         }
-        // Coverage uses the snapped vertices (each row's covered texels are one span solved in
-        // integers), interpolation the unsnapped ones (as GPUs set up their attribute planes);
-        // degenerate float areas fall back to the snapped weights. The weights are affine in
-        // the pixel centre: each is its value at the box's first pixel of the row plus a
-        // per-pixel slope times the offset (no division per pixel).
-        let planar = t.farea.abs() > 1e-12;
-        let fe = |a: usize, b: usize, pxc: f64, pyc: f64| {
-            (t.fx[b] - t.fx[a]) * (pyc - t.fy[a]) - (t.fy[b] - t.fy[a]) * (pxc - t.fx[a])
-        };
-        const PAIRS: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
-        let slope = PAIRS.map(|(a, b)| -(t.fy[b] - t.fy[a]) / t.farea);
+        let mut walk = t.rows.skipped(py0 - y0);
         for py in py0..=py1 {
-            let Some((sx0, sx1)) = t.snap.span(py, px0, px1) else {
+            let Some((sx0, sx1)) = walk.span(px0, px1) else {
                 continue;
             };
-            let cy = py * sub + half;
-            let pyc = py as f64 + 0.5;
-            let l0 = PAIRS.map(|(a, b)| fe(a, b, px0 as f64 + 0.5, pyc) / t.farea);
             let row = &mut rows[(py as usize - row0) * w..][..w];
-            for px in sx0..=sx1 {
-                let l = if planar {
-                    let k = (px - px0) as f64;
-                    [0, 1, 2].map(|i| l0[i] + k * slope[i])
-                } else {
-                    let c = px * sub + half;
-                    [0, 1, 2].map(|i| t.snap.edge(i, c, cy) as f64 / t.snap.area as f64)
-                };
-                let z = (l[0] * t.z[0] + l[1] * t.z[1] + l[2] * t.z[2]) as f32;
-                write(&mut row[px as usize], t, l, z, px as usize, py as usize);
-            }
+            write(
+                &mut row[sx0 as usize..=sx1 as usize],
+                &Span::new(t, sx0, py),
+            );
+        }
+    }
+}
+
+/// A [`raster_band`] writer that hands every covered texel to `write(texel, triangle,
+/// barycentrics, ndc_depth, x, y)`, one at a time.
+fn per_texel<T>(
+    write: impl Fn(&mut T, &ScreenTri, [f64; 3], f32, usize, usize),
+) -> impl Fn(&mut [T], &Span) {
+    move |texels, span| {
+        let at = span.weights();
+        for (j, texel) in texels.iter_mut().enumerate() {
+            let l = at(j);
+            let (x, y) = (span.x0 as usize + j, span.y as usize);
+            write(texel, span.t, l, span.depth(j, l), x, y);
         }
     }
 }
@@ -402,7 +574,7 @@ struct Target<T, Z, S, A, F> {
 /// Clears, rasterizes and finishes the map band by band in parallel (each band's texels are
 /// written while they are in cache; the storage comes from [`crate::pool`]).
 fn rasterize_into<T, Z, S, A, F>(
-    screen: &[ScreenTri],
+    screen: &Screen,
     width: u32,
     height: u32,
     pass: DepthPass,
@@ -421,11 +593,13 @@ where
         width,
         out.data_mut(),
         &target.empty,
-        |texel: &mut T, t: &ScreenTri, l: [f64; 3], z: f32, x: usize, y: usize| {
-            if pass.passes(z, (target.z_of)(texel)) && (target.accept)(x, y, z) {
-                *texel = (target.shade)(t, l, z);
-            }
-        },
+        per_texel(
+            |texel: &mut T, t: &ScreenTri, l: [f64; 3], z: f32, x: usize, y: usize| {
+                if pass.passes(z, (target.z_of)(texel)) && (target.accept)(x, y, z) {
+                    *texel = (target.shade)(t, l, z);
+                }
+            },
+        ),
         &target.finish,
     );
     out
@@ -433,14 +607,14 @@ where
 
 /// Rasterizes `screen` into `data` (row-major, `width` wide) band by band in parallel, each band
 /// over its own triangles only ([`bins`]): the band is cleared to `empty` (whatever `data` held),
-/// `write` merges fragments as in [`raster_band`], then `finish` runs on the band's texels, all
-/// while they are in cache.
+/// `write` merges each row's span of a triangle as in [`raster_band`], then `finish` runs on the
+/// band's texels, all while they are in cache.
 fn raster_bands<T: Clone + Send + Sync>(
-    screen: &[ScreenTri],
+    screen: &Screen,
     width: u32,
     data: &mut [T],
     empty: &T,
-    write: impl Fn(&mut T, &ScreenTri, [f64; 3], f32, usize, usize) + Sync,
+    write: impl Fn(&mut [T], &Span) + Sync,
     finish: impl Fn(&mut [T]) + Sync,
 ) {
     let w = width as usize;
@@ -458,13 +632,7 @@ fn raster_bands<T: Clone + Send + Sync>(
 }
 
 /// Screen triangles of world-space `tris` seen through `view`.
-fn setup_world(
-    view: &View,
-    width: u32,
-    height: u32,
-    tris: &[[Vec3; 3]],
-    faces: Faces,
-) -> Vec<ScreenTri> {
+fn setup_world(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]], faces: Faces) -> Screen {
     let vp = view.view_projection();
     setup(
         tris.len(),
@@ -507,7 +675,23 @@ pub fn depth_map_pass(
     tris: &[[Vec3; 3]],
     pass: DepthPass,
 ) -> Map2D<f32> {
-    depth_map_filtered(view, resolution, tris, pass, |_, _, _| true)
+    // [`depth_map_filtered`] accepting every fragment, with the depth test resolved once per
+    // span so that the merge loop vectorizes.
+    let screen = setup_world(view, resolution, resolution, tris, pass.faces);
+    let empty = pass.clear_depth();
+    let mut out = Map2D::for_overwrite(resolution, resolution, empty);
+    raster_bands(
+        &screen,
+        resolution,
+        out.data_mut(),
+        &empty,
+        |texels: &mut [f32], span: &Span| match pass.test {
+            DepthTest::Nearest => span.merge_depths(texels, |z, s| if z > s { z } else { s }),
+            DepthTest::Farthest => span.merge_depths(texels, |z, s| if z < s { z } else { s }),
+        },
+        |band: &mut [f32]| pass.linearize(view, band),
+    );
+    out
 }
 
 /// [`depth_map_pass`] keeping only the fragments for which `accept(x, y, linear_depth)` holds,
@@ -550,7 +734,7 @@ pub fn rasterize_fold<T: Clone + Send + Sync + 'static>(
         resolution,
         out.data_mut(),
         &empty,
-        |texel, _, _, z, _, _| update(texel, z),
+        per_texel(|texel, _, _, z, _, _| update(texel, z)),
         |_| {},
     );
     out

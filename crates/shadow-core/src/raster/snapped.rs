@@ -94,6 +94,32 @@ impl SnappedTri {
         (lo <= hi).then_some((lo, hi))
     }
 
+    /// A walk down the rows from `py`: [`Rows::span`] gives the same spans as
+    /// [`SnappedTri::span`] for `py`, `py + 1`, ... with the divisions done once per walk, not
+    /// per row (each edge's bound is a quotient whose numerator grows by a constant per row).
+    pub fn rows(&self, py: i64) -> Rows {
+        let cy = py * SUB + SUB / 2;
+        let bounds = std::array::from_fn(|i| {
+            let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+            let t = if self.top_left[i] { 0 } else { 1 };
+            // Covered where e0 + d px >= t along the row: px >= ceil(k / d) for d > 0, px <=
+            // floor(k / d) for d < 0 (k = t - e0), both from q = floor((e0 - t) / |d|).
+            let n = self.edge(i, SUB / 2, cy) - t;
+            let d = -(self.y[b] - self.y[a]) * SUB;
+            let step = (self.x[b] - self.x[a]) * SUB;
+            let den = d.abs().max(1);
+            EdgeBound {
+                rising: d.signum(),
+                q: n.div_euclid(den),
+                r: n.rem_euclid(den),
+                dq: step.div_euclid(den),
+                dr: step.rem_euclid(den),
+                den,
+            }
+        });
+        Rows { bounds }
+    }
+
     /// The texel rectangle `(x0, x1, y0, y1)`, inclusive, whose centres lie in the bounding box
     /// (empty, `x0 > x1` or `y0 > y1`, when none does).
     pub fn texel_box(&self) -> (i64, i64, i64, i64) {
@@ -112,12 +138,78 @@ impl SnappedTri {
     }
 }
 
+/// One edge's bound on a row's span, walked down the rows (see [`SnappedTri::rows`]).
+#[derive(Clone, Copy, Debug)]
+struct EdgeBound {
+    /// The sign of the edge function's change along a row: 1 bounds the span below, -1 above,
+    /// 0 (a horizontal edge) covers the whole row or none of it.
+    rising: i64,
+    /// `floor(n / den)` and its remainder.
+    q: i64,
+    r: i64,
+    /// `floor(step / den)` and its remainder: the change of `q` and `r` per row.
+    dq: i64,
+    dr: i64,
+    /// `|d|`, or 1 for a horizontal edge (whose `q` is then the edge function minus its
+    /// threshold, the same on the whole row).
+    den: i64,
+}
+
+/// The spans of consecutive rows of a [`SnappedTri`], from [`SnappedTri::rows`].
+#[derive(Clone, Copy, Debug)]
+pub struct Rows {
+    bounds: [EdgeBound; 3],
+}
+
+impl Rows {
+    /// The walk `m >= 0` rows further down, without visiting the rows between.
+    pub fn skipped(&self, m: i64) -> Rows {
+        Rows {
+            bounds: self.bounds.map(|e| {
+                let r = e.r + m * e.dr;
+                // No division for the first band a triangle meets (most of them).
+                let (carry, r) = if r < e.den {
+                    (0, r)
+                } else {
+                    (r.div_euclid(e.den), r.rem_euclid(e.den))
+                };
+                EdgeBound {
+                    q: e.q + m * e.dq + carry,
+                    r,
+                    ..e
+                }
+            }),
+        }
+    }
+
+    /// The current row's covered texels within `[x0, x1]` (as [`SnappedTri::span`]); the walk
+    /// then moves to the next row.
+    #[inline]
+    pub fn span(&mut self, x0: i64, x1: i64) -> Option<(i64, i64)> {
+        let (mut lo, mut hi, mut any) = (x0, x1, true);
+        for e in &mut self.bounds {
+            match e.rising {
+                1 => lo = lo.max(-e.q),
+                -1 => hi = hi.min(e.q),
+                _ => any &= e.q >= 0,
+            }
+            e.q += e.dq;
+            e.r += e.dr;
+            if e.r >= e.den {
+                e.r -= e.den;
+                e.q += 1;
+            }
+        }
+        (any && lo <= hi).then_some((lo, hi))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// A row's span is exactly the texels `covers` accepts, and the texel box holds every
-    /// covered texel, on random snapped triangles (slivers, axis-aligned and shared edges made
+    /// A row's span is exactly the texels `covers` accepts, walking down the rows gives the
+    /// same spans, and the texel box holds every covered texel, on random snapped triangles (slivers, axis-aligned and shared edges made
     /// common by the small coordinate range).
     #[test]
     fn spans_are_the_covered_texels() {
@@ -141,8 +233,13 @@ mod tests {
                 continue;
             };
             let (bx0, bx1, by0, by1) = t.texel_box();
+            let mut rows = t.rows(-3);
+            let skipped = t.rows(-3);
             for y in -3..40 {
+                let mut at = skipped.skipped(y + 3);
+                assert_eq!(at.span(0, 39), t.span(y, 0, 39), "{p:?} row {y} skipped to");
                 let span = t.span(y, 0, 39);
+                assert_eq!(rows.span(0, 39), span, "{p:?} row {y} walked");
                 for x in -3..40 {
                     let covered = t.covers(x, y);
                     if (0..40).contains(&x) {
