@@ -89,7 +89,7 @@ const BLOCK: usize = 8;
 
 /// The nearest of the 3x3 candidates for texels `x0 .. x0 + L` of row `y` (each texel's own seed
 /// first, then the rows in order, each at columns `x - k, x, x + k`, keeping a strictly nearer
-/// one). `rows[r]` is row `r` padded with `k` [`NONE`] on either side (a texel outside the map
+/// one; a candidate that cannot be strictly nearer is not compared). `rows[r]` is row `r` padded with `k` [`NONE`] on either side (a texel outside the map
 /// offers [`NONE`], which never wins: the same as offering nothing).
 #[inline(always)]
 fn block<const L: usize, D: Dist2>(
@@ -103,10 +103,24 @@ fn block<const L: usize, D: Dist2>(
     let xs: [i32; L] = std::array::from_fn(|l| (x0 + l) as i32);
     let mut best: [u32; L] = std::array::from_fn(|l| centre[x0 + l]);
     let mut best_d: [D; L] = std::array::from_fn(|l| D::of(xs[l], y, best[l]));
-    for row in rows.iter().flatten() {
+    for (r, row) in rows.iter().enumerate() {
+        let Some(row) = row else { continue };
         // Padded: column x + c - k is at x + c.
         for c in [0, k, 2 * k] {
+            // The texel itself offers its own seed, never strictly nearer than the best.
+            if r == 1 && c == k {
+                continue;
+            }
             let cand = &row[x0 + c..x0 + c + L];
+            // Candidates equal to the best seeds are at the same distances: no change. Late
+            // passes, inside one seed's region, skip most candidates this way.
+            if cand
+                .iter()
+                .zip(&best)
+                .fold(true, |all, (c, b)| all & (c == b))
+            {
+                continue;
+            }
             for l in 0..L {
                 let d = D::of(xs[l], y, cand[l]);
                 let nearer = d < best_d[l];
