@@ -76,10 +76,9 @@ impl NdcSlicer {
     /// The slice of NDC depth `z` (NaN: slice 0, as [`Frame::slice_of`] gives NaN).
     #[inline(always)]
     pub fn slice(&self, z: f32) -> u32 {
-        if z <= 0.0 {
-            return self.behind;
-        }
-        self.at.iter().map(|&t| (z <= t) as u32).sum()
+        // Both sides computed, one chosen: no branch in the rasterizer's span loop.
+        let above: u32 = self.at.iter().map(|&t| (z <= t) as u32).sum();
+        if z <= 0.0 { self.behind } else { above }
     }
 }
 
@@ -91,18 +90,30 @@ pub fn slice(frame: &Frame, geometry: &SceneGeometry) -> Map2D<u32> {
         return Map2D::new(res, res, 0);
     }
     let view = frame.view();
-    let mark = move |mask: &mut u32, k: u32| {
-        *mask |= 1 << k;
-        if frame.thin_fix != 0 && k + 1 < n {
-            *mask |= 1 << (k + 1);
-        }
-    };
+    // The bits a fragment of slice k sets: k, and with the thin-occluder fix k + 1 as well.
+    let bits: [u32; 32] = std::array::from_fn(|k| {
+        let next = frame.thin_fix != 0 && (k as u32) + 1 < n;
+        (1u32 << k) | if next { 1 << (k + 1) } else { 0 }
+    });
+    let mark = move |mask: &mut u32, k: u32| *mask |= bits[k as usize & 31];
     match NdcSlicer::new(frame, &view) {
-        Some(slicer) => rasterize_fold(&view, res, &geometry.casters, 0u32, |mask, z| {
-            mark(mask, slicer.slice(z))
+        // The slice is monotone in NDC depth, so a span whose ends share a slice lies in it.
+        Some(slicer) => rasterize_fold(&view, res, &geometry.casters, 0u32, |masks, depths| {
+            let Some(last) = masks.len().checked_sub(1) else {
+                return;
+            };
+            let first = slicer.slice(depths.at(0));
+            if depths.monotone() && slicer.slice(depths.at(last)) == first {
+                let b = bits[first as usize & 31];
+                masks.iter_mut().for_each(|m| *m |= b);
+            } else {
+                depths.each(masks, |m, z| mark(m, slicer.slice(z)));
+            }
         }),
-        None => rasterize_fold(&view, res, &geometry.casters, 0u32, |mask, z| {
-            mark(mask, frame.slice_of(view.linear_depth_from_ndc(z)))
+        None => rasterize_fold(&view, res, &geometry.casters, 0u32, |masks, depths| {
+            depths.each(masks, |m, z| {
+                mark(m, frame.slice_of(view.linear_depth_from_ndc(z)))
+            })
         }),
     }
 }
@@ -118,6 +129,71 @@ mod tests {
     use bytemuck::Zeroable;
     use glam::Vec3;
     use shadow_core::view::{ProjectionKind, look_to_up};
+
+    /// The masks mark every fragment by its own slice, [`Frame::slice_of`] its linear depth,
+    /// though a span whose ends share a slice is marked whole: on two steep triangles that cross
+    /// every slice and 400 small ones at random depths and slants, for 4 to 16 slices, with and
+    /// without the thin-occluder fix, at a resolution where spans are long.
+    #[test]
+    fn slice_masks_mark_every_fragment_by_its_depth() {
+        use shadow_core::{Aabb, Light};
+        let light = Light::Rect {
+            center: Vec3::new(0.0, 4.0, 0.0),
+            u_half: Vec3::X * 0.5,
+            v_half: Vec3::Z * 0.5,
+        };
+        let mut casters = vec![
+            [
+                Vec3::new(-1.0, 0.1, -1.0),
+                Vec3::new(1.0, 3.0, -1.0),
+                Vec3::new(1.0, 0.1, 1.0),
+            ],
+            [
+                Vec3::new(-1.0, 3.0, 1.0),
+                Vec3::new(1.0, 0.1, 1.0),
+                Vec3::new(-1.0, 0.1, -1.0),
+            ],
+        ];
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for _ in 0..400 {
+            let c = Vec3::new(2.0 * next() - 1.0, 0.1 + 2.9 * next(), 2.0 * next() - 1.0);
+            let mut corner = || c + (Vec3::new(next(), next(), next()) - 0.5) * 0.6;
+            casters.push([corner(), corner(), corner()]);
+        }
+        let geometry = SceneGeometry {
+            bounds: Aabb::of_triangles(&casters),
+            casters,
+            receivers: Vec::new(),
+        };
+        for (slices, thin_fix) in [(4, false), (8, true), (16, false), (16, true)] {
+            let frame = Frame::fit(&light, &geometry, slices, 256, thin_fix);
+            let view = frame.view();
+            assert!(NdcSlicer::new(&frame, &view).is_some());
+            let expected = rasterize_fold(&view, 256, &geometry.casters, 0u32, |masks, depths| {
+                depths.each(masks, |m, z| {
+                    let k = frame.slice_of(view.linear_depth_from_ndc(z));
+                    *m |= 1 << k;
+                    if thin_fix && k + 1 < slices {
+                        *m |= 1 << (k + 1);
+                    }
+                })
+            });
+            let masks = slice(&frame, &geometry);
+            let marked: u32 = expected.data().iter().map(|m| m.count_ones()).sum();
+            let used: u32 = expected.data().iter().fold(0, |a, m| a | m);
+            assert!(
+                marked > 40_000 && used.count_ones() >= slices - 1,
+                "{marked}, {used:b}"
+            );
+            assert!(masks.data() == expected.data(), "{slices} slices");
+        }
+    }
 
     /// The slicer gives [`Frame::slice_of`] of the linear depth on every slice's threshold and
     /// the 64 `f32`s either side of it, on 20,000 NDC depths spread over every binade of

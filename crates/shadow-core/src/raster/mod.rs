@@ -476,15 +476,15 @@ impl<'a> Span<'a> {
         }
     }
 
-    /// Merges the span's depths into `texels` (the span's texels) with `keep(z, stored)`: the
-    /// same depths as [`Span::depth`], in a loop without branches or calls (so it vectorizes)
-    /// where the triangle is planar.
+    /// `update(texel, z)` for each of the span's `texels` with its depth `z`: the same depths
+    /// as [`Span::depth`], without the weights where the triangle is planar (a loop without
+    /// branches or calls, which vectorizes where `update` does).
     #[inline]
-    fn merge_depths(&self, texels: &mut [f32], keep: impl Fn(f32, f32) -> f32) {
+    fn each_depth<T>(&self, texels: &mut [T], update: impl Fn(&mut T, f32)) {
         if !self.planar {
             let at = self.weights();
             for (j, texel) in texels.iter_mut().enumerate() {
-                *texel = keep(self.depth(j, at(j)), *texel);
+                update(texel, self.depth(j, at(j)));
             }
             return;
         }
@@ -492,8 +492,7 @@ impl<'a> Span<'a> {
         for (j, texel) in texels.iter_mut().enumerate() {
             // Spans lie in the target, so `j` fits in 32 bits (which convert to f64 in vector
             // registers where 64-bit integers do not).
-            let z = (z0 + (j as u32) as f64 * dz) as f32;
-            *texel = keep(z, *texel);
+            update(texel, (z0 + (j as u32) as f64 * dz) as f32);
         }
     }
 }
@@ -686,8 +685,8 @@ pub fn depth_map_pass(
         out.data_mut(),
         &empty,
         |texels: &mut [f32], span: &Span| match pass.test {
-            DepthTest::Nearest => span.merge_depths(texels, |z, s| if z > s { z } else { s }),
-            DepthTest::Farthest => span.merge_depths(texels, |z, s| if z < s { z } else { s }),
+            DepthTest::Nearest => span.each_depth(texels, |s, z| *s = if z > *s { z } else { *s }),
+            DepthTest::Farthest => span.each_depth(texels, |s, z| *s = if z < *s { z } else { *s }),
         },
         |band: &mut [f32]| pass.linearize(view, band),
     );
@@ -716,16 +715,46 @@ pub fn depth_map_filtered(
     rasterize_into(&screen, resolution, resolution, pass, target)
 }
 
-/// Rasterizes `tris` through `view` with no depth test: every covered fragment calls
-/// `update(texel, z)` with its NDC depth `z` (reversed Z; [`View::linear_depth_from_ndc`] turns
-/// it into linear depth) in submission order, starting from `empty` (as a render pass with an
-/// order-independent blend does, e.g. `Max` into slice masks).
+/// The NDC depths (reversed Z; [`View::linear_depth_from_ndc`] turns them into linear depth) of
+/// the texels one triangle covers in one row, in order along the row: what [`rasterize_fold`]
+/// hands its update.
+pub struct Depths<'a>(&'a Span<'a>);
+
+impl Depths<'_> {
+    /// NDC depth of the `j`-th texel of the span.
+    pub fn at(&self, j: usize) -> f32 {
+        let span = self.0;
+        if span.planar {
+            span.depth(j, [0.0; 3])
+        } else {
+            span.depth(j, span.weights()(j))
+        }
+    }
+
+    /// Whether [`Depths::at`] is monotone along the span: true for every triangle of nonzero
+    /// area (depth is one plane, evaluated in `f64` and rounded, both monotone), so a monotone
+    /// function of depth that agrees at the span's two ends holds that value on all of it.
+    pub fn monotone(&self) -> bool {
+        self.0.planar
+    }
+
+    /// `update(texel, z)` for each of `texels` (the span's) with its depth `z`, in a loop that
+    /// vectorizes where `update` does.
+    pub fn each<T>(&self, texels: &mut [T], update: impl Fn(&mut T, f32)) {
+        self.0.each_depth(texels, update)
+    }
+}
+
+/// Rasterizes `tris` through `view` with no depth test: every row span a triangle covers calls
+/// `update(texels, depths)` with the span's texels and their [`Depths`], in submission order,
+/// starting from `empty` (as a render pass with an order-independent blend does, e.g. `Max`
+/// into slice masks).
 pub fn rasterize_fold<T: Clone + Send + Sync + 'static>(
     view: &View,
     resolution: u32,
     tris: &[[Vec3; 3]],
     empty: T,
-    update: impl Fn(&mut T, f32) + Sync,
+    update: impl Fn(&mut [T], &Depths) + Sync,
 ) -> Map2D<T> {
     let screen = setup_world(view, resolution, resolution, tris, Faces::All);
     let mut out = Map2D::for_overwrite(resolution, resolution, empty.clone());
@@ -734,7 +763,7 @@ pub fn rasterize_fold<T: Clone + Send + Sync + 'static>(
         resolution,
         out.data_mut(),
         &empty,
-        per_texel(|texel, _, _, z, _, _| update(texel, z)),
+        |texels: &mut [T], span: &Span| update(texels, &Depths(span)),
         |_| {},
     );
     out
