@@ -55,8 +55,8 @@ pub const F32_EXACT_SIDE: u32 = 2896;
 const _: () = assert!(2 * (F32_EXACT_SIDE as u64 - 1).pow(2) < 1 << 24);
 
 /// A squared distance a pass compares: the same order on every pair of seeds of the map, so
-/// both kinds pick the same seed.
-trait Dist2: Copy + PartialOrd + Send {
+/// both kinds pick the same seed; its default is the distance 0 of a texel to itself.
+trait Dist2: Copy + PartialOrd + Send + Default {
     /// Squared distance from texel `(x, y)` to `seed`.
     fn of(x: i32, y: i32, seed: u32) -> Self;
 }
@@ -103,6 +103,15 @@ fn block<const L: usize, D: Dist2>(
     let xs: [i32; L] = std::array::from_fn(|l| (x0 + l) as i32);
     let mut best: [u32; L] = std::array::from_fn(|l| centre[x0 + l]);
     let mut best_d: [D; L] = std::array::from_fn(|l| D::of(xs[l], y, best[l]));
+    // Texels that are their own seeds (distance 0) cannot hear of a strictly nearer one: a
+    // block of them (most of a map whose seeds are its unblocked texels) keeps its seeds.
+    if best_d
+        .iter()
+        .fold(true, |all, d| all & (*d == D::default()))
+    {
+        out[x0..x0 + L].copy_from_slice(&best);
+        return;
+    }
     for (r, row) in rows.iter().enumerate() {
         let Some(row) = row else { continue };
         // Padded: column x + c - k is at x + c.
@@ -227,13 +236,15 @@ mod tests {
     /// it is used for (a lattice of seeds, whose ties the fixed order decides, sparse random
     /// seeds and the two far corners, so the longest distances of
     /// the map are compared; every 8th row checked) and at a side whose rows end in a partial
-    /// block, and in `i32` there.
+    /// block, and in `i32` there; and seeds everywhere but in holes, where whole blocks of texels
+    /// are their own seeds.
     #[test]
     fn passes_follow_the_definition() {
-        for (n, kind, every) in [
-            (F32_EXACT_SIDE, "f32", 8),
-            (1003, "f32", 1),
-            (1003, "i32", 1),
+        for (n, kind, every, dense) in [
+            (F32_EXACT_SIDE, "f32", 8, false),
+            (1003, "f32", 1, false),
+            (1003, "i32", 1, false),
+            (1003, "f32", 1, true),
         ] {
             let mut s = 0x2545_F491_4F6C_DD1Du64;
             let mut a: Vec<u32> = (0..n * n)
@@ -244,7 +255,10 @@ mod tests {
                     let (x, y) = (i % n, i / n);
                     // A lattice (many texels equidistant from two seeds: ties) and noise.
                     let lattice = x % 96 == 5 && y % 88 == 7;
-                    if lattice || s.is_multiple_of(40_000) {
+                    // Or seeds everywhere but in holes (a width map's unblocked texels): whole
+                    // blocks of texels at distance 0 next to blocks that are not.
+                    let hole = (x / 37 + y / 29) % 3 == 0 || s.is_multiple_of(7);
+                    if (dense && !hole) || lattice || s.is_multiple_of(40_000) {
                         pack(x, y)
                     } else {
                         NONE
