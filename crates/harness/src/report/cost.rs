@@ -137,7 +137,10 @@ pub fn generation_cause(configuration: &str) -> &'static str {
         }
         ("penumbra-limit", _) => {
             "a ribbon of up to the widest penumbra's texels rasterized per silhouette edge, a \
-             lower-limit depth pass and a combine pass over every texel"
+             lower-limit depth pass and a combine pass over every texel; where every leaf \
+             border is a silhouette edge (foliage at 2048: 12,000 ribbons about 200 texels \
+             wide) that is 371 M ribbon fragments, 88 per texel, against the hard map's 0.64 \
+             depth fragments per texel"
         }
         ("occlusion-slices", "nbuffer") => {
             "log2(side) + 1 full-resolution levels per slice: 12 x 4 MiB per slice written at \
