@@ -219,6 +219,75 @@ proptest! {
     }
 }
 
+/// A propagated width map does not depend on what its pooled buffers held: after a map blocked
+/// everywhere (whose buffers go back to the pool full of non-zero widths), a disc blocked in an
+/// unblocked map (chunks of 0 around it, which the passes skip) equals its passes run texel by
+/// texel.
+#[test]
+fn propagation_ignores_what_its_pooled_buffers_held() {
+    let res = 320;
+    for n in [Neighbours::Four, Neighbours::Eight] {
+        drop(propagate::width(&Map2D::new(res, res, true), n));
+        let disc: Vec<bool> = (0..res * res)
+            .map(|i| {
+                let (x, y) = ((i % res) as f32 - 150.0, (i / res) as f32 - 170.0);
+                x * x + y * y < 60.0 * 60.0
+            })
+            .collect();
+        let mask = Map2D::from_vec(res, res, disc).unwrap();
+        let mut expected: Vec<f32> = mask
+            .data()
+            .iter()
+            .map(|&b| if b { propagate::UNREACHED } else { 0.0 })
+            .collect();
+        for step in propagate::steps(res) {
+            expected = pass_per_texel(&expected, res, step, n);
+        }
+        let got = propagate::width(&mask, n);
+        assert!(
+            got.data()
+                .iter()
+                .zip(&expected)
+                .all(|(g, e)| g.to_bits() == e.to_bits()),
+            "{n:?}"
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(40))]
+
+    /// The propagated width map equals its passes run texel by texel bit for bit: the chunks a
+    /// pass leaves alone (0 in its source, and 0s already in its destination from two passes
+    /// before) are the ones the per-texel loop leaves at 0. Sides up to 150 have rows of three
+    /// chunks, the last one partial.
+    #[test]
+    fn propagated_width_equals_its_passes_per_texel(
+        res in 1u32..150,
+        density in 0.0f64..=1.0,
+        seed: u64,
+    ) {
+        let mask = random_mask(res, density, seed);
+        for n in [Neighbours::Three, Neighbours::Four, Neighbours::Six, Neighbours::Eight] {
+            let mut expected: Vec<f32> = mask
+                .data()
+                .iter()
+                .map(|&b| if b { propagate::UNREACHED } else { 0.0 })
+                .collect();
+            for step in propagate::steps(res) {
+                expected = pass_per_texel(&expected, res, step, n);
+            }
+            let cap = cap(res);
+            let got = propagate::width(&mask, n);
+            prop_assert_eq!(
+                got.data().iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                expected.iter().map(|v| v.min(cap).to_bits()).collect::<Vec<_>>(),
+                "{:?}", n
+            );
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
 

@@ -59,34 +59,87 @@ pub fn steps(resolution: u32) -> Vec<u32> {
     v
 }
 
+/// Texels per chunk of a row that a pass skips when it is 0 throughout.
+const CHUNK: usize = 64;
+
+/// Per chunk of [`CHUNK`] texels of each row (row-major, `res.div_ceil(CHUNK)` a row), whether
+/// every texel of it is +0 in a buffer. A texel at 0 (unblocked, or reached at no distance)
+/// stays 0: every candidate adds a positive length to a value of at least 0.
+fn zero_chunks(buf: &[f32], res: u32, zero: &mut [bool]) {
+    let w = res as usize;
+    let per_row = w.div_ceil(CHUNK);
+    zero.par_chunks_mut(per_row.max(1))
+        .zip(buf.par_chunks(w.max(1)))
+        .for_each(|(z, row)| {
+            for (z, c) in z.iter_mut().zip(row.chunks(CHUNK)) {
+                *z = c.iter().all(|&v| v.to_bits() == 0);
+            }
+        });
+}
+
 /// One pass with step `step`: reads `src`, writes `dst`. Each row starts from its own texels
-/// and takes one offset at a time over the whole row (the source row shifted by `dx`, clipped
-/// to the map): the same minimum in the same order per texel as offset by offset per texel, in
-/// a loop that vectorizes.
+/// and takes one offset at a time over a chunk of the row (the source row shifted by `dx`,
+/// clipped to the map): the same minimum per texel as offset by offset per texel, in a loop that
+/// vectorizes; a chunk of [`CHUNK`] texels at 0 in `src` is 0 in `dst` too.
 pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
+    let chunks = (res as usize).div_ceil(CHUNK) * res as usize;
+    let (mut src_zero, mut dst_zero) = (vec![false; chunks], vec![false; chunks]);
+    zero_chunks(src, res, &mut src_zero);
+    pass_chunks(src, dst, res, step, n, &src_zero, &mut dst_zero);
+}
+
+/// [`pass`] given `src_zero` and `dst_zero`, the [`zero_chunks`] of the two buffers: a chunk at
+/// 0 in `src` is written only if `dst` does not hold 0s there already (from two passes before);
+/// `dst_zero` is brought up to date.
+fn pass_chunks(
+    src: &[f32],
+    dst: &mut [f32],
+    res: u32,
+    step: u32,
+    n: Neighbours,
+    src_zero: &[bool],
+    dst_zero: &mut [bool],
+) {
     let (r, w) = (res as i64, res as usize);
+    let per_row = w.div_ceil(CHUNK).max(1);
     let offs = offsets(n, step);
     dst.par_chunks_mut(w.max(1))
+        .zip(dst_zero.par_chunks_mut(per_row))
         .enumerate()
-        .for_each(|(y, row)| {
-            row.copy_from_slice(&src[y * w..(y + 1) * w]);
-            for &(dx, dy, len) in &offs {
-                let qy = y as i64 + dy as i64;
-                if qy < 0 || qy >= r {
+        .for_each(|(y, (row, zero))| {
+            let src_row = &src[y * w..(y + 1) * w];
+            for (c, dst_is_zero) in zero.iter_mut().enumerate() {
+                let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(w));
+                if src_zero[y * per_row + c] {
+                    if !*dst_is_zero {
+                        row[lo..hi].fill(0.0);
+                        *dst_is_zero = true;
+                    }
                     continue;
                 }
-                // Texels x with 0 <= x + dx < res.
-                let dx = dx as i64;
-                let (x0, x1) = ((-dx).clamp(0, r), (r - dx).clamp(0, r));
-                if x0 >= x1 {
-                    continue;
+                let out = &mut row[lo..hi];
+                out.copy_from_slice(&src_row[lo..hi]);
+                let (lo, hi) = (lo as i64, hi as i64);
+                for &(dx, dy, len) in &offs {
+                    let qy = y as i64 + dy as i64;
+                    if qy < 0 || qy >= r {
+                        continue;
+                    }
+                    // Texels x of the chunk with 0 <= x + dx < res.
+                    let dx = dx as i64;
+                    let (x0, x1) = ((-dx).clamp(lo, hi), (r - dx).clamp(lo, hi));
+                    if x0 >= x1 {
+                        continue;
+                    }
+                    let from = (qy * r + x0 + dx) as usize;
+                    let shifted = &src[from..from + (x1 - x0) as usize];
+                    let part = &mut out[(x0 - lo) as usize..(x1 - lo) as usize];
+                    for (o, &v) in part.iter_mut().zip(shifted) {
+                        let c = v + len;
+                        *o = if c < *o { c } else { *o };
+                    }
                 }
-                let from = (qy * r + x0 + dx) as usize;
-                let shifted = &src[from..from + (x1 - x0) as usize];
-                for (o, &v) in row[x0 as usize..x1 as usize].iter_mut().zip(shifted) {
-                    let c = v + len;
-                    *o = if c < *o { c } else { *o };
-                }
+                *dst_is_zero = out.iter().all(|&v| v.to_bits() == 0);
             }
         });
 }
@@ -105,9 +158,15 @@ pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
             }
         });
     let mut b = shadow_core::pool::overwrite(a.len(), 0.0f32);
+    let chunks = rows.div_ceil(CHUNK) * mask.height() as usize;
+    let mut a_zero = vec![false; chunks];
+    zero_chunks(&a, res, &mut a_zero);
+    // `b` holds no known 0s yet.
+    let mut b_zero = vec![false; chunks];
     for step in steps(res) {
-        pass(&a, &mut b, res, step, n);
+        pass_chunks(&a, &mut b, res, step, n, &a_zero, &mut b_zero);
         std::mem::swap(&mut a, &mut b);
+        std::mem::swap(&mut a_zero, &mut b_zero);
     }
     shadow_core::pool::give(b);
     let cap = super::cap(res);
