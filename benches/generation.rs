@@ -1,13 +1,15 @@
 //! Generation cost per map resolution (128..2048) for every technique, variant and baseline of
 //! the report, each on a scene whose light it models (`shadow_benches::bench_scene`): CPU, GPU
 //! wall time (record, submit and wait, from geometry already on the GPU) and GPU device time
-//! (timestamp queries on every pass, where the adapter has them). Plus shadow-width's width map alone and the frame pipeline with and
+//! (timestamp queries on every pass, where the adapter has them). Plus shadow-width's width map
+//! alone, writing a map's texels once (the hard map's floor) and the frame pipeline with and
 //! without map caching.
 //!
 //! `cargo bench -p shadow-benches --bench generation [-- <regex>]`; see `benches/README.md`.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::animated::{self, AnimatedScene};
+use harness::report::cost::write_texels;
 use harness::scenes::catalogue::build;
 use shadow_benches::{RESOLUTIONS, configs, gpu, iter_device_time};
 use shadow_core::frame::FrameSettings;
@@ -81,6 +83,24 @@ fn shadow_width_map(c: &mut Criterion) {
     }
 }
 
+/// Writing every texel of an `f32` map once on every thread, the floor the hard map's
+/// generation is compared with (`harness::report::cost::write_texels`, into a map already
+/// faulted in).
+fn write_once(c: &mut Criterion) {
+    let mut group = c.benchmark_group("write-once");
+    group
+        .sample_size(20)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(2));
+    for res in RESOLUTIONS {
+        let mut map = vec![0.0f32; res as usize * res as usize];
+        group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, _| {
+            b.iter(|| write_texels(&mut map, 1.0))
+        });
+    }
+    group.finish();
+}
+
 /// The frame pipeline on `harness::animated` (96² receivers, maps of 128): 100 frames, the box
 /// moving for the first 50, with map caching and without (every light regenerated each frame).
 fn frame_caching(c: &mut Criterion) {
@@ -103,5 +123,11 @@ fn frame_caching(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, generation, shadow_width_map, frame_caching);
+criterion_group!(
+    benches,
+    generation,
+    shadow_width_map,
+    write_once,
+    frame_caching
+);
 criterion_main!(benches);

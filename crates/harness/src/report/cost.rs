@@ -34,11 +34,17 @@ pub struct CostRow {
     pub scenes: usize,
 }
 
-/// Median milliseconds of 7 parallel writes of a `res²` `f32` map into storage already faulted
+/// Writes `value` to every texel of `map` on every thread: the floor under a map's generation
+/// that [`write_once_ms`] times (and the `write-once` bench).
+pub fn write_texels(map: &mut [f32], value: f32) {
+    use rayon::prelude::*;
+    map.par_chunks_mut(1 << 14).for_each(|c| c.fill(value));
+}
+
+/// Median milliseconds of 7 [`write_texels`] of a `res²` `f32` map into storage already faulted
 /// in: what writing a map's texels once costs on this machine; 0 (not measured) when the map
 /// cannot be allocated.
 pub fn write_once_ms(res: u32) -> f64 {
-    use rayon::prelude::*;
     let n = res as usize * res as usize;
     let mut map = Vec::new();
     if n == 0 || map.try_reserve_exact(n).is_err() {
@@ -48,7 +54,7 @@ pub fn write_once_ms(res: u32) -> f64 {
     let times: Vec<f64> = (0..7)
         .map(|i| {
             let start = std::time::Instant::now();
-            map.par_chunks_mut(1 << 14).for_each(|c| c.fill(i as f32));
+            write_texels(&mut map, i as f32);
             start.elapsed().as_secs_f64() * 1e3
         })
         .collect();
