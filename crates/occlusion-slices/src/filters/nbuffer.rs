@@ -6,9 +6,12 @@
 //! error of a stored value is its rounding, at every level.
 
 use super::sat::Sat;
-use super::{bilinear, level_count, unorm8_pow2};
+use super::{U32_SHIFT_MAX, bilinear, level_count, unorm8_pow2, unorm8_pow2_u32};
 use glam::Vec2;
 use rayon::prelude::*;
+
+/// Rows per band of the construction.
+const BAND_ROWS: usize = 16;
 
 /// Every level of one slice, `res²` bytes each.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,42 +31,69 @@ impl Drop for NBuffer {
 
 impl NBuffer {
     /// The levels `0..level_count(res)` of the slice whose table is `sat`.
+    ///
+    /// Bands of rows in parallel, every level of a row at once: the table row `y` that each
+    /// level reads is read once for all of them, and the rows `y + 2^l` below it are read
+    /// while neighbouring output rows still have them in cache (a pass per level re-read the
+    /// whole 16 MiB table at 2048² for each of the 12 levels).
     pub fn new(sat: &Sat) -> NBuffer {
         let res = sat.res;
         let n = res as usize;
         let w = n + 1;
-        let levels = (0..level_count(res))
-            .map(|l| {
-                let s = 1usize << l;
-                let shift = 2 * l;
-                // Every texel is written below: no clearing pass.
-                let mut out = shadow_core::pool::overwrite(n * n, 0u8);
-                out.par_chunks_mut(n.max(1))
-                    .enumerate()
-                    .for_each(|(y, row)| {
-                        // The box [x, x + s) x [y, y + s), clipped to the slice: table rows y and
-                        // min(y + s, n), columns x and min(x + s, n).
-                        let r0 = &sat.data[y * w..(y + 1) * w];
-                        let y1 = (y + s).min(n);
-                        let r1 = &sat.data[y1 * w..(y1 + 1) * w];
-                        let value = |x: usize, x1: usize| {
-                            let c = r1[x1]
-                                .wrapping_sub(r0[x1])
-                                .wrapping_sub(r1[x])
-                                .wrapping_add(r0[x]);
-                            unorm8_pow2(c, shift)
-                        };
-                        let inner = n.saturating_sub(s);
-                        for (x, v) in row[..inner].iter_mut().enumerate() {
-                            *v = value(x, x + s);
-                        }
-                        for (x, v) in row.iter_mut().enumerate().skip(inner) {
-                            *v = value(x, n);
-                        }
-                    });
-                out
-            })
+        let count = level_count(res) as usize;
+        // Every texel is written below: no clearing pass.
+        let mut levels: Vec<Vec<u8>> = (0..count)
+            .map(|_| shadow_core::pool::overwrite(n * n, 0u8))
             .collect();
+        // Per band of rows, that band of every level.
+        let band = BAND_ROWS * n.max(1);
+        let mut bands: Vec<Vec<&mut [u8]>> =
+            (0..n.div_ceil(BAND_ROWS)).map(|_| Vec::new()).collect();
+        for level in &mut levels {
+            for (b, rows) in level.chunks_mut(band).enumerate() {
+                bands[b].push(rows);
+            }
+        }
+        bands.into_par_iter().enumerate().for_each(|(b, mut band)| {
+            for r in 0..BAND_ROWS.min(n - b * BAND_ROWS) {
+                let y = b * BAND_ROWS + r;
+                let r0 = &sat.data[y * w..(y + 1) * w];
+                for (l, level) in band.iter_mut().enumerate() {
+                    let row = &mut level[r * n..(r + 1) * n];
+                    let s = 1usize << l;
+                    let shift = 2 * l as u32;
+                    // The box [x, x + s) x [y, y + s), clipped to the slice: table rows y and
+                    // min(y + s, n), columns x and min(x + s, n).
+                    let y1 = (y + s).min(n);
+                    let r1 = &sat.data[y1 * w..(y1 + 1) * w];
+                    // Texels whose box lies inside the row read columns x and x + s, the rest
+                    // columns x and n; the count of a box is at most its area 4^l.
+                    let inner = n.saturating_sub(s);
+                    let boxes = |(x, x1): (usize, usize)| {
+                        r1[x1]
+                            .wrapping_sub(r0[x1])
+                            .wrapping_sub(r1[x])
+                            .wrapping_add(r0[x])
+                    };
+                    let (lo, hi) = row.split_at_mut(inner);
+                    if shift <= U32_SHIFT_MAX {
+                        let counts = (r0[..inner].iter().zip(&r0[s..s + inner]))
+                            .zip(r1[..inner].iter().zip(&r1[s..s + inner]));
+                        for (v, ((&a, &b), (&c, &d))) in lo.iter_mut().zip(counts) {
+                            let count = d.wrapping_sub(b).wrapping_sub(c).wrapping_add(a);
+                            *v = unorm8_pow2_u32(count, shift);
+                        }
+                    } else {
+                        for (x, v) in lo.iter_mut().enumerate() {
+                            *v = unorm8_pow2(boxes((x, x + s)), shift);
+                        }
+                    }
+                    for (x, v) in hi.iter_mut().enumerate() {
+                        *v = unorm8_pow2(boxes((inner + x, n)), shift);
+                    }
+                }
+            }
+        });
         NBuffer { res, levels }
     }
 
