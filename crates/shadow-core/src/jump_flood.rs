@@ -89,8 +89,9 @@ const BLOCK: usize = 8;
 
 /// The nearest of the 3x3 candidates for texels `x0 .. x0 + L` of row `y` (each texel's own seed
 /// first, then the rows in order, each at columns `x - k, x, x + k`, keeping a strictly nearer
-/// one; a candidate that cannot be strictly nearer is not compared). `rows[r]` is row `r` padded with `k` [`NONE`] on either side (a texel outside the map
-/// offers [`NONE`], which never wins: the same as offering nothing).
+/// one; a candidate that cannot be strictly nearer is not compared). `rows[r]` is row `r`
+/// padded with `k` [`NONE`] on either side (a texel outside the map offers [`NONE`], which never
+/// wins: the same as offering nothing).
 #[inline(always)]
 fn block<const L: usize, D: Dist2>(
     rows: &[Option<&[u32]>; 3],
