@@ -80,7 +80,7 @@ fn zero_chunks(buf: &[f32], res: u32, zero: &mut [bool]) {
 /// One pass with step `step`: reads `src`, writes `dst`. Each row starts from its own texels
 /// and takes one offset at a time over a chunk of the row (the source row shifted by `dx`,
 /// clipped to the map): the same minimum per texel as offset by offset per texel, in a loop that
-/// vectorizes; a chunk of [`CHUNK`] texels at 0 in `src` is 0 in `dst` too.
+/// vectorizes; a chunk of 64 texels at 0 in `src` is 0 in `dst` too.
 pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
     let chunks = (res as usize).div_ceil(CHUNK) * res as usize;
     let (mut src_zero, mut dst_zero) = (vec![false; chunks], vec![false; chunks]);
