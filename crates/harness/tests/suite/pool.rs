@@ -60,3 +60,50 @@ fn recycled_maps_serve_the_next_generation_unchanged() {
         );
     }
 }
+
+/// A texture or buffer recycled on one thread is not served to another: the work recorded with
+/// it may still sit in the recycling thread's encoder, and another thread's submission would
+/// run first and have that work overwrite its maps (the race that once cleared a PCF depth map
+/// in the stability suite, whose tests share one context). The recycling thread reuses it.
+#[test]
+fn resources_recycled_on_one_thread_serve_only_that_thread() {
+    let Some(ctx) = gpu_for_test("resources_recycled_on_one_thread_serve_only_that_thread") else {
+        return;
+    };
+    let desc = wgpu::TextureDescriptor {
+        label: Some("pool thread test"),
+        size: wgpu::Extent3d {
+            width: 4,
+            height: 4,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    };
+    let bdesc = wgpu::BufferDescriptor {
+        label: Some("pool thread test"),
+        size: 256,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    };
+    ctx.recycle_texture(ctx.texture(&desc));
+    ctx.recycle_buffer(ctx.buffer(&bdesc));
+    let counts = || (ctx.textures_created(), ctx.buffers_created());
+    let before = counts();
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            let (_t, _b) = (ctx.texture(&desc), ctx.buffer(&bdesc));
+        });
+    });
+    assert_eq!(
+        counts(),
+        (before.0 + 1, before.1 + 1),
+        "another thread was served resources recycled here"
+    );
+    let (_t, _b) = (ctx.texture(&desc), ctx.buffer(&bdesc));
+    assert_eq!(counts(), (before.0 + 1, before.1 + 1), "not reused here");
+}

@@ -9,6 +9,12 @@
 //! recorded that uses a recycled resource still runs first: the queue keeps submission order, so
 //! a later pass that overwrites it sees the earlier reads done.
 //!
+//! That order holds within one thread, which records its work and then submits it. A resource
+//! is often recycled while the work recorded with it is still in an encoder; another thread
+//! could take it, submit first, and have the pending work overwrite its maps. So a resource
+//! serves only requests from the thread that gave it back (several threads sharing one context,
+//! as the stability suite's tests do, each reuse their own).
+//!
 //! At most [`MAX_KEPT`] resources are kept per kind, oldest given back first out; nothing is kept
 //! past [`GpuContext::clear_pool`].
 
@@ -16,31 +22,37 @@ use super::GpuContext;
 use std::collections::VecDeque;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::thread::ThreadId;
 
 /// Most textures, and most buffers, a context keeps for reuse.
 pub const MAX_KEPT: usize = 64;
 
+/// Free resources of one kind, each with the thread that gave it back.
+type FreeList<T> = Mutex<VecDeque<(ThreadId, T)>>;
+
 /// The free textures and buffers of one context, with creation counters.
 #[derive(Default)]
 pub(super) struct GpuPool {
-    textures: Mutex<VecDeque<wgpu::Texture>>,
-    buffers: Mutex<VecDeque<wgpu::Buffer>>,
+    textures: FreeList<wgpu::Texture>,
+    buffers: FreeList<wgpu::Buffer>,
     textures_created: AtomicU64,
     buffers_created: AtomicU64,
 }
 
-fn keep<T>(list: &Mutex<VecDeque<T>>, item: T) {
+fn keep<T>(list: &FreeList<T>, item: T) {
     let mut l = list.lock().unwrap_or_else(|e| e.into_inner());
-    l.push_back(item);
+    l.push_back((std::thread::current().id(), item));
     while l.len() > MAX_KEPT {
         l.pop_front();
     }
 }
 
-fn take<T>(list: &Mutex<VecDeque<T>>, fits: impl Fn(&T) -> bool) -> Option<T> {
+/// The newest resource this thread gave back that `fits`, removed from the list.
+fn take<T>(list: &FreeList<T>, fits: impl Fn(&T) -> bool) -> Option<T> {
+    let me = std::thread::current().id();
     let mut l = list.lock().unwrap_or_else(|e| e.into_inner());
-    let i = l.iter().rposition(fits)?;
-    l.remove(i)
+    let i = l.iter().rposition(|(by, t)| *by == me && fits(t))?;
+    l.remove(i).map(|(_, t)| t)
 }
 
 /// Whether `t` was made with `desc` (the label aside).
@@ -54,8 +66,8 @@ fn texture_fits(t: &wgpu::Texture, desc: &wgpu::TextureDescriptor) -> bool {
 }
 
 impl GpuContext {
-    /// A texture for `desc`: a recycled one made with the same descriptor (its label and contents
-    /// are the previous user's), else a new one.
+    /// A texture for `desc`: one this thread recycled, made with the same descriptor (its label
+    /// and contents are the previous user's), else a new one.
     pub fn texture(&self, desc: &wgpu::TextureDescriptor) -> wgpu::Texture {
         if desc.view_formats.is_empty()
             && let Some(t) = take(&self.pool.textures, |t| texture_fits(t, desc))
@@ -66,8 +78,8 @@ impl GpuContext {
         self.device.create_texture(desc)
     }
 
-    /// A buffer for `desc` (never mapped at creation): a recycled one of the same size and usage
-    /// (its contents are the previous user's), else a new one.
+    /// A buffer for `desc` (never mapped at creation): one this thread recycled, of the same size
+    /// and usage (its contents are the previous user's), else a new one.
     pub fn buffer(&self, desc: &wgpu::BufferDescriptor) -> wgpu::Buffer {
         if !desc.mapped_at_creation
             && let Some(b) = take(&self.pool.buffers, |b| {
