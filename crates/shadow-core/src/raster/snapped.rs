@@ -208,9 +208,10 @@ impl Rows {
 mod tests {
     use super::*;
 
-    /// A row's span is exactly the texels `covers` accepts, walking down the rows gives the
-    /// same spans, and the texel box holds every covered texel, on random snapped triangles (slivers, axis-aligned and shared edges made
-    /// common by the small coordinate range).
+    /// A row's span is exactly the texels `covers` accepts, walking down the rows (row by row,
+    /// or skipping to a row) gives the same spans, and the texel box holds every covered texel,
+    /// on random snapped triangles (slivers, axis-aligned and shared edges made common by the
+    /// small coordinate range).
     #[test]
     fn spans_are_the_covered_texels() {
         let mut s = 0x9E37_79B9_7F4A_7C15u64;
