@@ -34,12 +34,12 @@ pub fn unorm8_pow2(count: u32, shift: u32) -> u8 {
 }
 
 /// Largest shift [`unorm8_pow2_u32`] takes: `255 * 2^22 + 2^21 < 2^32`.
-pub const U32_SHIFT_MAX: u32 = 22;
+pub(crate) const U32_SHIFT_MAX: u32 = 22;
 
 /// [`unorm8_pow2`] in `u32` arithmetic (which vectorizes where `u64` does not), for a `count` of
 /// at most `1 << shift` and a `shift` of at most [`U32_SHIFT_MAX`]: the same value.
 #[inline]
-pub fn unorm8_pow2_u32(count: u32, shift: u32) -> u8 {
+pub(crate) fn unorm8_pow2_u32(count: u32, shift: u32) -> u8 {
     ((count * 255 + ((1u32 << shift) >> 1)) >> shift) as u8
 }
 

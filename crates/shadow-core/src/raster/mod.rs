@@ -517,7 +517,8 @@ fn raster_band<T>(
         if px0 > px1 || py0 > py1 {
             continue;
         }
-        let mut walk = t.rows.skipped(py0 - y0);
+        // py0 >= y0: the band's first row of the triangle is at or below its first row.
+        let mut walk = t.rows.skipped((py0 - y0) as u32);
         for py in py0..=py1 {
             let Some((sx0, sx1)) = walk.span(px0, px1) else {
                 continue;

@@ -162,8 +162,9 @@ pub struct Rows {
 }
 
 impl Rows {
-    /// The walk `m >= 0` rows further down, without visiting the rows between.
-    pub fn skipped(&self, m: i64) -> Rows {
+    /// The walk `m` rows further down, without visiting the rows between.
+    pub fn skipped(&self, m: u32) -> Rows {
+        let m = m as i64;
         Rows {
             bounds: self.bounds.map(|e| {
                 let r = e.r + m * e.dr;
@@ -237,7 +238,7 @@ mod tests {
             let mut rows = t.rows(-3);
             let skipped = t.rows(-3);
             for y in -3..40 {
-                let mut at = skipped.skipped(y + 3);
+                let mut at = skipped.skipped((y + 3) as u32);
                 assert_eq!(at.span(0, 39), t.span(y, 0, 39), "{p:?} row {y} skipped to");
                 let span = t.span(y, 0, 39);
                 assert_eq!(rows.span(0, 39), span, "{p:?} row {y} walked");
