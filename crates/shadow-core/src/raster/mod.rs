@@ -170,6 +170,8 @@ struct ScreenTri {
     fx: [f64; 3],
     fy: [f64; 3],
     farea: f64,
+    /// Whether the float area is usable for interpolation (else the snapped weights).
+    planar: bool,
     /// Change of the barycentric weights per pixel to the right.
     slope: [f64; 3],
     /// NDC depth's plane: its change per pixel right and down.
@@ -382,6 +384,7 @@ fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
         fx,
         fy,
         farea,
+        planar: farea.abs() > 1e-12,
         slope,
         dz,
         z,
@@ -419,8 +422,6 @@ fn bins(tris: &Screen, width: u32, height: u32) -> Vec<Vec<u32>> {
 /// offset (no division per pixel).
 struct Span<'a> {
     t: &'a ScreenTri,
-    /// Whether the float area is usable (else the snapped weights).
-    planar: bool,
     /// The span's first texel's column.
     x0: i64,
     /// The row.
@@ -434,13 +435,7 @@ impl<'a> Span<'a> {
         // The depth plane through vertex 0, at the texel centre.
         let z0 =
             t.z[0] + (x0 as f64 + 0.5 - t.fx[0]) * t.dz[0] + (y as f64 + 0.5 - t.fy[0]) * t.dz[1];
-        Span {
-            t,
-            planar: t.farea.abs() > 1e-12,
-            x0,
-            y,
-            z0,
-        }
+        Span { t, x0, y, z0 }
     }
 
     /// Barycentric weights along the span: `at(j)` is the `j`-th texel's.
@@ -454,7 +449,7 @@ impl<'a> Span<'a> {
         let (xc, yc) = (self.x0 as f64 + 0.5, self.y as f64 + 0.5);
         let l0 = [(1, 2), (2, 0), (0, 1)].map(|(a, b)| fe(a, b, xc, yc) / t.farea);
         move |j| {
-            if self.planar {
+            if t.planar {
                 let k = j as f64;
                 [0, 1, 2].map(|i| l0[i] + k * t.slope[i])
             } else {
@@ -468,7 +463,7 @@ impl<'a> Span<'a> {
     /// reads).
     #[inline]
     fn depth(&self, j: usize, l: [f64; 3]) -> f32 {
-        if self.planar {
+        if self.t.planar {
             (self.z0 + j as f64 * self.t.dz[0]) as f32
         } else {
             let z = &self.t.z;
@@ -481,7 +476,7 @@ impl<'a> Span<'a> {
     /// branches or calls, which vectorizes where `update` does).
     #[inline]
     fn each_depth<T>(&self, texels: &mut [T], update: impl Fn(&mut T, f32)) {
-        if !self.planar {
+        if !self.t.planar {
             let at = self.weights();
             for (j, texel) in texels.iter_mut().enumerate() {
                 update(texel, self.depth(j, at(j)));
@@ -725,7 +720,7 @@ impl Depths<'_> {
     /// NDC depth of the `j`-th texel of the span.
     pub fn at(&self, j: usize) -> f32 {
         let span = self.0;
-        if span.planar {
+        if span.t.planar {
             span.depth(j, [0.0; 3])
         } else {
             span.depth(j, span.weights()(j))
@@ -736,7 +731,7 @@ impl Depths<'_> {
     /// area (depth is one plane, evaluated in `f64` and rounded, both monotone), so a monotone
     /// function of depth that agrees at the span's two ends holds that value on all of it.
     pub fn monotone(&self) -> bool {
-        self.0.planar
+        self.0.t.planar
     }
 
     /// `update(texel, z)` for each of `texels` (the span's) with its depth `z`, in a loop that

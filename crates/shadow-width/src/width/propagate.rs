@@ -72,9 +72,14 @@ fn zero_chunks(buf: &[f32], res: u32, zero: &mut [bool]) {
         .zip(buf.par_chunks(w.max(1)))
         .for_each(|(z, row)| {
             for (z, c) in z.iter_mut().zip(row.chunks(CHUNK)) {
-                *z = c.iter().all(|&v| v.to_bits() == 0);
+                *z = all_zero(c);
             }
         });
+}
+
+/// Whether every texel of `texels` is +0 (bit for bit: a chunk written as 0 reads back the same).
+fn all_zero(texels: &[f32]) -> bool {
+    texels.iter().all(|&v| v.to_bits() == 0)
 }
 
 /// One pass with step `step`: reads `src`, writes `dst`. Each row starts from its own texels
@@ -139,7 +144,7 @@ fn pass_chunks(
                         *o = if c < *o { c } else { *o };
                     }
                 }
-                *dst_is_zero = out.iter().all(|&v| v.to_bits() == 0);
+                *dst_is_zero = all_zero(out);
             }
         });
 }
