@@ -2,7 +2,9 @@
 
 use glam::Vec3;
 use shadow_core::light::LightPoint;
-use shadow_core::raster::{depth_map, gbuffer, rasterize};
+use shadow_core::raster::{
+    DepthPass, depth_map, depth_map_filtered, depth_map_pass, gbuffer, rasterize,
+};
 use shadow_core::view::{NO_OCCLUDER, View};
 use shadow_core::{Aabb, Camera};
 
@@ -160,6 +162,59 @@ fn linearize_is_linear_depth_per_texel() {
                 let expect = pass.linear_depth(view, zi);
                 assert_eq!(got.to_bits(), expect.to_bits(), "{pass:?} {view:?} z {zi}");
             }
+        }
+    }
+}
+
+/// Sparse small triangles, most of a map's columns beyond their boxes: the depth map holds
+/// exactly the nearest fragment's linear depth per texel and [`NO_OCCLUDER`] elsewhere (the
+/// fragment rasterizer's answer), and the farthest pass the same as a filtered pass that accepts
+/// every fragment, bit for bit, at widths that end inside a 16-column block and span several
+/// 64-block mask words.
+#[test]
+fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
+    let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
+    let view = fitted(
+        LightPoint::Direction(dir),
+        -dir,
+        Vec3::new(-1.0, 0.0, -1.0),
+        Vec3::new(1.0, 1.0, 1.0),
+    );
+    let mut s = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let tris: Vec<[Vec3; 3]> = (0..40)
+        .map(|_| {
+            let c = Vec3::new(next() * 2.0 - 1.0, next(), next() * 2.0 - 1.0);
+            let size = 0.002 + next() * 0.03;
+            [0, 1, 2].map(|_| c + (Vec3::new(next(), next(), next()) - 0.5) * size)
+        })
+        .collect();
+    for res in [37, 1100, 1201] {
+        let near = depth_map_pass(&view, res, &tris, DepthPass::NEAREST);
+        let frags = rasterize(&view, res, res, &tris);
+        let mut covered = 0;
+        for (i, (z, f)) in near.data().iter().zip(frags.data()).enumerate() {
+            let expect = if f.is_covered() {
+                DepthPass::NEAREST.linear_depth(&view, f.z_ndc)
+            } else {
+                NO_OCCLUDER
+            };
+            assert_eq!(z.to_bits(), expect.to_bits(), "res {res} texel {i}");
+            covered += f.is_covered() as usize;
+        }
+        assert!(
+            covered > 0 && covered < res as usize * res as usize / 4,
+            "{covered}"
+        );
+        let far = depth_map_pass(&view, res, &tris, DepthPass::FARTHEST);
+        let filtered = depth_map_filtered(&view, res, &tris, DepthPass::FARTHEST, |_, _, _| true);
+        for (i, (a, b)) in far.data().iter().zip(filtered.data()).enumerate() {
+            assert_eq!(a.to_bits(), b.to_bits(), "res {res} texel {i}");
         }
     }
 }
