@@ -39,7 +39,7 @@ pub fn layers(
         depth_map_pass(&view.view, res, tris, DepthPass::NEAREST).map(|&z| warp.normalized(z));
     let (edge, lower) = match t.generation {
         Generation::Silhouette => {
-            let ribbons: Vec<_> = silhouette::edges(tris)
+            let ribbons: Vec<_> = silhouette::cached_edges(tris)
                 .iter()
                 .filter_map(|e| silhouette::ribbon(&params, warp, e))
                 .collect();

@@ -23,6 +23,7 @@ use shadow_core::raster::snapped::{SUB, SnappedTri};
 use shadow_core::raster::{DepthPass, DepthTest, Faces, depth_map_filtered};
 use shadow_core::{Map2D, MapParams, View};
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// One mesh edge and the faces beside it, laid out as `Edge` in `silhouette.wgsl`.
 #[repr(C)]
@@ -101,6 +102,38 @@ pub fn edges(tris: &[[Vec3; 3]]) -> Vec<Edge> {
         }
     }
     out
+}
+
+/// How many caster sets [`cached_edges`] keeps the edges of.
+const CACHED_SETS: usize = 4;
+
+/// The caster sets whose edges were built last, newest first: each set's triangles (as their
+/// bits) and its edges.
+type EdgeCache = Vec<(Arc<[u32]>, Arc<Vec<Edge>>)>;
+
+static EDGE_CACHE: Mutex<EdgeCache> = Mutex::new(Vec::new());
+
+/// [`edges`] of `tris`, built once per caster set: the CPU generator's counterpart of the GPU
+/// path's edges derived once per scene, so that a call on casters it has seen (the same
+/// triangles, bit for bit) does not rebuild the adjacency. The last [`CACHED_SETS`] sets are
+/// kept; looking one up compares the triangles' bits (a copy of them is kept with the edges).
+pub fn cached_edges(tris: &[[Vec3; 3]]) -> Arc<Vec<Edge>> {
+    let bits: &[u32] = bytemuck::cast_slice(tris);
+    let lock = || EDGE_CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    {
+        let mut cache = lock();
+        if let Some(i) = cache.iter().position(|(key, _)| **key == *bits) {
+            let hit = cache.remove(i);
+            let edges = hit.1.clone();
+            cache.insert(0, hit);
+            return edges;
+        }
+    }
+    let built = Arc::new(edges(tris));
+    let mut cache = lock();
+    cache.insert(0, (Arc::from(bits), built.clone()));
+    cache.truncate(CACHED_SETS);
+    built
 }
 
 /// An edge projected into the map, as the ribbon fragments need it.
@@ -359,4 +392,45 @@ pub fn lower_limit(
 pub fn deeper_than_edge(warp: &Warp, c: f32, z: f32, layer_gap: f32) -> bool {
     let zc = warp.linear(c);
     warp.normalized(z) > c + warp.depth_gap(zc, layer_gap)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cached edges are those of the casters asked for: the same set again is served the
+    /// same edges without a rebuild, a set that differs in one bit (-0.0 for 0.0, which welds
+    /// differently) gets its own, and a set pushed out past [`CACHED_SETS`] is built anew.
+    #[test]
+    fn cached_edges_are_the_edges_of_the_casters_asked_for() {
+        let quad = |z: f32| {
+            let p = [
+                Vec3::new(0.0, z, 0.0),
+                Vec3::new(1.0, z, 0.0),
+                Vec3::new(1.0, z, 1.0),
+                Vec3::new(0.0, z, 1.0),
+            ];
+            vec![[p[0], p[1], p[2]], [p[0], p[2], p[3]]]
+        };
+        let a = quad(0.25);
+        let first = cached_edges(&a);
+        assert_eq!(*first, edges(&a));
+        assert!(
+            Arc::ptr_eq(&first, &cached_edges(&a)),
+            "served again, not rebuilt"
+        );
+        // One vertex of the second triangle at -0.0 instead of 0.0: no longer welded.
+        let mut b = quad(0.0);
+        b[1][0].x = -0.0;
+        let (eb, e0) = (cached_edges(&b), cached_edges(&quad(0.0)));
+        assert_eq!(*eb, edges(&b));
+        assert_eq!(*e0, edges(&quad(0.0)));
+        assert_ne!(eb.len(), e0.len(), "{} edges for both", eb.len());
+        for z in 1..=CACHED_SETS {
+            cached_edges(&quad(z as f32));
+        }
+        let again = cached_edges(&a);
+        assert!(!Arc::ptr_eq(&first, &again), "evicted, so rebuilt");
+        assert_eq!(*again, edges(&a));
+    }
 }
