@@ -22,8 +22,6 @@ use rayon::prelude::*;
 use shadow_core::jump_flood::{NONE, dist2, flood, pack};
 use shadow_core::{Map2D, pool};
 
-const NEIGHBOURS: [(i64, i64); 4] = [(-1, 0), (1, 0), (0, -1), (0, 1)];
-
 /// Whether `t = (x, y)` is on the near side of an edge towards neighbour `(x, y) + d`.
 #[inline(always)]
 pub fn near_side(
@@ -54,25 +52,97 @@ pub fn near_side(
     dn - dt > warp.depth_gap(warp.linear(dt), layer_gap) + 2.0 * slope
 }
 
-/// The seeds of step 1: `(near side, far side)`, packed texel coordinates or [`NONE`].
+/// Bits of an edge mask: which 4-neighbours of a texel (left `(-1, 0)`, right `(1, 0)`, up
+/// `(0, -1)`, down `(0, 1)`) it is on the near side towards ([`near_side`]).
+const LEFT: u8 = 1;
+const RIGHT: u8 = 2;
+const UP: u8 = 4;
+const DOWN: u8 = 8;
+
+/// [`near_side`] of every texel of row `y` towards each 4-neighbour, as a mask of the bits
+/// above: the same comparison, with the texel's gap computed once instead of once per test.
+fn edge_masks(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32, y: usize, out: &mut [u8]) {
+    let (w, h) = (geom.width() as usize, geom.height() as usize);
+    let d = geom.data();
+    let row = |y: usize| &d[y * w..(y + 1) * w];
+    let here = row(y);
+    // A missing neighbour row is never deeper (no edge towards it); a missing row behind the
+    // texel is clamped to the texel's own row, as `get_clamped` does.
+    let up = (y > 0).then(|| row(y - 1));
+    let down = (y + 1 < h).then(|| row(y + 1));
+    let (behind_up, behind_down) = (down.unwrap_or(here), up.unwrap_or(here));
+    let edge = |dt: f32, gap: f32, dn: f32, back: f32| {
+        let slope = if back < NONE_DEPTH {
+            (dt - back).abs()
+        } else {
+            0.0
+        };
+        dn - dt > gap + 2.0 * slope
+    };
+    for (x, m) in out.iter_mut().enumerate() {
+        let dt = here[x];
+        if dt >= NONE_DEPTH {
+            *m = 0;
+            continue;
+        }
+        let gap = warp.depth_gap(warp.linear(dt), layer_gap);
+        let (left, right) = (x.saturating_sub(1), (x + 1).min(w - 1));
+        let mut mask = 0;
+        if x > 0 && edge(dt, gap, here[left], here[right]) {
+            mask |= LEFT;
+        }
+        if x + 1 < w && edge(dt, gap, here[right], here[left]) {
+            mask |= RIGHT;
+        }
+        if let Some(up) = up
+            && edge(dt, gap, up[x], behind_up[x])
+        {
+            mask |= UP;
+        }
+        if let Some(down) = down
+            && edge(dt, gap, down[x], behind_down[x])
+        {
+            mask |= DOWN;
+        }
+        *m = mask;
+    }
+}
+
+/// The seeds of step 1: `(near side, far side)`, packed texel coordinates or [`NONE`]. A texel
+/// is a near-side seed when it is on the near side of an edge towards some 4-neighbour
+/// ([`near_side`]), a far-side seed when some 4-neighbour is on the near side towards it; both
+/// from one mask per texel of its [`near_side`] tests.
 pub fn seeds(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u32>) {
-    let (w, h) = (geom.width(), geom.height());
-    let n = (w * h) as usize;
-    let (mut near, mut far) = (pool::take(n), pool::take(n));
-    (0..w * h)
-        .into_par_iter()
-        .map(|i| {
-            let (x, y) = ((i % w) as i64, (i / w) as i64);
-            let a = NEIGHBOURS
-                .iter()
-                .any(|&d| near_side(geom, warp, layer_gap, x, y, d));
-            let b = NEIGHBOURS
-                .iter()
-                .any(|&d| near_side(geom, warp, layer_gap, x + d.0, y + d.1, (-d.0, -d.1)));
-            let me = pack(x as u32, y as u32);
-            (if a { me } else { NONE }, if b { me } else { NONE })
-        })
-        .unzip_into_vecs(&mut near, &mut far);
+    let (w, h) = (geom.width() as usize, geom.height() as usize);
+    let n = w * h;
+    let mut masks: Vec<u8> = pool::overwrite(n, 0);
+    masks
+        .par_chunks_mut(w.max(1))
+        .enumerate()
+        .for_each(|(y, out)| edge_masks(geom, warp, layer_gap, y, out));
+    let (mut near, mut far): (Vec<u32>, Vec<u32>) =
+        (pool::overwrite(n, NONE), pool::overwrite(n, NONE));
+    near.par_chunks_mut(w.max(1))
+        .zip(far.par_chunks_mut(w.max(1)))
+        .enumerate()
+        .for_each(|(y, (near, far))| {
+            let row = |y: usize| &masks[y * w..(y + 1) * w];
+            let here = row(y);
+            let up = (y > 0).then(|| row(y - 1));
+            let down = (y + 1 < h).then(|| row(y + 1));
+            for x in 0..w {
+                let me = pack(x as u32, y as u32);
+                near[x] = if here[x] != 0 { me } else { NONE };
+                // A neighbour on the near side towards this texel: the left one's right bit,
+                // and so on.
+                let seen = (x > 0 && here[x - 1] & RIGHT != 0)
+                    || (x + 1 < w && here[x + 1] & LEFT != 0)
+                    || up.is_some_and(|up| up[x] & DOWN != 0)
+                    || down.is_some_and(|down| down[x] & UP != 0);
+                far[x] = if seen { me } else { NONE };
+            }
+        });
+    pool::give(masks);
     (near, far)
 }
 

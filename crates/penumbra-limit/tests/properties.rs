@@ -337,6 +337,68 @@ fn depth_image_edge_is_within_half_a_texel() {
     }
 }
 
+/// The depth-image seeds are the texels step 1 defines, by [`near_side`] texel by texel: a
+/// near-side seed is on the near side of an edge towards some 4-neighbour, a far-side seed has a
+/// 4-neighbour on the near side towards it. Random maps of 1 to 24 texels a side with empty
+/// texels, plateaus and steps (edges at the borders and beside empty texels), on an orthographic
+/// and a perspective warp.
+#[test]
+fn depth_image_seeds_are_the_near_side_tests() {
+    use penumbra_limit::depth_image::{near_side, seeds};
+    use penumbra_limit::warp::{NONE_DEPTH, Warp};
+    use shadow_core::Map2D;
+    use shadow_core::jump_flood::{NONE, pack};
+    let warp = |ortho: u32| Warp {
+        ortho,
+        zeta_near: if ortho == 1 { 0.1 } else { -10.0 },
+        zeta_scale: if ortho == 1 { 0.1 } else { 1.0 / 9.9 },
+        unit: 0.01,
+        rate: 1.0,
+        p_per_texel: 0.01,
+        far_norm: 1.0,
+        _pad: 0.0,
+    };
+    let mut s = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = |n: u64| {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 33) % n
+    };
+    let mut seeded = (0, 0);
+    for case in 0..3000 {
+        let (w, h) = (1 + next(24) as u32, 1 + next(24) as u32);
+        let levels = [NONE_DEPTH, 0.2, 0.2, 0.5, 0.9, 0.95];
+        let data: Vec<f32> = (0..w * h)
+            .map(|_| match next(4) {
+                0 => levels[next(levels.len() as u64) as usize],
+                _ => next(1000) as f32 / 1000.0,
+            })
+            .collect();
+        let geom = Map2D::from_vec(w, h, data).expect("map");
+        let (warp, gap) = (warp((case % 2) as u32), 1.0 + (case % 3) as f32);
+        let (near, far) = seeds(&geom, &warp, gap);
+        const NEIGHBOURS: [(i64, i64); 4] = [(-1, 0), (1, 0), (0, -1), (0, 1)];
+        for y in 0..h as i64 {
+            for x in 0..w as i64 {
+                let a = NEIGHBOURS
+                    .iter()
+                    .any(|&d| near_side(&geom, &warp, gap, x, y, d));
+                let b = NEIGHBOURS
+                    .iter()
+                    .any(|&d| near_side(&geom, &warp, gap, x + d.0, y + d.1, (-d.0, -d.1)));
+                let me = pack(x as u32, y as u32);
+                let i = (y * w as i64 + x) as usize;
+                assert_eq!(near[i], if a { me } else { NONE }, "case {case} near ({x}, {y})");
+                assert_eq!(far[i], if b { me } else { NONE }, "case {case} far ({x}, {y})");
+                seeded.0 += a as usize;
+                seeded.1 += b as usize;
+            }
+        }
+    }
+    assert!(seeded.0 > 1000 && seeded.1 > 1000, "{seeded:?} seeds");
+}
+
 /// Both generators, every storage format: far from the plate lit, under its middle umbra.
 #[test]
 fn lit_and_umbra_for_every_variant() {
