@@ -9,7 +9,7 @@ use crate::table::IlluminationTable;
 use crate::warp::Warp;
 use crate::{depth_image, silhouette};
 use rayon::prelude::*;
-use shadow_core::raster::{DepthPass, depth_map_pass};
+use shadow_core::raster::{DepthPass, depth_map_pass_then};
 use shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
 
 /// The penumbra limit map of one light, built on the CPU.
@@ -35,8 +35,9 @@ pub fn layers(
     res: u32,
 ) -> Layers {
     let params = view.params(res);
-    let geom =
-        depth_map_pass(&view.view, res, tris, DepthPass::NEAREST).map(|&z| warp.normalized(z));
+    let geom = depth_map_pass_then(&view.view, res, tris, DepthPass::NEAREST, |z| {
+        warp.normalized(z)
+    });
     let (edge, lower) = match t.generation {
         Generation::Silhouette => {
             let ribbons: Vec<_> = silhouette::cached_edges(tris)

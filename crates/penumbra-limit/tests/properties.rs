@@ -389,8 +389,16 @@ fn depth_image_seeds_are_the_near_side_tests() {
                     .any(|&d| near_side(&geom, &warp, gap, x + d.0, y + d.1, (-d.0, -d.1)));
                 let me = pack(x as u32, y as u32);
                 let i = (y * w as i64 + x) as usize;
-                assert_eq!(near[i], if a { me } else { NONE }, "case {case} near ({x}, {y})");
-                assert_eq!(far[i], if b { me } else { NONE }, "case {case} far ({x}, {y})");
+                assert_eq!(
+                    near[i],
+                    if a { me } else { NONE },
+                    "case {case} near ({x}, {y})"
+                );
+                assert_eq!(
+                    far[i],
+                    if b { me } else { NONE },
+                    "case {case} far ({x}, {y})"
+                );
                 seeded.0 += a as usize;
                 seeded.1 += b as usize;
             }

@@ -751,6 +751,19 @@ pub fn depth_map_pass(
     tris: &[[Vec3; 3]],
     pass: DepthPass,
 ) -> Map2D<f32> {
+    depth_map_pass_then(view, resolution, tris, pass, |z| z)
+}
+
+/// [`depth_map_pass`] with `then` applied to every texel's linear depth (and to
+/// [`crate::view::NO_OCCLUDER`] where empty) while its band is in cache: the map of
+/// `then(depth)` without a second pass over the map, and without the depth map beside it.
+pub fn depth_map_pass_then(
+    view: &View,
+    resolution: u32,
+    tris: &[[Vec3; 3]],
+    pass: DepthPass,
+    then: impl Fn(f32) -> f32 + Sync,
+) -> Map2D<f32> {
     // [`depth_map_filtered`] accepting every fragment, with the depth test resolved once per
     // span so that the merge loop vectorizes.
     let screen = setup_world(view, resolution, resolution, tris, pass.faces);
@@ -765,7 +778,10 @@ pub fn depth_map_pass(
             DepthTest::Nearest => span.each_depth(texels, |s, z| *s = if z > *s { z } else { *s }),
             DepthTest::Farthest => span.each_depth(texels, |s, z| *s = if z < *s { z } else { *s }),
         },
-        |band: &mut [f32]| pass.linearize(view, band),
+        |band: &mut [f32]| {
+            pass.linearize(view, band);
+            band.iter_mut().for_each(|z| *z = then(*z));
+        },
     );
     out
 }

@@ -3,7 +3,8 @@
 use glam::Vec3;
 use shadow_core::light::LightPoint;
 use shadow_core::raster::{
-    DepthPass, depth_map, depth_map_filtered, depth_map_pass, gbuffer, rasterize,
+    DepthPass, depth_map, depth_map_filtered, depth_map_pass, depth_map_pass_then, gbuffer,
+    rasterize,
 };
 use shadow_core::view::{NO_OCCLUDER, View};
 use shadow_core::{Aabb, Camera};
@@ -168,9 +169,9 @@ fn linearize_is_linear_depth_per_texel() {
 
 /// Sparse small triangles, most of a map's columns beyond their boxes: the depth map holds
 /// exactly the nearest fragment's linear depth per texel and [`NO_OCCLUDER`] elsewhere (the
-/// fragment rasterizer's answer), and the farthest pass the same as a filtered pass that accepts
-/// every fragment, bit for bit, at widths that end inside a 16-column block and span several
-/// 64-block mask words.
+/// fragment rasterizer's answer), [`depth_map_pass_then`] its function of them, and the farthest
+/// pass the same as a filtered pass that accepts every fragment, bit for bit, at widths that end
+/// inside a 16-column block and span several 64-block mask words.
 #[test]
 fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
     let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
@@ -211,6 +212,12 @@ fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
             covered > 0 && covered < res as usize * res as usize / 4,
             "{covered}"
         );
+        // The same map through a per-texel function, applied in the pass or after it.
+        let then = |z: f32| (z.min(1e3) + 0.25).sqrt() * 3.0;
+        let fused = depth_map_pass_then(&view, res, &tris, DepthPass::NEAREST, then);
+        for (i, (a, b)) in fused.data().iter().zip(near.data()).enumerate() {
+            assert_eq!(a.to_bits(), then(*b).to_bits(), "res {res} texel {i}");
+        }
         let far = depth_map_pass(&view, res, &tris, DepthPass::FARTHEST);
         let filtered = depth_map_filtered(&view, res, &tris, DepthPass::FARTHEST, |_, _, _| true);
         for (i, (a, b)) in far.data().iter().zip(filtered.data()).enumerate() {
