@@ -145,15 +145,24 @@ pub fn skins(view: &View, depth: &Map2D<f32>, t: f32) -> Vec<Skin> {
     }
     let un = Unproject::new(view, res);
     let edge = edges(depth, t);
+    let w = res as usize;
     (0..res - 1)
         .into_par_iter()
         .flat_map_iter(|y| {
             let mut row = Vec::new();
+            // The quad of texels (x, y)..=(x + 1, y + 1) spans a skin when all four have a
+            // surface and one is an edge: tested on the two rows as slices, without branches.
+            let (d, e, y0) = (depth.data(), edge.data(), y as usize * w);
+            let (d0, d1) = (&d[y0..y0 + w], &d[y0 + w..y0 + 2 * w]);
+            let (e0, e1) = (&e[y0..y0 + w], &e[y0 + w..y0 + 2 * w]);
             for x in 0..res - 1 {
-                let quad = [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)];
-                if quad.iter().any(|&(u, v)| *depth.get(u, v) >= NO_OCCLUDER)
-                    || !quad.iter().any(|&(u, v)| *edge.get(u, v))
-                {
+                let i = x as usize;
+                let solid = (d0[i] < NO_OCCLUDER)
+                    & (d0[i + 1] < NO_OCCLUDER)
+                    & (d1[i] < NO_OCCLUDER)
+                    & (d1[i + 1] < NO_OCCLUDER);
+                let edged = e0[i] | e0[i + 1] | e1[i] | e1[i + 1];
+                if !(solid & edged) {
                     continue;
                 }
                 for tri in &QUAD_TRIANGLES {

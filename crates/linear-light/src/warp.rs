@@ -81,6 +81,14 @@ pub fn warp(skins: &[Skin], view: &View, depth: &Map2D<f32>, src: &Source) -> Ma
             (0.5 - c.y as f64 / w * 0.5) * r,
         )
     };
+    // Each skin's screen corners and doubled area, once per skin rather than per texel.
+    let corners: Vec<([DVec2; 3], f64)> = skins
+        .par_iter()
+        .map(|s| {
+            let [a, b, c] = s.vertices.map(screen);
+            ([a, b, c], (b - a).perp_dot(c - a))
+        })
+        .collect();
     let mut out = Map2D::new(res, res, NO_SKIN);
     let w = (res as usize).max(1);
     out.data_mut()
@@ -104,9 +112,8 @@ pub fn warp(skins: &[Skin], view: &View, depth: &Map2D<f32>, src: &Source) -> Ma
                     1.0
                 };
                 let s = &skins[f.triangle as usize];
-                let [a, b, c] = s.vertices.map(screen);
+                let ([a, b, c], area) = corners[f.triangle as usize];
                 let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
-                let area = (b - a).perp_dot(c - a);
                 let value = if area.abs() > 1e-12 {
                     let l1 = (c - b).perp_dot(p - b) / area;
                     let l2 = (a - c).perp_dot(p - c) / area;

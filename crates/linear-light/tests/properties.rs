@@ -5,7 +5,7 @@
 use glam::Vec3;
 use linear_light::LinearLight;
 use linear_light::samples::{lit_share, neighbours, piece_share};
-use linear_light::skins::{edges, skin_values};
+use linear_light::skins::{QUAD_TRIANGLES, Unproject, edges, skin_values, skins};
 use proptest::prelude::*;
 use shadow_core::{Aabb, Light, Map2D, Receivers, SceneGeometry, ShadowError, ShadowTechnique};
 
@@ -58,6 +58,71 @@ proptest! {
         let e = edges(&Map2D::from_vec(res, res, data).unwrap(), 0.02);
         prop_assert!(!e.data().iter().any(|x| *x));
     }
+}
+
+/// The skins of a depth map are, in row-major order of their quads, the grid triangles of every
+/// quad whose four texels hold a surface and one is an [`edges`] texel, where [`skin_values`]
+/// finds a discontinuity, each with its texels unprojected: random maps of 2 to 40 texels a side
+/// with empty texels and steps between two depths.
+#[test]
+fn skins_are_the_discontinuous_triangles_of_edge_quads() {
+    use shadow_core::view::{NO_OCCLUDER, View};
+    let view = View::fit_light(
+        shadow_core::light::LightPoint::Position(Vec3::new(0.0, 4.0, 0.0)),
+        Vec3::NEG_Y,
+        &shadow_core::Coverage::whole(&Aabb {
+            min: Vec3::splat(-1.0),
+            max: Vec3::ONE,
+        }),
+    );
+    let mut s = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = |n: u64| {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 33) % n
+    };
+    let mut found = 0;
+    for case in 0..300 {
+        let res = 2 + next(39) as u32;
+        let data: Vec<f32> = (0..res * res)
+            .map(|_| match next(8) {
+                0 => NO_OCCLUDER,
+                1 | 2 => 5.0,
+                _ => 3.0 + next(100) as f32 * 1e-4,
+            })
+            .collect();
+        let depth = Map2D::from_vec(res, res, data).unwrap();
+        let t = 0.05;
+        let edge = edges(&depth, t);
+        let un = Unproject::new(&view, res);
+        let mut expected = Vec::new();
+        for y in 0..res - 1 {
+            for x in 0..res - 1 {
+                let quad = [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)];
+                if quad.iter().any(|&(u, v)| *depth.get(u, v) >= NO_OCCLUDER)
+                    || !quad.iter().any(|&(u, v)| *edge.get(u, v))
+                {
+                    continue;
+                }
+                for tri in &QUAD_TRIANGLES {
+                    let t3 = tri.map(|(dx, dy)| (x + dx, y + dy));
+                    let z = t3.map(|(u, v)| *depth.get(u, v));
+                    if let Some(values) = skin_values(z, t) {
+                        let vertices = [0, 1, 2].map(|k| un.point(t3[k].0, t3[k].1, z[k]));
+                        expected.push((vertices, values));
+                    }
+                }
+            }
+        }
+        let got: Vec<_> = skins(&view, &depth, t)
+            .iter()
+            .map(|s| (s.vertices, s.values))
+            .collect();
+        assert_eq!(got, expected, "case {case}, {res}²");
+        found += got.len();
+    }
+    assert!(found > 1000, "{found} skins");
 }
 
 fn occluded_geometry() -> SceneGeometry {
