@@ -75,13 +75,8 @@ fn skins_are_the_discontinuous_triangles_of_edge_quads() {
             max: Vec3::ONE,
         }),
     );
-    let mut s = 0x2545_F491_4F6C_DD1Du64;
-    let mut next = |n: u64| {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 33) % n
-    };
+    let mut rng = shadow_core::rng::SplitMix(4);
+    let mut next = |n: u64| rng.below(n);
     let mut found = 0;
     for case in 0..300 {
         let res = 2 + next(39) as u32;

@@ -154,13 +154,8 @@ mod tests {
                 Vec3::new(-1.0, 0.1, -1.0),
             ],
         ];
-        let mut s = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rng = shadow_core::rng::SplitMix(6);
+        let mut next = || rng.next_f32();
         for _ in 0..400 {
             let c = Vec3::new(2.0 * next() - 1.0, 0.1 + 2.9 * next(), 2.0 * next() - 1.0);
             let mut corner = || c + (Vec3::new(next(), next(), next()) - 0.5) * 0.6;

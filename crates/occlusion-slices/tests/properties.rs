@@ -133,15 +133,8 @@ proptest! {
 }
 
 fn random_mask(res: u32, density: f64, seed: u64) -> Vec<bool> {
-    let mut s = seed | 1;
-    (0..res * res)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            ((s >> 11) as f64 / (1u64 << 53) as f64) < density
-        })
-        .collect()
+    let mut rng = shadow_core::rng::SplitMix(seed);
+    (0..res * res).map(|_| rng.next_f64() < density).collect()
 }
 
 fn brute(mask: &[bool], res: u32, x0: i64, y0: i64, x1: i64, y1: i64) -> i64 {

@@ -115,7 +115,7 @@ static EDGE_CACHE: Mutex<EdgeCache> = Mutex::new(Vec::new());
 
 /// [`edges`] of `tris`, built once per caster set: the CPU generator's counterpart of the GPU
 /// path's edges derived once per scene, so that a call on casters it has seen (the same
-/// triangles, bit for bit) does not rebuild the adjacency. The last [`CACHED_SETS`] sets are
+/// triangles, bit for bit) does not rebuild the adjacency. The last 4 sets (`CACHED_SETS`) are
 /// kept; looking one up compares the triangles' bits (a copy of them is kept with the edges).
 pub fn cached_edges(tris: &[[Vec3; 3]]) -> Arc<Vec<Edge>> {
     let bits: &[u32] = bytemuck::cast_slice(tris);

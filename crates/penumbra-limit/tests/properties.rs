@@ -358,13 +358,8 @@ fn depth_image_seeds_are_the_near_side_tests() {
         far_norm: 1.0,
         _pad: 0.0,
     };
-    let mut s = 0x9E37_79B9_7F4A_7C15u64;
-    let mut next = |n: u64| {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 33) % n
-    };
+    let mut rng = shadow_core::rng::SplitMix(5);
+    let mut next = |n: u64| rng.below(n);
     let mut seeded = (0, 0);
     for case in 0..3000 {
         let (w, h) = (1 + next(24) as u32, 1 + next(24) as u32);

@@ -247,12 +247,10 @@ mod tests {
             (1003, "i32", 1, false),
             (1003, "f32", 1, true),
         ] {
-            let mut s = 0x2545_F491_4F6C_DD1Du64;
+            let mut rng = crate::rng::SplitMix(7);
             let mut a: Vec<u32> = (0..n * n)
                 .map(|i| {
-                    s ^= s << 13;
-                    s ^= s >> 7;
-                    s ^= s << 17;
+                    let s = rng.next_u64();
                     let (x, y) = (i % n, i / n);
                     // A lattice (many texels equidistant from two seeds: ties) and noise.
                     let lattice = x % 96 == 5 && y % 88 == 7;

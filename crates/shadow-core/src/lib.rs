@@ -8,7 +8,8 @@
 //!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
 //! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers) and
 //!   [`raster::snapped`], which texels a triangle covers under the GPU's fill rule;
-//!   [`jump_flood`]: nearest-seed maps (CPU and GPU); [`pool`]: reuse of large CPU buffers.
+//!   [`jump_flood`]: nearest-seed maps (CPU and GPU); [`pool`]: reuse of large CPU buffers;
+//!   [`rng`]: the deterministic generator of procedural scenes and of tests' random cases.
 //! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
 //! - `gltf_import` (feature `gltf`): glTF/GLB meshes.
 //!
@@ -34,6 +35,7 @@ pub mod memory;
 pub mod mesh;
 pub mod pool;
 pub mod raster;
+pub mod rng;
 #[cfg(feature = "ecs")]
 pub mod scene;
 pub mod technique;

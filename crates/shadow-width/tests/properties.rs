@@ -119,14 +119,9 @@ fn custom_falloff_keeps_the_special_cases() {
 }
 
 fn random_mask(res: u32, density: f64, seed: u64) -> Map2D<bool> {
-    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut rng = shadow_core::rng::SplitMix(seed);
     let data = (0..res * res)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64 >= density
-        })
+        .map(|_| rng.next_f64() >= density)
         .map(|lit| !lit)
         .collect();
     Map2D::from_vec(res, res, data).unwrap()

@@ -165,20 +165,8 @@ pub fn graded_strip(width: f32, length: f32, first: f32, n: u32) -> TriangleMesh
     mesh("graded-strip", p, ix)
 }
 
-/// A small deterministic generator (SplitMix64) for procedural scenes.
-pub struct SplitMix(pub u64);
-
-impl SplitMix {
-    /// Next value in [0, 1).
-    pub fn next_f32(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
+/// The deterministic generator of procedural scenes.
+pub use shadow_core::rng::SplitMix;
 
 /// `count` small random quads of side about `size` inside the box `[lo, hi]`.
 pub fn random_quads(count: u32, lo: Vec3, hi: Vec3, size: f32, seed: u64) -> TriangleMesh {

@@ -915,13 +915,8 @@ mod tests {
     /// one to three mask words, with widths that end inside a block.
     #[test]
     fn column_runs_are_the_reached_blocks() {
-        let mut s = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = |n: usize| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 33) as usize % n
-        };
+        let mut rng = crate::rng::SplitMix(2);
+        let mut next = |n: usize| rng.below(n as u64) as usize;
         for case in 0..2000 {
             let width = 1 + next(3 * 64 * COLUMN_BLOCK);
             let blocks = width.div_ceil(COLUMN_BLOCK);

@@ -215,13 +215,8 @@ mod tests {
     /// small coordinate range).
     #[test]
     fn spans_are_the_covered_texels() {
-        let mut s = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = |n: i64| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 33) as i64 % (n * SUB) - 2 * SUB
-        };
+        let mut rng = crate::rng::SplitMix(1);
+        let mut next = |n: i64| rng.below((n * SUB) as u64) as i64 - 2 * SUB;
         let mut checked = 0;
         for case in 0..4000 {
             // Small ranges make ties with texel centres and horizontal edges common.
