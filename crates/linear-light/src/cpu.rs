@@ -7,7 +7,7 @@ use crate::params::LinearLight;
 use crate::samples::{lit_share, neighbours, piece_share, sample_views};
 use crate::segments::Segment;
 use crate::skins::skins;
-use crate::warp::{NO_SKIN, Source, warp};
+use crate::warp::{Source, warp};
 use rayon::prelude::*;
 use shadow_core::raster::depth_map;
 use shadow_core::{Map2D, MapParams, Receivers, SampleView, SceneGeometry};
@@ -87,15 +87,7 @@ fn generate_segment(
                     threshold: t.edge_threshold_at(res),
                     piece: s,
                 };
-                let w = warp(&skin_sets[j], &views[i].view, &grid[i], &src);
-                c.data_mut()
-                    .par_iter_mut()
-                    .zip(w.data().par_iter())
-                    .for_each(|(c, &v)| {
-                        if v != NO_SKIN {
-                            *c += v;
-                        }
-                    });
+                warp(&skin_sets[j], &views[i].view, &grid[i], &src, &mut c);
             }
             c
         })

@@ -102,23 +102,38 @@ pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
             }
         });
     let mut data = shadow_core::pool::overwrite(w * h, false);
+    // The flag from a texel's `w` and its neighbours' sums along x and y.
+    let edge = |c: f32, sx: f32, sy: f32| {
+        let lap = 4.0 * c - sx - sy;
+        c > 0.0 && lap.abs() > t * c
+    };
     data.par_chunks_mut(rows).enumerate().for_each(|(y, row)| {
-        let at = |x: usize, y: usize| inv[y * w + x];
-        for (x, e) in row.iter_mut().enumerate() {
-            let c = at(x, y);
-            // Both neighbours inside: their sum; one missing: extrapolated, the sum is 2c.
-            let sx = if x > 0 && x + 1 < w {
-                at(x - 1, y) + at(x + 1, y)
-            } else {
-                2.0 * c
-            };
-            let sy = if y > 0 && y + 1 < h {
-                at(x, y - 1) + at(x, y + 1)
-            } else {
-                2.0 * c
-            };
-            let lap = 4.0 * c - sx - sy;
-            *e = c > 0.0 && lap.abs() > t * c;
+        let line = |y: usize| &inv[y * w..(y + 1) * w];
+        let here = line(y);
+        // Both neighbours inside: their sum; one missing: extrapolated, the sum is 2c.
+        let sy = |x: usize| 2.0 * here[x];
+        let ends = [0, w - 1];
+        if y > 0 && y + 1 < h {
+            let (up, down) = (line(y - 1), line(y + 1));
+            // The interior of the row: both sums of neighbours, in slices (no branch).
+            for (((e, c), u), d) in row[1..]
+                .iter_mut()
+                .zip(here.windows(3))
+                .zip(&up[1..])
+                .zip(&down[1..])
+            {
+                *e = edge(c[1], c[0] + c[2], u + d);
+            }
+            for x in ends {
+                row[x] = edge(here[x], 2.0 * here[x], up[x] + down[x]);
+            }
+        } else {
+            for (x, (e, c)) in row[1..].iter_mut().zip(here.windows(3)).enumerate() {
+                *e = edge(c[1], c[0] + c[2], sy(x + 1));
+            }
+            for x in ends {
+                row[x] = edge(here[x], 2.0 * here[x], sy(x));
+            }
         }
     });
     shadow_core::pool::give(inv);

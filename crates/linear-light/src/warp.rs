@@ -64,9 +64,17 @@ pub struct Source<'a> {
     pub piece: f32,
 }
 
-/// The change of the channel at each texel of the `res`-wide map of `view` whose linear depths
-/// are `depth`, `(s v - s / 2) (1 - lit)`, or [`NO_SKIN`] where no skin covers the texel.
-pub fn warp(skins: &[Skin], view: &View, depth: &Map2D<f32>, src: &Source) -> Map2D<f32> {
+/// Adds to `channel` (the `res`-wide map of `view` whose linear depths are `depth`) the change
+/// `(s v - s / 2) (1 - lit)` at each texel a skin covers; the others keep their value. (The GPU
+/// warps into a texture cleared to [`NO_SKIN`] and adds it where it holds a change, which is
+/// never `NO_SKIN`: the same sums.)
+pub fn warp(
+    skins: &[Skin],
+    view: &View,
+    depth: &Map2D<f32>,
+    src: &Source,
+    channel: &mut Map2D<f32>,
+) {
     let res = depth.width();
     let un = Unproject::new(view, res);
     let tris: Vec<[Vec3; 3]> = skins.iter().map(|s| s.vertices).collect();
@@ -89,9 +97,9 @@ pub fn warp(skins: &[Skin], view: &View, depth: &Map2D<f32>, src: &Source) -> Ma
             ([a, b, c], (b - a).perp_dot(c - a))
         })
         .collect();
-    let mut out = Map2D::new(res, res, NO_SKIN);
     let w = (res as usize).max(1);
-    out.data_mut()
+    channel
+        .data_mut()
         .par_chunks_mut(w)
         .zip(frags.data().par_chunks(w))
         .enumerate()
@@ -124,8 +132,7 @@ pub fn warp(skins: &[Skin], view: &View, depth: &Map2D<f32>, src: &Source) -> Ma
                     s.values[0]
                 };
                 let v = value.clamp(0.0, 1.0);
-                *o = (src.piece * v - 0.5 * src.piece) * unseen;
+                *o += (src.piece * v - 0.5 * src.piece) * unseen;
             }
         });
-    out
 }

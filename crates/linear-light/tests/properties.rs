@@ -60,6 +60,58 @@ proptest! {
     }
 }
 
+/// Edge flags are the definition texel by texel: `|4 w - sum of the 4 neighbours' w| > t w`
+/// with `w = 1/z` (0 where empty), a neighbour beyond the border extrapolated as `2 w -
+/// w_opposite`; on random maps of 1 to 40 texels a side (rows and columns of one and two
+/// texels, where every texel is a border) with empty texels and steps.
+#[test]
+fn edges_are_the_laplacian_of_inverse_depth() {
+    use shadow_core::view::NO_OCCLUDER;
+    let mut rng = shadow_core::rng::SplitMix(8);
+    let mut flagged = 0;
+    for case in 0..400 {
+        let (w, h) = (1 + rng.below(40) as usize, 1 + rng.below(40) as usize);
+        let data: Vec<f32> = (0..w * h)
+            .map(|_| match rng.below(6) {
+                0 => NO_OCCLUDER,
+                1 => 5.0,
+                _ => 3.0 + rng.below(100) as f32 * 1e-3,
+            })
+            .collect();
+        let t = 0.05;
+        let inv = |x: usize, y: usize| {
+            let z = data[y * w + x];
+            if z >= NO_OCCLUDER { 0.0 } else { 1.0 / z }
+        };
+        let map = Map2D::from_vec(w as u32, h as u32, data.clone()).unwrap();
+        let e = edges(&map, t);
+        for y in 0..h {
+            for x in 0..w {
+                let c = inv(x, y);
+                let sx = if x > 0 && x + 1 < w {
+                    inv(x - 1, y) + inv(x + 1, y)
+                } else {
+                    2.0 * c
+                };
+                let sy = if y > 0 && y + 1 < h {
+                    inv(x, y - 1) + inv(x, y + 1)
+                } else {
+                    2.0 * c
+                };
+                let lap = 4.0 * c - sx - sy;
+                let expect = c > 0.0 && lap.abs() > t * c;
+                assert_eq!(
+                    *e.get(x as u32, y as u32),
+                    expect,
+                    "case {case} {w}x{h} ({x}, {y})"
+                );
+                flagged += expect as usize;
+            }
+        }
+    }
+    assert!(flagged > 1000, "{flagged} edges");
+}
+
 /// The skins of a depth map are, in row-major order of their quads, the grid triangles of every
 /// quad whose four texels hold a surface and one is an [`edges`] texel, where [`skin_values`]
 /// finds a discontinuity, each with its texels unprojected: random maps of 2 to 40 texels a side
