@@ -18,7 +18,7 @@ use crate::skins::{Skin, Unproject};
 use glam::{DVec2, Vec3};
 use rayon::prelude::*;
 use shadow_core::map2d::bilinear_texels;
-use shadow_core::raster::rasterize;
+use shadow_core::raster::rasterize_nearest;
 use shadow_core::view::{NO_OCCLUDER, View};
 use shadow_core::{Map2D, MapParams};
 
@@ -78,7 +78,7 @@ pub fn warp(
     let res = depth.width();
     let un = Unproject::new(view, res);
     let tris: Vec<[Vec3; 3]> = skins.iter().map(|s| s.vertices).collect();
-    let frags = rasterize(view, res, res, &tris);
+    let frags = rasterize_nearest(view, res, res, &tris);
     let vp = view.view_projection();
     let r = res as f64;
     let screen = |p: Vec3| {

@@ -4,7 +4,7 @@ use glam::Vec3;
 use shadow_core::light::LightPoint;
 use shadow_core::raster::{
     DepthPass, depth_map, depth_map_filtered, depth_map_pass, depth_map_pass_then, gbuffer,
-    rasterize,
+    rasterize, rasterize_nearest,
 };
 use shadow_core::view::{NO_OCCLUDER, View};
 use shadow_core::{Aabb, Camera};
@@ -169,9 +169,10 @@ fn linearize_is_linear_depth_per_texel() {
 
 /// Sparse small triangles, most of a map's columns beyond their boxes: the depth map holds
 /// exactly the nearest fragment's linear depth per texel and [`NO_OCCLUDER`] elsewhere (the
-/// fragment rasterizer's answer), [`depth_map_pass_then`] its function of them, and the farthest
-/// pass the same as a filtered pass that accepts every fragment, bit for bit, at widths that end
-/// inside a 16-column block and span several 64-block mask words.
+/// fragment rasterizer's answer, whose depth and triangle [`rasterize_nearest`] gives alone),
+/// [`depth_map_pass_then`] its function of them, and the farthest pass the same as a filtered
+/// pass that accepts every fragment, bit for bit, at widths that end inside a 16-column block
+/// and span several 64-block mask words.
 #[test]
 fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
     let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
@@ -193,6 +194,14 @@ fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
     for res in [37, 1100, 1201] {
         let near = depth_map_pass(&view, res, &tris, DepthPass::NEAREST);
         let frags = rasterize(&view, res, res, &tris);
+        let nearest = rasterize_nearest(&view, res, res, &tris);
+        for (i, (n, f)) in nearest.data().iter().zip(frags.data()).enumerate() {
+            assert_eq!(
+                (n.z_ndc.to_bits(), n.triangle),
+                (f.z_ndc.to_bits(), f.triangle),
+                "{i}"
+            );
+        }
         let mut covered = 0;
         for (i, (z, f)) in near.data().iter().zip(frags.data()).enumerate() {
             let expect = if f.is_covered() {
