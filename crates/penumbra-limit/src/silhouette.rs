@@ -107,17 +107,33 @@ pub fn edges(tris: &[[Vec3; 3]]) -> Vec<Edge> {
 /// How many caster sets [`cached_edges`] keeps the edges of.
 const CACHED_SETS: usize = 4;
 
+/// How many bytes of triangles and edges [`cached_edges`] keeps at most: a few sets of the
+/// bunny's size (69,451 triangles: 2.5 MB of triangles, 10 MB of edges); a larger set is built
+/// on every call rather than kept.
+const CACHED_BYTES: usize = 64 << 20;
+
 /// The caster sets whose edges were built last, newest first: each set's triangles (as their
 /// bits) and its edges.
 type EdgeCache = Vec<(Arc<[u32]>, Arc<Vec<Edge>>)>;
 
 static EDGE_CACHE: Mutex<EdgeCache> = Mutex::new(Vec::new());
 
+/// Bytes an entry of the cache holds.
+fn cached_bytes((bits, edges): &(Arc<[u32]>, Arc<Vec<Edge>>)) -> usize {
+    size_of_val(&**bits) + edges.len() * size_of::<Edge>()
+}
+
 /// [`edges`] of `tris`, built once per caster set: the CPU generator's counterpart of the GPU
 /// path's edges derived once per scene, so that a call on casters it has seen (the same
-/// triangles, bit for bit) does not rebuild the adjacency. The last 4 sets (`CACHED_SETS`) are
-/// kept; looking one up compares the triangles' bits (a copy of them is kept with the edges).
+/// triangles, bit for bit) does not rebuild the adjacency. The last 4 sets (`CACHED_SETS`)
+/// within 64 MiB (`CACHED_BYTES`) are kept; looking one up compares the triangles' bits (a copy
+/// of them is kept with the edges).
 pub fn cached_edges(tris: &[[Vec3; 3]]) -> Arc<Vec<Edge>> {
+    cached_edges_within(tris, CACHED_SETS, CACHED_BYTES)
+}
+
+/// [`cached_edges`] keeping at most `sets` sets and `bytes` bytes.
+fn cached_edges_within(tris: &[[Vec3; 3]], sets: usize, bytes: usize) -> Arc<Vec<Edge>> {
     let bits: &[u32] = bytemuck::cast_slice(tris);
     let lock = || EDGE_CACHE.lock().unwrap_or_else(|e| e.into_inner());
     {
@@ -132,7 +148,17 @@ pub fn cached_edges(tris: &[[Vec3; 3]]) -> Arc<Vec<Edge>> {
     let built = Arc::new(edges(tris));
     let mut cache = lock();
     cache.insert(0, (Arc::from(bits), built.clone()));
-    cache.truncate(CACHED_SETS);
+    // The newest sets that fit, at most `sets` of them.
+    let mut kept = 0;
+    let fits = cache
+        .iter()
+        .take(sets)
+        .take_while(|e| {
+            kept += cached_bytes(e);
+            kept <= bytes
+        })
+        .count();
+    cache.truncate(fits);
     built
 }
 
@@ -400,7 +426,8 @@ mod tests {
 
     /// The cached edges are those of the casters asked for: the same set again is served the
     /// same edges without a rebuild, a set that differs in one bit (-0.0 for 0.0, which welds
-    /// differently) gets its own, and a set pushed out past [`CACHED_SETS`] is built anew.
+    /// differently) gets its own, and a set pushed out past [`CACHED_SETS`] or the byte bound
+    /// is built anew.
     #[test]
     fn cached_edges_are_the_edges_of_the_casters_asked_for() {
         let quad = |z: f32| {
@@ -432,5 +459,21 @@ mod tests {
         let again = cached_edges(&a);
         assert!(!Arc::ptr_eq(&first, &again), "evicted, so rebuilt");
         assert_eq!(*again, edges(&a));
+        // Within a byte bound that holds one quad's set but not two, the older one goes, and a
+        // set over the bound is not kept at all.
+        let one = cached_bytes(&EDGE_CACHE.lock().unwrap()[0]);
+        let b = quad(7.0);
+        let kept_b = cached_edges_within(&b, CACHED_SETS, one);
+        cached_edges_within(&a, CACHED_SETS, one);
+        assert!(!Arc::ptr_eq(
+            &kept_b,
+            &cached_edges_within(&b, CACHED_SETS, one)
+        ));
+        let big = cached_edges_within(&quad(8.0), CACHED_SETS, one - 1);
+        assert!(!Arc::ptr_eq(
+            &big,
+            &cached_edges_within(&quad(8.0), CACHED_SETS, one - 1)
+        ));
+        assert!(EDGE_CACHE.lock().unwrap().is_empty());
     }
 }
