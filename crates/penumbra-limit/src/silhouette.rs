@@ -407,11 +407,17 @@ pub fn lower_limit(
         test: DepthTest::Nearest,
         faces: Faces::Back,
     };
-    let z = depth_map_filtered(view, edge.width(), tris, pass, |x, y, z| {
-        let e = *edge.get(x, y);
-        crate::combine::has_edge(e) && deeper_than_edge(warp, e[0], z, layer_gap)
-    });
-    z.map(|&z| warp.normalized(z))
+    depth_map_filtered(
+        view,
+        edge.width(),
+        tris,
+        pass,
+        |x, y, z| {
+            let e = *edge.get(x, y);
+            crate::combine::has_edge(e) && deeper_than_edge(warp, e[0], z, layer_gap)
+        },
+        |z| warp.normalized(z),
+    )
 }
 
 /// Whether linear depth `z` lies more than `layer_gap` texels below the edge at normalised `c`.

@@ -835,14 +835,17 @@ pub fn depth_map_pass_then(
     out
 }
 
-/// [`depth_map_pass`] keeping only the fragments for which `accept(x, y, linear_depth)` holds,
-/// as a fragment shader that discards: the others never enter the depth test.
+/// [`depth_map_pass_then`] keeping only the fragments for which `accept(x, y, linear_depth)`
+/// holds, as a fragment shader that discards: the others never enter the depth test. `then`
+/// applies to every texel's linear depth as in [`depth_map_pass_then`] (`|z| z` for the linear
+/// depth map itself).
 pub fn depth_map_filtered(
     view: &View,
     resolution: u32,
     tris: &[[Vec3; 3]],
     pass: DepthPass,
     accept: impl Fn(u32, u32, f32) -> bool + Sync,
+    then: impl Fn(f32) -> f32 + Sync,
 ) -> Map2D<f32> {
     let screen = setup_world(view, resolution, resolution, tris, pass.faces);
     let target = Target {
@@ -852,7 +855,10 @@ pub fn depth_map_filtered(
         accept: |x: usize, y: usize, z: f32| {
             accept(x as u32, y as u32, view.linear_depth_from_ndc(z))
         },
-        finish: |band: &mut [f32]| pass.linearize(view, band),
+        finish: |band: &mut [f32]| {
+            pass.linearize(view, band);
+            band.iter_mut().for_each(|z| *z = then(*z));
+        },
     };
     rasterize_into(&screen, resolution, resolution, pass, target)
 }

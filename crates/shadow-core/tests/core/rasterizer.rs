@@ -224,7 +224,19 @@ fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
             assert_eq!(a.to_bits(), then(*b).to_bits(), "res {res} texel {i}");
         }
         let far = depth_map_pass(&view, res, &tris, DepthPass::FARTHEST);
-        let filtered = depth_map_filtered(&view, res, &tris, DepthPass::FARTHEST, |_, _, _| true);
+        let filtered = depth_map_filtered(
+            &view,
+            res,
+            &tris,
+            DepthPass::FARTHEST,
+            |_, _, _| true,
+            |z| z,
+        );
+        let filtered_then =
+            depth_map_filtered(&view, res, &tris, DepthPass::FARTHEST, |_, _, _| true, then);
+        for (i, (a, b)) in filtered_then.data().iter().zip(filtered.data()).enumerate() {
+            assert_eq!(a.to_bits(), then(*b).to_bits(), "res {res} texel {i}");
+        }
         for (i, (a, b)) in far.data().iter().zip(filtered.data()).enumerate() {
             assert_eq!(a.to_bits(), b.to_bits(), "res {res} texel {i}");
         }
