@@ -744,19 +744,13 @@ fn setup_world(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]], faces: 
 
 /// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
 pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<Fragment> {
-    let screen = setup_world(view, width, height, tris, Faces::All);
-    rasterize_into(
-        &screen,
-        width,
-        height,
-        DepthPass::NEAREST,
-        Target {
-            empty: Fragment::EMPTY,
-            z_of: |f: &Fragment| f.z_ndc,
-            shade: fragment,
-            accept: |_, _, _| true,
-            finish: |_: &mut [Fragment]| {},
-        },
+    nearest_of(
+        view,
+        (width, height),
+        tris,
+        Fragment::EMPTY,
+        |f| f.z_ndc,
+        fragment,
     )
 }
 
@@ -767,23 +761,39 @@ pub fn rasterize_nearest(
     height: u32,
     tris: &[[Vec3; 3]],
 ) -> Map2D<Nearest> {
-    let screen = setup_world(view, width, height, tris, Faces::All);
-    rasterize_into(
-        &screen,
-        width,
-        height,
-        DepthPass::NEAREST,
-        Target {
-            empty: Nearest::EMPTY,
-            z_of: |f: &Nearest| f.z_ndc,
-            shade: |t: &ScreenTri, _: [f64; 3], z_ndc: f32| Nearest {
-                z_ndc,
-                triangle: t.triangle,
-            },
-            accept: |_, _, _| true,
-            finish: |_: &mut [Nearest]| {},
-        },
+    let shade = |t: &ScreenTri, _: [f64; 3], z_ndc: f32| Nearest {
+        z_ndc,
+        triangle: t.triangle,
+    };
+    nearest_of(
+        view,
+        (width, height),
+        tris,
+        Nearest::EMPTY,
+        |f| f.z_ndc,
+        shade,
     )
+}
+
+/// The nearest fragment of every face per pixel, as `shade` stores it (`z_of` reads its NDC
+/// depth back), `empty` where none.
+fn nearest_of<T: Clone + Send + Sync + 'static>(
+    view: &View,
+    (width, height): (u32, u32),
+    tris: &[[Vec3; 3]],
+    empty: T,
+    z_of: impl Fn(&T) -> f32 + Sync,
+    shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T + Sync,
+) -> Map2D<T> {
+    let screen = setup_world(view, width, height, tris, Faces::All);
+    let target = Target {
+        empty,
+        z_of,
+        shade,
+        accept: |_, _, _| true,
+        finish: |_: &mut [T]| {},
+    };
+    rasterize_into(&screen, width, height, DepthPass::NEAREST, target)
 }
 
 /// A linear depth map (distance along the view axis; [`crate::view::NO_OCCLUDER`] where empty).
