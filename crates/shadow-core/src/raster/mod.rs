@@ -5,17 +5,19 @@
 //! reversed-Z depth range, a `Greater` depth test on NDC depth in submission order, and
 //! perspective-correct barycentrics. Rows are split into bands rasterized in parallel with rayon.
 
+mod bins;
+mod setup;
 pub mod snapped;
 
 use crate::map2d::Map2D;
 use crate::view::View;
-use glam::{Vec3, Vec4};
+use bins::bins;
+use glam::Vec3;
 use rayon::prelude::*;
+use setup::{Screen, ScreenTri, setup_world};
 pub use snapped::{SUBPIXEL_BITS, SnappedTri};
 
-const SUB: f64 = snapped::SUB as f64;
 const BAND_ROWS: usize = 16;
-const GUARD_BAND: f32 = 64.0;
 
 /// What the rasterizer keeps per pixel: the nearest fragment.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,327 +179,6 @@ fn linearize_with(depths: &mut [f32], empty: impl Fn(f32) -> bool, depth: impl F
     }
 }
 
-#[derive(Clone, Copy)]
-struct ClipVertex {
-    pos: Vec4,
-    bary: Vec3,
-}
-
-struct ScreenTri {
-    /// Coverage: the snapped vertices.
-    snap: SnappedTri,
-    /// Texel rectangle `(x0, x1, y0, y1)` whose centres the bounding box holds.
-    texels: (i64, i64, i64, i64),
-    /// The walk down the rows' spans from row `y0` of `texels`.
-    rows: snapped::Rows,
-    fx: [f64; 3],
-    fy: [f64; 3],
-    farea: f64,
-    /// Whether the float area is usable for interpolation (else the snapped weights).
-    planar: bool,
-    /// Change of the barycentric weights per pixel to the right.
-    slope: [f64; 3],
-    /// NDC depth's plane: its change per pixel right and down.
-    dz: [f64; 2],
-    z: [f64; 3],
-    inv_w: [f64; 3],
-    bary: [Vec3; 3],
-    triangle: u32,
-}
-
-/// A convex polygon of at most 3 + 6 vertices (a triangle clipped by six planes).
-#[derive(Clone, Copy)]
-struct Poly {
-    v: [ClipVertex; 10],
-    n: usize,
-}
-
-impl Poly {
-    fn clip(&self, dist: impl Fn(Vec4) -> f32) -> Poly {
-        let mut out = Poly { v: self.v, n: 0 };
-        for i in 0..self.n {
-            let (a, b) = (self.v[i], self.v[(i + 1) % self.n]);
-            let (da, db) = (dist(a.pos), dist(b.pos));
-            if da >= 0.0 {
-                out.v[out.n] = a;
-                out.n += 1;
-            }
-            if (da >= 0.0) != (db >= 0.0) {
-                let t = da / (da - db);
-                out.v[out.n] = ClipVertex {
-                    pos: a.pos.lerp(b.pos, t),
-                    bary: a.bary.lerp(b.bary, t),
-                };
-                out.n += 1;
-            }
-        }
-        out
-    }
-}
-
-/// Input triangles set up together, in submission order: one chunk's screen triangles are one
-/// allocation, large enough for [`crate::pool`] to keep between passes (no page faulted in per
-/// pass, nothing copied to concatenate).
-const CHUNK: usize = crate::pool::MIN_BYTES.div_ceil(size_of::<ScreenTri>());
-/// Screen triangles one input triangle can become: its clipped polygon's fan.
-const FAN_MAX: usize = 8;
-
-/// The screen triangles of a pass, in submission order: [`CHUNK`] input triangles' worth per
-/// chunk, addressed by `chunk * CHUNK * FAN_MAX + index in the chunk`.
-struct Screen {
-    chunks: Vec<Vec<ScreenTri>>,
-}
-
-impl Drop for Screen {
-    fn drop(&mut self) {
-        self.chunks.drain(..).for_each(crate::pool::give);
-    }
-}
-
-impl Screen {
-    #[inline]
-    fn get(&self, i: u32) -> &ScreenTri {
-        let i = i as usize;
-        &self.chunks[i / (CHUNK * FAN_MAX)][i % (CHUNK * FAN_MAX)]
-    }
-
-    /// Every triangle with its address, in submission order.
-    fn iter(&self) -> impl Iterator<Item = (u32, &ScreenTri)> {
-        self.chunks.iter().enumerate().flat_map(|(c, chunk)| {
-            let base = (c * CHUNK * FAN_MAX) as u32;
-            chunk
-                .iter()
-                .enumerate()
-                .map(move |(j, t)| (base + j as u32, t))
-        })
-    }
-}
-
-/// Screen triangles of `count` triangles whose clip-space vertices `clip(i)` gives.
-fn setup(
-    count: usize,
-    clip: impl Fn(usize) -> [Vec4; 3] + Sync,
-    width: u32,
-    height: u32,
-    faces: Faces,
-) -> Screen {
-    let (w, h) = (width as f64, height as f64);
-    let chunks = (0..count.div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| {
-            let indices = c * CHUNK..(c * CHUNK + CHUNK).min(count);
-            let mut out = crate::pool::take(CHUNK);
-            indices.for_each(|index| set_up(index, clip(index), (w, h), faces, &mut out));
-            out
-        })
-        .collect();
-    Screen { chunks }
-}
-
-/// Appends the screen triangles of input triangle `index` (clip-space vertices `tri`) on a
-/// `w x h` target to `out`.
-fn set_up(
-    index: usize,
-    tri: [Vec4; 3],
-    (w, h): (f64, f64),
-    faces: Faces,
-    out: &mut Vec<ScreenTri>,
-) {
-    let cv = |k: usize, bary: Vec3| ClipVertex { pos: tri[k], bary };
-    let corners = [cv(0, Vec3::X), cv(1, Vec3::Y), cv(2, Vec3::Z)];
-    // Reversed Z: 0 <= z <= w; plus a guard band on x and y that keeps fixed point small.
-    // Most triangles lie inside every plane and skip clipping.
-    let inside = |p: Vec4| {
-        p.z <= p.w && p.z >= 0.0 && p.x.abs() <= GUARD_BAND * p.w && p.y.abs() <= GUARD_BAND * p.w
-    };
-    let vert = |v: &ClipVertex| {
-        let inv_w = 1.0 / v.pos.w as f64;
-        let fx = (v.pos.x as f64 * inv_w * 0.5 + 0.5) * w;
-        let fy = (0.5 - v.pos.y as f64 * inv_w * 0.5) * h;
-        Vert {
-            x: (fx * SUB).round() as i64,
-            y: (fy * SUB).round() as i64,
-            fx,
-            fy,
-            z: v.pos.z as f64 * inv_w,
-            inv_w,
-            bary: v.bary,
-        }
-    };
-    if corners.iter().all(|v| inside(v.pos) && v.pos.w > 0.0) {
-        if let Some(t) = screen_tri(corners.map(|v| vert(&v)), index as u32, faces) {
-            out.push(t);
-        }
-        return;
-    }
-    let mut poly = Poly {
-        v: [corners[0]; 10],
-        n: 3,
-    };
-    poly.v[..3].copy_from_slice(&corners);
-    poly = poly.clip(|p| p.w - p.z);
-    poly = poly.clip(|p| p.z);
-    for (sx, sy) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
-        if poly.n < 3 {
-            break;
-        }
-        poly = poly.clip(|p| GUARD_BAND * p.w - sx * p.x - sy * p.y);
-    }
-    if poly.n < 3 || poly.v[..poly.n].iter().any(|v| v.pos.w <= 0.0) {
-        return;
-    }
-    let v0 = vert(&poly.v[0]);
-    for k in 1..poly.n - 1 {
-        if let Some(t) = screen_tri(
-            [v0, vert(&poly.v[k]), vert(&poly.v[k + 1])],
-            index as u32,
-            faces,
-        ) {
-            out.push(t);
-        }
-    }
-}
-
-/// A projected vertex: snapped fixed-point position (coverage), float position (interpolation).
-#[derive(Clone, Copy)]
-struct Vert {
-    x: i64,
-    y: i64,
-    fx: f64,
-    fy: f64,
-    z: f64,
-    inv_w: f64,
-    bary: Vec3,
-}
-
-fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
-    let mut v = v;
-    let (snap, swapped) = SnappedTri::new(v.map(|v| v.x), v.map(|v| v.y))?;
-    // y points down on screen, so a counter-clockwise (front) triangle in NDC is clockwise here
-    // (negative area): swapped into the positive orientation.
-    if faces == Faces::Back && swapped {
-        return None;
-    }
-    if swapped {
-        v.swap(1, 2);
-    }
-    let texels = snap.texel_box();
-    let fx = [v[0].fx, v[1].fx, v[2].fx];
-    let fy = [v[0].fy, v[1].fy, v[2].fy];
-    let farea = (fx[1] - fx[0]) * (fy[2] - fy[0]) - (fy[1] - fy[0]) * (fx[2] - fx[0]);
-    let z = [v[0].z, v[1].z, v[2].z];
-    // Weight i is edge (i + 1, i + 2)'s function over the area.
-    let edge = |i: usize| ((i + 1) % 3, (i + 2) % 3);
-    let slope = [0, 1, 2].map(|i| {
-        let (a, b) = edge(i);
-        -(fy[b] - fy[a]) / farea
-    });
-    let down = [0, 1, 2].map(|i| {
-        let (a, b) = edge(i);
-        (fx[b] - fx[a]) / farea
-    });
-    let dz = [
-        slope[0] * z[0] + slope[1] * z[1] + slope[2] * z[2],
-        down[0] * z[0] + down[1] * z[1] + down[2] * z[2],
-    ];
-    Some(ScreenTri {
-        snap,
-        texels,
-        rows: snap.rows(texels.2),
-        fx,
-        fy,
-        farea,
-        planar: farea.abs() > 1e-12,
-        slope,
-        dz,
-        z,
-        inv_w: [v[0].inv_w, v[1].inv_w, v[2].inv_w],
-        bary: [v[0].bary, v[1].bary, v[2].bary],
-        triangle,
-    })
-}
-
-/// Columns per bit of a [`Bin`]'s column mask: 16 texels, a cache line of `f32`.
-const COLUMN_BLOCK: usize = 16;
-
-/// One band of [`BAND_ROWS`] rows: the triangles whose box reaches it and the columns those
-/// boxes span.
-struct Bin {
-    /// The band's triangles (addresses in the [`Screen`]), in submission order.
-    order: Vec<u32>,
-    /// Bit `b` (of word `b / 64`) is set when some triangle's box in the band reaches a column of
-    /// block `b` (columns `b * COLUMN_BLOCK..`); no fragment of the band lies in the others.
-    columns: Vec<u64>,
-}
-
-impl Bin {
-    /// Sets the bits of blocks `first..=last`.
-    fn reach(&mut self, first: usize, last: usize) {
-        for word in first / 64..=last / 64 {
-            let lo = if word == first / 64 { first % 64 } else { 0 };
-            let hi = if word == last / 64 { last % 64 } else { 63 };
-            self.columns[word] |= (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
-        }
-    }
-
-    /// The row's columns (of `width`) in maximal runs: each run and whether a triangle's box
-    /// reaches it, left to right.
-    fn runs(&self, width: usize) -> impl Iterator<Item = (std::ops::Range<usize>, bool)> + '_ {
-        let blocks = width.div_ceil(COLUMN_BLOCK);
-        // The first block at or after `b` whose bit differs from `set` (or `blocks`).
-        let next_change = move |b: usize, set: bool| {
-            let flip = if set { u64::MAX } else { 0 };
-            let mut word = b / 64;
-            let mut bits = (self.columns[word] ^ flip) & (u64::MAX << (b % 64));
-            while bits == 0 {
-                word += 1;
-                if word * 64 >= blocks {
-                    return blocks;
-                }
-                bits = self.columns[word] ^ flip;
-            }
-            (word * 64 + bits.trailing_zeros() as usize).min(blocks)
-        };
-        let mut b = 0;
-        std::iter::from_fn(move || {
-            if b >= blocks {
-                return None;
-            }
-            let set = self.columns[b / 64] >> (b % 64) & 1 == 1;
-            let start = b;
-            b = next_change(b, set);
-            Some((start * COLUMN_BLOCK..(b * COLUMN_BLOCK).min(width), set))
-        })
-    }
-}
-
-/// Per band of [`BAND_ROWS`] rows of a `width x height` target, its [`Bin`]: each band then
-/// visits only its own triangles instead of all of them (a 2048² map of the 69,451-triangle bunny
-/// has 128 bands), and only the columns they reach.
-fn bins(tris: &Screen, width: u32, height: u32) -> Vec<Bin> {
-    let bands = (height as usize).div_ceil(BAND_ROWS);
-    let words = (width as usize).div_ceil(COLUMN_BLOCK).div_ceil(64);
-    let mut bins: Vec<Bin> = (0..bands)
-        .map(|_| Bin {
-            order: Vec::new(),
-            columns: vec![0; words],
-        })
-        .collect();
-    for (i, t) in tris.iter() {
-        let (x0, x1, y0, y1) = t.texels;
-        let (first, last) = (y0.max(0), y1.min(height as i64 - 1));
-        if first > last || x1 < 0 || x0 >= width as i64 {
-            continue;
-        }
-        let (c0, c1) = (x0.max(0) as usize, x1.min(width as i64 - 1) as usize);
-        for bin in &mut bins[first as usize / BAND_ROWS..=last as usize / BAND_ROWS] {
-            bin.order.push(i);
-            bin.reach(c0 / COLUMN_BLOCK, c1 / COLUMN_BLOCK);
-        }
-    }
-    bins
-}
-
 /// One row's covered texels of a triangle and how its depth and weights vary along them.
 ///
 /// Coverage uses the snapped vertices (each row's covered texels are one span solved in
@@ -577,7 +258,7 @@ impl<'a> Span<'a> {
     }
 }
 
-/// Rasterizes the triangles `order` names (indices into `tris`, its band's [`bins`]) into the
+/// Rasterizes the triangles `order` names (indices into `tris`, its band's [`bins()`]) into the
 /// rows `row0..` of a band; `write(texels, span)` merges each row's covered texels of a
 /// triangle (`texels`, the row's texels from `span.x0`) in submission order.
 fn raster_band<T>(
@@ -686,7 +367,7 @@ where
 }
 
 /// Rasterizes `screen` into `data` (row-major, `width` wide) band by band in parallel, each band
-/// over its own triangles only ([`bins`]): the band is cleared to `empty` (whatever `data` held),
+/// over its own triangles only ([`bins()`]): the band is cleared to `empty` (whatever `data` held),
 /// `write` merges each row's span of a triangle as in [`raster_band`], then `finish` runs on the
 /// band's texels, all while they are in cache.
 ///
@@ -714,32 +395,23 @@ fn raster_bands<T: Clone + Send + Sync>(
     let bins = bins(screen, width, (data.len() / w) as u32);
     data.par_chunks_mut(w * BAND_ROWS)
         .enumerate()
-        .for_each(|(band, rows)| {
+        // The band's column runs, found once per band (scratch kept per thread).
+        .for_each_init(Vec::new, |runs, (band, rows)| {
             let bin = &bins[band];
+            runs.clear();
+            runs.extend(bin.runs(w));
             for row in rows.chunks_mut(w) {
-                for (columns, reached) in bin.runs(w) {
-                    row[columns].fill(if reached { empty } else { &done }.clone());
+                for (columns, reached) in runs.iter() {
+                    row[columns.clone()].fill(if *reached { empty } else { &done }.clone());
                 }
             }
             raster_band(screen, &bin.order, width, band * BAND_ROWS, rows, &write);
             for row in rows.chunks_mut(w) {
-                for (columns, _) in bin.runs(w).filter(|&(_, reached)| reached) {
-                    finish(&mut row[columns]);
+                for (columns, _) in runs.iter().filter(|(_, reached)| *reached) {
+                    finish(&mut row[columns.clone()]);
                 }
             }
         });
-}
-
-/// Screen triangles of world-space `tris` seen through `view`.
-fn setup_world(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]], faces: Faces) -> Screen {
-    let vp = view.view_projection();
-    setup(
-        tris.len(),
-        |i| tris[i].map(|p| vp * p.extend(1.0)),
-        width,
-        height,
-        faces,
-    )
 }
 
 /// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
@@ -969,48 +641,4 @@ pub fn gbuffer(
             covered: true,
         }
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A band's runs split its row into maximal runs, left to right, each reached exactly where
-    /// some range given to [`Bin::reach`] holds one of its blocks: random ranges over rows of
-    /// one to three mask words, with widths that end inside a block.
-    #[test]
-    fn column_runs_are_the_reached_blocks() {
-        let mut rng = crate::rng::SplitMix(2);
-        let mut next = |n: usize| rng.below(n as u64) as usize;
-        for case in 0..2000 {
-            let width = 1 + next(3 * 64 * COLUMN_BLOCK);
-            let blocks = width.div_ceil(COLUMN_BLOCK);
-            let mut bin = Bin {
-                order: Vec::new(),
-                columns: vec![0; blocks.div_ceil(64)],
-            };
-            let mut reached = vec![false; blocks];
-            for _ in 0..case % 5 {
-                let (a, b) = (next(blocks), next(blocks));
-                let (first, last) = (a.min(b), a.max(b));
-                bin.reach(first, last);
-                reached[first..=last].iter_mut().for_each(|r| *r = true);
-            }
-            let runs: Vec<_> = bin.runs(width).collect();
-            let mut end = 0;
-            for (k, (columns, set)) in runs.iter().enumerate() {
-                assert_eq!(columns.start, end, "case {case}: runs {runs:?}");
-                assert!(!columns.is_empty(), "case {case}: runs {runs:?}");
-                assert!(
-                    k == 0 || runs[k - 1].1 != *set,
-                    "case {case}: runs {runs:?}"
-                );
-                for x in columns.clone() {
-                    assert_eq!(reached[x / COLUMN_BLOCK], *set, "case {case}: column {x}");
-                }
-                end = columns.end;
-            }
-            assert_eq!(end, width, "case {case}: runs {runs:?}");
-        }
-    }
 }
