@@ -146,6 +146,18 @@ pub fn seeds(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u
     (near, far)
 }
 
+/// How far (texels along each axis) step 2's floods carry a seed: beyond it no texel is in a
+/// ribbon. A texel whose nearest seed of either layer is `d` texels away has `|w| >= d - 1/2`;
+/// the widest ribbon is an edge's at the nearest depth, [`Warp::ribbon_texels`] at 0 (seeds
+/// are casters' texels, at or beyond the near plane), so from `d > ribbon_texels(0) + 1/2` on,
+/// its limits are [`NO_EDGE`] whatever seeds it holds, or none. One more texel covers the
+/// rounding of depths at the near plane. The floods run `log2` of this many passes instead of
+/// `log2` of the side (9 instead of 12 at 2048² on `torus`, whose ribbons reach 199 texels).
+pub fn flood_reach(warp: &Warp) -> u32 {
+    // Saturating: a light too small for its ribbons to fit the map floods the whole map.
+    (warp.ribbon_texels(0.0) + 1.5).ceil() as u32
+}
+
 /// Steps 2 and 3 for one texel, from its nearest seeds: `([c, p_i], lower)`.
 pub fn texel_limits(
     geom: &Map2D<f32>,
@@ -181,7 +193,8 @@ pub fn texel_limits(
 pub fn limits(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Map2D<[f32; 2]>, Map2D<f32>) {
     let res = geom.width();
     let (a, b) = seeds(geom, warp, layer_gap);
-    let (a, b) = (flood(a, res), flood(b, res));
+    let reach = flood_reach(warp);
+    let (a, b) = (flood(a, res, reach), flood(b, res, reach));
     let n = (res * res) as usize;
     let (mut edge, mut lower) = (pool::take(n), pool::take(n));
     (0..res * res)

@@ -2,7 +2,8 @@
 //!
 //! Every texel keeps the nearest seed it has heard of; a pass with step `k` looks at the 3x3
 //! texels `k` apart, in a fixed order, and keeps a strictly nearer seed. Steps `2^m .. 1` then one
-//! more step of 1 (JFA+1). Approximate in rare configurations (a texel may end one seed off the
+//! more step of 1 (JFA+1), from half the side, or from the smallest `2^m` that carries a seed as
+//! far as the caller reads ([`steps`]). Approximate in rare configurations (a texel may end one seed off the
 //! nearest); the techniques that use it report the resulting error.
 //!
 //! `gpu/jump_flood.wgsl` runs the same passes in the same order ([`crate::gpu::jump_flood`]), so
@@ -30,10 +31,16 @@ pub fn dist2(x: i32, y: i32, seed: u32) -> i64 {
     dx * dx + dy * dy
 }
 
-/// The steps: half the next power of two of the side, halving down to 1, then 1 again.
-pub fn steps(resolution: u32) -> Vec<u32> {
+/// The steps of a flood that carries every seed `reach` texels along each axis, then 1 again.
+///
+/// The steps `k, k / 2, .., 1, 1` add up to `2k`, so the first is the smallest power of two
+/// with `2k >= reach`, and at most half the next power of two of the side: a `reach` of the
+/// side or more floods the whole map. A caller that only reads seeds within `reach` of a texel
+/// (penumbra-limit's ribbons) runs `log2(reach)` passes instead of `log2(side)`.
+pub fn steps(resolution: u32, reach: u32) -> Vec<u32> {
     let mut v = Vec::new();
-    let mut k = resolution.next_power_of_two() / 2;
+    let whole = resolution.next_power_of_two() / 2;
+    let mut k = reach.div_ceil(2).next_power_of_two().min(whole);
     while k >= 1 {
         v.push(k);
         k /= 2;
@@ -89,9 +96,9 @@ const BLOCK: usize = 8;
 
 /// The nearest of the 3x3 candidates for texels `x0 .. x0 + L` of row `y` (each texel's own seed
 /// first, then the rows in order, each at columns `x - k, x, x + k`, keeping a strictly nearer
-/// one; a candidate that cannot be strictly nearer is not compared). `rows[r]` is row `r`
-/// padded with `k` [`NONE`] on either side (a texel outside the map offers [`NONE`], which never
-/// wins: the same as offering nothing).
+/// one; a candidate that cannot be strictly nearer is not compared). `rows[r]` is source row
+/// `y - k, y, y + k` where it lies in the map; a texel outside the map offers [`NONE`], which
+/// never wins: the same as offering nothing, so a candidate block wholly outside is skipped.
 #[inline(always)]
 fn block<const L: usize, D: Dist2>(
     rows: &[Option<&[u32]>; 3],
@@ -115,13 +122,27 @@ fn block<const L: usize, D: Dist2>(
     }
     for (r, row) in rows.iter().enumerate() {
         let Some(row) = row else { continue };
-        // Padded: column x + c - k is at x + c.
+        let n = row.len();
         for c in [0, k, 2 * k] {
             // The texel itself offers its own seed, never strictly nearer than the best.
             if r == 1 && c == k {
                 continue;
             }
-            let cand = &row[x0 + c..x0 + c + L];
+            // Columns `x0 + c - k ..` of the row, NONE outside the map.
+            let (from, to) = (x0 + c, x0 + c + L);
+            let cand: [u32; L] = if from >= k && to <= n + k {
+                row[from - k..to - k].try_into().unwrap_or([NONE; L])
+            } else if to <= k || from >= n + k {
+                continue;
+            } else {
+                std::array::from_fn(|l| {
+                    (from + l)
+                        .checked_sub(k)
+                        .and_then(|x| row.get(x))
+                        .copied()
+                        .unwrap_or(NONE)
+                })
+            };
             // Candidates equal to the best seeds are at the same distances: no change. Late
             // passes, inside one seed's region, skip most candidates this way.
             if cand
@@ -158,18 +179,12 @@ pub fn pass(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
 
 fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
     let (n, k) = (res as usize, (k as usize).min(res as usize));
-    dst.par_chunks_mut(n.max(1)).enumerate().for_each_init(
-        || [(); 3].map(|_| vec![NONE; n + 2 * k]),
-        |padded, (y, out)| {
+    dst.par_chunks_mut(n.max(1))
+        .enumerate()
+        .for_each(|(y, out)| {
             let centre = &src[y * n..(y + 1) * n];
-            let mut rows: [Option<&[u32]>; 3] = [None; 3];
             let sources = [y.checked_sub(k), Some(y), (y + k < n).then_some(y + k)];
-            for ((r, buf), slot) in sources.into_iter().zip(padded.iter_mut()).zip(&mut rows) {
-                if let Some(r) = r {
-                    buf[k..k + n].copy_from_slice(&src[r * n..(r + 1) * n]);
-                    *slot = Some(&buf[..]);
-                }
-            }
+            let rows = sources.map(|r| r.map(|r| &src[r * n..(r + 1) * n]));
             let yi = y as i32;
             let whole = n / BLOCK * BLOCK;
             for x0 in (0..whole).step_by(BLOCK) {
@@ -178,19 +193,20 @@ fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
             for x0 in whole..n {
                 block::<1, D>(&rows, centre, out, x0, yi, k);
             }
-        },
-    );
+        });
 }
 
 /// Floods `seeds` (one value per texel of a `res`-wide square map: [`pack`]ed coordinates of the
-/// texel itself for a seed, [`NONE`] otherwise) and returns the nearest seed of every texel.
-/// The scratch buffer comes from [`crate::pool`] and goes back there; so may the result, once
-/// read ([`crate::pool::give`]).
-pub fn flood(seeds: Vec<u32>, res: u32) -> Vec<u32> {
+/// texel itself for a seed, [`NONE`] otherwise) with the [`steps`] that carry a seed `reach`
+/// texels (`res` for the whole map), and returns the nearest seed each texel heard of: the
+/// nearest seed of the map where it lies within `reach` (up to jump flooding's rare misses),
+/// else a farther one or [`NONE`]. The scratch buffer comes from [`crate::pool`] and goes back
+/// there; so may the result, once read ([`crate::pool::give`]).
+pub fn flood(seeds: Vec<u32>, res: u32, reach: u32) -> Vec<u32> {
     let mut a = seeds;
     // Each pass writes every texel of its destination: no clearing pass.
     let mut b = crate::pool::overwrite(a.len(), NONE);
-    for k in steps(res) {
+    for k in steps(res, reach) {
         pass(&a, &mut b, res, k);
         std::mem::swap(&mut a, &mut b);
     }
@@ -239,6 +255,39 @@ mod tests {
     /// the map are compared; every 8th row checked) and at a side whose rows end in a partial
     /// block, and in `i32` there; and seeds everywhere but in holes, where whole blocks of texels
     /// are their own seeds.
+    /// The steps carry a seed `reach` texels along each axis (they add up to at least
+    /// `reach`), starting from the smallest power of two that does; they are the whole map's
+    /// last steps, and all of them once `reach` is the side or more.
+    #[test]
+    fn steps_carry_seeds_their_reach() {
+        for side in [1u32, 2, 3, 7, 64, 100, 256, 1000, 2048, 2049] {
+            let whole = steps(side, side);
+            assert_eq!(
+                whole[0],
+                (side.next_power_of_two() / 2).max(1),
+                "side {side}"
+            );
+            assert_eq!(steps(side, u32::MAX), whole, "side {side}");
+            let whole_carry: u32 = whole.iter().sum();
+            for reach in 0..=side + 2 {
+                let s = steps(side, reach);
+                assert!(whole.ends_with(&s), "side {side} reach {reach}: {s:?}");
+                let carried: u32 = s.iter().sum();
+                assert!(
+                    carried >= reach.min(whole_carry),
+                    "side {side} reach {reach}: {s:?}"
+                );
+                // Without its first step the flood would not carry `reach`.
+                assert!(
+                    s.len() <= 2 || carried - s[0] < reach,
+                    "side {side} reach {reach}"
+                );
+            }
+        }
+        assert_eq!(steps(2048, 201), [128, 64, 32, 16, 8, 4, 2, 1, 1]);
+        assert_eq!(steps(2048, 2048).len(), 12);
+    }
+
     #[test]
     fn passes_follow_the_definition() {
         for (n, kind, every, dense) in [
@@ -267,7 +316,7 @@ mod tests {
             a[0] = pack(0, 0);
             a[(n * n - 1) as usize] = pack(n - 1, n - 1);
             let mut b = vec![NONE; a.len()];
-            for k in steps(n) {
+            for k in steps(n, n) {
                 match kind {
                     "f32" => pass_in::<f32>(&a, &mut b, n, k),
                     _ => pass_in::<i32>(&a, &mut b, n, k),

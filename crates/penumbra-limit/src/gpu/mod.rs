@@ -11,6 +11,7 @@
 
 pub mod pipelines;
 
+use crate::depth_image;
 use crate::eval::EvalParams;
 use crate::params::{Generation, PenumbraLimit};
 use crate::silhouette::{Edge, edges};
@@ -347,8 +348,9 @@ pub fn generate(
         Generation::DepthImage => {
             dispatch(ctx, enc, &di.seeds, &di_bind(&seeds[0], &seeds[1]), res);
             let flood = ctx.cached(GpuJumpFlood::new);
-            let ia = flood.encode(ctx, enc, [&seeds[0], &seeds[2]], res);
-            let ib = flood.encode(ctx, enc, [&seeds[1], &seeds[3]], res);
+            let reach = depth_image::flood_reach(&warp);
+            let ia = flood.encode(ctx, enc, [&seeds[0], &seeds[2]], res, reach);
+            let ib = flood.encode(ctx, enc, [&seeds[1], &seeds[3]], res, reach);
             let a = if ia == 0 { &seeds[0] } else { &seeds[2] };
             let b = if ib == 0 { &seeds[1] } else { &seeds[3] };
             dispatch(ctx, enc, &di.limits, &di_bind(a, b), res);

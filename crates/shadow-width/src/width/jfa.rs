@@ -16,7 +16,7 @@ pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
             pack(i as u32 % res, i as u32 / res)
         }
     }));
-    let nearest = flood(seeds, res);
+    let nearest = flood(seeds, res, res);
     let cap = super::cap(res);
     let w = Map2D::from_par_fn(res, mask.height(), |i| {
         let s = nearest[i];
