@@ -3,8 +3,8 @@
 //! Every texel keeps the nearest seed it has heard of; a pass with step `k` looks at the 3x3
 //! texels `k` apart, in a fixed order, and keeps a strictly nearer seed. Steps `2^m .. 1` then one
 //! more step of 1 (JFA+1), from half the side, or from the smallest `2^m` that carries a seed as
-//! far as the caller reads ([`steps`]). Approximate in rare configurations (a texel may end one seed off the
-//! nearest); the techniques that use it report the resulting error.
+//! far as the caller reads ([`steps`]). Approximate in rare configurations (a texel may end one
+//! seed off the nearest); the techniques that use it report the resulting error.
 //!
 //! `gpu/jump_flood.wgsl` runs the same passes in the same order ([`crate::gpu::jump_flood`]), so
 //! both backends give the same seeds.
@@ -131,6 +131,7 @@ fn block<const L: usize, D: Dist2>(
             // Columns `x0 + c - k ..` of the row, NONE outside the map.
             let (from, to) = (x0 + c, x0 + c + L);
             let cand: [u32; L] = if from >= k && to <= n + k {
+                // Always `L` long.
                 row[from - k..to - k].try_into().unwrap_or([NONE; L])
             } else if to <= k || from >= n + k {
                 continue;
@@ -249,12 +250,6 @@ mod tests {
         out
     }
 
-    /// Every pass of a flood equals the texel-by-texel definition: in `f32` at the largest side
-    /// it is used for (a lattice of seeds, whose ties the fixed order decides, sparse random
-    /// seeds and the two far corners, so the longest distances of
-    /// the map are compared; every 8th row checked) and at a side whose rows end in a partial
-    /// block, and in `i32` there; and seeds everywhere but in holes, where whole blocks of texels
-    /// are their own seeds.
     /// The steps carry a seed `reach` texels along each axis (they add up to at least
     /// `reach`), starting from the smallest power of two that does; they are the whole map's
     /// last steps, and all of them once `reach` is the side or more.
@@ -288,6 +283,12 @@ mod tests {
         assert_eq!(steps(2048, 2048).len(), 12);
     }
 
+    /// Every pass of a flood equals the texel-by-texel definition: in `f32` at the largest side
+    /// it is used for (a lattice of seeds, whose ties the fixed order decides, sparse random
+    /// seeds and the two far corners, so the longest distances of
+    /// the map are compared; every 8th row checked) and at a side whose rows end in a partial
+    /// block, and in `i32` there; and seeds everywhere but in holes, where whole blocks of texels
+    /// are their own seeds.
     #[test]
     fn passes_follow_the_definition() {
         for (n, kind, every, dense) in [
