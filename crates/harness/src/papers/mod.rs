@@ -278,7 +278,7 @@ pub fn measure_run(
     res: u32,
     reference: Option<&[f32]>,
 ) -> Result<(Run, Vec<f32>)> {
-    let m = measure(t, Backend::Cpu, None, p, res, 1, false)?;
+    let m = measure(t, Backend::Cpu, None, p, res, 1, false, None)?;
     let own = p.reference_v();
     let reference = reference.unwrap_or(&own);
     let run = Run {
@@ -291,6 +291,7 @@ pub fn measure_run(
         evaluate_ms: m.evaluate_ms,
         errors: errors(&m.v, reference),
         flicker_255: None,
+        ..Default::default()
     };
     Ok((run, m.v))
 }
@@ -334,6 +335,7 @@ pub fn ray_traced_run(
         evaluate_ms: t.elapsed().as_secs_f64() * 1e3,
         errors: errors(&v, &p.reference_v()),
         flicker_255: None,
+        ..Default::default()
     };
     (run, v)
 }

@@ -1,7 +1,10 @@
 //! What each configuration costs against the hard shadow map, in the same run: generation at
 //! the largest map resolution measured (the issue's 2048²) and evaluation per million
 //! receivers, as ratios to the hard map's on the same scene and backend, with the measured cause
-//! of every generation above [`GENERATION_LIMIT`].
+//! of every generation above [`GENERATION_LIMIT`]. The report times the hard map just before
+//! each configuration at that resolution ([`super::measure::measure`]), and a ratio
+//! uses those times where the run has them ([`super::json::Run::hard_generate_ms`]), else the
+//! hard map's own run on the scene.
 
 use super::json::Report;
 use crate::metrics::median;
@@ -11,6 +14,9 @@ use std::fmt::Write;
 /// Generation within this many times the hard shadow map's is the goal; above it the table
 /// names the cause.
 pub const GENERATION_LIMIT: f64 = 4.0;
+
+/// The name of the technique every ratio is to.
+pub const HARD: &str = "hard-shadow-map";
 
 /// The goal for single-lookup evaluation (shadow-width, penumbra-limit) against the hard map's.
 pub const EVALUATION_LIMIT: f64 = 2.0;
@@ -77,7 +83,7 @@ pub fn cost_rows(report: &Report) -> (u32, Vec<CostRow>) {
         .runs
         .iter()
         .filter(at)
-        .filter(|r| r.technique == "hard-shadow-map")
+        .filter(|r| r.technique == HARD)
         .map(|r| {
             let key = (r.scene.as_str(), r.backend.as_str());
             (key, (r.generate_ms.max(1e-6), r.evaluate_ms.max(1e-6)))
@@ -86,7 +92,14 @@ pub fn cost_rows(report: &Report) -> (u32, Vec<CostRow>) {
     type Samples = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
     let mut per: BTreeMap<(String, String), Samples> = BTreeMap::new();
     for r in report.runs.iter().filter(at) {
-        let Some(&(hg, he)) = hard.get(&(r.scene.as_str(), r.backend.as_str())) else {
+        // The hard map timed beside this configuration, else its own run on the scene.
+        let beside = match (r.hard_generate_ms, r.hard_evaluate_ms) {
+            (Some(g), Some(e)) => Some((g.max(1e-6), e.max(1e-6))),
+            _ => None,
+        };
+        let Some((hg, he)) =
+            beside.or_else(|| hard.get(&(r.scene.as_str(), r.backend.as_str())).copied())
+        else {
             continue;
         };
         let n = receivers.get(r.scene.as_str()).copied().unwrap_or(1) as f64;
@@ -180,7 +193,7 @@ pub fn markdown(s: &mut String, report: &Report) {
     let write = report.machine.write_once_ms;
     let hard_over_write = rows
         .iter()
-        .find(|r| r.configuration.starts_with("hard-shadow-map ") && r.backend == "cpu")
+        .find(|r| r.configuration.starts_with(&format!("{HARD} ")) && r.backend == "cpu")
         .filter(|_| write > 0.0)
         .map_or("not measured against".to_string(), |h| {
             format!("{:.1}x", h.generate_ms / write)
@@ -189,7 +202,8 @@ pub fn markdown(s: &mut String, report: &Report) {
         s,
         "\n## Cost at {res}²\n\nGeneration at map resolution {res} and evaluation per million \
          receivers, medians over the scenes; `x hard`: the median over scenes of the ratio to the \
-         hard shadow map on the same scene and backend, in this run. Goals: generation within \
+         hard shadow map on the same scene and backend, timed just before the configuration \
+         in this run. Goals: generation within \
          {GENERATION_LIMIT}x (above it, the cause), single-lookup evaluation (shadow-width, \
          penumbra-limit) within {EVALUATION_LIMIT}x. Writing one `f32` map of {res}² once \
          takes {:.2} ms here (every thread); the hard map's generation is {} that.\n\n\
@@ -273,6 +287,32 @@ mod tests {
         markdown(&mut md, &report);
         assert!(md.contains("## Cost at 2048²"));
         assert!(md.contains("| x v | cpu | 55.00 | 4.00 | 1500.00 | 2.50 | 2 |  |"));
+    }
+
+    /// Where a run carries the hard map's times from beside it, its ratios are to those, not
+    /// to the hard map's own run on the scene (timed at another moment).
+    #[test]
+    fn ratios_are_to_the_hard_map_timed_beside() {
+        let beside = |scene: &str, gen_ms, eval_ms, hard: (f64, f64)| Run {
+            hard_generate_ms: Some(hard.0),
+            hard_evaluate_ms: Some(hard.1),
+            ..run(scene, "x", 2048, gen_ms, eval_ms)
+        };
+        let report = Report {
+            runs: vec![
+                run("a", HARD, 2048, 10.0, 1.0),
+                run("b", HARD, 2048, 20.0, 2.0),
+                // Timed beside a hard map of 25 ms and 2 ms on `a`; `b` has no such times.
+                beside("a", 50.0, 4.0, (25.0, 2.0)),
+                run("b", "x", 2048, 60.0, 8.0),
+            ],
+            ..Default::default()
+        };
+        let (_, rows) = cost_rows(&report);
+        let x = rows.iter().find(|r| r.configuration == "x v").unwrap();
+        // `a`: 2x and 2x beside its hard map (5x and 4x against the hard map's own run);
+        // `b`: 3x and 4x against its own run. Medians of two are means.
+        assert_eq!((x.generate_ratio, x.evaluate_ratio), (2.5, 3.0));
     }
 
     #[test]

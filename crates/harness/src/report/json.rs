@@ -114,6 +114,15 @@ pub struct Run {
     pub generate_ms: f64,
     /// Median evaluation time.
     pub evaluate_ms: f64,
+    /// The hard shadow map's median generation time on the same scene, backend and
+    /// resolution, timed just before this configuration (each run after run, after its own
+    /// unmeasured frame): the denominator of the cost table's generation ratio. At the cost
+    /// table's resolution only (and not on the hard map's own run).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hard_generate_ms: Option<f64>,
+    /// Likewise the hard shadow map's median evaluation time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hard_evaluate_ms: Option<f64>,
     /// Errors against the reference.
     #[serde(flatten)]
     pub errors: Errors,

@@ -23,6 +23,19 @@ pub struct Measured {
     pub evaluate_ms: f64,
     /// `V` per receiver from the last repetition.
     pub v: Vec<f32>,
+    /// With a technique timed beside it: that technique's median generation and evaluation
+    /// times, timed just before the configuration's.
+    pub beside_ms: Option<(f64, f64)>,
+}
+
+/// One frame's three steps: `generate` maps, `evaluate` them, `recycle` them.
+pub struct Frame<'a, M> {
+    /// Generates the maps.
+    pub generate: &'a dyn Fn() -> Result<M>,
+    /// `V` per receiver from the maps.
+    pub evaluate: &'a dyn Fn(&M) -> Result<Vec<f32>>,
+    /// Gives the maps' storage back for the next frame.
+    pub recycle: &'a dyn Fn(M),
 }
 
 /// Generates and evaluates `t` on `p` at `res`, `reps` times or until
@@ -34,6 +47,12 @@ pub struct Measured {
 /// technique's first GPU use) that run evaluates too: pipelines compile on first use and are
 /// cached per device. Maps are recycled after each generation ([`DynTechnique::recycle`]), so
 /// every timed repetition reuses their textures and pages as a renderer's frames do.
+///
+/// With `beside` (the report passes the hard shadow map at the resolution of its cost table),
+/// that technique is timed on the same scene, backend and resolution just before `t` (each
+/// with its own unmeasured frame, each run after run): a ratio of the two is measured side by
+/// side, not against a run timed minutes apart on a machine whose load moves.
+#[allow(clippy::too_many_arguments)]
 pub fn measure(
     t: &dyn DynTechnique,
     backend: Backend,
@@ -42,62 +61,99 @@ pub fn measure(
     res: u32,
     reps: usize,
     warm_up: bool,
+    beside: Option<&dyn DynTechnique>,
 ) -> Result<Measured> {
     let light = &p.spec.light;
     let scene = match (backend, gpu) {
         (Backend::Gpu, Some(g)) => Some((g, GpuScene::new(g, &p.geometry)?)),
         _ => None,
     };
-    let generate = || match &scene {
+    let generate_with = |t: &dyn DynTechnique| match &scene {
         Some((g, s)) => t.generate_gpu_on(g, s, light, res),
         None => t.generate(backend, gpu, &p.geometry, light, res),
     };
-    repeat(
-        generate,
-        |maps| t.evaluate(gpu, maps, &p.receivers()),
+    let (generate, evaluate, recycle) = (
+        || generate_with(t),
+        |maps: &_| t.evaluate(gpu, maps, &p.receivers()),
         |maps| t.recycle(gpu, maps),
+    );
+    let beside_steps = beside.map(|b| {
+        (
+            move || generate_with(b),
+            move |maps: &_| b.evaluate(gpu, maps, &p.receivers()),
+            move |maps| b.recycle(gpu, maps),
+        )
+    });
+    repeat(
+        Frame {
+            generate: &generate,
+            evaluate: &evaluate,
+            recycle: &recycle,
+        },
+        beside_steps.as_ref().map(|(g, e, r)| Frame {
+            generate: g,
+            evaluate: e,
+            recycle: r,
+        }),
         reps,
         warm_up,
     )
 }
 
-/// The timing loop of [`measure`] over one frame's three steps: `generate` maps, `evaluate`
-/// them, `recycle` them. One unmeasured generation comes first (evaluated too when `warm_up`),
-/// then `reps` timed frames or as many as [`REP_BUDGET_S`] allows; the times are their medians.
+/// The timing loop of [`measure`] over `frame`'s three steps. One unmeasured generation comes
+/// first (evaluated too when `warm_up`), then `reps` timed frames or as many as
+/// [`REP_BUDGET_S`] allows; the times are their medians. With `beside`, the same loop runs over
+/// its frames first (its unmeasured frame evaluated too: it may not have run on this backend
+/// yet), just before `frame`'s: each technique is timed in its own steady state, run after run,
+/// and the two within a second of each other.
 pub fn repeat<M>(
-    generate: impl Fn() -> Result<M>,
-    evaluate: impl Fn(&M) -> Result<Vec<f32>>,
-    recycle: impl Fn(M),
+    frame: Frame<'_, M>,
+    beside: Option<Frame<'_, M>>,
     reps: usize,
     warm_up: bool,
 ) -> Result<Measured> {
+    let beside_ms = match &beside {
+        Some(b) => {
+            let (g, e, _) = timed_loop(b, reps, true)?;
+            Some((g, e))
+        }
+        None => None,
+    };
+    let (generate_ms, evaluate_ms, v) = timed_loop(&frame, reps, warm_up)?;
+    Ok(Measured {
+        generate_ms,
+        evaluate_ms,
+        v,
+        beside_ms,
+    })
+}
+
+/// [`repeat`]'s loop over one technique's frames: median generation and evaluation times (ms)
+/// and the last frame's `V`.
+fn timed_loop<M>(f: &Frame<'_, M>, reps: usize, warm_up: bool) -> Result<(f64, f64, Vec<f32>)> {
     // One unmeasured generation puts storage of this size in the pools; on a technique's first
     // GPU use its evaluation runs too, compiling its pipelines.
-    let maps = generate()?;
+    let maps = (f.generate)()?;
     if warm_up {
-        evaluate(&maps)?;
+        (f.evaluate)(&maps)?;
     }
-    recycle(maps);
+    (f.recycle)(maps);
     let (mut gen_t, mut eval_t) = (Vec::new(), Vec::new());
     let start = Instant::now();
     let mut v = Vec::new();
     for _ in 0..reps.max(1) {
         let t0 = Instant::now();
-        let maps = generate()?;
+        let maps = (f.generate)()?;
         let t1 = Instant::now();
-        v = evaluate(&maps)?;
+        v = (f.evaluate)(&maps)?;
         let t2 = Instant::now();
         // The next repetition reuses the maps' storage, as a renderer's next frame does.
-        recycle(maps);
+        (f.recycle)(maps);
         gen_t.push((t1 - t0).as_secs_f64() * 1e3);
         eval_t.push((t2 - t1).as_secs_f64() * 1e3);
         if start.elapsed().as_secs_f64() > REP_BUDGET_S {
             break;
         }
     }
-    Ok(Measured {
-        generate_ms: median(&gen_t),
-        evaluate_ms: median(&eval_t),
-        v,
-    })
+    Ok((median(&gen_t), median(&eval_t), v))
 }

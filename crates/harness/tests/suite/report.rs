@@ -304,12 +304,12 @@ fn report_recasts_hard_cases_and_measures_flicker() {
 /// ones, since a first CPU generation that faults in fresh pages measured 3-8x the steady
 /// time (occlusion-slices sat-8 on `torus` at 2048²: 152 ms, then 18-22 ms) and configurations
 /// slower than the repetition budget are timed once. One timed repetition therefore costs two
-/// generations and one evaluation.
+/// generations and one evaluation; a technique timed beside runs the same loop first.
 #[test]
 fn cpu_timings_follow_an_unmeasured_generation() {
     use harness::ground_truth::GroundTruthSettings;
     use harness::report::all_techniques;
-    use harness::report::measure::repeat;
+    use harness::report::measure::{Frame, repeat};
     use harness::scenes::catalogue::build;
     use harness::setup::PreparedScene;
     use shadow_core::Backend;
@@ -328,15 +328,18 @@ fn cpu_timings_follow_an_unmeasured_generation() {
     let (generated, evaluated) = (Cell::new(0), Cell::new(0));
     // The report's own call on the CPU: no warm-up evaluation (that is the GPU's first use).
     let m = repeat(
-        || {
-            generated.set(generated.get() + 1);
-            t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, 64)
+        Frame {
+            generate: &|| {
+                generated.set(generated.get() + 1);
+                t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, 64)
+            },
+            evaluate: &|maps| {
+                evaluated.set(evaluated.get() + 1);
+                t.evaluate(None, maps, &p.receivers())
+            },
+            recycle: &|maps| t.recycle(None, maps),
         },
-        |maps| {
-            evaluated.set(evaluated.get() + 1);
-            t.evaluate(None, maps, &p.receivers())
-        },
-        |maps| t.recycle(None, maps),
+        None,
         1,
         false,
     )
@@ -344,4 +347,56 @@ fn cpu_timings_follow_an_unmeasured_generation() {
     assert_eq!(m.v.len(), p.positions.len());
     assert_eq!(generated.get(), 2, "one unmeasured, one timed");
     assert_eq!(evaluated.get(), 1, "only the timed one evaluated");
+    assert!(m.beside_ms.is_none());
+
+    // With the hard map timed beside (as the report does at its cost table's resolution): its
+    // own unmeasured frame (evaluated: it may be its first use) and timed frames first, then
+    // the configuration's, each technique run after run.
+    let steps = std::cell::RefCell::new(Vec::new());
+    let log = |s: &'static str| steps.borrow_mut().push(s);
+    let m = repeat(
+        Frame {
+            generate: &|| {
+                log("generate");
+                t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, 64)
+            },
+            evaluate: &|maps| {
+                log("evaluate");
+                t.evaluate(None, maps, &p.receivers())
+            },
+            recycle: &|maps| t.recycle(None, maps),
+        },
+        Some(Frame {
+            generate: &|| {
+                log("beside generate");
+                t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, 32)
+            },
+            evaluate: &|maps| {
+                log("beside evaluate");
+                t.evaluate(None, maps, &p.receivers())
+            },
+            recycle: &|maps| t.recycle(None, maps),
+        }),
+        2,
+        false,
+    )
+    .unwrap();
+    assert_eq!(
+        steps.into_inner(),
+        [
+            "beside generate",
+            "beside evaluate",
+            "beside generate",
+            "beside evaluate",
+            "beside generate",
+            "beside evaluate",
+            "generate",
+            "generate",
+            "evaluate",
+            "generate",
+            "evaluate",
+        ]
+    );
+    let (g, e) = m.beside_ms.expect("times of the technique beside");
+    assert!(g >= 0.0 && e >= 0.0);
 }
