@@ -38,6 +38,22 @@ pub struct Frame<'a, M> {
     pub recycle: &'a dyn Fn(M),
 }
 
+impl<'a, M> Frame<'a, M> {
+    /// The frame of the three steps `(generate, evaluate, recycle)`.
+    pub fn of<G, E, R>((generate, evaluate, recycle): &'a (G, E, R)) -> Self
+    where
+        G: Fn() -> Result<M>,
+        E: Fn(&M) -> Result<Vec<f32>>,
+        R: Fn(M),
+    {
+        Frame {
+            generate,
+            evaluate,
+            recycle,
+        }
+    }
+}
+
 /// Generates and evaluates `t` on `p` at `res`, `reps` times or until
 /// [`REP_BUDGET_S`] is spent. On the GPU the scene is uploaded once, untimed
 /// ([`GpuScene`]), and generation is timed from it. One unmeasured generation always comes
@@ -53,15 +69,15 @@ pub struct Frame<'a, M> {
 /// with its own unmeasured frame, each run after run): a ratio of the two is measured side by
 /// side, not against a run timed minutes apart on a machine whose load moves.
 #[allow(clippy::too_many_arguments)]
-pub fn measure(
-    t: &dyn DynTechnique,
+pub fn measure<'t>(
+    t: &'t dyn DynTechnique,
     backend: Backend,
     gpu: Option<&GpuContext>,
     p: &PreparedScene,
     res: u32,
     reps: usize,
     warm_up: bool,
-    beside: Option<&dyn DynTechnique>,
+    beside: Option<&'t dyn DynTechnique>,
 ) -> Result<Measured> {
     let light = &p.spec.light;
     let scene = match (backend, gpu) {
@@ -72,29 +88,19 @@ pub fn measure(
         Some((g, s)) => t.generate_gpu_on(g, s, light, res),
         None => t.generate(backend, gpu, &p.geometry, light, res),
     };
-    let (generate, evaluate, recycle) = (
-        || generate_with(t),
-        |maps: &_| t.evaluate(gpu, maps, &p.receivers()),
-        |maps| t.recycle(gpu, maps),
-    );
-    let beside_steps = beside.map(|b| {
+    // A technique's three steps, for its `Frame`.
+    let steps = |t: &'t dyn DynTechnique| {
         (
-            move || generate_with(b),
-            move |maps: &_| b.evaluate(gpu, maps, &p.receivers()),
-            move |maps| b.recycle(gpu, maps),
+            move || generate_with(t),
+            move |maps: &_| t.evaluate(gpu, maps, &p.receivers()),
+            move |maps| t.recycle(gpu, maps),
         )
-    });
+    };
+    let own = steps(t);
+    let beside = beside.map(steps);
     repeat(
-        Frame {
-            generate: &generate,
-            evaluate: &evaluate,
-            recycle: &recycle,
-        },
-        beside_steps.as_ref().map(|(g, e, r)| Frame {
-            generate: g,
-            evaluate: e,
-            recycle: r,
-        }),
+        Frame::of(&own),
+        beside.as_ref().map(Frame::of),
         reps,
         warm_up,
     )
