@@ -353,34 +353,27 @@ fn cpu_timings_follow_an_unmeasured_generation() {
     // own unmeasured frame (evaluated: it may be its first use) and timed frames first, then
     // the configuration's, each technique run after run.
     let steps = std::cell::RefCell::new(Vec::new());
-    let log = |s: &'static str| steps.borrow_mut().push(s);
-    let m = repeat(
-        Frame {
-            generate: &|| {
-                log("generate");
-                t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, 64)
+    // The hard map at `res`, logging its steps as `generate` and `evaluate`.
+    let logged = |generate: &'static str, evaluate: &'static str, res: u32| {
+        let steps = &steps;
+        let (t, p) = (&t, &p);
+        (
+            move || {
+                steps.borrow_mut().push(generate);
+                t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, res)
             },
-            evaluate: &|maps| {
-                log("evaluate");
+            move |maps: &_| {
+                steps.borrow_mut().push(evaluate);
                 t.evaluate(None, maps, &p.receivers())
             },
-            recycle: &|maps| t.recycle(None, maps),
-        },
-        Some(Frame {
-            generate: &|| {
-                log("beside generate");
-                t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, 32)
-            },
-            evaluate: &|maps| {
-                log("beside evaluate");
-                t.evaluate(None, maps, &p.receivers())
-            },
-            recycle: &|maps| t.recycle(None, maps),
-        }),
-        2,
-        false,
-    )
-    .unwrap();
+            move |maps| t.recycle(None, maps),
+        )
+    };
+    let (own, beside) = (
+        logged("generate", "evaluate", 64),
+        logged("beside generate", "beside evaluate", 32),
+    );
+    let m = repeat(Frame::of(&own), Some(Frame::of(&beside)), 2, false).unwrap();
     assert_eq!(
         steps.into_inner(),
         [
