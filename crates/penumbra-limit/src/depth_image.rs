@@ -6,10 +6,12 @@
 //!    `gap(t) = layer_gap texels + 2 |D(t) - D(t - (n - t))|`: the jump must beat the local
 //!    slope (twice the step on the far side of `t`), so a steep but continuous surface is no
 //!    edge. The neighbour `n` is then on the *far side*.
-//! 2. **Propagation.** Jump flooding ([`shadow_core::jump_flood`]) gives every texel its nearest
-//!    near-side seed `A` and far-side seed `B`. A texel nearer to `A` is inside the silhouette;
-//!    the edge lies half a texel beyond the last seed, so the signed distance is
-//!    `w = -(|B| - 1/2)` inside and `w = |A| - 1/2` outside (texels).
+//! 2. **Propagation.** The exact nearest-seed map ([`shadow_core::feature_transform`]) gives
+//!    every texel its nearest near-side seed `A` and far-side seed `B`; of equally near
+//!    near-side seeds, the one nearest the light (least `D`), whose occluder shades every
+//!    receiver the farther one does. A texel nearer to `A` is inside the silhouette; the edge
+//!    lies half a texel beyond the last seed, so the signed distance is `w = -(|B| - 1/2)`
+//!    inside and `w = |A| - 1/2` outside (texels).
 //! 3. **Limits.** `c = D(A)`, `p_i = w s r` (`s r` = [`Warp::p_per_texel`]) where `|w|` is within
 //!    the edge's ribbon ([`Warp::ribbon_texels`]), and the lower limit is the geometry itself
 //!    (plus `layer_gap` texels) where it lies deeper than `c` by more than the gap: a surface
@@ -19,7 +21,8 @@ use crate::combine::NO_EDGE;
 use crate::storage::MAX_P;
 use crate::warp::{NONE_DEPTH, Warp};
 use rayon::prelude::*;
-use shadow_core::jump_flood::{NONE, dist2, flood, pack};
+use shadow_core::feature_transform::nearest;
+use shadow_core::seeds::{NONE, dist2, pack};
 use shadow_core::{Map2D, pool};
 
 /// Whether `t = (x, y)` is on the near side of an edge towards neighbour `(x, y) + d`.
@@ -146,15 +149,15 @@ pub fn seeds(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u
     (near, far)
 }
 
-/// How far (texels along each axis) step 2's floods carry a seed: beyond it no texel is in a
-/// ribbon. A texel whose nearest seed of either layer is `d` texels away has `|w| >= d - 1/2`;
-/// the widest ribbon is an edge's at the nearest depth, [`Warp::ribbon_texels`] at 0 (seeds
-/// are casters' texels, at or beyond the near plane), so from `d > ribbon_texels(0) + 1/2` on,
-/// its limits are [`NO_EDGE`] whatever seeds it holds, or none. One more texel covers the
-/// rounding of depths at the near plane. The floods run `log2` of this many passes instead of
-/// `log2` of the side (9 instead of 12 at 2048² on `torus`, whose ribbons reach 199 texels).
-pub fn flood_reach(warp: &Warp) -> u32 {
-    // Saturating: a light too small for its ribbons to fit the map floods the whole map.
+/// How far (texels) from its nearest seeds a texel can lie and still be in a ribbon: where
+/// either seed is farther, step 3 writes [`NO_EDGE`] without reading depths or taking square
+/// roots. A texel's `|w|` is the larger of its two seeds' distances less 1/2 (step 2), and the
+/// widest ribbon is an edge's at the nearest depth, [`Warp::ribbon_texels`] at 0 (seeds are
+/// casters' texels, at or beyond the near plane), so a texel with a seed more than
+/// `ribbon_texels(0) + 1/2` away is in no ribbon. One more texel covers the rounding of depths
+/// at the near plane (`torus` at 2048²: 201 texels).
+pub fn ribbon_reach(warp: &Warp) -> u32 {
+    // Saturating: a light too small for its ribbons to fit the map skips no texel.
     (warp.ribbon_texels(0.0) + 1.5).ceil() as u32
 }
 
@@ -193,15 +196,23 @@ pub fn texel_limits(
 pub fn limits(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Map2D<[f32; 2]>, Map2D<f32>) {
     let res = geom.width();
     let (a, b) = seeds(geom, warp, layer_gap);
-    let reach = flood_reach(warp);
-    let (a, b) = (flood(a, res, reach), flood(b, res, reach));
+    // Ties between near-side seeds to the nearer depth (step 2); only the far side's distance
+    // is read.
+    let (a, b) = (nearest(a, res, Some(geom.data())), nearest(b, res, None));
     let n = (res * res) as usize;
     let (mut edge, mut lower) = (pool::take(n), pool::take(n));
+    // Beyond the reach no texel is in a ribbon: skip the square roots and the depth reads there.
+    let reach2 = (ribbon_reach(warp) as i64).pow(2);
     (0..res * res)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % res, i / res);
-            texel_limits(geom, warp, layer_gap, x, y, a[i as usize], b[i as usize])
+            let (near, far) = (a[i as usize], b[i as usize]);
+            let beyond = |s: u32| dist2(x as i32, y as i32, s) > reach2;
+            if near == NONE || far == NONE || beyond(near) || beyond(far) {
+                return (NO_EDGE, NONE_DEPTH);
+            }
+            texel_limits(geom, warp, layer_gap, x, y, near, far)
         })
         .unzip_into_vecs(&mut edge, &mut lower);
     pool::give(a);

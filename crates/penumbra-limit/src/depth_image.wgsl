@@ -1,8 +1,9 @@
 // requires: light_space.wgsl warp.wgsl seeds.wgsl
 // Generation from a depth image; mirrors penumbra_limit::depth_image (and the geometry layer of
 // both generators): `geometry` normalises the nearest-surface depth map, `seeds` marks the near
-// and far sides of depth discontinuities, jump flooding (shadow_core) spreads them, `limits`
-// writes each texel's edge (c, p_i) and lower limit.
+// and far sides of depth discontinuities, the exact nearest-seed map (shadow_core's
+// feature_transform.wgsl) spreads them, `limits` writes each texel's edge (c, p_i) and lower
+// limit.
 
 @group(0) @binding(0) var<uniform> gp: GenParams;
 @group(0) @binding(1) var depth: texture_depth_2d_array;

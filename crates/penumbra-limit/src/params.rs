@@ -11,8 +11,8 @@ pub enum Generation {
     /// that write `c` and `p_i` ("highest penumbra limit wins"), back faces to `b`.
     Silhouette,
     /// From a rasterized depth map: occluder edges are depth discontinuities, every texel takes
-    /// its nearest edge (jump flooding) inwards and outwards, `p_i = w s r`. For scenes whose
-    /// silhouettes are not worth enumerating (foliage).
+    /// its nearest edge (an exact nearest-seed map) inwards and outwards, `p_i = w s r`. For
+    /// scenes whose silhouettes are not worth enumerating (foliage).
     DepthImage,
 }
 

@@ -347,7 +347,7 @@ fn depth_image_seeds_are_the_near_side_tests() {
     use penumbra_limit::depth_image::{near_side, seeds};
     use penumbra_limit::warp::{NONE_DEPTH, Warp};
     use shadow_core::Map2D;
-    use shadow_core::jump_flood::{NONE, pack};
+    use shadow_core::seeds::{NONE, pack};
     let warp = |ortho: u32| Warp {
         ortho,
         zeta_near: if ortho == 1 { 0.1 } else { -10.0 },

@@ -2,45 +2,20 @@
 //!
 //! Every texel keeps the nearest seed it has heard of; a pass with step `k` looks at the 3x3
 //! texels `k` apart, in a fixed order, and keeps a strictly nearer seed. Steps `2^m .. 1` then one
-//! more step of 1 (JFA+1), from half the side, or from the smallest `2^m` that carries a seed as
-//! far as the caller reads ([`steps`]). Approximate in rare configurations (a texel may end one
-//! seed off the nearest); the techniques that use it report the resulting error.
+//! more step of 1 (JFA+1). Approximate in rare configurations (a texel may end one seed off the
+//! nearest); the techniques that use it report the resulting error. [`crate::feature_transform`]
+//! gives the exact nearest seed in linear time.
 //!
 //! `gpu/jump_flood.wgsl` runs the same passes in the same order ([`crate::gpu::jump_flood`]), so
 //! both backends give the same seeds.
 
+use crate::seeds::NONE;
 use rayon::prelude::*;
 
-/// No seed heard of yet.
-pub const NONE: u32 = u32::MAX;
-
-/// Packs texel coordinates (each below 65536) into one seed value.
-pub fn pack(x: u32, y: u32) -> u32 {
-    x | (y << 16)
-}
-
-/// The texel coordinates of a packed seed.
-pub fn unpack(seed: u32) -> (u32, u32) {
-    (seed & 0xffff, seed >> 16)
-}
-
-/// Squared distance in texels from `(x, y)` to `seed`.
-pub fn dist2(x: i32, y: i32, seed: u32) -> i64 {
-    let dx = (seed & 0xffff) as i64 - x as i64;
-    let dy = (seed >> 16) as i64 - y as i64;
-    dx * dx + dy * dy
-}
-
-/// The steps of a flood that carries every seed `reach` texels along each axis, then 1 again.
-///
-/// The steps `k, k / 2, .., 1, 1` add up to `2k`, so the first is the smallest power of two
-/// with `2k >= reach`, and at most half the next power of two of the side: a `reach` of the
-/// side or more floods the whole map. A caller that only reads seeds within `reach` of a texel
-/// (penumbra-limit's ribbons) runs `log2(reach)` passes instead of `log2(side)`.
-pub fn steps(resolution: u32, reach: u32) -> Vec<u32> {
+/// The steps: half the next power of two of the side, halving down to 1, then 1 again.
+pub fn steps(resolution: u32) -> Vec<u32> {
     let mut v = Vec::new();
-    let whole = resolution.next_power_of_two() / 2;
-    let mut k = reach.div_ceil(2).next_power_of_two().min(whole);
+    let mut k = resolution.next_power_of_two() / 2;
     while k >= 1 {
         v.push(k);
         k /= 2;
@@ -198,16 +173,17 @@ fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
 }
 
 /// Floods `seeds` (one value per texel of a `res`-wide square map: [`pack`]ed coordinates of the
-/// texel itself for a seed, [`NONE`] otherwise) with the [`steps`] that carry a seed `reach`
-/// texels (`res` for the whole map), and returns the nearest seed each texel heard of: the
-/// nearest seed of the map where it lies within `reach` (up to jump flooding's rare misses),
-/// else a farther one or [`NONE`]. The scratch buffer comes from [`crate::pool`] and goes back
-/// there; so may the result, once read ([`crate::pool::give`]).
-pub fn flood(seeds: Vec<u32>, res: u32, reach: u32) -> Vec<u32> {
+/// texel itself for a seed, [`NONE`] otherwise) and returns the nearest seed of every texel (up
+/// to jump flooding's rare misses; [`crate::feature_transform`] is exact). The scratch buffer
+/// comes from [`crate::pool`] and goes back there; so may the result, once read
+/// ([`crate::pool::give`]).
+///
+/// [`pack`]: crate::seeds::pack
+pub fn flood(seeds: Vec<u32>, res: u32) -> Vec<u32> {
     let mut a = seeds;
     // Each pass writes every texel of its destination: no clearing pass.
     let mut b = crate::pool::overwrite(a.len(), NONE);
-    for k in steps(res, reach) {
+    for k in steps(res) {
         pass(&a, &mut b, res, k);
         std::mem::swap(&mut a, &mut b);
     }
@@ -218,6 +194,7 @@ pub fn flood(seeds: Vec<u32>, res: u32, reach: u32) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::seeds::{dist2, pack};
 
     /// The pass by its definition, texel by texel: own seed first, then rows `y - k, y, y + k`,
     /// each at columns `x - k, x, x + k` (inside the map), keeping a strictly nearer seed by the
@@ -248,39 +225,6 @@ mod tests {
             }
         });
         out
-    }
-
-    /// The steps carry a seed `reach` texels along each axis (they add up to at least
-    /// `reach`), starting from the smallest power of two that does; they are the whole map's
-    /// last steps, and all of them once `reach` is the side or more.
-    #[test]
-    fn steps_carry_seeds_their_reach() {
-        for side in [1u32, 2, 3, 7, 64, 100, 256, 1000, 2048, 2049] {
-            let whole = steps(side, side);
-            assert_eq!(
-                whole[0],
-                (side.next_power_of_two() / 2).max(1),
-                "side {side}"
-            );
-            assert_eq!(steps(side, u32::MAX), whole, "side {side}");
-            let whole_carry: u32 = whole.iter().sum();
-            for reach in 0..=side + 2 {
-                let s = steps(side, reach);
-                assert!(whole.ends_with(&s), "side {side} reach {reach}: {s:?}");
-                let carried: u32 = s.iter().sum();
-                assert!(
-                    carried >= reach.min(whole_carry),
-                    "side {side} reach {reach}: {s:?}"
-                );
-                // Without its first step the flood would not carry `reach`.
-                assert!(
-                    s.len() <= 2 || carried - s[0] < reach,
-                    "side {side} reach {reach}"
-                );
-            }
-        }
-        assert_eq!(steps(2048, 201), [128, 64, 32, 16, 8, 4, 2, 1, 1]);
-        assert_eq!(steps(2048, 2048).len(), 12);
     }
 
     /// Every pass of a flood equals the texel-by-texel definition: in `f32` at the largest side
@@ -317,7 +261,7 @@ mod tests {
             a[0] = pack(0, 0);
             a[(n * n - 1) as usize] = pack(n - 1, n - 1);
             let mut b = vec![NONE; a.len()];
-            for k in steps(n, n) {
+            for k in steps(n) {
                 match kind {
                     "f32" => pass_in::<f32>(&a, &mut b, n, k),
                     _ => pass_in::<i32>(&a, &mut b, n, k),

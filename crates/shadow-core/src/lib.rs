@@ -8,7 +8,8 @@
 //!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
 //! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers) and
 //!   [`raster::snapped`], which texels a triangle covers under the GPU's fill rule;
-//!   [`jump_flood`]: nearest-seed maps (CPU and GPU); [`pool`]: reuse of large CPU buffers;
+//!   nearest-seed maps ([`seeds`]), exact ([`feature_transform`]) or by [`jump_flood`], CPU and
+//!   GPU; [`pool`]: reuse of large CPU buffers;
 //!   [`rng`]: the deterministic generator of procedural scenes and of tests' random cases.
 //! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
 //! - `gltf_import` (feature `gltf`): glTF/GLB meshes.
@@ -21,6 +22,7 @@
 
 pub mod coverage;
 pub mod error;
+pub mod feature_transform;
 #[cfg(feature = "ecs")]
 pub mod frame;
 pub mod geometry;
@@ -38,6 +40,7 @@ pub mod raster;
 pub mod rng;
 #[cfg(feature = "ecs")]
 pub mod scene;
+pub mod seeds;
 pub mod technique;
 pub mod view;
 

@@ -307,7 +307,7 @@ pub fn generate(
             };
             kernels.run(enc, &init);
             let flood = ctx.cached(GpuJumpFlood::new);
-            let ucur = flood.encode(ctx, enc, [&u[0], &u[1]], resolution, resolution);
+            let ucur = flood.encode(ctx, enc, [&u[0], &u[1]], resolution);
             let resolve = Dispatch {
                 pipeline: &pipes.jfa_resolve,
                 step: 0,

@@ -151,8 +151,10 @@ pub fn generation_cause(configuration: &str) -> &'static str {
              for the back faces"
         }
         ("penumbra-limit", "depth") => {
-            "two jump floods (near-side and far-side seeds of every depth edge): 2 x (log2(side) \
-             + 1) passes of 9 reads per texel, 24 at 2048"
+            "edge tests against the 4 neighbours of every texel, then two exact nearest-seed maps \
+             (near-side and far-side seeds of every depth edge: two sweeps of each column and a \
+             lower envelope along each row, 16 MiB of seeds each at 2048) and the limits of every \
+             texel within the widest ribbon of its seeds"
         }
         ("penumbra-limit", _) => {
             "a ribbon of up to the widest penumbra's texels rasterized per silhouette edge, a \

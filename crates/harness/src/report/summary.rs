@@ -163,9 +163,6 @@ pub fn scaling_cause(key: &str) -> &'static str {
         ("shadow-width", _) => {
             "the width map's propagation runs log2(side) passes over every texel (O(n log n))"
         }
-        ("penumbra-limit", _) => {
-            "the depth-image generator's jump flood runs log2(side) passes (O(n log n))"
-        }
         (_, "gpu") => {
             "memory traffic of the passes: maps of 16 MiB per layer at 2048 outgrow the caches (on \
              lavapipe, the CPU's), where 256-512 maps fit them"

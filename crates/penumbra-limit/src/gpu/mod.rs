@@ -4,14 +4,13 @@
 //!    layer (`depth_image.wgsl`, `geometry`);
 //! 2. the edge `[c, p_i]` and lower-limit layers, either by silhouette extrusion (render passes
 //!    of `silhouette.wgsl`: ribbons with the penumbra limit as depth, then back faces) or from
-//!    the depth image (`seeds`, two jump floods, `limits`);
+//!    the depth image (`seeds`, two nearest-seed maps, `limits`);
 //! 3. the stored map (`combine.wgsl`, written through a storage texture of the map's format).
 //!
 //! Evaluation is `visibility()` in `evaluate.wgsl`.
 
 pub mod pipelines;
 
-use crate::depth_image;
 use crate::eval::EvalParams;
 use crate::params::{Generation, PenumbraLimit};
 use crate::silhouette::{Edge, edges};
@@ -26,7 +25,7 @@ use shadow_core::gpu::compute::{self, bind_group, depth_array_view};
 use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
 use shadow_core::gpu::resources::{FLOAT, storage_buffer, texture_2d, texture_entry};
 use shadow_core::gpu::timer::PassSlot;
-use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene};
+use shadow_core::gpu::{GpuFeatureTransform, GpuRasterizer, GpuScene};
 use shadow_core::raster::DepthPass;
 use shadow_core::{
     GpuContext, Light, Map2D, MapParams, Result, SampleView, SceneGeometry, ShadowError,
@@ -347,13 +346,11 @@ pub fn generate(
         }
         Generation::DepthImage => {
             dispatch(ctx, enc, &di.seeds, &di_bind(&seeds[0], &seeds[1]), res);
-            let flood = ctx.cached(GpuJumpFlood::new);
-            let reach = depth_image::flood_reach(&warp);
-            let ia = flood.encode(ctx, enc, [&seeds[0], &seeds[2]], res, reach);
-            let ib = flood.encode(ctx, enc, [&seeds[1], &seeds[3]], res, reach);
-            let a = if ia == 0 { &seeds[0] } else { &seeds[2] };
-            let b = if ib == 0 { &seeds[1] } else { &seeds[3] };
-            dispatch(ctx, enc, &di.limits, &di_bind(a, b), res);
+            let ft = ctx.cached(GpuFeatureTransform::new);
+            // Near-side ties to the nearer depth, as on the CPU.
+            ft.encode(ctx, enc, [&seeds[0], &seeds[2]], Some(&geom), res);
+            ft.encode(ctx, enc, [&seeds[1], &seeds[3]], None, res);
+            dispatch(ctx, enc, &di.limits, &di_bind(&seeds[0], &seeds[1]), res);
         }
     }
     let k = CombinePipelines::index(t.storage);

@@ -144,7 +144,7 @@ pub struct DepthImagePipelines {
     pub geometry: wgpu::ComputePipeline,
     /// Near- and far-side seeds.
     pub seeds: wgpu::ComputePipeline,
-    /// Edge and lower limit from the flooded seeds.
+    /// Edge and lower limit from the nearest seeds.
     pub limits: wgpu::ComputePipeline,
 }
 

@@ -42,21 +42,19 @@ impl GpuJumpFlood {
     }
 
     /// Records the flood of the seeds in `buffers[0]` (`resolution²` packed `u32`s, as
-    /// [`crate::jump_flood::pack`] makes them, `u32::MAX` for no seed), ping-ponging with
-    /// `buffers[1]`, with the steps [`crate::jump_flood::flood`] takes for `reach`
-    /// (`resolution` for the whole map); returns the index of the buffer that holds every
-    /// texel's nearest seed.
+    /// [`crate::seeds::pack`] makes them, `u32::MAX` for no seed), ping-ponging with
+    /// `buffers[1]`, with the steps [`crate::jump_flood::flood`] takes; returns the index of the
+    /// buffer that holds every texel's nearest seed.
     pub fn encode(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         buffers: [&wgpu::Buffer; 2],
         resolution: u32,
-        reach: u32,
     ) -> usize {
         let groups = resolution.div_ceil(8);
         let mut cur = 0;
-        for step in crate::jump_flood::steps(resolution, reach) {
+        for step in crate::jump_flood::steps(resolution) {
             let prm = FloodParams {
                 res: resolution,
                 step,

@@ -2,6 +2,7 @@
 
 pub mod compute;
 mod context;
+pub mod feature_transform;
 pub mod jump_flood;
 pub mod pool;
 pub mod raster;
@@ -13,6 +14,7 @@ pub mod visibility;
 pub mod wgsl;
 
 pub use context::GpuContext;
+pub use feature_transform::GpuFeatureTransform;
 pub use jump_flood::GpuJumpFlood;
 pub use raster::{GpuGBuffer, GpuRasterizer, GpuTriangles};
 pub use scene::{GpuScene, GpuSurfaces};

@@ -2,6 +2,7 @@
 
 mod bad_input;
 mod bias;
+mod feature_transform;
 mod gpu_timer;
 mod light_sampling;
 mod rasterizer;

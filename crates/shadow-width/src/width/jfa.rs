@@ -2,7 +2,8 @@
 //! texels, so every blocked texel learns its nearest unblocked one. `width.wgsl` seeds and
 //! resolves on the GPU, `shadow_core`'s jump-flood kernel floods, in the same order as here.
 
-use shadow_core::jump_flood::{NONE, dist2, flood, pack};
+use shadow_core::jump_flood::flood;
+use shadow_core::seeds::{NONE, dist2, pack};
 use shadow_core::{Map2D, pool};
 
 /// The jump-flooded width map of `mask`, capped at [`super::cap`].
@@ -16,7 +17,7 @@ pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
             pack(i as u32 % res, i as u32 / res)
         }
     }));
-    let nearest = flood(seeds, res, res);
+    let nearest = flood(seeds, res);
     let cap = super::cap(res);
     let w = Map2D::from_par_fn(res, mask.height(), |i| {
         let s = nearest[i];

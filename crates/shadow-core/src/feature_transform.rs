@@ -1,0 +1,280 @@
+//! The exact nearest-seed map in linear time (a feature transform: Meijster, Roerdink &
+//! Hesselink, *A General Algorithm for Computing Distance Transforms in Linear Time*, 2000): for
+//! every texel of a square map, the seed texel nearest to it in Euclidean distance.
+//!
+//! 1. **Columns.** Per column, two sweeps give every texel the row of the nearest seed of its
+//!    column.
+//! 2. **Rows.** Per row, the lower envelope of the parabolas `f(x, i) = (x - i)² + g(i)²`, where
+//!    `g(i)` is the distance from the row to column `i`'s seed of step 1, over the columns that
+//!    have one; every texel takes the seed of the parabola below it. The envelope's breakpoints
+//!    are Meijster's `Sep`, a floor division of integers, so there is no rounding: the seed is
+//!    the nearest one exactly.
+//!
+//! **Ties.** Of equally near seeds a texel takes the one of least *key* (a value per seed texel
+//! the caller may give, such as its depth), then the leftmost, then the uppermost. With keys,
+//! each step compares `(distance, key)` in that order: the envelope of the parabolas lowered by
+//! an infinitesimal multiple of their keys, which Meijster's algorithm builds as it builds any
+//! envelope; a breakpoint moves one texel left where the two parabolas tie on a texel and the
+//! right one has the lesser key.
+//!
+//! Unlike jump flooding ([`crate::jump_flood`]), which takes `log2` of the side passes over
+//! every texel and may end a texel one seed off the nearest, this is two sweeps of each column
+//! and one pass along each row, whatever the seeds. `gpu/feature_transform.wgsl` runs the same
+//! two steps in the same integer arithmetic ([`crate::gpu::feature_transform`]), so both
+//! backends give the same seeds.
+
+use crate::seeds::{NONE, pack};
+use rayon::prelude::*;
+
+/// Columns per strip of step 1: each sweep walks the strip's rows in order, so memory is read in
+/// cache lines.
+const STRIP: usize = 64;
+
+/// No seed in the column (step 1's output).
+const NO_ROW: u32 = u32::MAX;
+
+/// The seeds' tie-breaking keys: one per texel of the map, or none (every key equal).
+#[derive(Clone, Copy)]
+struct Keys<'a> {
+    keys: Option<&'a [f32]>,
+    res: usize,
+}
+
+impl Keys<'_> {
+    /// Whether the seed at `(x, a)` has a lesser key than the seed at `(y, b)` (rows and
+    /// columns of seeds, never [`NO_ROW`]).
+    #[inline(always)]
+    fn less(self, (x, a): (u32, u32), (y, b): (u32, u32)) -> bool {
+        self.keys.is_some_and(|k| {
+            k[a as usize * self.res + x as usize] < k[b as usize * self.res + y as usize]
+        })
+    }
+}
+
+/// Step 1 over a `res`-wide square map: for every texel the row of the nearest seed of its
+/// column ([`NO_ROW`] when the column has none; of two equally near the one of lesser key, else
+/// the upper one), as strips of [`STRIP`] columns, strip `s` holding columns `s * STRIP ..` (the
+/// last one narrower), row-major.
+fn columns(seeds: &[u32], keys: Keys) -> Vec<Vec<u32>> {
+    let res = keys.res;
+    (0..res.div_ceil(STRIP))
+        .into_par_iter()
+        .map(|s| {
+            let x0 = s * STRIP;
+            let sw = STRIP.min(res - x0);
+            // The downward sweep writes every texel: no clearing pass.
+            let mut out = crate::pool::overwrite(sw * res, NO_ROW);
+            // Downwards: the nearest seed at or above.
+            let mut above = [NO_ROW; STRIP];
+            for (y, o) in out.chunks_exact_mut(sw).enumerate() {
+                let cells = &seeds[y * res + x0..y * res + x0 + sw];
+                for ((o, a), &c) in o.iter_mut().zip(&mut above).zip(cells) {
+                    if c != NONE {
+                        *a = y as u32;
+                    }
+                    *o = *a;
+                }
+            }
+            // Upwards: the nearest seed below replaces the one above where nearer, or as near
+            // with a lesser key.
+            let mut below = [NO_ROW; STRIP];
+            for (y, o) in out.chunks_exact_mut(sw).enumerate().rev() {
+                let cells = &seeds[y * res + x0..y * res + x0 + sw];
+                let y = y as u32;
+                for (l, ((o, b), &c)) in o.iter_mut().zip(&mut below).zip(cells).enumerate() {
+                    if c != NONE {
+                        *b = y;
+                    }
+                    if *b == NO_ROW {
+                        continue;
+                    }
+                    let x = (x0 + l) as u32;
+                    let (down, up) = (*b - y, if *o == NO_ROW { u32::MAX } else { y - *o });
+                    if down < up || (down == up && keys.less((x, *b), (x, *o))) {
+                        *o = *b;
+                    }
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+/// Scratch of step 2, one per thread: the row's seed rows per column, and the envelope's
+/// parabolas (their columns) and where each begins.
+#[derive(Default)]
+struct Envelope {
+    rows: Vec<u32>,
+    columns: Vec<u32>,
+    starts: Vec<u32>,
+}
+
+impl Envelope {
+    /// Writes into `out` the nearest seed of every texel of row `y`, from `self.rows` (step 1's
+    /// row of every column's nearest seed, or [`NO_ROW`]); [`NONE`] everywhere when no column
+    /// has a seed.
+    fn row(&mut self, y: u32, out: &mut [u32], keys: Keys) {
+        let (rows, columns, starts) = (&self.rows, &mut self.columns, &mut self.starts);
+        let g2 = |i: u32| {
+            let g = rows[i as usize].abs_diff(y) as i64;
+            g * g
+        };
+        // f(x, i) = (x - i)² + g(i)².
+        let f = |x: u32, i: u32| {
+            let d = x.abs_diff(i) as i64;
+            d * d + g2(i)
+        };
+        // Whether `u`'s seed has a lesser key than `i`'s.
+        let less = |u: u32, i: u32| keys.less((u, rows[u as usize]), (i, rows[i as usize]));
+        let m = out.len() as i64;
+        columns.clear();
+        starts.clear();
+        for (u, &r) in rows.iter().enumerate() {
+            if r == NO_ROW {
+                continue;
+            }
+            let u = u as u32;
+            // Drop the parabolas that `u` lies below where they begin (or on, with a lesser
+            // key): they are below it nowhere. So the starts increase strictly, as the GPU's
+            // stack, kept in the row's own texels, needs.
+            while let (Some(&i), Some(&t)) = (columns.last(), starts.last()) {
+                let (fi, fu) = (f(t, i), f(t, u));
+                if fi > fu || (fi == fu && less(u, i)) {
+                    columns.pop();
+                    starts.pop();
+                } else {
+                    break;
+                }
+            }
+            let Some(&i) = columns.last() else {
+                columns.push(u);
+                starts.push(0);
+                continue;
+            };
+            // Meijster's Sep(i, u): the last texel where `i`'s parabola is at most `u`'s (at
+            // or after where `i`'s begins, as `i` was kept); `u` takes it too on a tie with
+            // the lesser key.
+            let (iw, uw) = (i as i64, u as i64);
+            let sep = (uw * uw - iw * iw + g2(u) - g2(i)).div_euclid(2 * (uw - iw));
+            let tie = sep < m && f(sep as u32, i) == f(sep as u32, u) && less(u, i);
+            let start = sep + 1 - tie as i64;
+            if start < m {
+                columns.push(u);
+                starts.push(start as u32);
+            }
+        }
+        if columns.is_empty() {
+            out.fill(NONE);
+            return;
+        }
+        let mut k = 0;
+        for (x, o) in out.iter_mut().enumerate() {
+            while k + 1 < starts.len() && starts[k + 1] as usize <= x {
+                k += 1;
+            }
+            let i = columns[k];
+            *o = pack(i, rows[i as usize]);
+        }
+    }
+}
+
+/// The nearest seed of every texel of a `res`-wide square map, exactly: `seeds` holds one value
+/// per texel, a seed's own [`pack`]ed coordinates or [`NONE`] (only whether it is [`NONE`] is
+/// read); `keys`, where given, one per texel, decides between equally near seeds (the least
+/// wins; it is read at seeds only). The result holds the nearest seed's packed coordinates (of
+/// equally near ones, the one of least key, then the leftmost, then the uppermost), or [`NONE`]
+/// everywhere when there is no seed. Step 1's strips come from [`crate::pool`] and go back
+/// there; so may the result, once read ([`crate::pool::give`]), which reuses `seeds`' storage.
+///
+/// # Panics
+///
+/// If `seeds` (or `keys`, where given) does not hold `res²` values.
+pub fn nearest(seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> Vec<u32> {
+    let n = res as usize;
+    assert!(seeds.len() == n * n && keys.is_none_or(|k| k.len() == n * n));
+    let keys = Keys { keys, res: n };
+    let strips = columns(&seeds, keys);
+    let mut out = seeds;
+    out.par_chunks_mut(n.max(1))
+        .enumerate()
+        .for_each_init(Envelope::default, |e, (y, row)| {
+            e.rows.clear();
+            for s in &strips {
+                let sw = s.len() / n;
+                e.rows.extend_from_slice(&s[y * sw..(y + 1) * sw]);
+            }
+            e.row(y as u32, row, keys);
+        });
+    strips.into_iter().for_each(crate::pool::give);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::seeds::dist2;
+
+    /// Random seeds at several densities, with a lattice (many texels equidistant from two or
+    /// four seeds) and a map without a seed; keys from a handful of values, so that many
+    /// equally near seeds have equal keys and many do not.
+    fn maps() -> Vec<(u32, Vec<u32>, Vec<f32>)> {
+        let mut rng = crate::rng::SplitMix(11);
+        let mut out = Vec::new();
+        for (n, every) in [
+            (1u32, 1u64),
+            (2, 2),
+            (7, 3),
+            (64, 50),
+            (129, 400),
+            (200, 7),
+            (67, 0),
+        ] {
+            let v = (0..n * n)
+                .map(|i| {
+                    let (x, y) = (i % n, i / n);
+                    let lattice = n == 200 && x % 10 == 3 && y % 6 == 1;
+                    let random = every > 0 && rng.next_u64().is_multiple_of(every);
+                    if lattice || random { pack(x, y) } else { NONE }
+                })
+                .collect();
+            let keys = (0..n * n).map(|_| (rng.next_u64() % 3) as f32).collect();
+            out.push((n, v, keys));
+        }
+        out
+    }
+
+    /// Every texel gets a seed at the least distance to any seed (by brute force); of the
+    /// equally near ones the one of least key (with keys), then the leftmost, then the
+    /// uppermost; no seed anywhere gives [`NONE`].
+    #[test]
+    fn nearest_is_the_exact_nearest_seed() {
+        for (n, seeds, keys) in maps() {
+            let list: Vec<u32> = seeds.iter().copied().filter(|&s| s != NONE).collect();
+            for keyed in [false, true] {
+                let key = |s: u32| {
+                    if keyed {
+                        keys[((s >> 16) * n + (s & 0xffff)) as usize]
+                    } else {
+                        0.0
+                    }
+                };
+                let got = nearest(seeds.clone(), n, keyed.then_some(&keys[..]));
+                for (i, &g) in got.iter().enumerate() {
+                    let (x, y) = ((i as u32 % n) as i32, (i as u32 / n) as i32);
+                    let want = list.iter().copied().min_by(|&a, &b| {
+                        let order = |s: u32| (dist2(x, y, s), s & 0xffff, s >> 16);
+                        let (da, db) = (dist2(x, y, a), dist2(x, y, b));
+                        da.cmp(&db)
+                            .then(key(a).total_cmp(&key(b)))
+                            .then(order(a).cmp(&order(b)))
+                    });
+                    assert_eq!(
+                        g,
+                        want.unwrap_or(NONE),
+                        "side {n} keyed {keyed} texel ({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,106 @@
+//! The exact nearest-seed map on the GPU ([`crate::feature_transform`] on the CPU, step by step
+//! in the same integer arithmetic): every texel of a buffer of seeds gets its nearest seed.
+
+use super::GpuContext;
+use super::compute::{bind_group, compute_pipelines, storage_entry, uniform_entry};
+use super::resources::layout;
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct FtParams {
+    res: u32,
+    keyed: u32,
+    _pad: [u32; 2],
+}
+
+/// The feature-transform pipelines; build once per context
+/// (`ctx.cached(GpuFeatureTransform::new)`).
+pub struct GpuFeatureTransform {
+    layout: wgpu::BindGroupLayout,
+    columns: wgpu::ComputePipeline,
+    rows: wgpu::ComputePipeline,
+}
+
+/// `feature_transform.wgsl`, for the resolver.
+const FEATURE_TRANSFORM_WGSL: &[(&str, &str)] = &[(
+    "feature_transform.wgsl",
+    include_str!("feature_transform.wgsl"),
+)];
+
+impl GpuFeatureTransform {
+    /// Builds the pipelines.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let source = super::wgsl::source("feature_transform.wgsl", FEATURE_TRANSFORM_WGSL);
+        let module = super::resources::wgsl_module(ctx, "feature transform", &[&source]);
+        let layout = layout(
+            ctx,
+            "feature transform",
+            &[
+                uniform_entry(0),
+                storage_entry(1, false),
+                storage_entry(2, false),
+                storage_entry(3, true),
+            ],
+        );
+        let [columns, rows] = compute_pipelines(
+            ctx,
+            "feature transform",
+            &module,
+            &layout,
+            ["ft_columns", "ft_rows"],
+        );
+        Self {
+            layout,
+            columns,
+            rows,
+        }
+    }
+
+    /// Records the transform of the seeds in `buffers[0]` (`resolution²` packed `u32`s, as
+    /// [`crate::seeds::pack`] makes them, [`crate::seeds::NONE`] for no seed), which then holds
+    /// every texel's nearest seed as [`crate::feature_transform::nearest`] gives it, ties to
+    /// the least of `keys` (`resolution²` `f32`s) where given; `buffers[1]` (as large) is
+    /// scratch. Two passes: one invocation per column, then one per row.
+    pub fn encode(
+        &self,
+        ctx: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        buffers: [&wgpu::Buffer; 2],
+        keys: Option<&wgpu::Buffer>,
+        resolution: u32,
+    ) {
+        let prm = FtParams {
+            res: resolution,
+            keyed: keys.is_some() as u32,
+            _pad: [0; 2],
+        };
+        // Without keys the shader reads none; the layout still binds a buffer.
+        let none;
+        let key_buffer = match keys {
+            Some(k) => k,
+            None => {
+                none = ctx.storage_buffer("no keys", &[]);
+                &none
+            }
+        };
+        let ub = ctx.uniform_buffer("feature transform", bytemuck::bytes_of(&prm));
+        let bind = bind_group(
+            ctx,
+            "feature transform",
+            &self.layout,
+            &[
+                ub.as_entire_binding(),
+                buffers[0].as_entire_binding(),
+                buffers[1].as_entire_binding(),
+                key_buffer.as_entire_binding(),
+            ],
+        );
+        for pipeline in [&self.columns, &self.rows] {
+            let mut pass = ctx.begin_compute_pass(enc, "feature transform");
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(resolution.div_ceil(64), 1, 1);
+        }
+    }
+}
