@@ -7,11 +7,13 @@
 // then the leftmost, then the uppermost.
 //
 // `ft_columns`: one invocation per column, from the seeds in `a` to the row of the nearest seed
-// of the column in `b` (NO_ROW: none). `ft_rows`: one
-// invocation per row, the lower envelope of the parabolas (x - i)^2 + g(i)^2 over the row's
-// columns in `b`, kept as a stack in the row's own texels of `a` (column | start << 16), then
-// overwritten by the result from right to left: entry k starts at or after texel k, so an entry
-// is read before its texel is written.
+// of the column in `b` (NO_ROW: none). `ft_rows`: one invocation per row, the lower envelope of
+// the parabolas (x - i)^2 + g(i)^2 over the row's columns in `b`, kept as a stack in the row's
+// own texels of `a` (column | start << 16), then overwritten by the result from right to left:
+// entry k starts at or after texel k, so an entry is read before its texel is written.
+//
+// The i32 arithmetic is exact: on a map up to 32768 texels a side, every f and every numerator
+// of Sep is at most 2 * 32767^2 < 2^31 in magnitude (the CPU computes in i64).
 
 struct FtParams {
     res: u32,
