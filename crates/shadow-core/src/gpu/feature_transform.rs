@@ -20,6 +20,8 @@ pub struct GpuFeatureTransform {
     layout: wgpu::BindGroupLayout,
     columns: wgpu::ComputePipeline,
     rows: wgpu::ComputePipeline,
+    /// Bound as the keys where a transform has none (the shader then reads none).
+    no_keys: wgpu::Buffer,
 }
 
 /// `feature_transform.wgsl`, for the resolver.
@@ -54,6 +56,7 @@ impl GpuFeatureTransform {
             layout,
             columns,
             rows,
+            no_keys: ctx.storage_buffer("no keys", &[]),
         }
     }
 
@@ -75,15 +78,6 @@ impl GpuFeatureTransform {
             keyed: keys.is_some() as u32,
             _pad: [0; 2],
         };
-        // Without keys the shader reads none; the layout still binds a buffer.
-        let none;
-        let key_buffer = match keys {
-            Some(k) => k,
-            None => {
-                none = ctx.storage_buffer("no keys", &[]);
-                &none
-            }
-        };
         let ub = ctx.uniform_buffer("feature transform", bytemuck::bytes_of(&prm));
         let bind = bind_group(
             ctx,
@@ -93,7 +87,7 @@ impl GpuFeatureTransform {
                 ub.as_entire_binding(),
                 buffers[0].as_entire_binding(),
                 buffers[1].as_entire_binding(),
-                key_buffer.as_entire_binding(),
+                keys.unwrap_or(&self.no_keys).as_entire_binding(),
             ],
         );
         for pipeline in [&self.columns, &self.rows] {
