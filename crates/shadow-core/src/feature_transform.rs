@@ -155,8 +155,10 @@ impl Envelope {
             // or after where `i`'s begins, as `i` was kept); `u` takes it too on a tie with
             // the lesser key.
             let (iw, uw) = (i as i64, u as i64);
-            let sep = (uw * uw - iw * iw + g2(u) - g2(i)).div_euclid(2 * (uw - iw));
-            let tie = sep < m && f(sep as u32, i) == f(sep as u32, u) && less(u, i);
+            let (n, d) = (uw * uw - iw * iw + g2(u) - g2(i), 2 * (uw - iw));
+            let sep = n.div_euclid(d);
+            // The parabolas meet on texel `sep` exactly when `d` divides `n` (`2 sep (u - i) = n`).
+            let tie = n.rem_euclid(d) == 0 && less(u, i);
             let start = sep + 1 - tie as i64;
             if start < m {
                 columns.push(u);

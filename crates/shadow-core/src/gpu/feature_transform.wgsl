@@ -135,14 +135,12 @@ fn ft_rows(@builtin(global_invocation_id) gid: vec3<u32>) {
             // takes it too on a tie with the lesser key.
             let i = a[base + u32(top)] & 0xffffu;
             let n = i32(u * u) - i32(i * i) + ft_g2(base, y, u) - ft_g2(base, y, i);
-            let sep = ft_floor_div(n, 2 * (i32(u) - i32(i)));
+            let d = 2 * (i32(u) - i32(i));
+            let sep = ft_floor_div(n, d);
+            // The parabolas meet on texel `sep` exactly when the division leaves nothing.
             var start = sep + 1;
-            if sep < i32(r) {
-                let s = u32(sep);
-                let tie = ft_f(base, y, s, i) == ft_f(base, y, s, u);
-                if tie && ft_less(u, b[base + u], i, b[base + i]) {
-                    start = sep;
-                }
+            if n % d == 0 && ft_less(u, b[base + u], i, b[base + i]) {
+                start = sep;
             }
             if start < i32(r) {
                 top += 1;
