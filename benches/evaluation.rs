@@ -8,9 +8,8 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use harness::setup::scene_receivers;
-use shadow_benches::{configs, gpu, iter_device_time};
+use shadow_benches::{configs, gpu, iter_device_time, timing};
 use shadow_core::{Backend, Receivers};
-use std::time::Duration;
 
 /// G-buffer side: the receivers.
 const SIZE: u32 = 512;
@@ -27,11 +26,8 @@ fn evaluation(c: &mut Criterion) {
         };
         let (t, geo, light) = (&cfg.technique, &cfg.geometry, &cfg.spec.light);
         let mut group = c.benchmark_group(format!("evaluate/{}/{}", cfg.spec.name, cfg.label()));
-        group
-            .sample_size(10)
-            .warm_up_time(Duration::from_secs(1))
-            .measurement_time(Duration::from_secs(2))
-            .throughput(Throughput::Elements(positions.len() as u64));
+        timing(&mut group, 10);
+        group.throughput(Throughput::Elements(positions.len() as u64));
         let maps = t
             .generate(Backend::Cpu, None, geo, light, RESOLUTION)
             .expect("cpu generation");

@@ -11,23 +11,19 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::animated::{self, AnimatedScene};
 use harness::report::cost::write_texels;
 use harness::scenes::catalogue::build;
-use shadow_benches::{RESOLUTIONS, configs, gpu, iter_device_time};
+use shadow_benches::{RESOLUTIONS, configs, gpu, iter_device_time, timing};
 use shadow_core::frame::FrameSettings;
 use shadow_core::gpu::GpuScene;
 use shadow_core::{Backend, GpuContext};
 use shadow_width::width::width_map;
 use shadow_width::{DepthLayer, ShadowWidth, cpu};
-use std::time::Duration;
 
 fn generation(c: &mut Criterion) {
     let gpu: Option<GpuContext> = gpu();
     for cfg in configs() {
         let (t, geo, light) = (&cfg.technique, &cfg.geometry, &cfg.spec.light);
         let mut group = c.benchmark_group(format!("generate/{}/{}", cfg.spec.name, cfg.label()));
-        group
-            .sample_size(10)
-            .warm_up_time(Duration::from_secs(1))
-            .measurement_time(Duration::from_secs(2));
+        timing(&mut group, 10);
         for res in RESOLUTIONS {
             group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, &res| {
                 b.iter(|| {
@@ -69,10 +65,7 @@ fn shadow_width_map(c: &mut Criterion) {
         .filter(|t| t.depth == DepthLayer::Front && t.table.is_none())
     {
         let mut group = c.benchmark_group(format!("width-map/torus/{}", t.label()));
-        group
-            .sample_size(10)
-            .warm_up_time(Duration::from_secs(1))
-            .measurement_time(Duration::from_secs(2));
+        timing(&mut group, 10);
         for res in RESOLUTIONS {
             let maps = cpu::generate(&t, &geo, &spec.light, res);
             group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, _| {
@@ -88,10 +81,7 @@ fn shadow_width_map(c: &mut Criterion) {
 /// faulted in).
 fn write_once(c: &mut Criterion) {
     let mut group = c.benchmark_group("write-once");
-    group
-        .sample_size(20)
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(2));
+    timing(&mut group, 20);
     for res in RESOLUTIONS {
         let mut map = vec![0.0f32; res as usize * res as usize];
         group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, _| {

@@ -2,7 +2,8 @@
 //! (every technique, variant and baseline the report runs, each on a scene whose light it
 //! models), the GPU context, and timing GPU work by its device time.
 
-use criterion::Bencher;
+use criterion::measurement::Measurement;
+use criterion::{Bencher, BenchmarkGroup, SamplingMode};
 use harness::report::all_techniques;
 use harness::scenes::SceneSpec;
 use harness::scenes::catalogue::build;
@@ -86,4 +87,30 @@ pub fn iter_device_time<T>(b: &mut Bencher, gpu: &GpuContext, mut work: impl FnM
         }
         total
     });
+}
+
+/// The environment variable that shortens every bench: its value in seconds is each bench's
+/// measurement time (a fifth of it the warm-up), with the same number of samples taken flat
+/// (each of the same iteration count), so a bench whose iteration outlasts a sample runs about
+/// `samples` iterations, not criterion's linear ramp's 55. `benches/device.sh` sets it to fit
+/// a lent device's minutes; unset, the benches take the times below.
+pub const SECONDS_VAR: &str = "SHADOW_BENCH_SECONDS";
+
+/// Sets `group`'s timing: `samples` samples after 1 s of warm-up over 2 s of measurement, or
+/// the times [`SECONDS_VAR`] asks for. One place for every bench group's times.
+pub fn timing<M: Measurement>(group: &mut BenchmarkGroup<'_, M>, samples: usize) {
+    group.sample_size(samples);
+    let quick = std::env::var(SECONDS_VAR)
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+        .filter(|s| s.is_finite() && *s > 0.0);
+    match quick {
+        Some(s) => group
+            .warm_up_time(Duration::from_secs_f64(0.2 * s))
+            .measurement_time(Duration::from_secs_f64(s))
+            .sampling_mode(SamplingMode::Flat),
+        None => group
+            .warm_up_time(Duration::from_secs(1))
+            .measurement_time(Duration::from_secs(2)),
+    };
 }
