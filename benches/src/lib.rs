@@ -114,3 +114,76 @@ pub fn timing<M: Measurement>(group: &mut BenchmarkGroup<'_, M>, samples: usize)
             .measurement_time(Duration::from_secs(2)),
     };
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+    use std::process::Command;
+
+    /// `benches/device.sh summary` reads each bench's median (the middle of criterion's
+    /// `[low median high]`) from a run's files, not the `change:` block's percentages that a
+    /// second run prints under the same name, whether criterion puts the name on the line of
+    /// its time or above it; evaluation's throughput becomes milliseconds per million receivers
+    /// and at 1080p, and the GPU goals are marked.
+    #[test]
+    fn device_summary_takes_each_benchs_median() {
+        let dir = std::env::temp_dir().join(format!("device-summary-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
+        write("gpu.txt", "GPU 0: NVIDIA H200\n");
+        write(
+            "tests.txt",
+            "test result: ok. 13 passed; 0 failed\nexit status 0\n",
+        );
+        write(
+            "generation.txt",
+            "GPU benches on NVIDIA H200 (Vulkan, DiscreteGpu) (device time from timestamp queries: yes)
+Benchmarking generate/torus/pcf-r2/gpu-wall/2048: Analyzing
+generate/torus/pcf-r2/gpu-wall/2048
+                        time:   [1.9000 ms 2.0000 ms 2.1000 ms]
+                 change:
+                        time:   [-2.1% +0.4% +3.5%] (p = 0.80 > 0.05)
+generate/torus/pcf-r2/gpu-device/2048
+                        time:   [400.00 µs 500.00 µs 600.00 µs]
+generate/foliage/occlusion-slices-sat-4/gpu-device/2048 time:   [1.0 s 1.5 s 2.0 s]
+exit status 0
+",
+        );
+        write(
+            "evaluation.txt",
+            "evaluate/torus/pcf-r2/gpu-device
+                        time:   [0.9 ms 1.0 ms 1.1 ms]
+                        thrpt:  [3.0 Gelem/s 4.0 Gelem/s 5.0 Gelem/s]
+                 change:
+                        time:   [-23.7% -14.2% -4.9%] (p = 0.01 < 0.05)
+                        thrpt:  [+5.1% +16.6% +31.1%]
+",
+        );
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("device.sh");
+        let out = Command::new("bash")
+            .arg(&script)
+            .arg("summary")
+            .arg(&dir)
+            .output()
+            .expect("bash runs");
+        let summary = String::from_utf8_lossy(&out.stdout).to_string();
+        std::fs::remove_dir_all(&dir).ok();
+        assert!(
+            out.status.success(),
+            "{summary}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for row in [
+            "| torus,pcf-r2,2048 | 2 | 0.5 | yes |",
+            "| foliage,occlusion-slices-sat-4,2048 |  | 1500 | no |",
+            // 4 Gelem/s: 0.25 ms per million receivers, 0.5184 ms for 2,073,600.
+            "| pcf-r2 | gpu-device | 0.25 | 0.5184 | no |",
+        ] {
+            assert!(summary.contains(row), "no row {row} in:\n{summary}");
+        }
+        assert!(
+            summary.contains("NVIDIA H200 (Vulkan, DiscreteGpu)"),
+            "{summary}"
+        );
+    }
+}
