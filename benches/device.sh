@@ -96,6 +96,10 @@ to_ms() {
 
 summary() {
     local out=$1
+    [ -f "$out/generation.txt" ] && [ -f "$out/evaluation.txt" ] || {
+        echo "summary: $out holds no generation.txt and evaluation.txt from a run" >&2
+        return 1
+    }
     {
         echo "# $(grep -m 1 '^GPU benches' "$out/generation.txt")"
         echo
