@@ -103,63 +103,73 @@ pub fn draw(path: &Path, title: &str, runs: &[Run]) -> Result<()> {
     }
     // The legend gets its own column right of the plot, one line per series.
     let height = (700u32).max(LEGEND_TOP + LEGEND_LINE * (series.len() as u32 + 2));
-    let root = BitMapBackend::new(path, (PLOT_WIDTH + LEGEND_WIDTH, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let (plot, legend) = root.split_horizontally(PLOT_WIDTH);
-    let mut chart = ChartBuilder::on(&plot)
-        .caption(title, ("sans-serif", 24))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(60)
-        .build_cartesian_2d(xmin - xpad..xmax + xpad, ymin - ypad..ymax + ypad)
-        .map_err(|e| plot_err(path, e))?;
-    chart
-        .configure_mesh()
-        .x_desc("total time per frame (generate + evaluate), ms, log scale")
-        .y_desc("rms error of V*255, log scale")
-        .x_label_formatter(&|v| format!("{:.3}", 10f64.powf(*v)))
-        .y_label_formatter(&|v| format!("{:.2}", 10f64.powf(*v)))
-        .draw()
-        .map_err(|e| plot_err(path, e))?;
-    let font = ("sans-serif", 13).into_font();
-    let entry_y = |k: usize| (LEGEND_TOP + LEGEND_LINE * k as u32) as i32;
-    for (k, (name, mut v)) in series.into_iter().enumerate() {
-        v.sort_by_key(|x| x.0);
-        let color = Palette99::pick(k).to_rgba();
-        let line: Vec<(f64, f64)> = v.iter().map(|x| x.1).collect();
-        chart
-            .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
-            .map_err(|e| plot_err(path, e))?;
-        let y = entry_y(k);
-        legend
-            .draw(&PathElement::new(
-                vec![(8, y), (30, y)],
-                color.stroke_width(3),
-            ))
-            .map_err(|e| plot_err(path, e))?;
-        legend
-            .draw(&Text::new(name, (36, y - 7), font.clone()))
+    let size = (PLOT_WIDTH + LEGEND_WIDTH, height);
+    // Drawn into memory, then encoded by the `image` crate the report writes its strips with
+    // (plotters' own encoder would build a second `image` version into every build).
+    let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+        let (plot, legend) = root.split_horizontally(PLOT_WIDTH);
+        let mut chart = ChartBuilder::on(&plot)
+            .caption(title, ("sans-serif", 24))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(60)
+            .build_cartesian_2d(xmin - xpad..xmax + xpad, ymin - ypad..ymax + ypad)
             .map_err(|e| plot_err(path, e))?;
         chart
-            .draw_series(line.iter().map(|p| Circle::new(*p, 3, color.filled())))
+            .configure_mesh()
+            .x_desc("total time per frame (generate + evaluate), ms, log scale")
+            .y_desc("rms error of V*255, log scale")
+            .x_label_formatter(&|v| format!("{:.3}", 10f64.powf(*v)))
+            .y_label_formatter(&|v| format!("{:.2}", 10f64.powf(*v)))
+            .draw()
             .map_err(|e| plot_err(path, e))?;
+        let font = ("sans-serif", 13).into_font();
+        let entry_y = |k: usize| (LEGEND_TOP + LEGEND_LINE * k as u32) as i32;
+        for (k, (name, mut v)) in series.into_iter().enumerate() {
+            v.sort_by_key(|x| x.0);
+            let color = Palette99::pick(k).to_rgba();
+            let line: Vec<(f64, f64)> = v.iter().map(|x| x.1).collect();
+            chart
+                .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
+                .map_err(|e| plot_err(path, e))?;
+            let y = entry_y(k);
+            legend
+                .draw(&PathElement::new(
+                    vec![(8, y), (30, y)],
+                    color.stroke_width(3),
+                ))
+                .map_err(|e| plot_err(path, e))?;
+            legend
+                .draw(&Text::new(name, (36, y - 7), font.clone()))
+                .map_err(|e| plot_err(path, e))?;
+            chart
+                .draw_series(line.iter().map(|p| Circle::new(*p, 3, color.filled())))
+                .map_err(|e| plot_err(path, e))?;
+        }
+        let front = pareto_front(&pts);
+        chart
+            .draw_series(
+                front
+                    .iter()
+                    .map(|&i| Circle::new(lg[i], 8, BLACK.stroke_width(2))),
+            )
+            .map_err(|e| plot_err(path, e))?;
+        let y = entry_y(0) - LEGEND_LINE as i32;
+        legend
+            .draw(&Circle::new((19, y), 6, BLACK.stroke_width(2)))
+            .map_err(|e| plot_err(path, e))?;
+        legend
+            .draw(&Text::new("Pareto front (ringed)", (36, y - 7), font))
+            .map_err(|e| plot_err(path, e))?;
+        root.present().map_err(|e| plot_err(path, e))?;
     }
-    let front = pareto_front(&pts);
-    chart
-        .draw_series(
-            front
-                .iter()
-                .map(|&i| Circle::new(lg[i], 8, BLACK.stroke_width(2))),
-        )
-        .map_err(|e| plot_err(path, e))?;
-    let y = entry_y(0) - LEGEND_LINE as i32;
-    legend
-        .draw(&Circle::new((19, y), 6, BLACK.stroke_width(2)))
-        .map_err(|e| plot_err(path, e))?;
-    legend
-        .draw(&Text::new("Pareto front (ringed)", (36, y - 7), font))
-        .map_err(|e| plot_err(path, e))?;
-    root.present().map_err(|e| plot_err(path, e))
+    image::RgbImage::from_raw(size.0, size.1, pixels)
+        .ok_or_else(|| plot_err(path, "chart buffer of the wrong size"))?
+        .save(path)
+        .map_err(|e| plot_err(path, e))
 }
 
 /// One point per technique/variant/backend/resolution: the mean over scenes of time and error.
