@@ -1,7 +1,7 @@
 //! Renders PNG frames of a glTF model under a moving area light, shadowed by the technique
 //! named on the command line, on a device the renderer creates itself.
 //!
-//! `cargo run --release -p example-renderer -- --technique occlusion-slices --frames 8`
+//! `cargo run --release --bin example-renderer -- --technique occlusion-slices --frames 8`
 
 use clap::Parser;
 use example_renderer::{

@@ -3,7 +3,7 @@
 //! lights and static frames reuse their maps) and writes the last frame as `animated.png`: per
 //! pixel the mean visibility of the lights whose range reaches it.
 //!
-//! `cargo run --release -p harness --example animated [-- --gpu] [--frames N] [--out FILE]`;
+//! `cargo run --release --example animated [-- --gpu] [--frames N] [--out FILE]`;
 //! unknown or malformed flags are refused with clap's usage message, errors print as
 //! `error: ...` with a non-zero exit.
 

@@ -3,7 +3,7 @@
 //! with as many samples as fit in the same time (generation + evaluation, medians of 5 runs);
 //! then linear-light with 3, 5 and 9 samples.
 //!
-//! `cargo run --release -p harness --example figure9 [-- gpu]`
+//! `cargo run --release --example figure9 [-- gpu]`
 
 use harness::ground_truth::GroundTruthSettings;
 use harness::metrics::{errors, median};

@@ -10,7 +10,7 @@
 //! offset) to the light point, or to infinity for a distant light.
 //!
 //! ```sh
-//! cargo run --release -p harness --example ray_rate -- --out rays
+//! cargo run --release --example ray_rate -- --out rays
 //! python3 benches/embree_rays.py rays
 //! ```
 //!

@@ -1,6 +1,6 @@
 //! One technique on its own, without the ECS or the report: the README's example, compiled.
 //!
-//! `cargo run --release -p harness --example standalone`
+//! `cargo run --release --example standalone`
 
 use glam::Vec3;
 use shadow_core::{Aabb, GpuContext, Light, Receivers, SceneGeometry, ShadowTechnique};

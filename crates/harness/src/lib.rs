@@ -1,5 +1,5 @@
 //! The soft-shadow harness: ray-traced ground truth, the scene catalogue, metrics and the
-//! accuracy-vs-time report (`cargo run --release -p harness -- report`).
+//! accuracy-vs-time report (`cargo run --release --bin harness -- report`).
 
 pub mod animated;
 pub mod ground_truth;

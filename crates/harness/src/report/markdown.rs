@@ -24,7 +24,7 @@ pub fn render(report: &Report, papers_written: bool) -> String {
     } else {
         let _ = writeln!(
             s,
-            "Each paper's own experiment beside its published numbers: `cargo run --release -p harness -- papers --out` this folder writes `papers.html` here.\n"
+            "Each paper's own experiment beside its published numbers: `cargo run --release --bin harness -- papers --out` this folder writes `papers.html` here.\n"
         );
     }
     summary(&mut s, report);

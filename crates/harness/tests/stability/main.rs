@@ -16,7 +16,7 @@
 //! linear-light under a rect's mid-line. With `CI` set a missing GPU adapter fails the suite;
 //! elsewhere the GPU half is skipped with one line.
 //!
-//! `STABILITY_TIMES=1 cargo test --release -p harness --test stability -- --nocapture` prints
+//! `STABILITY_TIMES=1 cargo test --release --test stability -- --nocapture` prints
 //! each configuration's generation and evaluation time (`TIME <ms> <configuration>`).
 
 #[path = "../common/mod.rs"]

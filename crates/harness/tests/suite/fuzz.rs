@@ -8,7 +8,7 @@
 //! truncation mutations of the scene TOML. CI runs the same [`CI_CASES`] of each every time; a
 //! long run draws new ones:
 //!
-//! `FUZZ_CASES=5000 cargo test --release -p harness --test suite fuzz`
+//! `FUZZ_CASES=5000 cargo test --release --test suite fuzz`
 
 use harness::scenes::scene_file;
 use proptest::prelude::*;
