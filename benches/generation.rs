@@ -1,7 +1,8 @@
 //! Generation cost per map resolution (128..2048) for every technique, variant and baseline of
 //! the report, each on a scene whose light it models (`shadow_benches::bench_scene`): CPU, GPU
 //! wall time (record, submit and wait, from geometry already on the GPU) and GPU device time
-//! (timestamp queries on every pass, where the adapter has them). Plus shadow-width's width map
+//! (timestamp queries on every pass, where the adapter has them); the hard map also from cold
+//! caches (`cpu-cold`). Plus shadow-width's width map
 //! alone, writing a map's texels once (the hard map's floor) and the frame pipeline with and
 //! without map caching.
 //!
@@ -9,9 +10,9 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::animated::{self, AnimatedScene};
-use harness::report::cost::write_texels;
+use harness::report::cost::{HARD, write_texels};
 use harness::scenes::catalogue::build;
-use shadow_benches::{RESOLUTIONS, configs, gpu, iter_device_time, timing};
+use shadow_benches::{EVICT_BYTES, RESOLUTIONS, configs, gpu, iter_cold, iter_device_time, timing};
 use shadow_core::frame::FrameSettings;
 use shadow_core::gpu::GpuScene;
 use shadow_core::{Backend, GpuContext};
@@ -24,13 +25,19 @@ fn generation(c: &mut Criterion) {
         let (t, geo, light) = (&cfg.technique, &cfg.geometry, &cfg.spec.light);
         let mut group = c.benchmark_group(format!("generate/{}/{}", cfg.spec.name, cfg.label()));
         timing(&mut group, 10);
+        // The hard map also from cold caches, beside `write-once/cold` (its goal's floor).
+        let mut evict = (t.name() == HARD).then(|| vec![0u8; EVICT_BYTES]);
         for res in RESOLUTIONS {
-            group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, &res| {
-                b.iter(|| {
-                    t.generate(Backend::Cpu, None, geo, light, res)
-                        .expect("cpu generation")
-                })
-            });
+            let cpu = || {
+                t.generate(Backend::Cpu, None, geo, light, res)
+                    .expect("cpu generation")
+            };
+            group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, _| b.iter(cpu));
+            if let Some(evict) = &mut evict {
+                group.bench_with_input(BenchmarkId::new("cpu-cold", res), &res, |b, _| {
+                    iter_cold(b, evict, cpu)
+                });
+            }
             let Some(g) = &gpu else { continue };
             let scene = GpuScene::new(g, geo).expect("gpu scene");
             group.bench_with_input(BenchmarkId::new("gpu-wall", res), &res, |b, &res| {
@@ -78,14 +85,19 @@ fn shadow_width_map(c: &mut Criterion) {
 
 /// Writing every texel of an `f32` map once on every thread, the floor the hard map's
 /// generation is compared with (`harness::report::cost::write_texels`, into a map already
-/// faulted in).
+/// faulted in): `cpu` back to back, the map left in the cache by the write before, and `cold`
+/// after evicting the caches ([`iter_cold`]), beside the hard map's `cpu-cold`.
 fn write_once(c: &mut Criterion) {
     let mut group = c.benchmark_group("write-once");
     timing(&mut group, 20);
+    let mut evict = vec![0u8; EVICT_BYTES];
     for res in RESOLUTIONS {
         let mut map = vec![0.0f32; res as usize * res as usize];
         group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, _| {
             b.iter(|| write_texels(&mut map, 1.0))
+        });
+        group.bench_with_input(BenchmarkId::new("cold", res), &res, |b, _| {
+            iter_cold(b, &mut evict, || write_texels(&mut map, 1.0))
         });
     }
     group.finish();

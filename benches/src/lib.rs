@@ -89,6 +89,34 @@ pub fn iter_device_time<T>(b: &mut Bencher, gpu: &GpuContext, mut work: impl FnM
     });
 }
 
+/// Bytes [`iter_cold`] writes between iterations to evict the caches: four times the largest
+/// last-level cache of the machines these benches run on (32 MiB).
+pub const EVICT_BYTES: usize = 128 << 20;
+
+/// Benches `work` from cold caches, as a frame meets a map it regenerates after the rest of the
+/// frame's work: before each timed call, one byte of every cache line of `evict` is written
+/// (untimed), so the call starts with none of its own data cached. `work`'s output is dropped
+/// outside the timing.
+pub fn iter_cold<T>(b: &mut Bencher, evict: &mut [u8], mut work: impl FnMut() -> T) {
+    b.iter_custom(|iters| {
+        let mut total = Duration::ZERO;
+        for i in 0..iters {
+            evict_caches(evict, i as u8);
+            let start = Instant::now();
+            let out = std::hint::black_box(work());
+            total += start.elapsed();
+            drop(out);
+        }
+        total
+    });
+}
+
+/// Writes `mark` to the first byte of every 64-byte line of `evict`.
+pub fn evict_caches(evict: &mut [u8], mark: u8) {
+    evict.iter_mut().step_by(64).for_each(|x| *x = mark);
+    std::hint::black_box(&evict);
+}
+
 /// The environment variable that shortens every bench: its value in seconds is each bench's
 /// measurement time (a fifth of it the warm-up), with the same number of samples taken flat
 /// (each of the same iteration count), so a bench whose iteration outlasts a sample runs about
@@ -119,6 +147,16 @@ pub fn timing<M: Measurement>(group: &mut BenchmarkGroup<'_, M>, samples: usize)
 mod tests {
     use std::path::Path;
     use std::process::Command;
+
+    /// The eviction before a cold iteration writes every cache line of a buffer four times the
+    /// 32 MiB last-level cache, so none of the bench's own data survives it.
+    #[test]
+    fn eviction_writes_every_line_of_four_caches() {
+        const { assert!(super::EVICT_BYTES >= 4 * (32 << 20)) };
+        let mut evict = vec![0u8; super::EVICT_BYTES];
+        super::evict_caches(&mut evict, 7);
+        assert!(evict.chunks(64).all(|line| line[0] == 7));
+    }
 
     /// `benches/device.sh summary` reads each bench's median (the middle of criterion's
     /// `[low median high]`) from a run's files, not the `change:` block's percentages that a
