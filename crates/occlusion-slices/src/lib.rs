@@ -103,7 +103,12 @@ impl ShadowTechnique for OcclusionSlices {
     fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
         let levels = match self.filter {
             Filter::NBuffer => filters::level_count(resolution) as u64,
-            Filter::Mipmap => 2,
+            // The pyramid, 4/3 of level 0 rounded up to 2 bytes a texel, in a texture of the
+            // next power of two on the GPU.
+            Filter::Mipmap => {
+                let pad = resolution.next_power_of_two() as f64 / resolution.max(1) as f64;
+                (2.0 * pad * pad).ceil() as u64
+            }
             Filter::Sat => 0,
         };
         shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)

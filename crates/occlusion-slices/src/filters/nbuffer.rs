@@ -68,7 +68,9 @@ impl NBuffer {
                     let r1 = &sat.data[y1 * w..(y1 + 1) * w];
                     // Texels whose box lies inside the row read columns x and x + s, the rest
                     // columns x and n; the count of a box is at most its area 4^l.
-                    let inner = n.saturating_sub(s);
+                    // (Where the box is wider than the row, no texel is inner: the columns
+                    // from `s.min(n)` are an empty run, in the table row of n + 1 entries.)
+                    let (inner, sx) = (n.saturating_sub(s), s.min(n));
                     let boxes = |(x, x1): (usize, usize)| {
                         r1[x1]
                             .wrapping_sub(r0[x1])
@@ -77,8 +79,8 @@ impl NBuffer {
                     };
                     let (lo, hi) = row.split_at_mut(inner);
                     if shift <= U32_SHIFT_MAX {
-                        let counts = (r0[..inner].iter().zip(&r0[s..s + inner]))
-                            .zip(r1[..inner].iter().zip(&r1[s..s + inner]));
+                        let counts = (r0[..inner].iter().zip(&r0[sx..sx + inner]))
+                            .zip(r1[..inner].iter().zip(&r1[sx..sx + inner]));
                         for (v, ((&a, &b), (&c, &d))) in lo.iter_mut().zip(counts) {
                             let count = d.wrapping_sub(b).wrapping_sub(c).wrapping_add(a);
                             *v = unorm8_pow2_u32(count, shift);

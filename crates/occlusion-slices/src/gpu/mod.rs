@@ -58,6 +58,30 @@ impl GpuSliceMaps {
         }
         Ok(out)
     }
+
+    /// Reads the N-Buffer levels back (tests): per slice, per level, `res²` unorm8 texels; empty
+    /// for the other filters.
+    pub fn read_nbuffer(&self, ctx: &GpuContext) -> Result<Vec<Vec<Vec<u8>>>> {
+        if self.filter != Filter::NBuffer {
+            return Ok(Vec::new());
+        }
+        let slices = self.frame.slices as usize;
+        let mut out = vec![Vec::new(); slices];
+        for l in 0..self.levels {
+            for g in 0..self.groups {
+                let layer = l * self.groups + g;
+                let texels: Vec<[u8; 4]> =
+                    read_texture(ctx, &self.filtered, layer, wgpu::TextureAspect::All, 4)?;
+                for c in 0..4 {
+                    let k = (g * 4 + c) as usize;
+                    if k < slices {
+                        out[k].push(texels.iter().map(|t| t[c as usize]).collect());
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
 }
 
 /// Per-level parameters, laid out as `Level` in `levels.wgsl`.
@@ -100,8 +124,12 @@ fn array_view(t: &wgpu::Texture, mip: Option<u32>) -> wgpu::TextureView {
     })
 }
 
+/// Tables and levels: written by the kernels, read by evaluation, copied out by
+/// [`GpuSliceMaps::read_nbuffer`].
 fn storage_usage() -> wgpu::TextureUsages {
-    wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING
+    wgpu::TextureUsages::STORAGE_BINDING
+        | wgpu::TextureUsages::TEXTURE_BINDING
+        | wgpu::TextureUsages::COPY_SRC
 }
 
 /// Step 1: the slicing render pass into the `groups` layers of `occupancy`.
@@ -272,10 +300,13 @@ pub fn generate(
             LEVEL_FORMAT,
             storage_usage(),
         ),
+        // The next power of two: its mip chain has room for every level (level l holds
+        // ceil(res / 2^l) texels a side, more than a `res`-wide texture's level l, and
+        // `levels` levels, one more than its chain where `res` is no power of two).
         Filter::Mipmap => texture_2d(
             ctx,
             "mipmaps",
-            res,
+            res.next_power_of_two(),
             (groups, levels),
             LEVEL_FORMAT,
             storage_usage(),
