@@ -122,7 +122,7 @@ fn baselines_agree_between_cpu_and_gpu_on_every_scene() {
             normals: &r.normals,
         };
         for b in &baselines {
-            for res in [64, 256] {
+            for res in super::AGREEMENT_RESOLUTIONS {
                 let cm = b
                     .generate(Backend::Cpu, None, &r.geometry, &spec.light, res)
                     .unwrap();

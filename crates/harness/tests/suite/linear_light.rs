@@ -204,8 +204,9 @@ fn as_segment(light: &Light) -> Option<Light> {
 }
 
 /// Every catalogue scene with a local light, lit by a segment (its own, or the light's axis):
-/// RMS of `V * 255` between CPU and GPU below 1.0 for N = 2, 3, 5 at 64 and 256, and the
-/// visibility channels equal up to rasterization (mean absolute difference below 0.01).
+/// RMS of `V * 255` between CPU and GPU below 1.0 for N = 2, 3, 5 at
+/// [`super::AGREEMENT_RESOLUTIONS`], and the visibility channels equal up to rasterization
+/// (mean absolute difference below 0.01).
 #[test]
 fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
     let Some(ctx) = gpu_for_test("linear_light_agrees_between_cpu_and_gpu_on_every_scene") else {
@@ -222,7 +223,7 @@ fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
             normals: &r.normals,
         };
         for t in LinearLight::standard_set() {
-            for res in [64, 256] {
+            for res in super::AGREEMENT_RESOLUTIONS {
                 let cm = t.generate_cpu(&r.geometry, &light, res).unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &light, res).unwrap();
                 let gc = gm.read_channels(&ctx).unwrap();

@@ -21,3 +21,8 @@ mod wgsl;
 mod common;
 
 pub use common::{Receivers, receivers};
+
+/// Map resolutions at which every technique's GPU path is held to its CPU path on every
+/// catalogue scene: one that is no power of two (96: the CPU N-Buffers panicked there and the
+/// GPU mip chain was a level short, while every agreement test ran at 64 and 256) and 256.
+pub const AGREEMENT_RESOLUTIONS: [u32; 2] = [96, 256];

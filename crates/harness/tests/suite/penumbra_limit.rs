@@ -27,7 +27,7 @@ fn penumbra_limit_agrees_between_cpu_and_gpu_on_every_scene() {
             if !ShadowTechnique::models(&t, spec.light.kind()) {
                 continue;
             }
-            for res in [64, 256] {
+            for res in super::AGREEMENT_RESOLUTIONS {
                 let cm = t.generate_cpu(&r.geometry, &spec.light, res).unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
                 let gmap = gm.read_map(&ctx).unwrap();

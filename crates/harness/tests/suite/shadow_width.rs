@@ -32,7 +32,7 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
             &[]
         };
         for t in ShadowWidth::standard_set().iter().chain(extra) {
-            for res in [64, 256] {
+            for res in super::AGREEMENT_RESOLUTIONS {
                 let cm = t.generate_cpu(&r.geometry, &spec.light, res).unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
                 let gw = gm.read_width(&ctx).unwrap();
