@@ -2,9 +2,8 @@
 //! the report, each on a scene whose light it models (`shadow_benches::bench_scene`): CPU, GPU
 //! wall time (record, submit and wait, from geometry already on the GPU) and GPU device time
 //! (timestamp queries on every pass, where the adapter has them); the hard map also from cold
-//! caches (`cpu-cold`). Plus shadow-width's width map
-//! alone, writing a map's texels once (the hard map's floor) and the frame pipeline with and
-//! without map caching.
+//! caches (`cpu-cold`). Plus shadow-width's width map alone, writing a map's texels once (the
+//! hard map's floor) and the frame pipeline with and without map caching.
 //!
 //! `cargo bench -p shadow-benches --bench generation [-- <regex>]`; see `benches/README.md`.
 
