@@ -3,9 +3,10 @@
 //! - a renderer takes one technique crate without the harness's weight: with default features
 //!   off, no technique crate pulls in `bevy_ecs`, `gltf`, `clap`, `plotters` or `obvhs`;
 //! - the README's two commands share one build: every package the report binary is built from
-//!   has the same features under the report command as under the test command, so whichever
-//!   runs second rebuilds nothing of it (`-p harness` resolved features for the harness alone
-//!   and rebuilt 14 crates, 57 s on 2 cores, after the tests).
+//!   has the same features under the report command as under the test command, so the report
+//!   after the tests builds nothing and the tests after the report rebuild none of its crates
+//!   (`-p harness` resolved features for the harness alone and rebuilt 14 crates, 57 s on 2
+//!   cores, after the tests).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::process::Command;
