@@ -200,21 +200,29 @@ pub fn limits(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Map2D<[f32; 2]
     // is read.
     let (a, b) = (nearest(a, res, Some(geom.data())), nearest(b, res, None));
     let n = (res * res) as usize;
-    let (mut edge, mut lower) = (pool::take(n), pool::take(n));
+    // Every texel is written below: no clearing pass.
+    let (mut edge, mut lower) = (pool::overwrite(n, NO_EDGE), pool::overwrite(n, NONE_DEPTH));
     // Beyond the reach no texel is in a ribbon: skip the square roots and the depth reads there.
     let reach2 = (ribbon_reach(warp) as i64).pow(2);
-    (0..res * res)
-        .into_par_iter()
-        .map(|i| {
-            let (x, y) = (i % res, i / res);
-            let (near, far) = (a[i as usize], b[i as usize]);
-            let beyond = |s: u32| dist2(x as i32, y as i32, s) > reach2;
-            if near == NONE || far == NONE || beyond(near) || beyond(far) {
-                return (NO_EDGE, NONE_DEPTH);
+    // Row by row: a texel's coordinates come from its row and place in it, not from a
+    // division of its index (a division per texel measured 18.6 ms against 11.3 for the whole
+    // step on `torus` at 2048²).
+    let w = (res as usize).max(1);
+    edge.par_chunks_mut(w)
+        .zip(lower.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, (edge, lower))| {
+            let seeds = a[y * w..].iter().zip(&b[y * w..]);
+            for (x, ((e, l), (&near, &far))) in edge.iter_mut().zip(lower).zip(seeds).enumerate() {
+                let (x, y) = (x as u32, y as u32);
+                let beyond = |s: u32| dist2(x as i32, y as i32, s) > reach2;
+                (*e, *l) = if near == NONE || far == NONE || beyond(near) || beyond(far) {
+                    (NO_EDGE, NONE_DEPTH)
+                } else {
+                    texel_limits(geom, warp, layer_gap, x, y, near, far)
+                };
             }
-            texel_limits(geom, warp, layer_gap, x, y, near, far)
-        })
-        .unzip_into_vecs(&mut edge, &mut lower);
+        });
     pool::give(a);
     pool::give(b);
     (

@@ -30,8 +30,9 @@ use rayon::prelude::*;
 /// cache lines.
 const STRIP: usize = 64;
 
-/// No seed in the column (step 1's output).
-const NO_ROW: u32 = u32::MAX;
+/// No seed in the column (step 1's output). Step 1's rows are `u16`, half the traffic of
+/// `u32`: every row of a map [`pack`] can address is below this.
+const NO_ROW: u16 = u16::MAX;
 
 /// The seeds' tie-breaking keys: one per texel of the map, or none (every key equal).
 #[derive(Clone, Copy)]
@@ -55,7 +56,7 @@ impl Keys<'_> {
 /// column ([`NO_ROW`] when the column has none; of two equally near the one of lesser key, else
 /// the upper one), as strips of [`STRIP`] columns, strip `s` holding columns `s * STRIP ..` (the
 /// last one narrower), row-major.
-fn columns(seeds: &[u32], keys: Keys) -> Vec<Vec<u32>> {
+fn columns(seeds: &[u32], keys: Keys) -> Vec<Vec<u16>> {
     let res = keys.res;
     (0..res.div_ceil(STRIP))
         .into_par_iter()
@@ -70,7 +71,7 @@ fn columns(seeds: &[u32], keys: Keys) -> Vec<Vec<u32>> {
                 let cells = &seeds[y * res + x0..y * res + x0 + sw];
                 for ((o, a), &c) in o.iter_mut().zip(&mut above).zip(cells) {
                     if c != NONE {
-                        *a = y as u32;
+                        *a = y as u16;
                     }
                     *o = *a;
                 }
@@ -80,18 +81,28 @@ fn columns(seeds: &[u32], keys: Keys) -> Vec<Vec<u32>> {
             let mut below = [NO_ROW; STRIP];
             for (y, o) in out.chunks_exact_mut(sw).enumerate().rev() {
                 let cells = &seeds[y * res + x0..y * res + x0 + sw];
-                let y = y as u32;
-                for (l, ((o, b), &c)) in o.iter_mut().zip(&mut below).zip(cells).enumerate() {
-                    if c != NONE {
-                        *b = y;
-                    }
-                    if *b == NO_ROW {
-                        continue;
-                    }
-                    let x = (x0 + l) as u32;
-                    let (down, up) = (*b - y, if *o == NO_ROW { u32::MAX } else { y - *o });
-                    if down < up || (down == up && keys.less((x, *b), (x, *o))) {
-                        *o = *b;
+                let y = y as u16;
+                // Branch-free, so the sweep vectorizes; equally near seeds above and below
+                // (`tied`) are decided by their keys after it.
+                let mut tied = false;
+                for ((o, b), &c) in o.iter_mut().zip(&mut below).zip(cells) {
+                    *b = if c != NONE { y } else { *b };
+                    // No seed below or above: `u16::MAX`, beyond every distance in the map.
+                    let down = if *b == NO_ROW { u16::MAX } else { *b - y };
+                    let up = if *o == NO_ROW { u16::MAX } else { y - *o };
+                    tied |= down == up && *b != NO_ROW;
+                    *o = if down < up { *b } else { *o };
+                }
+                if tied && keys.keys.is_some() {
+                    for (l, (o, &b)) in o.iter_mut().zip(&below).enumerate() {
+                        let x = (x0 + l) as u32;
+                        if b != NO_ROW
+                            && *o != NO_ROW
+                            && b - y == y - *o
+                            && keys.less((x, b as u32), (x, *o as u32))
+                        {
+                            *o = b;
+                        }
                     }
                 }
             }
@@ -100,13 +111,21 @@ fn columns(seeds: &[u32], keys: Keys) -> Vec<Vec<u32>> {
         .collect()
 }
 
+/// One parabola of a row's envelope (step 2): its column, the texel where it begins to be the
+/// lowest, and `h = column² + g²` (the parabola is `f(x) = x² - 2 x column + h`).
+#[derive(Clone, Copy)]
+struct Parabola {
+    column: u32,
+    start: u32,
+    h: i64,
+}
+
 /// Scratch of step 2, one per thread: the row's seed rows per column, and the envelope's
-/// parabolas (their columns) and where each begins.
+/// parabolas, left to right.
 #[derive(Default)]
 struct Envelope {
-    rows: Vec<u32>,
-    columns: Vec<u32>,
-    starts: Vec<u32>,
+    rows: Vec<u16>,
+    stack: Vec<Parabola>,
 }
 
 impl Envelope {
@@ -114,68 +133,73 @@ impl Envelope {
     /// row of every column's nearest seed, or [`NO_ROW`]); [`NONE`] everywhere when no column
     /// has a seed.
     fn row(&mut self, y: u32, out: &mut [u32], keys: Keys) {
-        let (rows, columns, starts) = (&self.rows, &mut self.columns, &mut self.starts);
-        let g2 = |i: u32| {
-            let g = rows[i as usize].abs_diff(y) as i64;
-            g * g
-        };
-        // f(x, i) = (x - i)² + g(i)².
-        let f = |x: u32, i: u32| {
-            let d = x.abs_diff(i) as i64;
-            d * d + g2(i)
+        let (rows, stack) = (&self.rows, &mut self.stack);
+        // f(x, i) = (x - i)² + g(i)² = x² - 2 x i + h(i), with h(i) = i² + g(i)²: comparing two
+        // parabolas at one texel compares `h(i) - 2 x i`.
+        let h = |i: u32| {
+            let g = (rows[i as usize] as u32).abs_diff(y) as i64;
+            (i as i64) * (i as i64) + g * g
         };
         // Whether `u`'s seed has a lesser key than `i`'s.
-        let less = |u: u32, i: u32| keys.less((u, rows[u as usize]), (i, rows[i as usize]));
+        let row = |i: u32| rows[i as usize] as u32;
+        let less = |u: u32, i: u32| keys.less((u, row(u)), (i, row(i)));
         let m = out.len() as i64;
-        columns.clear();
-        starts.clear();
+        stack.clear();
         for (u, &r) in rows.iter().enumerate() {
             if r == NO_ROW {
                 continue;
             }
             let u = u as u32;
+            let hu = h(u);
             // Drop the parabolas that `u` lies below where they begin (or on, with a lesser
             // key): they are below it nowhere. So the starts increase strictly, as the GPU's
             // stack, kept in the row's own texels, needs.
-            while let (Some(&i), Some(&t)) = (columns.last(), starts.last()) {
-                let (fi, fu) = (f(t, i), f(t, u));
-                if fi > fu || (fi == fu && less(u, i)) {
-                    columns.pop();
-                    starts.pop();
+            while let Some(top) = stack.last() {
+                let t2 = 2 * top.start as i64;
+                let (fi, fu) = (top.h - t2 * top.column as i64, hu - t2 * u as i64);
+                if fi > fu || (fi == fu && less(u, top.column)) {
+                    stack.pop();
                 } else {
                     break;
                 }
             }
-            let Some(&i) = columns.last() else {
-                columns.push(u);
-                starts.push(0);
+            let Some(top) = stack.last() else {
+                stack.push(Parabola {
+                    column: u,
+                    start: 0,
+                    h: hu,
+                });
                 continue;
             };
             // Meijster's Sep(i, u): the last texel where `i`'s parabola is at most `u`'s (at
             // or after where `i`'s begins, as `i` was kept); `u` takes it too on a tie with
             // the lesser key.
-            let (iw, uw) = (i as i64, u as i64);
-            let (n, d) = (uw * uw - iw * iw + g2(u) - g2(i), 2 * (uw - iw));
+            let i = top.column;
+            let (n, d) = (hu - top.h, 2 * (u as i64 - i as i64));
             let sep = n.div_euclid(d);
             // The parabolas meet on texel `sep` exactly when `d` divides `n` (`2 sep (u - i) = n`).
-            let tie = n.rem_euclid(d) == 0 && less(u, i);
+            let tie = sep * d == n && less(u, i);
             let start = sep + 1 - tie as i64;
             if start < m {
-                columns.push(u);
-                starts.push(start as u32);
+                stack.push(Parabola {
+                    column: u,
+                    start: start as u32,
+                    h: hu,
+                });
             }
         }
-        if columns.is_empty() {
+        if stack.is_empty() {
             out.fill(NONE);
             return;
         }
-        let mut k = 0;
-        for (x, o) in out.iter_mut().enumerate() {
-            while k + 1 < starts.len() && starts[k + 1] as usize <= x {
-                k += 1;
-            }
-            let i = columns[k];
-            *o = pack(i, rows[i as usize]);
+        // Each parabola's texels, filled run by run.
+        let ends = stack
+            .iter()
+            .skip(1)
+            .map(|p| p.start as usize)
+            .chain([out.len()]);
+        for (p, end) in stack.iter().zip(ends) {
+            out[p.start as usize..end].fill(pack(p.column, row(p.column)));
         }
     }
 }
@@ -190,10 +214,11 @@ impl Envelope {
 ///
 /// # Panics
 ///
-/// If `seeds` (or `keys`, where given) does not hold `res²` values.
+/// If `seeds` (or `keys`, where given) does not hold `res²` values, or `res` is 65536 or more
+/// (beyond what [`pack`] holds).
 pub fn nearest(seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> Vec<u32> {
     let n = res as usize;
-    assert!(seeds.len() == n * n && keys.is_none_or(|k| k.len() == n * n));
+    assert!(res < 1 << 16 && seeds.len() == n * n && keys.is_none_or(|k| k.len() == n * n));
     let keys = Keys { keys, res: n };
     let strips = columns(&seeds, keys);
     let mut out = seeds;
