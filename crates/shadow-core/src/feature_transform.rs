@@ -134,14 +134,15 @@ impl Envelope {
     /// has a seed.
     fn row(&mut self, y: u32, out: &mut [u32], keys: Keys) {
         let (rows, stack) = (&self.rows, &mut self.stack);
+        // Column `i`'s seed row.
+        let row = |i: u32| rows[i as usize] as u32;
         // f(x, i) = (x - i)² + g(i)² = x² - 2 x i + h(i), with h(i) = i² + g(i)²: comparing two
         // parabolas at one texel compares `h(i) - 2 x i`.
         let h = |i: u32| {
-            let g = (rows[i as usize] as u32).abs_diff(y) as i64;
+            let g = row(i).abs_diff(y) as i64;
             (i as i64) * (i as i64) + g * g
         };
         // Whether `u`'s seed has a lesser key than `i`'s.
-        let row = |i: u32| rows[i as usize] as u32;
         let less = |u: u32, i: u32| keys.less((u, row(u)), (i, row(i)));
         let m = out.len() as i64;
         stack.clear();
