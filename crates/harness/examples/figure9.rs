@@ -38,7 +38,7 @@ fn measure(
         v = t.evaluate(gpu, &maps, &prep.receivers())?;
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }
-    let e = errors(&v, reference);
+    let e = errors(&v, reference, &prep.shading);
     Ok(Row {
         label: format!("{} {}", t.name(), t.variant()),
         ms: median(&times),

@@ -1,6 +1,7 @@
 //! A [`TechniqueProfile`] from a `report.json` of this machine, for the frame pipeline's `Auto`
 //! choice: per technique, variant, backend, resolution and light kind (the kind of each built-in
-//! scene's light), the median time (generation + evaluation) and the mean `rms_255`.
+//! scene's light), the median time (generation + evaluation) and the mean image error (`image_rms_255`; `rms_255`
+//! in a report that predates it).
 
 use crate::scenes::catalogue::build;
 use shadow_core::frame::{ProfileEntry, TechniqueProfile};
@@ -34,7 +35,7 @@ pub fn from_report_json(text: &str) -> Result<TechniqueProfile> {
         let (Some(g), Some(e), Some(rms), Some(res)) = (
             num("generate_ms"),
             num("evaluate_ms"),
-            num("rms_255"),
+            num("image_rms_255").or_else(|| num("rms_255")),
             num("resolution"),
         ) else {
             return Err(bad(format!("a run lacks its numbers: {r}")));

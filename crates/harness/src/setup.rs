@@ -1,10 +1,13 @@
 //! A scene made ready for measurement: geometry, the camera G-buffer, its receivers, the reference.
 
+use crate::ground_truth::irradiance::irradiance;
 use crate::ground_truth::{GroundTruthSettings, RayTracer, Reference};
+use crate::metrics::{Shading, TERMINATOR_COS};
 use crate::scenes::SceneSpec;
 use glam::Vec3;
-use shadow_core::raster::{GBufferTexel, gbuffer};
-use shadow_core::{Light, Map2D, Receivers, Result, SceneGeometry, ShadowError};
+use shadow_core::raster::{GBufferTexel, gbuffer, rasterize_nearest};
+use shadow_core::{Light, LightPoint, Map2D, Receivers, Result, SceneGeometry, ShadowError};
+use std::collections::HashSet;
 use std::time::Instant;
 
 /// The receivers of a scene without its reference (cheap): flattened geometry and the positions
@@ -36,6 +39,12 @@ pub fn scene_receivers(
     Ok((geometry, positions, normals))
 }
 
+/// A triangle's coordinates as bits, to find the same triangle in another list.
+fn bits(t: &[Vec3; 3]) -> [u32; 9] {
+    let f = [t[0], t[1], t[2]].map(|v| v.to_array());
+    std::array::from_fn(|i| f[i / 3][i % 3].to_bits())
+}
+
 /// A scene with its G-buffer and reference visibilities.
 pub struct PreparedScene {
     /// The description.
@@ -55,6 +64,11 @@ pub struct PreparedScene {
     pub normals: Vec<Vec3>,
     /// Reference per receiver.
     pub reference: Vec<Reference>,
+    /// The light's unshadowed irradiance `E0` per receiver
+    /// ([`crate::ground_truth::irradiance`]).
+    pub irradiance: Vec<f32>,
+    /// Image-error weights and classes per receiver.
+    pub shading: Shading,
     /// Sampling used for the reference.
     pub settings: GroundTruthSettings,
     /// Wall time of the reference, milliseconds.
@@ -85,6 +99,19 @@ impl PreparedScene {
                 spec.name
             )));
         }
+        // Which covered pixels lie on a caster (an object) rather than on receiving-only geometry.
+        let caster_set: HashSet<[u32; 9]> = geometry.casters.iter().map(bits).collect();
+        let nearest = rasterize_nearest(&view, size, size, &geometry.receivers);
+        let all_object: Vec<bool> = covered
+            .iter()
+            .map(|&i| {
+                let t = nearest.data()[i].triangle as usize;
+                geometry
+                    .receivers
+                    .get(t)
+                    .is_some_and(|t| caster_set.contains(&bits(t)))
+            })
+            .collect();
         let all_positions: Vec<Vec3> = covered.iter().map(|&i| gb.data()[i].position).collect();
         let all_normals: Vec<Vec3> = covered.iter().map(|&i| gb.data()[i].normal).collect();
         let t = Instant::now();
@@ -93,6 +120,7 @@ impl PreparedScene {
         let reference_ms = t.elapsed().as_secs_f64() * 1e3;
         let (mut pixels, mut unlit_pixels) = (Vec::new(), Vec::new());
         let (mut positions, mut normals, mut reference) = (Vec::new(), Vec::new(), Vec::new());
+        let mut object = Vec::new();
         for (k, r) in all.into_iter().enumerate() {
             match r {
                 Some(r) => {
@@ -100,6 +128,7 @@ impl PreparedScene {
                     positions.push(all_positions[k]);
                     normals.push(all_normals[k]);
                     reference.push(r);
+                    object.push(all_object[k]);
                 }
                 None => unlit_pixels.push(covered[k]),
             }
@@ -112,6 +141,24 @@ impl PreparedScene {
                 covered.len()
             )));
         }
+        let light = spec.light;
+        let irradiance: Vec<f32> = positions
+            .iter()
+            .zip(&normals)
+            .map(|(p, n)| irradiance(&light, *p, *n))
+            .collect();
+        let terminator = positions
+            .iter()
+            .zip(&normals)
+            .map(|(p, n)| {
+                let towards = match light.center() {
+                    LightPoint::Position(c) => (c - *p).normalize_or_zero(),
+                    LightPoint::Direction(d) => d,
+                };
+                n.dot(towards) < TERMINATOR_COS
+            })
+            .collect();
+        let shading = Shading::new(&irradiance, object, terminator);
         Ok(Self {
             spec,
             geometry,
@@ -121,6 +168,8 @@ impl PreparedScene {
             positions,
             normals,
             reference,
+            irradiance,
+            shading,
             settings,
             reference_ms,
         })

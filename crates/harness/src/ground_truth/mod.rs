@@ -20,6 +20,7 @@
 //! tests its bin with `obvhs`'s own triangle test, giving the answer the BVH gives ray by ray.
 
 pub mod certify;
+pub mod irradiance;
 pub mod packet;
 
 use certify::Hull;

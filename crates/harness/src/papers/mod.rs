@@ -289,7 +289,7 @@ pub fn measure_run(
         resolution: res,
         generate_ms: m.generate_ms,
         evaluate_ms: m.evaluate_ms,
-        errors: errors(&m.v, reference),
+        errors: errors(&m.v, reference, &p.shading),
         flicker_255: None,
         ..Default::default()
     };
@@ -333,7 +333,7 @@ pub fn ray_traced_run(
         resolution: 0,
         generate_ms: 0.0,
         evaluate_ms: t.elapsed().as_secs_f64() * 1e3,
-        errors: errors(&v, &p.reference_v()),
+        errors: errors(&v, &p.reference_v(), &p.shading),
         flicker_255: None,
         ..Default::default()
     };

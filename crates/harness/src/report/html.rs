@@ -79,7 +79,7 @@ fn cell(strip: &Strip, col: usize, row: u32) -> String {
          background-position:-{}px -{}px\"></div>",
         esc(&strip.file),
         cols as u32 * TILE,
-        2 * TILE,
+        super::images::STRIP_ROWS * TILE,
         col as u32 * TILE,
         row * TILE
     )
@@ -88,22 +88,25 @@ fn cell(strip: &Strip, col: usize, row: u32) -> String {
 /// The grid of one strip: the reference tile, then one tile per configuration.
 fn grid(strip: &Strip) -> String {
     let mut g = format!(
-        "<div class=\"grid\">\n<figure class=\"tile\" data-ref=\"1\">{}<figcaption>reference</figcaption></figure>\n",
-        cell(strip, 0, 0)
+        "<div class=\"grid\">\n<figure class=\"tile\" data-ref=\"1\">{}{}<figcaption>reference</figcaption></figure>\n",
+        cell(strip, 0, 0),
+        cell(strip, 0, 1)
     );
     for (k, t) in strip.tiles.iter().enumerate() {
         g.push_str(&format!(
-            "<figure class=\"tile\" data-technique=\"{}\" data-res=\"{}\" data-backend=\"{}\">{}{}\
-             <figcaption><b>{}</b> {}<br>{} {}², rms {:.2}</figcaption></figure>\n",
+            "<figure class=\"tile\" data-technique=\"{}\" data-res=\"{}\" data-backend=\"{}\">{}{}{}\
+             <figcaption><b>{}</b> {}<br>{} {}², image {:.2}, V {:.2}</figcaption></figure>\n",
             esc(&t.technique),
             t.resolution,
             esc(&t.backend),
             cell(strip, k + 1, 0),
             cell(strip, k + 1, 1),
+            cell(strip, k + 1, 2),
             esc(&t.technique),
             esc(&t.variant),
             esc(&t.backend),
             t.resolution,
+            t.image_rms_255,
             t.rms_255
         ));
     }

@@ -62,17 +62,23 @@ fn unlit(x: u32, y: u32) -> Rgb<u8> {
     }
 }
 
-/// Writes the strip: top row reference then each run; bottom row blank then each run's error.
+/// Rows of a strip: `V`, the shaded image, its signed error.
+pub const STRIP_ROWS: u32 = 3;
+
+/// Writes the strip, one column for the reference then one per run, [`STRIP_ROWS`] rows: `V`;
+/// the shaded image `weight * V` (what a white Lambertian scene lit by the light shows, `weight`
+/// = `E0 / E0_max` per pixel); and below each run its signed image error `(V - V_ref) * weight`.
 /// `unlit_pixels` (receivers no light point reaches) are hatched in every cell.
 pub fn write_strip(
     path: &Path,
     size: u32,
     reference: &[Option<f32>],
+    weight: &[Option<f32>],
     runs: &[Vec<Option<f32>>],
     unlit_pixels: &[usize],
 ) -> Result<()> {
     let cols = 1 + runs.len() as u32;
-    let mut img = RgbImage::from_pixel(cols * size, 2 * size, Rgb([20, 20, 20]));
+    let mut img = RgbImage::from_pixel(cols * size, STRIP_ROWS * size, Rgb([20, 20, 20]));
     let mut is_unlit = vec![false; (size * size) as usize];
     for &i in unlit_pixels {
         is_unlit[i] = true;
@@ -86,10 +92,16 @@ pub fn write_strip(
             }
         }
     };
+    let shaded = |v: Option<f32>, i: usize| v.zip(weight[i]).map(|(v, w)| v * w);
     put(&mut img, 0, 0, &|i| gray(reference[i]));
+    put(&mut img, 0, 1, &|i| gray(shaded(reference[i], i)));
     for (k, run) in runs.iter().enumerate() {
-        put(&mut img, k as u32 + 1, 0, &|i| gray(run[i]));
-        put(&mut img, k as u32 + 1, 1, &|i| signed(run[i], reference[i]));
+        let col = k as u32 + 1;
+        put(&mut img, col, 0, &|i| gray(run[i]));
+        put(&mut img, col, 1, &|i| gray(shaded(run[i], i)));
+        put(&mut img, col, 2, &|i| {
+            signed(shaded(run[i], i), shaded(reference[i], i))
+        });
     }
     img.save(path).map_err(|e| io_err(path, e))
 }

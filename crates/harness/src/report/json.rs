@@ -21,7 +21,8 @@ pub struct Report {
     pub skipped: Vec<String>,
 }
 
-/// The columns of one scene's PNG strip (top: `V`, bottom: signed error, red = too dark, blue = too bright).
+/// The columns of one scene's PNG strip (rows: `V`; the shaded image `E0 V / E0_max`; its
+/// signed error, red = too dark, blue = too bright).
 #[derive(Clone, Debug, Serialize)]
 pub struct Strip {
     /// Scene name.
@@ -49,6 +50,8 @@ pub struct StripTile {
     pub resolution: u32,
     /// RMS of `V * 255` against the reference.
     pub rms_255: f64,
+    /// The image error (`image_rms_255` of the run).
+    pub image_rms_255: f64,
 }
 
 /// The machine the report ran on.

@@ -13,7 +13,7 @@ pub fn render(report: &Report, papers_written: bool) -> String {
     let _ = writeln!(s, "# Soft-shadow report\n");
     let _ = writeln!(
         s,
-        "Machine: {} ({} threads); GPU: {}.\n\nErrors are on `V * 255` against a ray-traced reference (visibility v2: the fraction of the light points above a receiver's tangent plane, on the light's emitting side, that it sees; receivers no light point reaches are *unlit*, counted per scene, hatched in the strips and in no error); times are medians in ms.\n",
+        "Machine: {} ({} threads); GPU: {}.\n\nErrors are against a ray-traced reference (visibility v2: the fraction of the light points above a receiver's tangent plane, on the light's emitting side, that it sees; receivers no light point reaches are *unlit*, counted per scene, hatched in the strips and in no error). **Image error** (`image`), what everything here ranks by, is the rms of `(V - V_ref) * E0 / E0_max * 255`, with `E0` the light's unshadowed irradiance at the receiver and `E0_max` the scene's brightest: the error a white Lambertian scene lit by the light shows. `V` rms is the error of the visibility alone, which the papers' ground-plane tables use. Times are medians in ms.\n",
         report.machine.cpu, report.machine.threads, report.machine.gpu_adapter
     );
     if papers_written {
@@ -63,25 +63,30 @@ pub fn render(report: &Report, papers_written: bool) -> String {
         );
         let _ = writeln!(
             s,
-            "Columns: {cols}. Bottom row: signed error (red: darker than the reference, blue: brighter; full colour at 64/255).\n"
+            "Columns: {cols}. Rows: `V`; the shaded image `E0 V / E0_max`; its signed error (red: darker than the reference, blue: brighter; full colour at 64/255). `ground`, `object` and `terminator` split the image error by where the receivers lie: on geometry that only receives, on the casters, and where the normal is within about 17 degrees of perpendicular to the light (cos < 0.3).\n"
         );
         let _ = writeln!(
             s,
-            "| technique | variant | backend | res | gen ms | eval ms | rms | penumbra rms | max abs | false-shadow px | flicker | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+            "| technique | variant | backend | res | gen ms | eval ms | image | image penumbra | V rms | V penumbra | ground | object | terminator | max abs | false-shadow px | flicker | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
         );
         for r in report.runs.iter().filter(|r| r.scene == scene) {
             let e = &r.errors;
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {:.1} | {} | {} | {} |",
                 r.technique,
                 r.variant,
                 r.backend,
                 r.resolution,
                 r.generate_ms,
                 r.evaluate_ms,
+                e.image_rms_255,
+                e.image_penumbra_rms_255,
                 e.rms_255,
                 e.penumbra_rms_255,
+                class(&e.classes.ground),
+                class(&e.classes.object),
+                class(&e.classes.terminator),
                 e.max_abs_255,
                 e.false_shadow_pixels,
                 r.flicker_255.map(|f| format!("{f:.2}")).unwrap_or_default(),
@@ -97,32 +102,45 @@ pub fn render(report: &Report, papers_written: bool) -> String {
     s
 }
 
+/// One class's image error, or blank when the class is empty.
+fn class(c: &crate::metrics::ClassErrors) -> String {
+    if c.pixels == 0 {
+        String::new()
+    } else {
+        format!("{:.2}", c.image_rms_255)
+    }
+}
+
 /// The summary table: per light kind and budget, the best configuration here and its margin
 /// over the best baseline; then the generation scaling exponents.
 fn summary(s: &mut String, report: &Report) {
     let _ = writeln!(
         s,
         "## Summary\n\nPer light kind and per-light budget (generation + evaluation, mean over the \
-         scenes of that kind), the configuration with the lowest mean `rms_255` here, and the best \
-         baseline (hard shadow map, PCF, PCSS, accumulation) in the same budget. Budgets: {:?} ms.\n",
+         scenes of that kind), the configuration with the lowest mean image error \
+         (`image_rms_255`) here, and the best baseline (hard shadow map, PCF, PCSS, \
+         accumulation) in the same budget. Budgets: {:?} ms.\n",
         BUDGETS_MS
     );
     let _ = writeln!(
         s,
-        "| light | budget ms | best here | rms | ms | best baseline | rms | better by |\n|---|---:|---|---:|---:|---|---:|---:|"
+        "| light | budget ms | best here | image | V rms | ms | best baseline | image | better by |\n|---|---:|---|---:|---:|---:|---|---:|---:|"
     );
     for l in lines(report) {
         let cell = |c: &Option<super::summary::Config>| match c {
-            Some(c) => format!("{} | {:.2} | {:.2}", c.label, c.rms_255, c.time_ms),
-            None => "none fits | | ".to_string(),
+            Some(c) => format!(
+                "{} | {:.2} | {:.2} | {:.2}",
+                c.label, c.image_rms_255, c.rms_255, c.time_ms
+            ),
+            None => "none fits | | | ".to_string(),
         };
         let margin = match (&l.best, &l.baseline) {
-            (Some(b), Some(base)) => format!("{:.2}", base.rms_255 - b.rms_255),
+            (Some(b), Some(base)) => format!("{:.2}", base.image_rms_255 - b.image_rms_255),
             _ => String::new(),
         };
         let best = cell(&l.best);
         let base = match &l.baseline {
-            Some(c) => format!("{} | {:.2}", c.label, c.rms_255),
+            Some(c) => format!("{} | {:.2}", c.label, c.image_rms_255),
             None => "none fits | ".to_string(),
         };
         let _ = writeln!(
@@ -135,7 +153,7 @@ fn summary(s: &mut String, report: &Report) {
     fronts(s, report);
     let _ = writeln!(
         s,
-        "\nEvery configuration, mean error against mean time over the scenes (log axes, Pareto front ringed):\n\n![all scenes: mean error vs mean time](pareto.png)"
+        "\nEvery configuration, mean image error against mean time over the scenes (log axes, Pareto front ringed):\n\n![all scenes: mean error vs mean time](pareto.png)"
     );
     scaling(s, report);
     super::cost::markdown(s, report);
@@ -189,7 +207,7 @@ fn fronts(s: &mut String, report: &Report) {
     let _ = writeln!(
         s,
         "\n## Pareto fronts\n\nPer technique, the scenes where one of its runs (any variant, \
-         backend, resolution) is on the front of error against total time: nothing else is both \
+         backend, resolution) is on the front of image error against total time: nothing else is both \
          faster and more accurate there.\n\n| technique | on the front of | scenes |\n|---|---|---:|"
     );
     for (t, scenes) in m {

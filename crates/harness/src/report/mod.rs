@@ -295,7 +295,7 @@ impl Runner<'_> {
             evaluate_ms: m.evaluate_ms,
             hard_generate_ms: m.beside_ms.map(|b| b.0),
             hard_evaluate_ms: m.beside_ms.map(|b| b.1),
-            errors: errors(&m.v, reference),
+            errors: errors(&m.v, reference, &p.shading),
             flicker_255: None,
         };
         let file = self
@@ -381,6 +381,7 @@ impl Runner<'_> {
     ) -> Result<()> {
         let out = &self.opts.out;
         let reference_img = images::scatter(self.size, &p.pixels, reference);
+        let weight_img = images::scatter(self.size, &p.pixels, &p.shading.weight);
         let runs_img: Vec<Vec<Option<f32>>> = strip
             .iter()
             .map(|s| images::scatter(self.size, &p.pixels, &s.3))
@@ -389,6 +390,7 @@ impl Runner<'_> {
             &out.join(format!("{}.png", file_stem(name))),
             self.size,
             &reference_img,
+            &weight_img,
             &runs_img,
             &p.unlit_pixels,
         )?;
@@ -416,21 +418,19 @@ impl Runner<'_> {
             .iter()
             .map(|(label, res, backend, _)| {
                 let (technique, variant) = label.split_once('/').unwrap_or((label, ""));
-                let rms_255 = scene_runs
-                    .iter()
-                    .find(|r| {
-                        r.technique == technique
-                            && r.variant == variant
-                            && r.resolution == *res
-                            && r.backend == backend.name()
-                    })
-                    .map_or(f64::NAN, |r| r.errors.rms_255);
+                let run = scene_runs.iter().find(|r| {
+                    r.technique == technique
+                        && r.variant == variant
+                        && r.resolution == *res
+                        && r.backend == backend.name()
+                });
                 json::StripTile {
                     technique: technique.into(),
                     variant: variant.into(),
                     backend: backend.name().into(),
                     resolution: *res,
-                    rms_255,
+                    rms_255: run.map_or(f64::NAN, |r| r.errors.rms_255),
+                    image_rms_255: run.map_or(f64::NAN, |r| r.errors.image_rms_255),
                 }
             })
             .collect();

@@ -34,7 +34,7 @@ fn plot_err(path: &Path, e: impl std::fmt::Display) -> ShadowError {
     }
 }
 
-/// Indices of the runs on the Pareto front of (total time, rms): no other run is both faster and more accurate.
+/// Indices of the runs on the Pareto front of (total time, image rms): no other run is both faster and more accurate.
 pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
     (0..points.len())
         .filter(|&i| {
@@ -48,9 +48,9 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
         .collect()
 }
 
-/// Chart coordinates of a run: (total ms, rms), clamped away from 0 for the log axes.
+/// Chart coordinates of a run: (total ms, image rms), clamped away from 0 for the log axes.
 fn point(r: &Run) -> (f64, f64) {
-    (r.total_ms().max(1e-3), r.errors.rms_255.max(1e-2))
+    (r.total_ms().max(1e-3), r.errors.image_rms_255.max(1e-2))
 }
 
 /// Per technique, the scenes on whose Pareto front (over every run of the scene: variants,
@@ -121,7 +121,7 @@ pub fn draw(path: &Path, title: &str, runs: &[Run]) -> Result<()> {
         chart
             .configure_mesh()
             .x_desc("total time per frame (generate + evaluate), ms, log scale")
-            .y_desc("rms error of V*255, log scale")
+            .y_desc("image error (rms of (V - V_ref) E0/E0_max * 255), log scale")
             .x_label_formatter(&|v| format!("{:.3}", 10f64.powf(*v)))
             .y_label_formatter(&|v| format!("{:.2}", 10f64.powf(*v)))
             .draw()
@@ -184,6 +184,7 @@ pub fn scene_means(runs: &[Run]) -> Vec<Run> {
                 o.generate_ms += r.generate_ms;
                 o.evaluate_ms += r.evaluate_ms;
                 o.errors.rms_255 += r.errors.rms_255;
+                o.errors.image_rms_255 += r.errors.image_rms_255;
                 *n += 1;
             }
             None => out.push((r.clone(), 1)),
@@ -195,6 +196,7 @@ pub fn scene_means(runs: &[Run]) -> Vec<Run> {
             o.generate_ms /= k;
             o.evaluate_ms /= k;
             o.errors.rms_255 /= k;
+            o.errors.image_rms_255 /= k;
             o.scene = "all".into();
             o
         })

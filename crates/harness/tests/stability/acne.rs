@@ -12,7 +12,7 @@
 //! `hard_cases` checks it on the maps it builds for `acne` (one generation per configuration for
 //! both properties), on its 48² G-buffer.
 
-use harness::metrics::errors;
+use harness::metrics::{Shading, errors};
 
 /// `(technique, resolution)` whose kernel reaches a real shadow (module docs).
 pub const KERNEL_REACH: (&str, u32) = ("pcf", 16);
@@ -40,7 +40,7 @@ pub fn false_shadow(
     reference: &[f32],
     what: &str,
 ) -> Option<String> {
-    let acne = errors(v, reference).false_shadow_pixels;
+    let acne = errors(v, reference, &Shading::uniform(v.len())).false_shadow_pixels;
     (acne > 0 && (technique, res) != KERNEL_REACH)
         .then(|| format!("{what}: {acne} false-shadow receivers (acne)"))
 }

@@ -138,6 +138,8 @@ fn quick_report_writes_the_contract() {
             "evaluate_ms",
             "rms_255",
             "penumbra_rms_255",
+            "image_rms_255",
+            "image_penumbra_rms_255",
             "max_abs_255",
             "false_shadow_pixels",
             "nonfinite",
@@ -145,6 +147,18 @@ fn quick_report_writes_the_contract() {
             assert!(!r[key].is_null(), "run field {key}");
         }
         assert_eq!(r["nonfinite"], 0);
+        for class in ["ground", "object", "terminator"] {
+            for key in ["pixels", "rms_255", "image_rms_255"] {
+                assert!(!r["classes"][class][key].is_null(), "classes.{class}.{key}");
+            }
+        }
+    }
+    // Weights are E0 / E0_max <= 1, so the image error never exceeds the V error, and the
+    // ground and object classes partition the receivers.
+    for r in &report.runs {
+        let e = &r.errors;
+        assert!(e.image_rms_255 <= e.rms_255 + 1e-9, "{r:?}");
+        assert!(e.image_rms_255 > 0.0 || e.rms_255 == 0.0, "{r:?}");
     }
     for r in &report.references {
         assert!(
@@ -182,9 +196,9 @@ fn quick_report_writes_the_contract() {
             None => assert!(fits.is_empty()),
             Some(b) => {
                 assert!(b.time_ms <= l.budget_ms);
-                assert!(fits.iter().all(|c| b.rms_255 <= c.rms_255));
+                assert!(fits.iter().all(|c| b.image_rms_255 <= c.image_rms_255));
                 if let Some(base) = &l.baseline {
-                    assert!(b.rms_255 <= base.rms_255);
+                    assert!(b.image_rms_255 <= base.image_rms_255);
                     assert!(summary::BASELINES.contains(&base.technique.as_str()));
                 }
             }
@@ -210,13 +224,45 @@ fn quick_report_writes_the_contract() {
     );
 }
 
+/// The image error weights each receiver's `V` error by `E0 / E0_max`, and splits it by class.
+#[test]
+fn image_error_weights_each_receiver_by_its_irradiance() {
+    use harness::metrics::{Shading, errors};
+    // E0 of 4, 2, 1 and 0 (an unlit-looking receiver at the horizon): weights 1, 0.5, 0.25, 0.
+    let shading = Shading::new(
+        &[4.0, 2.0, 1.0, 0.0],
+        vec![false, true, true, false],
+        vec![false, false, true, true],
+    );
+    assert_eq!(shading.weight, [1.0, 0.5, 0.25, 0.0]);
+    let reference = [1.0, 0.5, 0.5, 1.0];
+    let v = [0.8, 0.3, 0.1, 0.0];
+    let e = errors(&v, &reference, &shading);
+    let d = [0.2 * 255.0, 0.2 * 255.0, 0.4 * 255.0, 255.0];
+    let image = [d[0], d[1] * 0.5, d[2] * 0.25, 0.0];
+    let rms = |x: &[f64]| (x.iter().map(|x| x * x).sum::<f64>() / x.len() as f64).sqrt();
+    assert!((e.rms_255 - rms(&d)).abs() < 1e-3);
+    assert!((e.image_rms_255 - rms(&image)).abs() < 1e-3);
+    // Penumbra: the two receivers at 0.5.
+    assert!((e.image_penumbra_rms_255 - rms(&image[1..3])).abs() < 1e-3);
+    assert_eq!(e.classes.object.pixels, 2);
+    assert!((e.classes.object.image_rms_255 - rms(&image[1..3])).abs() < 1e-3);
+    assert!((e.classes.ground.rms_255 - rms(&[d[0], d[3]])).abs() < 1e-3);
+    assert_eq!(e.classes.terminator.pixels, 2);
+    assert!((e.classes.terminator.image_rms_255 - rms(&[image[2], image[3]])).abs() < 1e-3);
+}
+
 /// False shadows (the acne measure): receivers the reference sees lit (>= 0.98) that come out
 /// below 0.98; penumbra and umbra receivers never count.
 #[test]
 fn false_shadow_pixels_count_only_lit_receivers_made_dark() {
     let reference = [1.0, 1.0, 0.5, 0.99, 0.0, 0.98];
     let v = [0.97, 1.0, 0.1, 0.5, 0.9, 0.979];
-    let e = harness::metrics::errors(&v, &reference);
+    let e = harness::metrics::errors(
+        &v,
+        &reference,
+        &harness::metrics::Shading::uniform(v.len()),
+    );
     assert_eq!(e.false_shadow_pixels, 3);
 }
 
