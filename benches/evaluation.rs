@@ -9,7 +9,7 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use harness::setup::scene_receivers;
 use shadow_benches::{configs, gpu, iter_device_time, timing};
-use shadow_core::{Backend, Receivers};
+use soft_shadow_core::{Backend, Receivers};
 
 /// G-buffer side: the receivers.
 const SIZE: u32 = 512;

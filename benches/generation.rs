@@ -12,11 +12,11 @@ use harness::animated::{self, AnimatedScene};
 use harness::report::cost::{HARD, write_texels};
 use harness::scenes::catalogue::build;
 use shadow_benches::{EVICT_BYTES, RESOLUTIONS, configs, gpu, iter_cold, iter_device_time, timing};
-use shadow_core::frame::FrameSettings;
-use shadow_core::gpu::GpuScene;
-use shadow_core::{Backend, GpuContext};
+use shadow_frame::FrameSettings;
 use shadow_width::width::width_map;
 use shadow_width::{DepthLayer, ShadowWidth, cpu};
+use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::{Backend, GpuContext};
 
 fn generation(c: &mut Criterion) {
     let gpu: Option<GpuContext> = gpu();

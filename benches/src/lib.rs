@@ -7,7 +7,7 @@ use criterion::{Bencher, BenchmarkGroup, SamplingMode};
 use harness::report::all_techniques;
 use harness::scenes::SceneSpec;
 use harness::scenes::catalogue::build;
-use shadow_core::{DynTechnique, GpuContext, Result, SceneGeometry};
+use soft_shadow_core::{DynTechnique, GpuContext, Result, SceneGeometry};
 use std::time::{Duration, Instant};
 
 /// Map resolutions of the generation benches.

@@ -11,9 +11,9 @@
 pub mod shade;
 
 use glam::{Mat4, Vec3};
-use shadow_core::gpu::visibility::ReceiverTextures;
-use shadow_core::gpu::{GpuContext, GpuScene};
-use shadow_core::{Camera, Light, Result, SceneGeometry, ShadowError, ShadowTechnique};
+use soft_shadow_core::gpu::visibility::ReceiverTextures;
+use soft_shadow_core::gpu::{GpuContext, GpuScene};
+use soft_shadow_core::{Camera, Light, Result, SceneGeometry, ShadowError, ShadowTechnique};
 use wgpu::util::DeviceExt;
 
 /// Format of the renderer's position and normal targets.
@@ -402,7 +402,7 @@ impl<T: ShadowTechnique> Renderer<T> {
 
     /// Reads the shaded frame back (for PNG files and tests; a frame on screen needs no read).
     pub fn read_color(&self) -> Result<image::RgbaImage> {
-        let bytes: Vec<[u8; 4]> = shadow_core::gpu::raster::read_texture(
+        let bytes: Vec<[u8; 4]> = soft_shadow_core::gpu::raster::read_texture(
             &self.gpu,
             &self.targets.color,
             0,
@@ -416,9 +416,9 @@ impl<T: ShadowTechnique> Renderer<T> {
 
 /// A glTF model standing on a ground square (which only receives), scaled to fit a 2 m box:
 /// the renderer's scene, and a camera looking at it from the front and above.
-pub fn model_on_ground(model: &shadow_core::TriangleMesh) -> (SceneGeometry, Camera) {
+pub fn model_on_ground(model: &soft_shadow_core::TriangleMesh) -> (SceneGeometry, Camera) {
     let raw: Vec<[Vec3; 3]> = model.world_triangles(Mat4::IDENTITY).collect();
-    let b = shadow_core::Aabb::of_triangles(&raw);
+    let b = soft_shadow_core::Aabb::of_triangles(&raw);
     let scale = 2.0 / (b.max - b.min).max_element().max(1e-6);
     let base = Vec3::new(b.center().x, b.min.y, b.center().z);
     let casters: Vec<[Vec3; 3]> = raw.iter().map(|t| t.map(|p| (p - base) * scale)).collect();
@@ -429,7 +429,7 @@ pub fn model_on_ground(model: &shadow_core::TriangleMesh) -> (SceneGeometry, Cam
     ];
     let mut receivers = casters.clone();
     receivers.extend(ground);
-    let bounds = shadow_core::Aabb::of_triangles(&receivers);
+    let bounds = soft_shadow_core::Aabb::of_triangles(&receivers);
     let camera = Camera {
         eye: Vec3::new(0.0, 2.6, 4.2),
         target: Vec3::new(0.0, 0.6, 0.0),

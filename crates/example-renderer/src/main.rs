@@ -7,7 +7,7 @@ use clap::Parser;
 use example_renderer::{
     FrameSettings, Renderer, model_on_ground, moving_light, moving_triangle, own_device,
 };
-use shadow_core::{LightKind, Result, ShadowError, ShadowTechnique};
+use soft_shadow_core::{LightKind, Result, ShadowError, ShadowTechnique};
 use std::path::PathBuf;
 
 /// Command-line options.
@@ -36,7 +36,7 @@ struct Args {
 }
 
 fn run<T: ShadowTechnique>(technique: T, args: &Args) -> Result<()> {
-    let model = shadow_core::gltf_import::import_gltf_file(&args.model)?;
+    let model = shadow_frame::gltf::import_gltf_file(&args.model)?;
     let (geometry, camera) = model_on_ground(&model);
     let (device, queue) = own_device()?;
     let settings = FrameSettings {

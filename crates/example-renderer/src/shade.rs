@@ -5,7 +5,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use shadow_core::{Light, Result, ShadowError};
+use soft_shadow_core::{Light, Result, ShadowError};
 
 /// Light samples per side of the grid.
 pub const GRID: u32 = 8;

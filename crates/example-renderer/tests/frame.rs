@@ -1,22 +1,22 @@
 //! The example renderer against the CPU path, and what a static scene's frame costs in
-//! transfers. Both run on lavapipe in CI (`shadow_core::gpu::testing`).
+//! transfers. Both run on lavapipe in CI (`soft_shadow_core::gpu::testing`).
 
 use example_renderer::shade::ShadeUniform;
 use example_renderer::{FrameSettings, Renderer, model_on_ground, moving_light};
 use glam::Vec3;
-use shadow_core::gpu::raster::read_texture;
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Receivers, SceneGeometry, ShadowTechnique};
+use soft_shadow_core::gpu::raster::read_texture;
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{Receivers, SceneGeometry, ShadowTechnique};
 
 const SIZE: u32 = 96;
 const RESOLUTION: u32 = 512;
 
-fn scene() -> (SceneGeometry, shadow_core::Camera) {
+fn scene() -> (SceneGeometry, soft_shadow_core::Camera) {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../assets/stanford-bunny.glb"
     );
-    let model = shadow_core::gltf_import::import_gltf_file(std::path::Path::new(path)).unwrap();
+    let model = shadow_frame::gltf::import_gltf_file(std::path::Path::new(path)).unwrap();
     model_on_ground(&model)
 }
 
@@ -144,7 +144,7 @@ fn a_static_scenes_second_frame_maps_uploads_and_allocates_nothing() {
     let uploads = r.gpu.geometry_uploads();
     r.render(&moving_light(0, 8)).unwrap();
     r.gpu.wait().unwrap();
-    let counts = |g: &shadow_core::GpuContext| {
+    let counts = |g: &soft_shadow_core::GpuContext| {
         (
             g.geometry_uploads(),
             g.buffer_maps(),

@@ -10,9 +10,9 @@
 use clap::Parser;
 use glam::Vec3;
 use harness::animated::{AnimatedScene, pipeline};
-use shadow_core::frame::{FrameBackend, LightState, ResolvedTechnique, ShadowConfig, influence};
-use shadow_core::scene::LightSource;
-use shadow_core::{Backend, GpuContext};
+use shadow_frame::scene::LightSource;
+use shadow_frame::{FrameBackend, LightState, ResolvedTechnique, ShadowConfig, influence};
+use soft_shadow_core::{Backend, GpuContext};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -47,7 +47,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(args: Args) -> shadow_core::Result<()> {
+fn run(args: Args) -> soft_shadow_core::Result<()> {
     let (frames, out) = (args.frames, args.out);
     let size = 384;
     let mut lab = AnimatedScene::new(size, 512)?;
@@ -113,7 +113,7 @@ fn run(args: Args) -> shadow_core::Result<()> {
     }
     image
         .save(&out)
-        .map_err(|e| shadow_core::ShadowError::Write {
+        .map_err(|e| soft_shadow_core::ShadowError::Write {
             path: out.display().to_string(),
             source: std::io::Error::other(e),
         })?;

@@ -10,8 +10,8 @@ use harness::metrics::{errors, median};
 use harness::scenes::catalogue::build;
 use harness::setup::PreparedScene;
 use linear_light::LinearLight;
-use shadow_core::{Backend, DynTechnique, GpuContext};
 use shadow_maps::{Filter, ShadowMapBaseline};
+use soft_shadow_core::{Backend, DynTechnique, GpuContext};
 use std::time::Instant;
 
 const RES: u32 = 512;
@@ -29,7 +29,7 @@ fn measure(
     gpu: Option<&GpuContext>,
     prep: &PreparedScene,
     reference: &[f32],
-) -> shadow_core::Result<Row> {
+) -> soft_shadow_core::Result<Row> {
     let mut times = Vec::new();
     let mut v = Vec::new();
     for _ in 0..5 {
@@ -47,7 +47,7 @@ fn measure(
     })
 }
 
-fn main() -> shadow_core::Result<()> {
+fn main() -> soft_shadow_core::Result<()> {
     let gpu_wanted = std::env::args().any(|a| a == "gpu");
     let gpu = if gpu_wanted {
         Some(GpuContext::new()?)

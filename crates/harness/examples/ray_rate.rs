@@ -27,7 +27,7 @@ use harness::metrics::median;
 use harness::scenes::catalogue::build;
 use harness::setup::scene_receivers;
 use rayon::prelude::*;
-use shadow_core::LightPoint;
+use soft_shadow_core::LightPoint;
 use std::path::PathBuf;
 use std::time::Instant;
 

@@ -3,10 +3,10 @@
 //! `cargo run --release --example standalone`
 
 use glam::Vec3;
-use shadow_core::{Aabb, GpuContext, Light, Receivers, SceneGeometry, ShadowTechnique};
 use shadow_maps::{Filter, ShadowMapBaseline};
+use soft_shadow_core::{Aabb, GpuContext, Light, Receivers, SceneGeometry, ShadowTechnique};
 
-fn main() -> shadow_core::Result<()> {
+fn main() -> soft_shadow_core::Result<()> {
     // A 1 m square occluder 1 m above a ground plane, a 0.8 m square light 3 m up.
     let quad = |h: f32, y: f32| {
         let p = |x: f32, z: f32| Vec3::new(x, y, z);

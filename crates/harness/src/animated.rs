@@ -7,10 +7,11 @@ use crate::scenes::shapes::{cuboid, ground, torus};
 use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::entity::Entity;
 use glam::{Mat4, Vec3};
-use shadow_core::frame::{FramePipeline, FrameReceivers, ShadowConfig};
-use shadow_core::raster::{GBufferTexel, gbuffer};
-use shadow_core::scene::Transform;
-use shadow_core::{Camera, DynTechnique, Light, Map2D, Result, Scene};
+use shadow_frame::Scene;
+use shadow_frame::scene::Transform;
+use shadow_frame::{FramePipeline, FrameReceivers, ShadowConfig};
+use soft_shadow_core::raster::{GBufferTexel, gbuffer};
+use soft_shadow_core::{Camera, DynTechnique, Light, Map2D, Result};
 use std::sync::Arc;
 
 /// A frame pipeline with every technique crate and the baselines registered.

@@ -72,7 +72,7 @@ enum Command {
     },
 }
 
-fn report_error(e: &shadow_core::ShadowError) -> ExitCode {
+fn report_error(e: &soft_shadow_core::ShadowError) -> ExitCode {
     eprintln!("error: {e}");
     let mut src = std::error::Error::source(e);
     while let Some(s) = src {

@@ -31,7 +31,10 @@ impl Shading {
     pub fn new(irradiance: &[f32], object: Vec<bool>, terminator: Vec<bool>) -> Self {
         let max = irradiance.iter().copied().fold(0.0f32, f32::max);
         let weight = if max > 0.0 && max.is_finite() {
-            irradiance.iter().map(|e| (e / max).clamp(0.0, 1.0)).collect()
+            irradiance
+                .iter()
+                .map(|e| (e / max).clamp(0.0, 1.0))
+                .collect()
         } else {
             vec![1.0; irradiance.len()]
         };

@@ -4,8 +4,8 @@
 //! in a report that predates it).
 
 use crate::scenes::catalogue::build;
-use shadow_core::frame::{ProfileEntry, TechniqueProfile};
-use shadow_core::{Backend, LightKind, Result, ShadowError};
+use shadow_frame::{ProfileEntry, TechniqueProfile};
+use soft_shadow_core::{Backend, LightKind, Result, ShadowError};
 use std::collections::BTreeMap;
 
 type Key = (String, String, &'static str, u32, LightKind);

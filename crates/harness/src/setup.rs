@@ -5,8 +5,8 @@ use crate::ground_truth::{GroundTruthSettings, RayTracer, Reference};
 use crate::metrics::{Shading, TERMINATOR_COS};
 use crate::scenes::SceneSpec;
 use glam::Vec3;
-use shadow_core::raster::{GBufferTexel, gbuffer, rasterize_nearest};
-use shadow_core::{Light, LightPoint, Map2D, Receivers, Result, SceneGeometry, ShadowError};
+use soft_shadow_core::raster::{GBufferTexel, gbuffer, rasterize_nearest};
+use soft_shadow_core::{Light, LightPoint, Map2D, Receivers, Result, SceneGeometry, ShadowError};
 use std::collections::HashSet;
 use std::time::Instant;
 

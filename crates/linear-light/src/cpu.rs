@@ -1,4 +1,4 @@
-//! The CPU path: one depth map per sample ([`shadow_core::raster`]), skins from each map
+//! The CPU path: one depth map per sample ([`soft_shadow_core::raster`]), skins from each map
 //! ([`crate::skins`]), warped into the neighbours' views ([`crate::warp`]) to build their
 //! visibility channels, and the `shade()` loop ([`crate::eval`]).
 
@@ -9,8 +9,8 @@ use crate::segments::Segment;
 use crate::skins::skins;
 use crate::warp::{Source, warp};
 use rayon::prelude::*;
-use shadow_core::raster::depth_map;
-use shadow_core::{Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+use soft_shadow_core::raster::depth_map;
+use soft_shadow_core::{Map2D, MapParams, Receivers, SampleView, SceneGeometry};
 
 /// The maps of one light: `N` samples per segment, segment after segment.
 #[derive(Clone, Debug)]
@@ -57,7 +57,8 @@ fn generate_segment(
 ) -> CpuLinearMaps {
     let n = t.samples;
     let (a, b, w) = (seg.a, seg.b, seg.weight);
-    let coverage = shadow_core::Coverage::new(geometry, &shadow_core::Light::Linear { a, b });
+    let coverage =
+        soft_shadow_core::Coverage::new(geometry, &soft_shadow_core::Light::Linear { a, b });
     let views = sample_views(a, b, n, seg.axis, &coverage, w);
     let params: Vec<MapParams> = views.iter().map(|v| v.params(res)).collect();
     let depth: Vec<Map2D<f32>> = views

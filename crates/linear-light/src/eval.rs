@@ -7,9 +7,9 @@
 //! outside a sample's map sees that sample fully (its lit share).
 
 use glam::Vec3;
-use shadow_core::light_space::shadow_coord;
-use shadow_core::map2d::bilinear_texels;
-use shadow_core::{Bias, MapParams};
+use soft_shadow_core::light_space::shadow_coord;
+use soft_shadow_core::map2d::bilinear_texels;
+use soft_shadow_core::{Bias, MapParams};
 
 /// `V` at `p` (unit normal `n`): `depth(k, x, y)` and `channel(k, x, y)` read sample `k`'s
 /// linear depth and visibility at clamped texel `(x, y)`.

@@ -11,15 +11,15 @@
 //! channel, summed ([`eval`]).
 //!
 //! - Lights: segments, and triangles as three linear lights along their edges (section 4,
-//!   [`mod@segments`]). Other kinds are [`shadow_core::ShadowError::UnsupportedLight`].
+//!   [`mod@segments`]). Other kinds are [`soft_shadow_core::ShadowError::UnsupportedLight`].
 //! - Modules, one concept each: [`params`], [`mod@segments`], [`samples`], [`skins`], [`warp`],
 //!   [`eval`], [`cpu`], [`gpu`].
 //!
 //! ```no_run
 //! use linear_light::LinearLight;
-//! use shadow_core::{Receivers, ShadowTechnique};
-//! # fn demo(geometry: &shadow_core::SceneGeometry, light: &shadow_core::Light,
-//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> shadow_core::Result<()> {
+//! use soft_shadow_core::{Receivers, ShadowTechnique};
+//! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
+//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
 //! let technique = LinearLight::new(3);
 //! let maps = technique.generate_cpu(geometry, light, 512)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
@@ -38,9 +38,9 @@ pub mod warp;
 pub use params::LinearLight;
 
 use segments::segments;
-use shadow_core::gpu::GpuScene;
-use shadow_core::technique::MAX_CPU_RESOLUTION;
-use shadow_core::{
+use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::technique::MAX_CPU_RESOLUTION;
+use soft_shadow_core::{
     GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
 };
 
@@ -73,7 +73,7 @@ impl ShadowTechnique for LinearLight {
             light,
             resolution,
             MAX_CPU_RESOLUTION,
-            shadow_core::memory::cpu_budget(),
+            soft_shadow_core::memory::cpu_budget(),
         )?;
         Ok(cpu::generate(
             self,
@@ -98,7 +98,7 @@ impl ShadowTechnique for LinearLight {
             1
         };
         let layers = self.samples as u64 * segments;
-        shadow_core::memory::maps(1, resolution, layers * 16 + 12)
+        soft_shadow_core::memory::maps(1, resolution, layers * 16 + 12)
     }
 
     fn record_gpu(
@@ -115,7 +115,7 @@ impl ShadowTechnique for LinearLight {
             light,
             resolution,
             gpu.max_texture_size(),
-            shadow_core::memory::gpu_budget(),
+            soft_shadow_core::memory::gpu_budget(),
         )?;
         let segs = segments(light, scene.geometry())?;
         gpu::generate(gpu, enc, self, scene, &segs, resolution)
@@ -148,7 +148,7 @@ impl ShadowTechnique for LinearLight {
 /// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
 /// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
 #[cfg(feature = "frame")]
-pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
+pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
     ("linear-light", "n5", LightKind::Linear, 16.5, 2.5),
     ("linear-light", "n5", LightKind::Triangle, 43.3, 7.8),
 ];
@@ -156,13 +156,13 @@ pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
     frame.add_profile_defaults(PROFILE_DEFAULTS);
     frame.add_technique(
         "linear-light",
         LinearLight::standard_set()
             .into_iter()
-            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn shadow_core::DynTechnique>)
+            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn soft_shadow_core::DynTechnique>)
             .collect(),
     );
 }

@@ -1,6 +1,6 @@
 //! The technique's parameters and their validation.
 
-use shadow_core::{Bias, Result, ShadowError};
+use soft_shadow_core::{Bias, Result, ShadowError};
 
 /// Fewest and most point samples along the segment.
 pub const SAMPLE_RANGE: std::ops::RangeInclusive<u32> = 2..=64;

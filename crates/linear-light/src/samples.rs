@@ -5,8 +5,8 @@
 //! `s / 2` and an interior sample, shared by two pieces, `s`: a fully lit point sums to 1.
 
 use glam::Vec3;
-use shadow_core::Coverage;
-use shadow_core::{LightPoint, SampleView};
+use soft_shadow_core::Coverage;
+use soft_shadow_core::{LightPoint, SampleView};
 
 /// Share `s = 1 / (N - 1)` of one piece of the segment.
 pub fn piece_share(n: u32) -> f32 {

@@ -8,7 +8,7 @@
 //! for the strip of the triangle it bounds) and look along the triangle's emitting normal.
 
 use glam::Vec3;
-use shadow_core::{Coverage, Light, Result, SceneGeometry, ShadowError};
+use soft_shadow_core::{Coverage, Light, Result, SceneGeometry, ShadowError};
 
 /// One segment of a light and what it contributes.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -14,8 +14,8 @@
 
 use glam::{Mat4, Vec3};
 use rayon::prelude::*;
-use shadow_core::Map2D;
-use shadow_core::view::{NO_OCCLUDER, ProjectionKind, View};
+use soft_shadow_core::Map2D;
+use soft_shadow_core::view::{NO_OCCLUDER, ProjectionKind, View};
 
 /// The triangles of the *grid* maps skins are built from: the casters plus every receiver that
 /// does not cast.
@@ -27,7 +27,7 @@ use shadow_core::view::{NO_OCCLUDER, ProjectionKind, View};
 /// 4.0). So skins and their warps read a second depth map per sample that also holds the
 /// receivers; the shading test keeps the casters-only map, so a receiver-only mesh still casts
 /// nothing.
-pub fn grid_geometry(geometry: &shadow_core::SceneGeometry) -> Vec<[Vec3; 3]> {
+pub fn grid_geometry(geometry: &soft_shadow_core::SceneGeometry) -> Vec<[Vec3; 3]> {
     geometry.surfaces()
 }
 
@@ -93,7 +93,7 @@ pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
     let (w, h) = (depth.width() as usize, depth.height() as usize);
     let rows = w.max(1);
     // `w = 1/z` once per texel (its five readers share it).
-    let mut inv = shadow_core::pool::overwrite(w * h, 0.0f32);
+    let mut inv = soft_shadow_core::pool::overwrite(w * h, 0.0f32);
     inv.par_chunks_mut(rows)
         .zip(depth.data().par_chunks(rows))
         .for_each(|(o, d)| {
@@ -101,7 +101,7 @@ pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
                 *o = if z >= NO_OCCLUDER { 0.0 } else { 1.0 / z };
             }
         });
-    let mut data = shadow_core::pool::overwrite(w * h, false);
+    let mut data = soft_shadow_core::pool::overwrite(w * h, false);
     // The flag from a texel's `w` and its neighbours' sums along x and y.
     let edge = |c: f32, sx: f32, sy: f32| {
         let lap = 4.0 * c - sx - sy;
@@ -136,7 +136,7 @@ pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
             }
         }
     });
-    shadow_core::pool::give(inv);
+    soft_shadow_core::pool::give(inv);
     Map2D::from_vec(w as u32, h as u32, data).unwrap_or_else(|| Map2D::new(0, 0, false))
 }
 

@@ -17,10 +17,10 @@
 use crate::skins::{Skin, Unproject};
 use glam::{DVec2, Vec3};
 use rayon::prelude::*;
-use shadow_core::map2d::bilinear_texels;
-use shadow_core::raster::rasterize_nearest;
-use shadow_core::view::{NO_OCCLUDER, View};
-use shadow_core::{Map2D, MapParams};
+use soft_shadow_core::map2d::bilinear_texels;
+use soft_shadow_core::raster::rasterize_nearest;
+use soft_shadow_core::view::{NO_OCCLUDER, View};
+use soft_shadow_core::{Map2D, MapParams};
 
 /// Relative depth tolerance of a skin fragment against the destination's depth map.
 pub const SKIN_DEPTH_TOLERANCE: f32 = 1e-3;

@@ -7,7 +7,9 @@ use linear_light::LinearLight;
 use linear_light::samples::{lit_share, neighbours, piece_share};
 use linear_light::skins::{QUAD_TRIANGLES, Unproject, edges, skin_values, skins};
 use proptest::prelude::*;
-use shadow_core::{Aabb, Light, Map2D, Receivers, SceneGeometry, ShadowError, ShadowTechnique};
+use soft_shadow_core::{
+    Aabb, Light, Map2D, Receivers, SceneGeometry, ShadowError, ShadowTechnique,
+};
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(500))]
@@ -66,8 +68,8 @@ proptest! {
 /// texels, where every texel is a border) with empty texels and steps.
 #[test]
 fn edges_are_the_laplacian_of_inverse_depth() {
-    use shadow_core::view::NO_OCCLUDER;
-    let mut rng = shadow_core::rng::SplitMix(8);
+    use soft_shadow_core::view::NO_OCCLUDER;
+    let mut rng = soft_shadow_core::rng::SplitMix(8);
     let mut flagged = 0;
     for case in 0..400 {
         let (w, h) = (1 + rng.below(40) as usize, 1 + rng.below(40) as usize);
@@ -118,16 +120,16 @@ fn edges_are_the_laplacian_of_inverse_depth() {
 /// with empty texels and steps between two depths.
 #[test]
 fn skins_are_the_discontinuous_triangles_of_edge_quads() {
-    use shadow_core::view::{NO_OCCLUDER, View};
+    use soft_shadow_core::view::{NO_OCCLUDER, View};
     let view = View::fit_light(
-        shadow_core::light::LightPoint::Position(Vec3::new(0.0, 4.0, 0.0)),
+        soft_shadow_core::light::LightPoint::Position(Vec3::new(0.0, 4.0, 0.0)),
         Vec3::NEG_Y,
-        &shadow_core::Coverage::whole(&Aabb {
+        &soft_shadow_core::Coverage::whole(&Aabb {
             min: Vec3::splat(-1.0),
             max: Vec3::ONE,
         }),
     );
-    let mut rng = shadow_core::rng::SplitMix(4);
+    let mut rng = soft_shadow_core::rng::SplitMix(4);
     let mut next = |n: u64| rng.below(n);
     let mut found = 0;
     for case in 0..300 {

@@ -7,7 +7,7 @@ use crate::frame::Frame;
 use crate::params::OcclusionSlices;
 use crate::slicing::slice;
 use rayon::prelude::*;
-use shadow_core::{Light, Map2D, Receivers, SceneGeometry};
+use soft_shadow_core::{Light, Map2D, Receivers, SceneGeometry};
 
 /// The prefiltered occlusion textures of one light.
 #[derive(Clone, Debug)]

@@ -13,9 +13,9 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
-use shadow_core::light::orthonormal_basis;
-use shadow_core::view::{ProjectionKind, View, look_to_up};
-use shadow_core::{Light, SceneGeometry};
+use soft_shadow_core::light::orthonormal_basis;
+use soft_shadow_core::view::{ProjectionKind, View, look_to_up};
+use soft_shadow_core::{Light, SceneGeometry};
 
 /// Fraction of a slice's thickness beyond a plane that still counts as on it (rasterized
 /// depths carry rounding; a surface exactly on a plane must not flicker between two slices).
@@ -117,7 +117,7 @@ impl Frame {
     ) -> Frame {
         let (center, u_half, v_half) = light_rect(
             light,
-            shadow_core::Coverage::new(geometry, light).center(),
+            soft_shadow_core::Coverage::new(geometry, light).center(),
         )
         .unwrap_or((Vec3::ZERO, Vec3::X, Vec3::Z));
         let normal = u_half.cross(v_half).normalize();
@@ -148,7 +148,7 @@ impl Frame {
         // corner of the light's rectangle, down to the deepest geometry, clamped into the scene.
         // A receiver outside the frustum has kernels that leave the slices (section 3.1's
         // pyramid only stays inside for points inside the frustum), so it must be covered too.
-        let casters = shadow_core::Aabb::of_triangles(&geometry.casters);
+        let casters = soft_shadow_core::Aabb::of_triangles(&geometry.casters);
         let scene = geometry.bounds;
         let deepest = scene.corners().iter().map(|c| depth(*c)).fold(hi, f32::max);
         let mut penumbra = Vec::new();

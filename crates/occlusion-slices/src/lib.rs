@@ -12,7 +12,7 @@
 //! - Lights: rectangles as in the paper. A disk or a triangle is modelled as the square of
 //!   equal area, a sphere as its silhouette disc facing the scene, then that square (documented
 //!   approximations). Point, segment and distant lights are
-//!   [`shadow_core::ShadowError::UnsupportedLight`]: the frustum is fitted to the light's area.
+//!   [`soft_shadow_core::ShadowError::UnsupportedLight`]: the frustum is fitted to the light's area.
 //! - Self-shadowing (section 3.4): the slice containing `P` is not used, and the slice above it
 //!   fades in linearly with `P`'s distance below that slice's lower plane ([`Frame::fade`]), so
 //!   `V` stays continuous where a surface crosses a plane and a receiver lying on a plane is not
@@ -25,9 +25,9 @@
 //!
 //! ```no_run
 //! use occlusion_slices::{Filter, OcclusionSlices};
-//! use shadow_core::{Receivers, ShadowTechnique};
-//! # fn demo(geometry: &shadow_core::SceneGeometry, light: &shadow_core::Light,
-//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> shadow_core::Result<()> {
+//! use soft_shadow_core::{Receivers, ShadowTechnique};
+//! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
+//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
 //! let technique = OcclusionSlices::new(8, Filter::NBuffer);
 //! let maps = technique.generate_cpu(geometry, light, 256)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
@@ -46,8 +46,8 @@ pub mod slicing;
 pub use frame::Frame;
 pub use params::{Combination, Filter, OcclusionSlices};
 
-use shadow_core::gpu::GpuScene;
-use shadow_core::{
+use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::{
     GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
 };
 
@@ -87,7 +87,7 @@ impl ShadowTechnique for OcclusionSlices {
             light,
             resolution,
             MAX_RESOLUTION,
-            shadow_core::memory::cpu_budget(),
+            soft_shadow_core::memory::cpu_budget(),
         )?;
         Ok(cpu::generate(self, geometry, light, resolution))
     }
@@ -111,7 +111,7 @@ impl ShadowTechnique for OcclusionSlices {
             }
             Filter::Sat => 0,
         };
-        shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
+        soft_shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
     }
 
     fn record_gpu(
@@ -128,7 +128,7 @@ impl ShadowTechnique for OcclusionSlices {
             light,
             resolution,
             gpu.max_texture_size().saturating_sub(1).min(MAX_RESOLUTION),
-            shadow_core::memory::gpu_budget(),
+            soft_shadow_core::memory::gpu_budget(),
         )?;
         gpu::generate(gpu, enc, self, scene, light, resolution)
     }
@@ -161,7 +161,7 @@ impl ShadowTechnique for OcclusionSlices {
 /// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
 /// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
 #[cfg(feature = "frame")]
-pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
+pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
     ("occlusion-slices", "sat-8", LightKind::Rect, 3.5, 13.6),
     ("occlusion-slices", "nbuffer-8", LightKind::Rect, 7.3, 14.3),
     ("occlusion-slices", "sat-16", LightKind::Sphere, 7.9, 9.3),
@@ -171,13 +171,13 @@ pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
     frame.add_profile_defaults(PROFILE_DEFAULTS);
     frame.add_technique(
         "occlusion-slices",
         OcclusionSlices::standard_set()
             .into_iter()
-            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn shadow_core::DynTechnique>)
+            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn soft_shadow_core::DynTechnique>)
             .collect(),
     );
 }

@@ -1,6 +1,6 @@
 //! The technique's parameters and their validation.
 
-use shadow_core::{Result, ShadowError};
+use soft_shadow_core::{Result, ShadowError};
 
 /// How an occlusion texture is box-filtered (section 3.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -11,9 +11,9 @@
 //! against those instead: the same slice, bit for bit.
 
 use crate::frame::Frame;
-use shadow_core::View;
-use shadow_core::raster::rasterize_fold;
-use shadow_core::{Map2D, SceneGeometry};
+use soft_shadow_core::View;
+use soft_shadow_core::raster::rasterize_fold;
+use soft_shadow_core::{Map2D, SceneGeometry};
 
 /// Most slices a frame has ([`crate::params::SLICE_RANGE`]).
 const MAX_SLICES: usize = 16;
@@ -25,7 +25,7 @@ pub struct NdcSlicer {
     /// For `z > 0` the slice is at least `k` exactly where `z <= at[k - 1]`; unused entries are
     /// `-inf`, which no positive `z` is below.
     at: [f32; MAX_SLICES],
-    /// The slice of every `z <= 0` (the view's [`shadow_core::view::NO_OCCLUDER`] depth).
+    /// The slice of every `z <= 0` (the view's [`soft_shadow_core::view::NO_OCCLUDER`] depth).
     behind: u32,
 }
 
@@ -128,7 +128,7 @@ mod tests {
     use super::*;
     use bytemuck::Zeroable;
     use glam::Vec3;
-    use shadow_core::view::{ProjectionKind, look_to_up};
+    use soft_shadow_core::view::{ProjectionKind, look_to_up};
 
     /// The masks mark every fragment by its own slice, [`Frame::slice_of`] its linear depth,
     /// though a span whose ends share a slice is marked whole: on two steep triangles that cross
@@ -136,7 +136,7 @@ mod tests {
     /// without the thin-occluder fix, at a resolution where spans are long.
     #[test]
     fn slice_masks_mark_every_fragment_by_its_depth() {
-        use shadow_core::{Aabb, Light};
+        use soft_shadow_core::{Aabb, Light};
         let light = Light::Rect {
             center: Vec3::new(0.0, 4.0, 0.0),
             u_half: Vec3::X * 0.5,
@@ -154,7 +154,7 @@ mod tests {
                 Vec3::new(-1.0, 0.1, -1.0),
             ],
         ];
-        let mut rng = shadow_core::rng::SplitMix(6);
+        let mut rng = soft_shadow_core::rng::SplitMix(6);
         let mut next = || rng.next_f32();
         for _ in 0..400 {
             let c = Vec3::new(2.0 * next() - 1.0, 0.1 + 2.9 * next(), 2.0 * next() - 1.0);

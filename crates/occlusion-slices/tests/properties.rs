@@ -7,7 +7,7 @@ use occlusion_slices::filters::mipmap::mip_size;
 use occlusion_slices::filters::{Mipmap, NBuffer, Sat, unorm8};
 use occlusion_slices::{Combination, Filter, OcclusionSlices};
 use proptest::prelude::*;
-use shadow_core::{Light, SceneGeometry, ShadowError, ShadowTechnique};
+use soft_shadow_core::{Light, SceneGeometry, ShadowError, ShadowTechnique};
 
 fn occlusions() -> impl Strategy<Value = Vec<f32>> {
     prop::collection::vec(prop_oneof![Just(0.0f32), Just(1.0f32), 0.0f32..=1.0], 0..20)
@@ -160,7 +160,7 @@ proptest! {
 }
 
 fn random_mask(res: u32, density: f64, seed: u64) -> Vec<bool> {
-    let mut rng = shadow_core::rng::SplitMix(seed);
+    let mut rng = soft_shadow_core::rng::SplitMix(seed);
     (0..res * res).map(|_| rng.next_f64() < density).collect()
 }
 

@@ -22,7 +22,7 @@
 use crate::storage::{MAX_P, Storage, StoreScratch, Texel};
 use crate::warp::{NONE_DEPTH, Warp};
 use rayon::prelude::*;
-use shadow_core::Map2D;
+use soft_shadow_core::Map2D;
 
 /// The generators' output, before storage.
 pub struct Layers {
@@ -91,7 +91,7 @@ fn texel(
 pub fn combine(l: &Layers, warp: &Warp, transition_gap: f32, storage: Storage) -> Map2D<Texel> {
     let (w, h) = (l.geom.width(), l.geom.height());
     // Every texel is written below: no clearing pass.
-    let mut data = shadow_core::pool::overwrite(w as usize * h as usize, Texel::default());
+    let mut data = soft_shadow_core::pool::overwrite(w as usize * h as usize, Texel::default());
     data.par_chunks_mut(w.max(1) as usize)
         .enumerate()
         .for_each_init(StoreScratch::default, |scratch, (y, row)| {

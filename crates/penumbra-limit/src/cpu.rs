@@ -1,5 +1,5 @@
 //! The CPU path: the generators of [`crate::silhouette`] and [`crate::depth_image`] through
-//! `shadow_core`'s rasterizer, [`crate::combine`], and evaluation with rayon.
+//! `soft_shadow_core`'s rasterizer, [`crate::combine`], and evaluation with rayon.
 
 use crate::combine::{Layers, combine};
 use crate::eval::{EvalParams, shade};
@@ -9,8 +9,8 @@ use crate::table::IlluminationTable;
 use crate::warp::Warp;
 use crate::{depth_image, silhouette};
 use rayon::prelude::*;
-use shadow_core::raster::{DepthPass, depth_map_pass_then};
-use shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+use soft_shadow_core::raster::{DepthPass, depth_map_pass_then};
+use soft_shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
 
 /// The penumbra limit map of one light, built on the CPU.
 pub struct CpuPenumbraMaps {
@@ -60,7 +60,7 @@ pub fn generate(
     light: &Light,
     resolution: u32,
 ) -> CpuPenumbraMaps {
-    let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
+    let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
     let warp = Warp::new(&params, light);
     let l = layers(t, &view, &warp, &geometry.casters, resolution);

@@ -6,7 +6,7 @@
 //!    `gap(t) = layer_gap texels + 2 |D(t) - D(t - (n - t))|`: the jump must beat the local
 //!    slope (twice the step on the far side of `t`), so a steep but continuous surface is no
 //!    edge. The neighbour `n` is then on the *far side*.
-//! 2. **Propagation.** The exact nearest-seed map ([`shadow_core::feature_transform`]) gives
+//! 2. **Propagation.** The exact nearest-seed map ([`soft_shadow_core::feature_transform`]) gives
 //!    every texel its nearest near-side seed `A` and far-side seed `B`; of equally near
 //!    near-side seeds, the one nearest the light (least `D`), whose occluder shades every
 //!    receiver the farther one does. A texel nearer to `A` is inside the silhouette; the edge
@@ -21,9 +21,9 @@ use crate::combine::NO_EDGE;
 use crate::storage::MAX_P;
 use crate::warp::{NONE_DEPTH, Warp};
 use rayon::prelude::*;
-use shadow_core::feature_transform::nearest;
-use shadow_core::seeds::{NONE, dist2, pack};
-use shadow_core::{Map2D, pool};
+use soft_shadow_core::feature_transform::nearest;
+use soft_shadow_core::seeds::{NONE, dist2, pack};
+use soft_shadow_core::{Map2D, pool};
 
 /// Whether `t = (x, y)` is on the near side of an edge towards neighbour `(x, y) + d`.
 #[inline(always)]

@@ -1,7 +1,7 @@
 // requires: light_space.wgsl warp.wgsl seeds.wgsl
 // Generation from a depth image; mirrors penumbra_limit::depth_image (and the geometry layer of
 // both generators): `geometry` normalises the nearest-surface depth map, `seeds` marks the near
-// and far sides of depth discontinuities, the exact nearest-seed map (shadow_core's
+// and far sides of depth discontinuities, the exact nearest-seed map (soft_shadow_core's
 // feature_transform.wgsl) spreads them, `limits` writes each texel's edge (c, p_i) and lower
 // limit.
 

@@ -8,8 +8,8 @@ use crate::visibility::clamped_visibility;
 use crate::warp::{DEPTH_SPAN, Warp};
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
-use shadow_core::light_space::shadow_coord;
-use shadow_core::{Bias, Map2D, MapParams};
+use soft_shadow_core::light_space::shadow_coord;
+use soft_shadow_core::{Bias, Map2D, MapParams};
 
 /// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
 #[repr(C)]

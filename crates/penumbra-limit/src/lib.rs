@@ -16,7 +16,7 @@
 //! - Lights: distant lights as in the paper; disk, sphere and rect lights through the perspective
 //!   warp the conclusion proposes ([`warp`]; a sphere is its facing disc, a rect the disk of equal
 //!   area); a point light gives an antialiased hard shadow. A segment light is
-//!   [`shadow_core::ShadowError::UnsupportedLight`]: its penumbra depends on the edge's direction,
+//!   [`soft_shadow_core::ShadowError::UnsupportedLight`]: its penumbra depends on the edge's direction,
 //!   which one scalar `p_i` per texel cannot hold.
 //!
 //! Modules, one concept each: [`visibility`] (equations 1 and 2), [`table`] (section A),
@@ -26,9 +26,9 @@
 //!
 //! ```no_run
 //! use penumbra_limit::{Generation, PenumbraLimit};
-//! use shadow_core::{Receivers, ShadowTechnique};
-//! # fn demo(geometry: &shadow_core::SceneGeometry, light: &shadow_core::Light,
-//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> shadow_core::Result<()> {
+//! use soft_shadow_core::{Receivers, ShadowTechnique};
+//! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
+//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
 //! let technique = PenumbraLimit::new(Generation::Silhouette);
 //! let maps = technique.generate_cpu(geometry, light, 256)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
@@ -51,9 +51,9 @@ pub use params::{Generation, PenumbraLimit};
 pub use storage::{Storage, Texel};
 pub use table::{IlluminationTable, Profile};
 
-use shadow_core::gpu::GpuScene;
-use shadow_core::technique::MAX_CPU_RESOLUTION;
-use shadow_core::{
+use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::technique::MAX_CPU_RESOLUTION;
+use soft_shadow_core::{
     GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
 };
 
@@ -89,7 +89,7 @@ impl ShadowTechnique for PenumbraLimit {
             light,
             resolution,
             MAX_CPU_RESOLUTION.min(MAX_RESOLUTION),
-            shadow_core::memory::cpu_budget(),
+            soft_shadow_core::memory::cpu_budget(),
         )?;
         Ok(cpu::generate(self, geometry, light, resolution))
     }
@@ -107,7 +107,7 @@ impl ShadowTechnique for PenumbraLimit {
             Storage::F16 => 8,
             Storage::Rgba8 => 4,
         };
-        shadow_core::memory::maps(1, resolution, stored + 40)
+        soft_shadow_core::memory::maps(1, resolution, stored + 40)
     }
 
     fn record_gpu(
@@ -124,7 +124,7 @@ impl ShadowTechnique for PenumbraLimit {
             light,
             resolution,
             gpu.max_texture_size().min(MAX_RESOLUTION),
-            shadow_core::memory::gpu_budget(),
+            soft_shadow_core::memory::gpu_budget(),
         )?;
         gpu::generate(gpu, enc, self, scene, light, resolution)
     }
@@ -155,7 +155,7 @@ impl ShadowTechnique for PenumbraLimit {
 /// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
 /// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
 #[cfg(feature = "frame")]
-pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
+pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
     (
         "penumbra-limit",
         "silhouette-f32",
@@ -182,13 +182,13 @@ pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
     frame.add_profile_defaults(PROFILE_DEFAULTS);
     frame.add_technique(
         "penumbra-limit",
         PenumbraLimit::standard_set()
             .into_iter()
-            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn shadow_core::DynTechnique>)
+            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn soft_shadow_core::DynTechnique>)
             .collect(),
     );
 }

@@ -2,7 +2,7 @@
 
 use crate::storage::Storage;
 use crate::table::{Profile, TABLE_SIZE_RANGE};
-use shadow_core::{Bias, Result, ShadowError};
+use soft_shadow_core::{Bias, Result, ShadowError};
 
 /// How the map is generated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

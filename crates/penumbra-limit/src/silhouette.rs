@@ -19,9 +19,9 @@ use crate::warp::Warp;
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
-use shadow_core::raster::snapped::{SUB, SnappedTri};
-use shadow_core::raster::{DepthPass, DepthTest, Faces, depth_map_filtered};
-use shadow_core::{Map2D, MapParams, View};
+use soft_shadow_core::raster::snapped::{SUB, SnappedTri};
+use soft_shadow_core::raster::{DepthPass, DepthTest, Faces, depth_map_filtered};
+use soft_shadow_core::{Map2D, MapParams, View};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
@@ -365,7 +365,7 @@ pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 
         .collect();
     let boxes: Vec<_> = tris.iter().map(|(_, t, _)| t.texel_box()).collect();
     // Each band clears its own rows (in cache) before its ribbons: no clearing pass.
-    let mut data = shadow_core::pool::overwrite(res as usize * res as usize, NO_EDGE);
+    let mut data = soft_shadow_core::pool::overwrite(res as usize * res as usize, NO_EDGE);
     let w = res as usize;
     data.par_chunks_mut(w * BAND as usize)
         .enumerate()

@@ -7,14 +7,14 @@
 //! - [`Profile::LimbDarkened`]: the linear limb-darkening law `I(mu) = 1 - u (1 - mu)` on the
 //!   disc (`mu = sqrt(1 - rho^2)`), integrated in closed form: the `mu` term over the part of the
 //!   unit disc left of `t` is `pi/2 (t - t^3/3 + 2/3)`. The built-in sun uses `u = 0.6`
-//!   ([`shadow_core::light::SUN_LIMB_DARKENING_U`], the usual visible-band value).
+//!   ([`soft_shadow_core::light::SUN_LIMB_DARKENING_U`], the usual visible-band value).
 //! - [`Profile::Line`]: the identity, exact for a uniform segment across the edge.
 //!
 //! Every profile is odd-symmetric about `(1/2, 1/2)` (Figure 12): `f(l) = 1 - f(1 - l)`. The
 //! table stores `n` samples at `l = i / (n - 1)`, computes the lower half and mirrors it, so the
 //! symmetry and the endpoints 0 and 1 hold exactly.
 
-use shadow_core::light::{DistantProfile, Light, SUN_LIMB_DARKENING_U};
+use soft_shadow_core::light::{DistantProfile, Light, SUN_LIMB_DARKENING_U};
 use std::f64::consts::PI;
 
 /// Table sizes accepted (the paper uses 512).

@@ -17,8 +17,8 @@
 //! inside the frustum lies in `[0, DEPTH_SPAN]` and 1 means "nothing" (no occluder, no limit).
 
 use bytemuck::{Pod, Zeroable};
-use shadow_core::view::NO_OCCLUDER;
-use shadow_core::{Light, MapParams};
+use soft_shadow_core::view::NO_OCCLUDER;
+use soft_shadow_core::{Light, MapParams};
 
 /// Normalised depth of the far plane; 1 is kept for "none".
 pub const DEPTH_SPAN: f32 = 0.99;
@@ -85,7 +85,7 @@ impl Warp {
     }
 
     /// Normalised depth of a linear depth, at most [`NONE_DEPTH`] (a linear depth of
-    /// [`shadow_core::view::NO_OCCLUDER`] gives it). For caster depths, which lie beyond the near
+    /// [`soft_shadow_core::view::NO_OCCLUDER`] gives it). For caster depths, which lie beyond the near
     /// plane; a receiver's depth goes through [`Warp::receiver_depth`].
     pub fn normalized(&self, z: f32) -> f32 {
         if z >= NO_OCCLUDER {

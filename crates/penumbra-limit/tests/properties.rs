@@ -6,7 +6,9 @@ use penumbra_limit::storage::MAX_P;
 use penumbra_limit::visibility::{clamped_visibility, clamped_visibility_piecewise};
 use penumbra_limit::{Generation, IlluminationTable, PenumbraLimit, Profile, Storage, Texel};
 use proptest::prelude::*;
-use shadow_core::{Aabb, Bias, DistantProfile, Light, Receivers, SceneGeometry, ShadowTechnique};
+use soft_shadow_core::{
+    Aabb, Bias, DistantProfile, Light, Receivers, SceneGeometry, ShadowTechnique,
+};
 
 /// `x` moved by `k` ulps (towards +inf for k > 0).
 fn ulps(x: f32, k: i32) -> f32 {
@@ -164,7 +166,7 @@ fn disc_fraction(t: f64, emission: impl Fn(f64) -> f64) -> f64 {
 /// The closed forms of appendix A against numerical integration over the disc.
 #[test]
 fn table_profiles_match_numerical_integration() {
-    let u = shadow_core::light::SUN_LIMB_DARKENING_U as f64;
+    let u = soft_shadow_core::light::SUN_LIMB_DARKENING_U as f64;
     for k in 0..=20 {
         let l = k as f64 / 20.0;
         let t = 2.0 * l - 1.0;
@@ -346,8 +348,8 @@ fn depth_image_edge_is_within_half_a_texel() {
 fn depth_image_seeds_are_the_near_side_tests() {
     use penumbra_limit::depth_image::{near_side, seeds};
     use penumbra_limit::warp::{NONE_DEPTH, Warp};
-    use shadow_core::Map2D;
-    use shadow_core::seeds::{NONE, pack};
+    use soft_shadow_core::Map2D;
+    use soft_shadow_core::seeds::{NONE, pack};
     let warp = |ortho: u32| Warp {
         ortho,
         zeta_near: if ortho == 1 { 0.1 } else { -10.0 },
@@ -358,7 +360,7 @@ fn depth_image_seeds_are_the_near_side_tests() {
         far_norm: 1.0,
         _pad: 0.0,
     };
-    let mut rng = shadow_core::rng::SplitMix(5);
+    let mut rng = soft_shadow_core::rng::SplitMix(5);
     let mut next = |n: u64| rng.below(n);
     let mut seeded = (0, 0);
     for case in 0..3000 {
@@ -455,7 +457,7 @@ fn edges_of_closed_and_open_meshes() {
 /// Bad parameters and inputs get typed errors naming the problem, never a panic.
 #[test]
 fn bad_input_gets_typed_errors() {
-    use shadow_core::ShadowError;
+    use soft_shadow_core::ShadowError;
     let g = plate_scene(0.0, 1.0);
     let sun = Light::Distant {
         direction: Vec3::Y,

@@ -6,8 +6,8 @@ use crate::{Filter, PCSS_FILTER_MAX, PCSS_SEARCH_MAX, ShadowMapBaseline};
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use shadow_core::light_space::{above_horizon, shadow_coord};
-use shadow_core::{Bias, Map2D, MapParams, Receivers, ShadowCoord};
+use soft_shadow_core::light_space::{above_horizon, shadow_coord};
+use soft_shadow_core::{Bias, Map2D, MapParams, Receivers, ShadowCoord};
 
 /// Filter modes as the shader numbers them.
 pub const MODE_HARD: u32 = 0;
@@ -30,7 +30,7 @@ pub struct EvalParams {
     pub _reserved: u32,
     /// PCF radius in texels.
     pub pcf_radius: i32,
-    /// [`shadow_core::Light::size`].
+    /// [`soft_shadow_core::Light::size`].
     pub light_size: f32,
     /// Largest blocker-search radius (texels).
     pub search_max: f32,

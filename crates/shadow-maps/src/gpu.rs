@@ -1,12 +1,12 @@
-//! The baselines on the GPU: depth maps rendered by `shadow_core`'s rasterizer into one
+//! The baselines on the GPU: depth maps rendered by `soft_shadow_core`'s rasterizer into one
 //! reversed-Z texture array, filters evaluated by `visibility()` in `shadow_map_eval.wgsl`.
 
 use crate::filters::EvalParams;
-use shadow_core::gpu::compute::{
+use soft_shadow_core::gpu::compute::{
     bind_group, depth_array_entry, depth_array_view, storage_entry, uniform_entry,
 };
-use shadow_core::gpu::{GpuRasterizer, GpuScene};
-use shadow_core::{GpuContext, Map2D, MapParams, Result, SampleView, ShadowError};
+use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
+use soft_shadow_core::{GpuContext, Map2D, MapParams, Result, SampleView, ShadowError};
 
 /// Depth maps kept on the GPU.
 pub struct GpuShadowMaps {
@@ -16,7 +16,7 @@ pub struct GpuShadowMaps {
     pub views: Vec<SampleView>,
     /// Map side.
     pub resolution: u32,
-    /// [`shadow_core::Light::size`] of the light.
+    /// [`soft_shadow_core::Light::size`] of the light.
     pub light_size: f32,
 }
 
@@ -54,12 +54,12 @@ impl GpuShadowMaps {
     }
 }
 
-/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
 pub const WGSL: &[(&str, &str)] = &[("shadow_map_eval.wgsl", include_str!("shadow_map_eval.wgsl"))];
 
 /// The filters' `visibility()` (`shadow_map_eval.wgsl` after the light-space helpers).
 pub fn visibility_wgsl() -> String {
-    shadow_core::gpu::wgsl::source("shadow_map_eval.wgsl", WGSL)
+    soft_shadow_core::gpu::wgsl::source("shadow_map_eval.wgsl", WGSL)
 }
 
 /// Parameters, map views, the depth array.

@@ -15,10 +15,10 @@ pub mod gpu;
 pub mod maps;
 
 use maps::CpuShadowMaps;
-use shadow_core::gpu::GpuScene;
-use shadow_core::light_space::sample_views;
-use shadow_core::technique::MAX_CPU_RESOLUTION;
-use shadow_core::{
+use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::light_space::sample_views;
+use soft_shadow_core::technique::MAX_CPU_RESOLUTION;
+use soft_shadow_core::{
     Bias, GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
 };
 
@@ -81,10 +81,14 @@ impl ShadowMapBaseline {
     }
 
     /// The light-sample views of its maps, fitted to `geometry`'s casters.
-    pub fn views(&self, geometry: &SceneGeometry, light: &Light) -> Vec<shadow_core::SampleView> {
+    pub fn views(
+        &self,
+        geometry: &SceneGeometry,
+        light: &Light,
+    ) -> Vec<soft_shadow_core::SampleView> {
         sample_views(
             light,
-            &shadow_core::Coverage::new(geometry, light),
+            &soft_shadow_core::Coverage::new(geometry, light),
             self.map_count(),
         )
     }
@@ -136,7 +140,7 @@ impl ShadowTechnique for ShadowMapBaseline {
             light,
             resolution,
             MAX_CPU_RESOLUTION,
-            shadow_core::memory::cpu_budget(),
+            soft_shadow_core::memory::cpu_budget(),
         )?;
         let views = self.views(geometry, light);
         Ok(CpuShadowMaps::render(
@@ -155,7 +159,7 @@ impl ShadowTechnique for ShadowMapBaseline {
 
     /// One `f32` depth map per light sample.
     fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
-        shadow_core::memory::maps(self.map_count() as u64, resolution, 4)
+        soft_shadow_core::memory::maps(self.map_count() as u64, resolution, 4)
     }
 
     fn record_gpu(
@@ -172,7 +176,7 @@ impl ShadowTechnique for ShadowMapBaseline {
             light,
             resolution,
             gpu.max_texture_size(),
-            shadow_core::memory::gpu_budget(),
+            soft_shadow_core::memory::gpu_budget(),
         )?;
         let views = self.views(geometry, light);
         gpu::GpuShadowMaps::record(gpu, enc, &views, scene, resolution, light.size())
@@ -204,7 +208,7 @@ impl ShadowTechnique for ShadowMapBaseline {
 /// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
 /// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
 #[cfg(feature = "frame")]
-pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
+pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
     ("hard-shadow-map", "nearest", LightKind::Rect, 1.0, 30.9),
     ("pcf", "r2", LightKind::Rect, 1.2, 21.7),
     ("pcss", "7x7-9x9", LightKind::Rect, 1.8, 10.8),
@@ -229,7 +233,7 @@ pub const PROFILE_DEFAULTS: &[shadow_core::frame::profile::DefaultCost] = &[
 /// Registers the baselines with a frame pipeline: the hard shadow map as the zero-size-light
 /// path, PCF, PCSS and 16-sample accumulation, each its own technique set (feature `frame`).
 #[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
     frame.add_profile_defaults(PROFILE_DEFAULTS);
     use std::sync::Arc;
     frame.set_hard_path(Arc::new(ShadowMapBaseline::new(Filter::Hard)));
@@ -237,7 +241,7 @@ pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
         let name = ShadowTechnique::name(&b);
         frame.add_technique(
             name,
-            vec![Arc::new(b) as Arc<dyn shadow_core::DynTechnique>],
+            vec![Arc::new(b) as Arc<dyn soft_shadow_core::DynTechnique>],
         );
     }
 }

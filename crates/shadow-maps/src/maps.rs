@@ -1,8 +1,8 @@
 //! Light-space depth maps of the baselines, one per light sample, rendered on the CPU.
 
 use glam::Vec3;
-use shadow_core::raster::depth_map;
-use shadow_core::{Map2D, SampleView};
+use soft_shadow_core::raster::depth_map;
+use soft_shadow_core::{Map2D, SampleView};
 
 /// Depth maps rendered on the CPU.
 pub struct CpuShadowMaps {
@@ -12,12 +12,12 @@ pub struct CpuShadowMaps {
     pub views: Vec<SampleView>,
     /// Map side.
     pub resolution: u32,
-    /// [`shadow_core::Light::size`] of the light.
+    /// [`soft_shadow_core::Light::size`] of the light.
     pub light_size: f32,
 }
 
 impl CpuShadowMaps {
-    /// Rasterizes one depth map per view; `light_size` is [`shadow_core::Light::size`], kept for PCSS.
+    /// Rasterizes one depth map per view; `light_size` is [`soft_shadow_core::Light::size`], kept for PCSS.
     pub fn render(
         views: &[SampleView],
         casters: &[[Vec3; 3]],

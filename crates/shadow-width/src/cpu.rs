@@ -1,4 +1,4 @@
-//! The CPU path: depth passes through `shadow_core`'s rasterizer, the occlusion mask, the width
+//! The CPU path: depth passes through `soft_shadow_core`'s rasterizer, the occlusion mask, the width
 //! map, and evaluation with rayon.
 
 use crate::attenuation::{AttenuationTable, FalloffKind};
@@ -7,8 +7,8 @@ use crate::occlusion::occlusion_mask;
 use crate::params::{DepthLayer, ShadowWidth};
 use crate::width::width_map;
 use rayon::prelude::*;
-use shadow_core::raster::{DepthPass, depth_map_pass};
-use shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+use soft_shadow_core::raster::{DepthPass, depth_map_pass};
+use soft_shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
 
 /// The maps of one light, built on the CPU.
 pub struct CpuWidthMaps {
@@ -33,7 +33,7 @@ pub fn generate(
     light: &Light,
     resolution: u32,
 ) -> CpuWidthMaps {
-    let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
+    let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
     let tris = &geometry.casters;
     let near = depth_map_pass(&view.view, resolution, tris, DepthPass::NEAREST);

@@ -5,8 +5,8 @@ use crate::attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation, ta
 use crate::params::{DepthLayer, ShadowWidth, Softness};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
-use shadow_core::light_space::shadow_coord;
-use shadow_core::{Bias, Map2D, MapParams};
+use soft_shadow_core::light_space::shadow_coord;
+use soft_shadow_core::{Bias, Map2D, MapParams};
 
 /// Largest `c_scale` used (beyond it `I` is a hard shadow to f32 precision; keeps products finite).
 pub const MAX_C_SCALE: f32 = 1.0e30;

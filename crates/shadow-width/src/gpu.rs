@@ -7,14 +7,14 @@ use crate::eval::EvalParams;
 use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, WidthMethod};
 use crate::width::{cap, propagate};
 use bytemuck::{Pod, Zeroable};
-use shadow_core::gpu::compute::{
+use soft_shadow_core::gpu::compute::{
     bind_group, compute_pipelines, depth_array_entry, depth_array_view, storage_entry,
     uniform_entry,
 };
-use shadow_core::gpu::resources::{layout, storage_buffer, wgsl_module};
-use shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, wgsl};
-use shadow_core::raster::DepthPass;
-use shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
+use soft_shadow_core::gpu::resources::{layout, storage_buffer, wgsl_module};
+use soft_shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, wgsl};
+use soft_shadow_core::raster::DepthPass;
+use soft_shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
 
 /// The maps of one light, kept on the GPU.
 pub struct GpuWidthMaps {
@@ -116,7 +116,7 @@ impl WidthPipelines {
     }
 }
 
-/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
 pub const WGSL: &[(&str, &str)] = &[
     ("width.wgsl", include_str!("width.wgsl")),
     ("evaluate.wgsl", include_str!("evaluate.wgsl")),
@@ -204,7 +204,7 @@ pub fn generate(
     let geometry = scene.geometry();
     let raster = ctx.cached(GpuRasterizer::new);
     let pipes = ctx.cached(WidthPipelines::new);
-    let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
+    let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
     let texels = resolution as u64 * resolution as u64;
     let limit = ctx.device.limits().max_storage_buffer_binding_size;
@@ -298,7 +298,7 @@ pub fn generate(
             cur = 1 - cur;
         }
         WidthMethod::JumpFlood => {
-            // Seeds into u[0], flooded by shadow_core's kernel, resolved to distances.
+            // Seeds into u[0], flooded by soft_shadow_core's kernel, resolved to distances.
             let init = Dispatch {
                 pipeline: &pipes.jfa_init,
                 step: 0,

@@ -23,9 +23,9 @@
 //!
 //! ```no_run
 //! use shadow_width::{ShadowWidth, WidthMethod};
-//! use shadow_core::{ShadowTechnique, Receivers};
-//! # fn demo(geometry: &shadow_core::SceneGeometry, light: &shadow_core::Light,
-//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> shadow_core::Result<()> {
+//! use soft_shadow_core::{ShadowTechnique, Receivers};
+//! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
+//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
 //! let technique = ShadowWidth::new(WidthMethod::Exact);
 //! let maps = technique.generate_cpu(geometry, light, 512)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
@@ -43,9 +43,9 @@ pub mod width;
 pub use attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation};
 pub use params::{DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
 
-use shadow_core::gpu::GpuScene;
-use shadow_core::technique::MAX_CPU_RESOLUTION;
-use shadow_core::{
+use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::technique::MAX_CPU_RESOLUTION;
+use soft_shadow_core::{
     GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
 };
 
@@ -78,7 +78,7 @@ impl ShadowTechnique for ShadowWidth {
             light,
             resolution,
             MAX_CPU_RESOLUTION.min(65535),
-            shadow_core::memory::cpu_budget(),
+            soft_shadow_core::memory::cpu_budget(),
         )?;
         Ok(cpu::generate(self, geometry, light, resolution))
     }
@@ -95,7 +95,7 @@ impl ShadowTechnique for ShadowWidth {
             DepthLayer::Front => 4,
             DepthLayer::BackFaces => 8,
         };
-        shadow_core::memory::maps(1, resolution, depth + 20)
+        soft_shadow_core::memory::maps(1, resolution, depth + 20)
     }
 
     fn record_gpu(
@@ -112,7 +112,7 @@ impl ShadowTechnique for ShadowWidth {
             light,
             resolution,
             gpu.max_texture_size(),
-            shadow_core::memory::gpu_budget(),
+            soft_shadow_core::memory::gpu_budget(),
         )?;
         gpu::generate(gpu, enc, self, scene, light, resolution)
     }
@@ -144,12 +144,12 @@ impl ShadowTechnique for ShadowWidth {
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_core::frame::FramePipeline) {
+pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
     frame.add_technique(
         "shadow-width",
         ShadowWidth::standard_set()
             .into_iter()
-            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn shadow_core::DynTechnique>)
+            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn soft_shadow_core::DynTechnique>)
             .collect(),
     );
 }

@@ -5,8 +5,8 @@
 //! guide's "maps cover what casts"; a ground with nothing below it is a receiver, not a caster),
 //! so a texel is *blocked* exactly when a caster covers it.
 
-use shadow_core::Map2D;
-use shadow_core::view::NO_OCCLUDER;
+use soft_shadow_core::Map2D;
+use soft_shadow_core::view::NO_OCCLUDER;
 
 /// Whether a texel whose nearest caster lies at linear depth `near` is blocked.
 pub fn is_blocked(near: f32) -> bool {

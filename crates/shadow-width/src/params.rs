@@ -2,7 +2,7 @@
 //! measured from, the softness and the attenuation.
 
 use crate::attenuation::FalloffKind;
-use shadow_core::{Bias, Light, LightKind, Result, ShadowError};
+use soft_shadow_core::{Bias, Light, LightKind, Result, ShadowError};
 
 /// How the shadow-width map is built from the inverted occlusion map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -66,7 +66,7 @@ pub enum DepthLayer {
 pub enum Softness {
     /// A constant `c_scale >= 0` (the paper's form). Larger is harder.
     Constant(f32),
-    /// Derived from the light's physical size `L` ([`shadow_core::Light::size`]). The physical
+    /// Derived from the light's physical size `L` ([`soft_shadow_core::Light::size`]). The physical
     /// relation: a straight edge's true penumbra reaches the umbra a distance `L sd / 2` (distant
     /// light, world units) inside the hard shadow edge, so `I` reaches 0 there when
     /// - distant light (`sw` in world units, `L = 2 tan(angular_diameter / 2)`): `c_scale = 2 / L`;
@@ -93,7 +93,7 @@ pub fn fit_factor(kind: LightKind) -> f32 {
     }
 }
 
-/// The light size the evaluation divides by: [`shadow_core::Light::size`] over [`fit_factor`].
+/// The light size the evaluation divides by: [`soft_shadow_core::Light::size`] over [`fit_factor`].
 pub fn softness_size(light: &Light) -> f32 {
     light.size() / fit_factor(light.kind())
 }

@@ -84,7 +84,7 @@ fn jfa_init(@builtin(global_invocation_id) gid: vec3<u32>) {
     udst[i] = select(NONE_SEED, seed_pack(gid.x, gid.y), fsrc[i] == 0.0);
 }
 
-// (The flood itself is shadow_core's gpu/jump_flood.wgsl.)
+// (The flood itself is soft_shadow_core's gpu/jump_flood.wgsl.)
 @compute @workgroup_size(8, 8)
 fn jfa_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = texel_index(gid);

@@ -2,10 +2,12 @@
 
 use glam::Vec3;
 use proptest::prelude::*;
-use shadow_core::{Aabb, DistantProfile, Light, Map2D, Receivers, SceneGeometry, ShadowTechnique};
 use shadow_width::attenuation::{AttenuationTable, linear_falloff};
 use shadow_width::width::{cap, edt, jfa, propagate};
 use shadow_width::{FalloffKind, Neighbours, ShadowWidth, WidthMethod, attenuation};
+use soft_shadow_core::{
+    Aabb, DistantProfile, Light, Map2D, Receivers, SceneGeometry, ShadowTechnique,
+};
 
 fn linear(c_bias: f32) -> FalloffKind {
     FalloffKind::Linear { c_bias }
@@ -119,7 +121,7 @@ fn custom_falloff_keeps_the_special_cases() {
 }
 
 fn random_mask(res: u32, density: f64, seed: u64) -> Map2D<bool> {
-    let mut rng = shadow_core::rng::SplitMix(seed);
+    let mut rng = soft_shadow_core::rng::SplitMix(seed);
     let data = (0..res * res)
         .map(|_| rng.next_f64() >= density)
         .map(|lit| !lit)
@@ -451,8 +453,8 @@ fn width_units_follow_the_closed_form() {
 /// Bad parameters and inputs get typed errors naming the problem, never a panic.
 #[test]
 fn bad_input_gets_typed_errors() {
-    use shadow_core::ShadowError;
     use shadow_width::Softness;
+    use soft_shadow_core::ShadowError;
     let g = geometry(1.0);
     let light = Light::Point {
         position: Vec3::new(0.0, 5.0, 0.0),

@@ -1,5 +1,5 @@
 //! Exact proof that a receiver sees the whole light: no caster triangle crosses the convex hull
-//! of the ray origin and the light's outline ([`shadow_core::Light::outline`]).
+//! of the ray origin and the light's outline ([`soft_shadow_core::Light::outline`]).
 //!
 //! The hull is tested against the BVH's nodes by its face planes and against each candidate
 //! triangle by the separating axis theorem (face normals of both, cross products of their

@@ -18,8 +18,8 @@
 //! - **distant**: `∫ profile · cos dω` over the cone, [`CONE_SIDE`]² midpoint strata.
 
 use glam::{Vec2, Vec3};
-use shadow_core::light::orthonormal_basis;
-use shadow_core::{Light, LightPoint};
+use soft_shadow_core::light::orthonormal_basis;
+use soft_shadow_core::{Light, LightPoint};
 
 /// Sides of the equal-area polygon that stands for a disk (0.04% below the disk's `E0` at
 /// normal incidence on its axis, where the polygon's rim is farthest from the disk's).
@@ -206,7 +206,7 @@ fn segment(a: Vec3, b: Vec3, p: Vec3, n: Vec3) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shadow_core::DistantProfile;
+    use soft_shadow_core::DistantProfile;
 
     /// Midpoint-rule `E0` over `side²` points of the light (or `side²` along a segment), for
     /// the closed forms above.
@@ -260,7 +260,10 @@ mod tests {
         let exact = std::f32::consts::PI * r * r / (h * h + r * r);
         assert!((e / exact - 1.0).abs() < 1e-3, "{e} vs {exact}");
         // Behind the disk's emitting side: nothing.
-        assert_eq!(irradiance(&light, Vec3::new(0.0, 2.0, 0.0), Vec3::NEG_Y), 0.0);
+        assert_eq!(
+            irradiance(&light, Vec3::new(0.0, 2.0, 0.0), Vec3::NEG_Y),
+            0.0
+        );
     }
 
     #[test]

@@ -34,7 +34,7 @@ use obvhs::ray::Ray;
 use obvhs::triangle::Triangle;
 use packet::OriginRays;
 use rayon::prelude::*;
-use shadow_core::{Light, LightPoint};
+use soft_shadow_core::{Light, LightPoint};
 use std::time::Duration;
 
 /// Sampling settings of the reference.

@@ -26,7 +26,7 @@ use super::certify::Hull;
 use glam::{Vec3, Vec3A};
 use obvhs::bvh2::Bvh2;
 use obvhs::triangle::Triangle;
-use shadow_core::LightPoint;
+use soft_shadow_core::LightPoint;
 
 /// Triangles per block: the lanes one test runs over.
 const LANES: usize = 8;

@@ -11,7 +11,7 @@ use crate::report::json::Run;
 use crate::scenes::shapes::{horizontal_rect, quad_grid};
 use glam::{Vec2, Vec3};
 use occlusion_slices::{Combination, Filter, OcclusionSlices};
-use shadow_core::{Light, Result};
+use soft_shadow_core::{Light, Result};
 
 /// Scene name of Figures 2-3.
 pub const ID_FIG3: &str = "eisemann-fig3";

@@ -15,7 +15,7 @@ use crate::report::json::Run;
 use crate::scenes::shapes::horizontal_rect;
 use glam::{Vec2, Vec3};
 use linear_light::LinearLight;
-use shadow_core::{Light, LightPoint, Result};
+use soft_shadow_core::{Light, LightPoint, Result};
 
 /// Scene name of Figure 9's runs.
 pub const ID_FIG9: &str = "heidrich-fig9";
@@ -113,7 +113,7 @@ pub fn spec_fig8() -> crate::scenes::SceneSpec {
 }
 
 /// Figure 8's two bars.
-fn bars() -> Vec<shadow_core::TriangleMesh> {
+fn bars() -> Vec<soft_shadow_core::TriangleMesh> {
     vec![
         horizontal_rect("bar-a", Vec2::new(-0.55, -0.25), Vec2::new(-1.0, 1.0), 1.2),
         horizontal_rect("bar-b", Vec2::new(0.25, 0.55), Vec2::new(-1.0, 1.0), 1.2),

@@ -11,8 +11,8 @@ use super::{Claim, Experiment, Row, measure_run, prepare, rms_where, scene};
 use crate::report::json::Run;
 use crate::scenes::shapes::cuboid;
 use glam::Vec3;
-use shadow_core::{Light, Result};
 use shadow_width::{DepthLayer, Neighbours, ShadowWidth, WidthMethod};
+use soft_shadow_core::{Light, Result};
 
 /// Scene name of Figure 6.
 pub const ID_FIG6: &str = "kirsch-fig6";

@@ -7,9 +7,9 @@ use crate::ground_truth::RayTracer;
 use crate::report::json::Run;
 use glam::Vec3;
 use penumbra_limit::{Generation, PenumbraLimit};
-use shadow_core::{Bias, DistantProfile, DynTechnique, Light, Result, TriangleMesh};
 use shadow_maps::{Filter, ShadowMapBaseline};
 use shadow_width::{ShadowWidth, WidthMethod};
+use soft_shadow_core::{Bias, DistantProfile, DynTechnique, Light, Result, TriangleMesh};
 
 /// Scene name of the runs.
 pub const ID: &str = "lawlor-fig10";
@@ -64,7 +64,7 @@ pub fn spec() -> crate::scenes::SceneSpec {
 
 /// `n` independent uniform points of `light` seen from `q`, equally weighted, from a generator
 /// seeded by `q`'s bits (the same pixel gets the same points on every run).
-pub fn random_samples(light: &Light, n: u32, q: Vec3) -> Vec<(shadow_core::LightPoint, f32)> {
+pub fn random_samples(light: &Light, n: u32, q: Vec3) -> Vec<(soft_shadow_core::LightPoint, f32)> {
     let seed = q.to_array().iter().fold(0x9e37_79b9_7f4a_7c15u64, |h, c| {
         (h ^ c.to_bits() as u64).wrapping_mul(0x0100_0000_01b3)
     });

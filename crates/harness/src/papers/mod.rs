@@ -23,7 +23,7 @@ use crate::scenes::{MeshInstance, SceneSpec};
 use crate::setup::PreparedScene;
 use glam::Vec3;
 use serde::Serialize;
-use shadow_core::{Backend, Camera, DynTechnique, Light, LightPoint, Result, ShadowError};
+use soft_shadow_core::{Backend, Camera, DynTechnique, Light, LightPoint, Result, ShadowError};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -234,7 +234,7 @@ pub fn markdown(papers: &Papers) -> String {
 pub fn scene(
     name: &str,
     description: &str,
-    casters: Vec<shadow_core::TriangleMesh>,
+    casters: Vec<soft_shadow_core::TriangleMesh>,
     light: Light,
     center: Vec3,
     half: f32,

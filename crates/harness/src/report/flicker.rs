@@ -10,7 +10,7 @@
 
 use crate::setup::PreparedScene;
 use glam::Vec3;
-use shadow_core::{Backend, DynTechnique, GpuContext, Light, Result};
+use soft_shadow_core::{Backend, DynTechnique, GpuContext, Light, Result};
 
 /// Scenes on which the report measures flicker.
 pub const SCENES: [&str; 2] = ["torus", "overlap"];

@@ -2,7 +2,7 @@
 //! files of the G-buffer, the reference and every run's `V`.
 
 use image::{Rgb, RgbImage};
-use shadow_core::{Result, ShadowError};
+use soft_shadow_core::{Result, ShadowError};
 use std::path::Path;
 
 const BACKGROUND: Rgb<u8> = Rgb([40, 44, 60]);

@@ -2,8 +2,8 @@
 
 use crate::metrics::median;
 use crate::setup::PreparedScene;
-use shadow_core::gpu::GpuScene;
-use shadow_core::{Backend, DynTechnique, GpuContext, Result};
+use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::{Backend, DynTechnique, GpuContext, Result};
 use std::time::Instant;
 
 /// Most repetitions of one configuration in the full run.

@@ -20,7 +20,7 @@ use crate::setup::PreparedScene;
 use json::{Machine, ReferenceInfo, Report, Run};
 pub use options::{BackendChoice, ReportOptions, all_techniques};
 use progress::Progress;
-use shadow_core::{Backend, DynTechnique, GpuContext, Result, ShadowError};
+use soft_shadow_core::{Backend, DynTechnique, GpuContext, Result, ShadowError};
 use std::collections::HashSet;
 use std::path::Path;
 
@@ -545,7 +545,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     if let Some(&bad) = resolutions.iter().find(|&&r| r == 0) {
         return Err(ShadowError::InvalidResolution {
             requested: bad,
-            max: shadow_core::technique::MAX_CPU_RESOLUTION,
+            max: soft_shadow_core::technique::MAX_CPU_RESOLUTION,
         });
     }
     let techniques = select_techniques(opts)?;

@@ -3,9 +3,9 @@
 use linear_light::LinearLight;
 use occlusion_slices::OcclusionSlices;
 use penumbra_limit::PenumbraLimit;
-use shadow_core::DynTechnique;
 use shadow_maps::ShadowMapBaseline;
 use shadow_width::ShadowWidth;
+use soft_shadow_core::DynTechnique;
 use std::path::PathBuf;
 
 /// Map resolutions of the full run: 16 to 2048.

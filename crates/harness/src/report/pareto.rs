@@ -2,7 +2,7 @@
 
 use super::json::Run;
 use plotters::prelude::*;
-use shadow_core::{Result, ShadowError};
+use soft_shadow_core::{Result, ShadowError};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Once;

@@ -49,7 +49,9 @@ pub fn configs(report: &Report) -> BTreeMap<String, Vec<Config>> {
         .filter(|r| r.relit_from.is_none())
         .map(|r| (r.scene.as_str(), r.light.as_str()))
         .collect();
-    let mut groups: BTreeMap<(String, String), (String, f64, f64, f64, u32)> = BTreeMap::new();
+    // (light, label) -> (technique, time, image error, V error, runs), summed.
+    type Sums = (String, f64, f64, f64, u32);
+    let mut groups: BTreeMap<(String, String), Sums> = BTreeMap::new();
     for r in &report.runs {
         let Some(&light) = kind.get(r.scene.as_str()) else {
             continue;

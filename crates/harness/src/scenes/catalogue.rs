@@ -3,8 +3,8 @@
 use super::shapes::*;
 use super::{MeshInstance, SceneSpec};
 use glam::{Mat4, Vec2, Vec3};
-use shadow_core::gltf_import::import_gltf_slice;
-use shadow_core::{Aabb, Camera, DistantProfile, Light, Result, ShadowError, TriangleMesh};
+use shadow_frame::gltf::import_gltf_slice;
+use soft_shadow_core::{Aabb, Camera, DistantProfile, Light, Result, ShadowError, TriangleMesh};
 use std::sync::Arc;
 
 /// The Stanford bunny (69,451 triangles), shipped in the repository's assets.

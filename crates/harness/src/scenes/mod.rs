@@ -6,7 +6,8 @@ pub mod scene_file;
 pub mod shapes;
 
 use glam::Mat4;
-use shadow_core::{Aabb, Camera, Light, LightKind, Result, Scene, TriangleMesh};
+use shadow_frame::Scene;
+use soft_shadow_core::{Aabb, Camera, Light, LightKind, Result, TriangleMesh};
 use std::sync::Arc;
 
 /// One mesh instance of a scene description.

@@ -17,8 +17,8 @@
 //!   the direction, at [`DISTANCE_FACTOR`] scene diagonals; from a point: 0.1 mm long (or more).
 
 use glam::Vec3;
-use shadow_core::light::orthonormal_basis;
-use shadow_core::{Aabb, Light, LightKind};
+use soft_shadow_core::light::orthonormal_basis;
+use soft_shadow_core::{Aabb, Light, LightKind};
 
 /// Distance of a recast distant light, in scene diagonals.
 pub const DISTANCE_FACTOR: f32 = 10.0;
@@ -171,7 +171,7 @@ mod tests {
         let l = Light::Distant {
             direction: dir,
             angular_diameter: theta,
-            profile: shadow_core::DistantProfile::UniformDisk,
+            profile: soft_shadow_core::DistantProfile::UniformDisk,
         };
         let b = unit_box();
         let r = relight(&l, &b, |k| k == LightKind::Rect).unwrap();

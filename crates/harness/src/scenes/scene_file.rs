@@ -24,8 +24,8 @@
 use super::{MeshInstance, SceneSpec};
 use glam::{Mat4, Quat, Vec3};
 use serde::Deserialize;
-use shadow_core::gltf_import::import_gltf_file;
-use shadow_core::{Camera, DistantProfile, Light, Result, ShadowError};
+use shadow_frame::gltf::import_gltf_file;
+use soft_shadow_core::{Camera, DistantProfile, Light, Result, ShadowError};
 use std::path::Path;
 use std::sync::Arc;
 

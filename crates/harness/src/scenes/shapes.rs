@@ -1,7 +1,7 @@
 //! Procedural meshes for the built-in scenes.
 
 use glam::{Vec2, Vec3};
-use shadow_core::TriangleMesh;
+use soft_shadow_core::TriangleMesh;
 
 fn mesh(name: &str, positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> TriangleMesh {
     TriangleMesh {
@@ -166,7 +166,7 @@ pub fn graded_strip(width: f32, length: f32, first: f32, n: u32) -> TriangleMesh
 }
 
 /// The deterministic generator of procedural scenes.
-pub use shadow_core::rng::SplitMix;
+pub use soft_shadow_core::rng::SplitMix;
 
 /// `count` small random quads of side about `size` inside the box `[lo, hi]`.
 pub fn random_quads(count: u32, lo: Vec3, hi: Vec3, size: f32, seed: u64) -> TriangleMesh {
@@ -181,7 +181,7 @@ pub fn random_quads(count: u32, lo: Vec3, hi: Vec3, size: f32, seed: u64) -> Tri
             rng.next_f32() - 0.5,
         )
         .normalize();
-        let (t, b) = shadow_core::light::orthonormal_basis(n);
+        let (t, b) = soft_shadow_core::light::orthonormal_basis(n);
         let s = size * (0.5 + rng.next_f32());
         let base = p.len() as u32;
         for (x, y) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {

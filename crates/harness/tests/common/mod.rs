@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use harness::scenes::SceneSpec;
-use shadow_core::SceneGeometry;
+use soft_shadow_core::SceneGeometry;
 
 /// Geometry and G-buffer receivers of a scene, without the reference (cheap).
 pub struct Receivers {
@@ -29,9 +29,9 @@ pub fn receivers(spec: &SceneSpec, size: u32) -> Receivers {
 
 /// The same receivers as the techniques take them.
 impl Receivers {
-    /// Borrowed as [`shadow_core::Receivers`].
-    pub fn as_receivers(&self) -> shadow_core::Receivers<'_> {
-        shadow_core::Receivers {
+    /// Borrowed as [`soft_shadow_core::Receivers`].
+    pub fn as_receivers(&self) -> soft_shadow_core::Receivers<'_> {
+        soft_shadow_core::Receivers {
             positions: &self.positions,
             normals: &self.normals,
         }

@@ -19,7 +19,7 @@ use super::{
 };
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
-use shadow_core::{Backend, DynTechnique};
+use soft_shadow_core::{Backend, DynTechnique};
 use std::collections::HashMap;
 
 /// G-buffer side of the receivers.

@@ -31,8 +31,8 @@ mod tiny_light;
 
 use harness::report::all_techniques;
 use harness::scenes::SceneSpec;
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Backend, DynTechnique, GpuContext};
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{Backend, DynTechnique, GpuContext};
 use std::sync::OnceLock;
 
 /// Map resolutions of the hard cases.
@@ -85,7 +85,7 @@ pub fn visibility(
     t: &dyn DynTechnique,
     backend: Backend,
     r: &common::Receivers,
-    light: &shadow_core::Light,
+    light: &soft_shadow_core::Light,
     res: u32,
     what: &str,
 ) -> Vec<f32> {
@@ -103,7 +103,7 @@ pub fn visibility(
 }
 
 /// The reference `V` of `r` under `light` (default settings); NaN where a receiver is unlit.
-pub fn reference(light: &shadow_core::Light, r: &common::Receivers) -> Vec<f32> {
+pub fn reference(light: &soft_shadow_core::Light, r: &common::Receivers) -> Vec<f32> {
     harness::ground_truth::RayTracer::new(&r.geometry.casters)
         .references(
             light,

@@ -6,7 +6,7 @@ use super::{assert_stable, backends, gpu, techniques};
 use glam::Vec3;
 use harness::scenes::relight::relight;
 use proptest::prelude::*;
-use shadow_core::{Aabb, DistantProfile, Light, Receivers, SceneGeometry};
+use soft_shadow_core::{Aabb, DistantProfile, Light, Receivers, SceneGeometry};
 
 /// A light of kind `kind` (0..7) over a scene of scale `s`; `size` in (0, 1] scales its extent.
 fn light(kind: u8, s: f32, size: f32, dir: Vec3) -> Light {

@@ -26,8 +26,8 @@ use super::{backends, label, scene_for, techniques};
 use glam::{Vec2, Vec3};
 use harness::scenes::shapes::{ground, horizontal_rect};
 use harness::scenes::{MeshInstance, SceneSpec};
-use shadow_core::light_space::DEPTH_SPREAD;
-use shadow_core::{Camera, Coverage, DistantProfile, Light, SampleView};
+use soft_shadow_core::light_space::DEPTH_SPREAD;
+use soft_shadow_core::{Camera, Coverage, DistantProfile, Light, SampleView};
 use std::sync::Arc;
 
 /// Depth gap beyond the receiver's own spread, in texels of the hard shadow map (the cap is 1).
@@ -117,7 +117,7 @@ fn no_bias_pushes_a_receiver_through_a_resolved_gap() {
                     })
                     .collect();
                 let normals = vec![Vec3::Y; positions.len()];
-                let receivers = shadow_core::Receivers {
+                let receivers = soft_shadow_core::Receivers {
                     positions: &positions,
                     normals: &normals,
                 };

@@ -13,7 +13,7 @@
 //! face towards the light, so it casts no shadow at any light size. The test asserts that
 //! limitation (the error stays that of an unshadowed scene) rather than skip the variant. PCF's
 //! kernel is fixed in texels, not tied to the light, but since maps cover the casters and the
-//! penumbra the light can throw (`shadow_core::Coverage`), its texels shrink with the light and
+//! penumbra the light can throw (`soft_shadow_core::Coverage`), its texels shrink with the light and
 //! it meets the same bounds (3.3, 1.7, 2.6 here).
 
 use super::common::receivers;
@@ -21,7 +21,7 @@ use super::{backends, label, scene_for, techniques, visibility};
 use harness::ground_truth::RayTracer;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{build, plane_occluder};
-use shadow_core::LightPoint;
+use soft_shadow_core::LightPoint;
 
 /// Half sides of the light, largest first; the last is `tiny-light`'s.
 const HALF_SIDES: [f32; 3] = [0.2, 0.02, 1e-4];

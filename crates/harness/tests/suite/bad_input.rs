@@ -2,9 +2,9 @@
 
 use glam::Vec3;
 use harness::scenes::catalogue::build;
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Backend, DynTechnique, Light, ShadowError};
 use shadow_maps::{Filter, ShadowMapBaseline};
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{Backend, DynTechnique, Light, ShadowError};
 
 #[test]
 fn resolution_zero_and_zero_size_light_are_typed_errors() {
@@ -267,7 +267,7 @@ fn technique_selection_and_scale_are_checked() {
     );
     assert_eq!(r.runs.len(), 1);
     match run(&opts("no-such", Vec::new())) {
-        Err(shadow_core::ShadowError::InvalidParameter(m)) => {
+        Err(soft_shadow_core::ShadowError::InvalidParameter(m)) => {
             assert!(m.contains("unknown technique \"no-such\""), "{m}");
             assert_eq!(m.matches("occlusion-slices,").count(), 1, "{m}");
             assert!(m.contains("pcf:r2"), "{m}");
@@ -282,7 +282,9 @@ fn technique_selection_and_scale_are_checked() {
     )
     .unwrap();
     match run(&opts("pcf", vec![f])) {
-        Err(shadow_core::ShadowError::InvalidScene(m)) => assert!(m.contains("`scale`"), "{m}"),
+        Err(soft_shadow_core::ShadowError::InvalidScene(m)) => {
+            assert!(m.contains("`scale`"), "{m}")
+        }
         other => panic!("{other:?}"),
     }
     let _ = std::fs::remove_dir_all(&dir);
@@ -311,7 +313,7 @@ fn report_list_names_scenes_techniques_and_variants() {
 /// the budget (accumulation n64 at 16384² asks for 64 GiB of maps).
 #[test]
 fn a_configuration_over_the_memory_budget_is_a_typed_error() {
-    use shadow_core::ShadowTechnique;
+    use soft_shadow_core::ShadowTechnique;
     let spec = harness::scenes::catalogue::build("plane-occluder").unwrap();
     let geometry = spec.to_scene().unwrap().geometry();
     let t = shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Accumulate { samples: 64 });
@@ -320,7 +322,7 @@ fn a_configuration_over_the_memory_budget_is_a_typed_error() {
         .check_inputs(&geometry, &spec.light, 16384, 16384, 6 << 30)
         .unwrap_err();
     assert!(
-        matches!(e, shadow_core::ShadowError::OverBudget { need, budget, .. } if need == 64 << 30 && budget == 6 << 30),
+        matches!(e, soft_shadow_core::ShadowError::OverBudget { need, budget, .. } if need == 64 << 30 && budget == 6 << 30),
         "{e}"
     );
     assert!(

@@ -1,16 +1,17 @@
-//! The frame pipeline (shadow_core::frame): only the work the scene calls for, proven by the
+//! The frame pipeline (shadow_frame): only the work the scene calls for, proven by the
 //! frame statistics, and outputs equal to a from-scratch render.
 
 use glam::{Mat4, Vec2, Vec3};
 use harness::animated::pipeline;
 use harness::scenes::shapes::{cuboid, ground};
 use proptest::prelude::*;
-use shadow_core::frame::{
+use shadow_frame::Scene;
+use shadow_frame::scene::Transform;
+use shadow_frame::{
     FrameReceivers, FrameStats, LightState, ProfileEntry, ResolvedTechnique, ShadowConfig,
     TechniqueProfile,
 };
-use shadow_core::scene::Transform;
-use shadow_core::{Backend, DynTechnique, Light, LightKind, Scene};
+use soft_shadow_core::{Backend, DynTechnique, Light, LightKind};
 use std::sync::Arc;
 
 struct Lab {
@@ -228,14 +229,14 @@ fn a_scene_without_casters_does_no_shadow_work() {
     let casters: Vec<_> = lab
         .scene
         .world
-        .query_filtered::<bevy_ecs::entity::Entity, bevy_ecs::query::With<shadow_core::scene::ShadowCaster>>()
+        .query_filtered::<bevy_ecs::entity::Entity, bevy_ecs::query::With<shadow_frame::scene::ShadowCaster>>()
         .iter(&lab.scene.world)
         .collect();
     for e in casters {
         lab.scene
             .world
             .entity_mut(e)
-            .remove::<shadow_core::scene::ShadowCaster>();
+            .remove::<shadow_frame::scene::ShadowCaster>();
     }
     let s = pipeline().run(&mut lab.scene.world);
     assert_eq!(s.maps_generated + s.maps_reused + s.receivers_evaluated, 0);
@@ -397,20 +398,18 @@ fn bad_frame_input_is_reported_not_panicked() {
 /// light) and the same bookkeeping.
 #[test]
 fn the_frame_pipeline_agrees_between_cpu_and_gpu() {
-    let Some(ctx) =
-        shadow_core::gpu::testing::gpu_for_test("the_frame_pipeline_agrees_between_cpu_and_gpu")
-    else {
+    let Some(ctx) = soft_shadow_core::gpu::testing::gpu_for_test(
+        "the_frame_pipeline_agrees_between_cpu_and_gpu",
+    ) else {
         return;
     };
     let mut cpu = lab(5.0);
     let sc = pipeline().run(&mut cpu.scene.world);
     let mut gpu = lab(5.0);
-    gpu.scene
-        .world
-        .insert_resource(shadow_core::frame::FrameBackend {
-            backend: Backend::Gpu,
-            gpu: Some(Arc::new(ctx)),
-        });
+    gpu.scene.world.insert_resource(shadow_frame::FrameBackend {
+        backend: Backend::Gpu,
+        gpu: Some(Arc::new(ctx)),
+    });
     let sg = pipeline().run(&mut gpu.scene.world);
     assert_eq!(
         (sc.maps_generated, sc.receivers_evaluated),

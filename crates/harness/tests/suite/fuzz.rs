@@ -13,9 +13,9 @@
 use harness::scenes::scene_file;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
-use shadow_core::ShadowTechnique;
-use shadow_core::gltf_import::glb;
+use shadow_frame::gltf::glb;
 use shadow_maps::{Filter, ShadowMapBaseline};
+use soft_shadow_core::ShadowTechnique;
 use std::path::Path;
 use std::time::Instant;
 
@@ -143,7 +143,7 @@ fn load_and_render(dir: &Path, what: &str) -> Outcome {
         outcome = Outcome::Rendered;
         let hard = ShadowMapBaseline::new(Filter::Hard);
         if let Ok(maps) = hard.generate_cpu(&geometry, &spec.light, 64) {
-            let r = shadow_core::Receivers {
+            let r = soft_shadow_core::Receivers {
                 positions: &positions,
                 normals: &normals,
             };
@@ -261,7 +261,7 @@ fn a_misaligned_buffer_view_is_refused() {
     let (json, bin) = glb_split(&asset("suzanne.glb"));
     let moved = json.replace("\"byteOffset\":11616", "\"byteOffset\":11611");
     assert_ne!(moved, json, "suzanne.glb's second view starts at 11616");
-    let e = shadow_core::gltf_import::import_gltf_slice(&glb(&moved, &bin), "suzanne", None)
+    let e = shadow_frame::gltf::import_gltf_slice(&glb(&moved, &bin), "suzanne", None)
         .unwrap_err()
         .to_string();
     assert!(e.contains("misaligned"), "{e}");

@@ -4,12 +4,12 @@
 use super::receivers;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
-use shadow_core::raster::{DepthPass, depth_map_pass, gbuffer};
-use shadow_core::view::NO_OCCLUDER;
-use shadow_core::{Backend, DynTechnique, Receivers as Recv, View};
 use shadow_maps::ShadowMapBaseline;
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::gpu::{GpuRasterizer, GpuTriangles};
+use soft_shadow_core::raster::{DepthPass, depth_map_pass, gbuffer};
+use soft_shadow_core::view::NO_OCCLUDER;
+use soft_shadow_core::{Backend, DynTechnique, Receivers as Recv, View};
 
 /// Texels where the CPU and GPU disagree on coverage (a fragment exactly on an edge after snapping)
 /// may be at most this fraction of the map.
@@ -31,8 +31,10 @@ fn gpu_depth_maps_match_the_cpu_rasterizer() {
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
         let geo = spec.to_scene().unwrap().geometry();
-        let view =
-            View::for_light_center(&spec.light, &shadow_core::Coverage::new(&geo, &spec.light));
+        let view = View::for_light_center(
+            &spec.light,
+            &soft_shadow_core::Coverage::new(&geo, &spec.light),
+        );
         let res = 256;
         let tris = GpuTriangles::new(&ctx, &geo.casters).unwrap();
         for pass in passes {

@@ -7,7 +7,7 @@
 
 use glam::Vec3;
 use harness::ground_truth::{GroundTruthSettings, RayTracer};
-use shadow_core::Light;
+use soft_shadow_core::Light;
 
 fn quad(x0: f32, x1: f32, z0: f32, z1: f32, y: f32) -> Vec<[Vec3; 3]> {
     let p = |x, z| Vec3::new(x, y, z);
@@ -184,7 +184,7 @@ fn receivers_do_not_shadow_themselves() {
     let light = Light::Distant {
         direction: Vec3::new(1.0, 0.05, 0.0).normalize(),
         angular_diameter: 0.02,
-        profile: shadow_core::DistantProfile::UniformDisk,
+        profile: soft_shadow_core::DistantProfile::UniformDisk,
     };
     let pts: Vec<Vec3> = (0..200)
         .map(|i| Vec3::new(-40.0 + 0.4 * i as f32, 0.0, 7.0 - 0.07 * i as f32))

@@ -10,8 +10,10 @@ use harness::scenes::shapes::{horizontal_rect, quad_grid};
 use harness::setup::PreparedScene;
 use linear_light::LinearLight;
 use proptest::prelude::*;
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Aabb, Light, Receivers as Recv, SceneGeometry, ShadowTechnique, TriangleMesh};
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{
+    Aabb, Light, Receivers as Recv, SceneGeometry, ShadowTechnique, TriangleMesh,
+};
 
 fn geometry(meshes: &[TriangleMesh]) -> SceneGeometry {
     let tris: Vec<[Vec3; 3]> = meshes
@@ -195,7 +197,7 @@ fn as_segment(light: &Light) -> Option<Light> {
             radius,
         } => Some(seg(
             center,
-            shadow_core::light::orthonormal_basis(normal).0 * radius,
+            soft_shadow_core::light::orthonormal_basis(normal).0 * radius,
         )),
         Light::Sphere { center, radius } => Some(seg(center, Vec3::X * radius)),
         Light::Point { position } => Some(seg(position, Vec3::X * 1e-4)),

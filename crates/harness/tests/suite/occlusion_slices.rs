@@ -7,8 +7,8 @@ use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use occlusion_slices::filters::{NBuffer, Sat};
 use occlusion_slices::{Filter, OcclusionSlices};
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Backend, DynTechnique, Light, Receivers as Recv, ShadowTechnique};
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{Backend, DynTechnique, Light, Receivers as Recv, ShadowTechnique};
 
 /// Section 3.1's closed form for `plane-occluder`: the pyramid from `p` to the square light cut
 /// by the occluder's plane is a square; `V` is the fraction of it outside the occluder.

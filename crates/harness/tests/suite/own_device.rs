@@ -6,8 +6,8 @@ use super::receivers;
 use harness::report::all_techniques;
 use harness::scenes::catalogue::build;
 use harness::scenes::relight::relight;
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Backend, GpuContext, Receivers as Recv, ShadowError};
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{Backend, GpuContext, Receivers as Recv, ShadowError};
 
 /// A device as a renderer would make it: the environment's adapter, WebGPU default limits, no
 /// optional features; `None` without an adapter (then `gpu_for_test` has decided to skip).

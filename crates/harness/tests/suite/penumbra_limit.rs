@@ -5,8 +5,8 @@ use super::receivers;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use penumbra_limit::{PenumbraLimit, Storage};
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Backend, DynTechnique, Receivers as Recv, ShadowTechnique};
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{Backend, DynTechnique, Receivers as Recv, ShadowTechnique};
 
 /// Every variant, every catalogue scene whose light it models, two resolutions: RMS of
 /// `V * 255` between CPU and GPU below 1.0, and the stored maps equal up to rasterization
@@ -75,7 +75,7 @@ fn penumbra_limit_agrees_between_cpu_and_gpu_on_every_scene() {
 #[test]
 fn receivers_beside_a_local_light_are_not_wrapped_into_umbra() {
     use glam::Vec3;
-    use shadow_core::{Light, SceneGeometry};
+    use soft_shadow_core::{Light, SceneGeometry};
     let plate = |y: f32, h: f32| -> Vec<[Vec3; 3]> {
         let p = |x: f32, z: f32| Vec3::new(x, y, z);
         vec![
@@ -85,7 +85,7 @@ fn receivers_beside_a_local_light_are_not_wrapped_into_umbra() {
     };
     let casters = plate(1.0, 6.0);
     let geometry = SceneGeometry {
-        bounds: shadow_core::Aabb::of_triangles(&casters),
+        bounds: soft_shadow_core::Aabb::of_triangles(&casters),
         receivers: Vec::new(),
         casters,
     };
@@ -135,10 +135,10 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
     use penumbra_limit::combine::NO_EDGE;
     use penumbra_limit::depth_image::{limits, ribbon_reach, seeds, texel_limits};
     use penumbra_limit::warp::Warp;
-    use shadow_core::feature_transform::nearest;
-    use shadow_core::raster::{DepthPass, depth_map_pass_then};
-    use shadow_core::seeds::dist2;
-    use shadow_core::{Coverage, SampleView};
+    use soft_shadow_core::feature_transform::nearest;
+    use soft_shadow_core::raster::{DepthPass, depth_map_pass_then};
+    use soft_shadow_core::seeds::dist2;
+    use soft_shadow_core::{Coverage, SampleView};
     let layer_gap = PenumbraLimit::new(penumbra_limit::Generation::DepthImage).layer_gap;
     for (name, res) in [
         ("torus", 256),

@@ -1,4 +1,4 @@
-//! Reuse across generations of one size (`shadow_core::gpu::pool`): for every technique, maps
+//! Reuse across generations of one size (`soft_shadow_core::gpu::pool`): for every technique, maps
 //! recycled after a generation of another scene serve the next generation without a new texture
 //! or buffer, and that generation's `V` is bit for bit the one from fresh resources (no kernel
 //! reads what it did not write).
@@ -7,9 +7,9 @@ use super::receivers;
 use harness::report::all_techniques;
 use harness::scenes::catalogue::build;
 use harness::scenes::relight::relight;
-use shadow_core::gpu::GpuScene;
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{GpuContext, Receivers as Recv};
+use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{GpuContext, Receivers as Recv};
 
 #[test]
 fn recycled_maps_serve_the_next_generation_unchanged() {

@@ -258,11 +258,7 @@ fn image_error_weights_each_receiver_by_its_irradiance() {
 fn false_shadow_pixels_count_only_lit_receivers_made_dark() {
     let reference = [1.0, 1.0, 0.5, 0.99, 0.0, 0.98];
     let v = [0.97, 1.0, 0.1, 0.5, 0.9, 0.979];
-    let e = harness::metrics::errors(
-        &v,
-        &reference,
-        &harness::metrics::Shading::uniform(v.len()),
-    );
+    let e = harness::metrics::errors(&v, &reference, &harness::metrics::Shading::uniform(v.len()));
     assert_eq!(e.false_shadow_pixels, 3);
 }
 
@@ -358,7 +354,7 @@ fn cpu_timings_follow_an_unmeasured_generation() {
     use harness::report::measure::{Frame, repeat};
     use harness::scenes::catalogue::build;
     use harness::setup::PreparedScene;
-    use shadow_core::Backend;
+    use soft_shadow_core::Backend;
     use std::cell::Cell;
 
     let t = all_techniques(false)

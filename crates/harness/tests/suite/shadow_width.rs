@@ -4,9 +4,9 @@
 use super::receivers;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::{Receivers as Recv, ShadowTechnique};
 use shadow_width::{Neighbours, ShadowWidth, WidthMethod};
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::{Receivers as Recv, ShadowTechnique};
 
 /// Every standard variant (and the 3- and 6-neighbour propagation on `plane-occluder`), every
 /// catalogue scene, two resolutions: RMS of `V * 255` between CPU and GPU
@@ -49,8 +49,9 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
                     "{name} {} {res}: width maps differ by {mean_diff} texels on average",
                     t.label()
                 );
-                let cv = shadow_core::ShadowTechnique::evaluate_cpu(t, &cm, &recv).unwrap();
-                let gv = shadow_core::ShadowTechnique::evaluate_gpu(t, &ctx, &gm, &recv).unwrap();
+                let cv = soft_shadow_core::ShadowTechnique::evaluate_cpu(t, &cm, &recv).unwrap();
+                let gv =
+                    soft_shadow_core::ShadowTechnique::evaluate_gpu(t, &ctx, &gm, &recv).unwrap();
                 let rms = rms_255(&cv, &gv);
                 assert!(
                     rms < 1.0,

@@ -1,5 +1,5 @@
 //! Every `.wgsl` file of the workspace parses and validates with naga, on any machine, as the
-//! GPU code builds it: `shadow_core::gpu::wgsl::resolve` puts the files its
+//! GPU code builds it: `soft_shadow_core::gpu::wgsl::resolve` puts the files its
 //! `// requires: light_space.wgsl [sibling.wgsl ...]` header names first.
 //! A file that starts with `// tail:` is an entry point appended to a technique's visibility
 //! module; every technique's module is validated with each tail, as the pipelines build them.
@@ -42,7 +42,7 @@ fn every_wgsl_file_validates() {
             if text.starts_with("// tail:") {
                 continue;
             }
-            let src = shadow_core::gpu::wgsl::resolve(name, &named)
+            let src = soft_shadow_core::gpu::wgsl::resolve(name, &named)
                 .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
             validate(&f.display().to_string(), &src);
             checked += 1;
@@ -68,7 +68,7 @@ fn validate(name: &str, src: &str) -> naga::Module {
 /// in the group it was given.
 #[test]
 fn every_visibility_module_validates_with_each_entry_point() {
-    use shadow_core::gpu::visibility::{RECEIVER_TEXTURES_WGSL, RECEIVERS_WGSL, in_group};
+    use soft_shadow_core::gpu::visibility::{RECEIVER_TEXTURES_WGSL, RECEIVERS_WGSL, in_group};
     let mut seen = std::collections::HashSet::new();
     for t in harness::report::options::all_techniques(false) {
         if !seen.insert(t.name()) {
@@ -100,7 +100,7 @@ fn every_visibility_module_validates_with_each_entry_point() {
 /// WGSL struct it mirrors (a missing, extra or re-typed field changes it).
 #[test]
 fn uniform_structs_match_their_wgsl_layout() {
-    use shadow_core::gpu::wgsl::resolve;
+    use soft_shadow_core::gpu::wgsl::resolve;
     use std::mem::size_of;
     let files = |list: &[(&'static str, &'static str)]| list.to_vec();
     let core = files(&[]);
@@ -118,14 +118,14 @@ fn uniform_structs_match_their_wgsl_layout() {
             core.clone(),
             "light_space.wgsl",
             "MapView",
-            size_of::<shadow_core::MapParams>(),
+            size_of::<soft_shadow_core::MapParams>(),
         ),
         (
             "shadow-core",
             core,
             "light_space.wgsl",
             "Bias",
-            size_of::<shadow_core::Bias>(),
+            size_of::<soft_shadow_core::Bias>(),
         ),
         (
             "shadow-maps",

@@ -1,6 +1,6 @@
 //! The GPU path. Generation records everything in one command buffer:
 //!
-//! 1. one nearest-surface depth pass per sample (`shadow_core`'s rasterizer) into a depth array;
+//! 1. one nearest-surface depth pass per sample (`soft_shadow_core`'s rasterizer) into a depth array;
 //! 2. per sample, the quads of its map that hold a skin (`find_skins.wgsl`, appended with an
 //!    atomic counter that doubles as an indirect draw's vertex count), then per sample the skins
 //!    of each neighbour warped into its view (`skins.wgsl`, an indirect draw of those quads);
@@ -16,13 +16,13 @@ use crate::segments::Segment;
 use crate::skins::Unproject;
 use bytemuck::{Pod, Zeroable};
 use pipelines::{CombineKernel, FindSkinsKernel, SkinPipeline, VALUE_FORMAT};
-use shadow_core::gpu::compute::{bind_group, depth_array_view};
-use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
-use shadow_core::gpu::resources::{Kernel, texture_2d};
-use shadow_core::gpu::timer::PassSlot;
-use shadow_core::gpu::{GpuRasterizer, GpuScene};
-use shadow_core::raster::DepthPass;
-use shadow_core::{Bias, GpuContext, Map2D, MapParams, Result, ShadowError};
+use soft_shadow_core::gpu::compute::{bind_group, depth_array_view};
+use soft_shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
+use soft_shadow_core::gpu::resources::{Kernel, texture_2d};
+use soft_shadow_core::gpu::timer::PassSlot;
+use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
+use soft_shadow_core::raster::DepthPass;
+use soft_shadow_core::{Bias, GpuContext, Map2D, MapParams, Result, ShadowError};
 
 /// One sample as the shaders read it (`Sample` in `sample.wgsl`).
 #[repr(C)]
@@ -248,8 +248,8 @@ pub fn generate(
     let mut views = Vec::with_capacity(layers as usize);
     let mut samples = Vec::with_capacity(layers as usize);
     for seg in segments {
-        let light = shadow_core::Light::Linear { a: seg.a, b: seg.b };
-        let coverage = shadow_core::Coverage::new(geometry, &light);
+        let light = soft_shadow_core::Light::Linear { a: seg.a, b: seg.b };
+        let coverage = soft_shadow_core::Coverage::new(geometry, &light);
         for v in sample_views(seg.a, seg.b, n, seg.axis, &coverage, seg.weight) {
             let un = Unproject::new(&v.view, res);
             samples.push(SampleGpu {

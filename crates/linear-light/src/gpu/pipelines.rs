@@ -1,14 +1,14 @@
 //! The pipelines of the GPU path, built once per context: the skin warp render pipeline
 //! (`skins.wgsl`), the channel combine kernel (`combine.wgsl`) and evaluation (`evaluate.wgsl`).
 
-use shadow_core::GpuContext;
-use shadow_core::gpu::compute::{storage_entry, uniform_entry};
-use shadow_core::gpu::raster::DEPTH_FORMAT;
-use shadow_core::gpu::resources::{
+use soft_shadow_core::GpuContext;
+use soft_shadow_core::gpu::compute::{storage_entry, uniform_entry};
+use soft_shadow_core::gpu::raster::DEPTH_FORMAT;
+use soft_shadow_core::gpu::resources::{
     FLOAT, Kernel, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
-/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
 pub const WGSL: &[(&str, &str)] = &[
     ("sample.wgsl", include_str!("../sample.wgsl")),
     ("grid.wgsl", include_str!("../grid.wgsl")),
@@ -23,7 +23,7 @@ pub const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// File `name` of [`WGSL`] after the files it requires.
 pub fn source(name: &str) -> String {
-    shadow_core::gpu::wgsl::source(name, WGSL)
+    soft_shadow_core::gpu::wgsl::source(name, WGSL)
 }
 
 /// Skins of one sample warped into a neighbour's view.

@@ -22,9 +22,9 @@ pub fn mip_size(res: u32, l: u32) -> u32 {
 }
 
 impl Drop for Mipmap {
-    /// The levels' storage goes back to [`shadow_core::pool`].
+    /// The levels' storage goes back to [`soft_shadow_core::pool`].
     fn drop(&mut self) {
-        self.levels.drain(..).for_each(shadow_core::pool::give);
+        self.levels.drain(..).for_each(soft_shadow_core::pool::give);
     }
 }
 
@@ -87,8 +87,8 @@ impl Mipmap {
     fn base_storage(n: usize) -> (Vec<u8>, Vec<u32>) {
         let half = n.div_ceil(2);
         (
-            shadow_core::pool::overwrite(n * n, 0u8),
-            shadow_core::pool::overwrite(half * half, 0u32),
+            soft_shadow_core::pool::overwrite(n * n, 0u8),
+            soft_shadow_core::pool::overwrite(half * half, 0u32),
         )
     }
 
@@ -100,15 +100,15 @@ impl Mipmap {
             if l > 1 {
                 let c = &counts;
                 let next = sum_blocks(src, dst, |y| &c[y * src..(y + 1) * src], |&c| c);
-                shadow_core::pool::give(std::mem::replace(&mut counts, next));
+                soft_shadow_core::pool::give(std::mem::replace(&mut counts, next));
             }
-            let mut out = shadow_core::pool::overwrite(dst * dst, 0u8);
+            let mut out = soft_shadow_core::pool::overwrite(dst * dst, 0u8);
             out.par_iter_mut()
                 .zip(counts.par_iter())
                 .for_each(|(o, &c)| *o = unorm8_pow2(c, 2 * l));
             levels.push(out);
         }
-        shadow_core::pool::give(counts);
+        soft_shadow_core::pool::give(counts);
         Mipmap { res, levels }
     }
 
@@ -189,7 +189,7 @@ fn sum_blocks<'a, S: Sync + 'a>(
     row: impl Fn(usize) -> &'a [S] + Sync,
     value: impl Fn(&S) -> u32 + Sync,
 ) -> Vec<u32> {
-    let mut out = shadow_core::pool::overwrite(dst * dst, 0u32);
+    let mut out = soft_shadow_core::pool::overwrite(dst * dst, 0u32);
     out.par_chunks_mut(dst.max(1))
         .enumerate()
         .for_each(|(y, out)| {

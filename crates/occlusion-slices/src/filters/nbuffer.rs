@@ -23,9 +23,9 @@ pub struct NBuffer {
 }
 
 impl Drop for NBuffer {
-    /// The levels' storage goes back to [`shadow_core::pool`].
+    /// The levels' storage goes back to [`soft_shadow_core::pool`].
     fn drop(&mut self) {
-        self.levels.drain(..).for_each(shadow_core::pool::give);
+        self.levels.drain(..).for_each(soft_shadow_core::pool::give);
     }
 }
 
@@ -43,7 +43,7 @@ impl NBuffer {
         let count = level_count(res) as usize;
         // Every texel is written below: no clearing pass.
         let mut levels: Vec<Vec<u8>> = (0..count)
-            .map(|_| shadow_core::pool::overwrite(n * n, 0u8))
+            .map(|_| soft_shadow_core::pool::overwrite(n * n, 0u8))
             .collect();
         // Per band of rows, that band of every level.
         let band = BAND_ROWS * n.max(1);

@@ -19,9 +19,9 @@ pub struct Sat {
 }
 
 impl Drop for Sat {
-    /// The table's storage goes back to [`shadow_core::pool`].
+    /// The table's storage goes back to [`soft_shadow_core::pool`].
     fn drop(&mut self) {
-        shadow_core::pool::give(std::mem::take(&mut self.data));
+        soft_shadow_core::pool::give(std::mem::take(&mut self.data));
     }
 }
 
@@ -43,7 +43,7 @@ impl Sat {
         let n = res as usize;
         let w = n + 1;
         // Row 0 and column 0 are zeros, every other entry is written below: no clearing pass.
-        let mut data = shadow_core::pool::overwrite(w * w, 0u32);
+        let mut data = soft_shadow_core::pool::overwrite(w * w, 0u32);
         data[..w].fill(0);
         for (y, cells) in cells.chunks_exact(n.max(1)).take(n).enumerate() {
             let (above, below) = data.split_at_mut((y + 1) * w);

@@ -15,12 +15,12 @@ use crate::frame::Frame;
 use crate::params::{Filter, OcclusionSlices};
 use bytemuck::{Pod, Zeroable};
 use pipelines::{LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT, SlicingPipelines};
-use shadow_core::gpu::compute::{self, bind_group};
-use shadow_core::gpu::raster::read_texture;
-use shadow_core::gpu::resources::{Kernel, texture_2d};
-use shadow_core::gpu::timer::PassSlot;
-use shadow_core::gpu::{GpuScene, GpuTriangles};
-use shadow_core::{GpuContext, Light, Result, ShadowError};
+use soft_shadow_core::gpu::compute::{self, bind_group};
+use soft_shadow_core::gpu::raster::read_texture;
+use soft_shadow_core::gpu::resources::{Kernel, texture_2d};
+use soft_shadow_core::gpu::timer::PassSlot;
+use soft_shadow_core::gpu::{GpuScene, GpuTriangles};
+use soft_shadow_core::{GpuContext, Light, Result, ShadowError};
 
 /// The occlusion textures of one light, kept on the GPU.
 pub struct GpuSliceMaps {

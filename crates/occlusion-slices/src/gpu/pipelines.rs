@@ -2,13 +2,13 @@
 //! (`slicing.wgsl`, one per number of targets), the prefiltering kernels (`sat_rows.wgsl`,
 //! `sat_cols.wgsl`, `levels.wgsl`) and evaluation (`evaluate.wgsl`).
 
-use shadow_core::GpuContext;
-use shadow_core::gpu::compute::uniform_entry;
-use shadow_core::gpu::resources::{
+use soft_shadow_core::GpuContext;
+use soft_shadow_core::gpu::compute::uniform_entry;
+use soft_shadow_core::gpu::resources::{
     FLOAT, Kernel, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
-/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
 pub const WGSL: &[(&str, &str)] = &[
     ("frame.wgsl", include_str!("../frame.wgsl")),
     ("slicing.wgsl", include_str!("../slicing.wgsl")),
@@ -20,7 +20,7 @@ pub const WGSL: &[(&str, &str)] = &[
 
 /// File `name` of [`WGSL`] after the files it requires.
 pub fn source(name: &str) -> String {
-    shadow_core::gpu::wgsl::source(name, WGSL)
+    soft_shadow_core::gpu::wgsl::source(name, WGSL)
 }
 
 /// Format of the occlusion textures: four slices per RGBA8 texel.

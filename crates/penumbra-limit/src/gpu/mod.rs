@@ -1,6 +1,6 @@
 //! The GPU path. Generation records everything in one command buffer and reads nothing back:
 //!
-//! 1. the nearest-surface depth map (`shadow_core`'s rasterizer), normalised into the geometry
+//! 1. the nearest-surface depth map (`soft_shadow_core`'s rasterizer), normalised into the geometry
 //!    layer (`depth_image.wgsl`, `geometry`);
 //! 2. the edge `[c, p_i]` and lower-limit layers, either by silhouette extrusion (render passes
 //!    of `silhouette.wgsl`: ribbons with the penumbra limit as depth, then back faces) or from
@@ -21,13 +21,13 @@ use bytemuck::{Pod, Zeroable};
 use pipelines::{
     CombinePipelines, DepthImagePipelines, EDGE_FORMAT, LOWER_FORMAT, SilhouettePipelines,
 };
-use shadow_core::gpu::compute::{self, bind_group, depth_array_view};
-use shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
-use shadow_core::gpu::resources::{FLOAT, storage_buffer, texture_2d, texture_entry};
-use shadow_core::gpu::timer::PassSlot;
-use shadow_core::gpu::{GpuFeatureTransform, GpuRasterizer, GpuScene};
-use shadow_core::raster::DepthPass;
-use shadow_core::{
+use soft_shadow_core::gpu::compute::{self, bind_group, depth_array_view};
+use soft_shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
+use soft_shadow_core::gpu::resources::{FLOAT, storage_buffer, texture_2d, texture_entry};
+use soft_shadow_core::gpu::timer::PassSlot;
+use soft_shadow_core::gpu::{GpuFeatureTransform, GpuRasterizer, GpuScene};
+use soft_shadow_core::raster::DepthPass;
+use soft_shadow_core::{
     GpuContext, Light, Map2D, MapParams, Result, SampleView, SceneGeometry, ShadowError,
 };
 
@@ -270,7 +270,7 @@ pub fn generate(
     let raster = ctx.cached(GpuRasterizer::new);
     let di = ctx.cached(DepthImagePipelines::new);
     let comb = ctx.cached(CombinePipelines::new);
-    let view = SampleView::center(light, &shadow_core::Coverage::new(geometry, light));
+    let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
     let params = view.params(res);
     let warp = Warp::new(&params, light);
     let tris = scene.casters();

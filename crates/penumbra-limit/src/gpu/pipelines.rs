@@ -3,16 +3,16 @@
 //! kernel per storage format (`combine.wgsl`) and evaluation (`evaluate.wgsl`).
 
 use crate::storage::Storage;
-use shadow_core::GpuContext;
-use shadow_core::gpu::compute::{
+use soft_shadow_core::GpuContext;
+use soft_shadow_core::gpu::compute::{
     compute_pipelines, depth_array_entry, storage_entry, uniform_entry,
 };
-use shadow_core::gpu::raster::DEPTH_FORMAT;
-use shadow_core::gpu::resources::{
+use soft_shadow_core::gpu::raster::DEPTH_FORMAT;
+use soft_shadow_core::gpu::resources::{
     FLOAT, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
 };
 
-/// The crate's WGSL files, for [`shadow_core::gpu::wgsl::resolve`].
+/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
 pub const WGSL: &[(&str, &str)] = &[
     ("warp.wgsl", include_str!("../warp.wgsl")),
     ("silhouette.wgsl", include_str!("../silhouette.wgsl")),
@@ -23,7 +23,7 @@ pub const WGSL: &[(&str, &str)] = &[
 
 /// File `name` of [`WGSL`] after the files it requires.
 pub fn source(name: &str) -> String {
-    shadow_core::gpu::wgsl::source(name, WGSL)
+    soft_shadow_core::gpu::wgsl::source(name, WGSL)
 }
 
 /// Format of the edge layer `[c, p_i]`.

@@ -1,6 +1,6 @@
 // requires: seeds.wgsl
 // The exact nearest-seed map (feature transform) on the GPU. Mirrors
-// shadow_core::feature_transform step by step, in the same integer arithmetic, so both backends
+// soft_shadow_core::feature_transform step by step, in the same integer arithmetic, so both backends
 // give the same seeds.
 //
 // Of equally near seeds, the one of least key (`keys`, one f32 per texel, where `prm.keyed`),

@@ -1,5 +1,5 @@
 // requires: seeds.wgsl
-// Jump flooding on the GPU: one pass with step `k`. Mirrors shadow_core::jump_flood::pass, in the
+// Jump flooding on the GPU: one pass with step `k`. Mirrors soft_shadow_core::jump_flood::pass, in the
 // same neighbour order, so both backends keep the same nearest seed.
 
 struct FloodParams {

@@ -1,4 +1,4 @@
-// Light-space projection shared by every depth-map technique; mirrors shadow_core::light_space.
+// Light-space projection shared by every depth-map technique; mirrors soft_shadow_core::light_space.
 // Prepended to the shaders that use it (a file starting with `// requires: light_space.wgsl`).
 
 struct MapView {

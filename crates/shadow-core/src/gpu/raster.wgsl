@@ -1,5 +1,5 @@
 // GPU rasterization shared by every technique: light-space depth maps (reversed Z, depth only)
-// and the camera G-buffer (world position + normal). Matches shadow_core::raster on the CPU.
+// and the camera G-buffer (world position + normal). Matches soft_shadow_core::raster on the CPU.
 
 struct ViewUniform {
     view_proj: mat4x4<f32>,

@@ -1,4 +1,4 @@
-// tail: appended to a technique's visibility module (shadow_core::gpu::visibility).
+// tail: appended to a technique's visibility module (soft_shadow_core::gpu::visibility).
 // The caller's G-buffer in, V out, one texel per invocation: world position in xyz with w > 0.5
 // where a surface covers the texel, the unit normal facing the camera in xyz. Uncovered texels
 // get V = 1.

@@ -1,4 +1,4 @@
-// tail: appended to a technique's visibility module (shadow_core::gpu::visibility).
+// tail: appended to a technique's visibility module (soft_shadow_core::gpu::visibility).
 // A batch of receivers: positions and normals in, one V each out (the blocking evaluation).
 
 @group(1) @binding(0) var<storage, read> receiver_positions: array<vec4<f32>>;

@@ -1,4 +1,4 @@
-// Seeds, packed as shadow_core::seeds::pack makes them: x in the low 16 bits, y
+// Seeds, packed as soft_shadow_core::seeds::pack makes them: x in the low 16 bits, y
 // in the high 16, NONE_SEED for no seed. Shared by every shader that floods or reads a flood.
 
 const NONE_SEED: u32 = 0xffffffffu;

@@ -3,11 +3,11 @@
 
 use glam::Vec3;
 use proptest::prelude::*;
-use shadow_core::light_space::{DEPTH_SPREAD, MAX_TAN, shadow_coord};
-use shadow_core::{Aabb, Bias, Coverage, LightPoint, SampleView, ShadowError};
+use soft_shadow_core::light_space::{DEPTH_SPREAD, MAX_TAN, shadow_coord};
+use soft_shadow_core::{Aabb, Bias, Coverage, LightPoint, SampleView, ShadowError};
 
 /// An orthographic map of a 4 m box at the origin for light coming from `to_light`.
-fn map(to_light: Vec3, res: u32) -> shadow_core::MapParams {
+fn map(to_light: Vec3, res: u32) -> soft_shadow_core::MapParams {
     let bounds = Aabb {
         min: Vec3::splat(-2.0),
         max: Vec3::splat(2.0),

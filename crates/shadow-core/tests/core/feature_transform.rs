@@ -1,11 +1,11 @@
 //! The exact nearest-seed map: the GPU's (`GpuFeatureTransform`) equals the CPU's
 //! (`feature_transform::nearest`), which a unit test holds to the brute-force nearest seed.
 
-use shadow_core::feature_transform::nearest;
-use shadow_core::gpu::GpuFeatureTransform;
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::rng::SplitMix;
-use shadow_core::seeds::{NONE, pack};
+use soft_shadow_core::feature_transform::nearest;
+use soft_shadow_core::gpu::GpuFeatureTransform;
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::rng::SplitMix;
+use soft_shadow_core::seeds::{NONE, pack};
 
 /// Seeds on a `side`² map: one texel in `every` at random (none when 0), a lattice of ties where
 /// `lattice`, and the two far corners where `corners` (the longest distances of the map).

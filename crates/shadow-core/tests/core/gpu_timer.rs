@@ -1,14 +1,14 @@
 //! `GpuContext::gpu_time`: the device time of the passes a piece of work records.
 
 use glam::Vec3;
-use shadow_core::gpu::testing::gpu_for_test;
-use shadow_core::gpu::{GpuRasterizer, GpuTriangles};
-use shadow_core::raster::DepthPass;
-use shadow_core::{Aabb, GpuContext, Light, View};
+use soft_shadow_core::gpu::testing::gpu_for_test;
+use soft_shadow_core::gpu::{GpuRasterizer, GpuTriangles};
+use soft_shadow_core::raster::DepthPass;
+use soft_shadow_core::{Aabb, GpuContext, Light, View};
 use std::time::{Duration, Instant};
 
 /// `passes` depth passes of a 2048² map of a dense grid of triangles, submitted and waited for.
-fn depth_passes(ctx: &GpuContext, passes: u32) -> shadow_core::Result<u32> {
+fn depth_passes(ctx: &GpuContext, passes: u32) -> soft_shadow_core::Result<u32> {
     let mut tris = Vec::new();
     for i in 0..64 {
         for j in 0..64 {
@@ -20,7 +20,7 @@ fn depth_passes(ctx: &GpuContext, passes: u32) -> shadow_core::Result<u32> {
     let light = Light::Point {
         position: Vec3::Y * 3.0,
     };
-    let view = View::for_light_center(&light, &shadow_core::Coverage::whole(&bounds));
+    let view = View::for_light_center(&light, &soft_shadow_core::Coverage::whole(&bounds));
     let raster = GpuRasterizer::new(ctx);
     let gpu_tris = GpuTriangles::new(ctx, &tris)?;
     let tex = GpuRasterizer::depth_array(ctx, 2048, 1)?;

@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use shadow_core::{DistantProfile, Light, LightPoint};
+use soft_shadow_core::{DistantProfile, Light, LightPoint};
 
 fn v3() -> impl Strategy<Value = Vec3> {
     (-5.0f32..5.0, -5.0f32..5.0, -5.0f32..5.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
@@ -114,7 +114,7 @@ fn limb_darkening_weights_follow_the_linear_law() {
     let (_, limb) = l.sample(Vec2::new(1.0, 0.3), Vec3::ZERO);
     assert!((centre - 1.0).abs() < 1e-6);
     assert!(
-        (limb - (1.0 - shadow_core::light::SUN_LIMB_DARKENING_U)).abs() < 1e-3,
+        (limb - (1.0 - soft_shadow_core::light::SUN_LIMB_DARKENING_U)).abs() < 1e-3,
         "{limb}"
     );
 }

@@ -1,9 +1,7 @@
 //! shadow-core tests, one binary (each test binary links wgpu, which is slow on 2 cores).
 
-mod bad_input;
 mod bias;
 mod feature_transform;
 mod gpu_timer;
 mod light_sampling;
 mod rasterizer;
-mod scene;

@@ -1,20 +1,20 @@
 //! The CPU rasterizer against closed forms: coverage rules and perspective-correct depth.
 
 use glam::Vec3;
-use shadow_core::light::LightPoint;
-use shadow_core::raster::{
+use soft_shadow_core::light::LightPoint;
+use soft_shadow_core::raster::{
     DepthPass, depth_map, depth_map_filtered, depth_map_pass, depth_map_pass_then, gbuffer,
     rasterize, rasterize_nearest,
 };
-use shadow_core::view::{NO_OCCLUDER, View};
-use shadow_core::{Aabb, Camera};
+use soft_shadow_core::view::{NO_OCCLUDER, View};
+use soft_shadow_core::{Aabb, Camera};
 
 /// The light view from `light` along `axis` fitted to the box `min..max`.
 fn fitted(light: LightPoint, axis: Vec3, min: Vec3, max: Vec3) -> View {
     View::fit_light(
         light,
         axis,
-        &shadow_core::Coverage::whole(&Aabb { min, max }),
+        &soft_shadow_core::Coverage::whole(&Aabb { min, max }),
     )
 }
 
@@ -62,7 +62,7 @@ fn perspective_depth_matches_ray_plane_intersection() {
     let normal = Vec3::new(0.3, 1.0, -0.2).normalize();
     let p0 = Vec3::new(0.0, 0.5, 0.0);
     // A large quad in the plane through p0 with that normal.
-    let (t, b) = shadow_core::light::orthonormal_basis(normal);
+    let (t, b) = soft_shadow_core::light::orthonormal_basis(normal);
     let q = |s: f32, u: f32| p0 + t * s + b * u;
     let tris = vec![
         [q(-20., -20.), q(20., -20.), q(20., 20.)],
@@ -118,7 +118,7 @@ fn orthographic_depth_matches_plane() {
         Vec3::ONE,
     );
     let normal = Vec3::new(0.1, 1.0, 0.3).normalize();
-    let (t, b) = shadow_core::light::orthonormal_basis(normal);
+    let (t, b) = soft_shadow_core::light::orthonormal_basis(normal);
     let q = |s: f32, u: f32| t * s + b * u;
     let tris = vec![
         [q(-9., -9.), q(9., -9.), q(9., 9.)],
@@ -149,7 +149,7 @@ fn orthographic_depth_matches_plane() {
 /// projections and both depth tests (cleared values, the near and far planes, and between).
 #[test]
 fn linearize_is_linear_depth_per_texel() {
-    use shadow_core::raster::DepthPass;
+    use soft_shadow_core::raster::DepthPass;
     let dir = Vec3::new(0.2, 1.0, 0.1).normalize();
     let views = [LightPoint::Direction(dir), LightPoint::Position(dir * 4.0)]
         .map(|light| fitted(light, -dir, Vec3::splat(-1.0), Vec3::ONE));
@@ -182,7 +182,7 @@ fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
         Vec3::new(-1.0, 0.0, -1.0),
         Vec3::new(1.0, 1.0, 1.0),
     );
-    let mut rng = shadow_core::rng::SplitMix(3);
+    let mut rng = soft_shadow_core::rng::SplitMix(3);
     let mut next = || rng.next_f32();
     let tris: Vec<[Vec3; 3]> = (0..40)
         .map(|_| {

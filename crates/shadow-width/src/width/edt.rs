@@ -9,12 +9,12 @@
 //! without an envelope.
 
 use rayon::prelude::*;
-use shadow_core::{Map2D, pool};
+use soft_shadow_core::{Map2D, pool};
 
 /// Column distance of a texel whose column has no unblocked texel. Column distances are `u16`
 /// (every other one is below the map side), which halves the column pass's traffic.
 const NONE: u16 = u16::MAX;
-const _: () = assert!(shadow_core::technique::MAX_CPU_RESOLUTION <= NONE as u32);
+const _: () = assert!(soft_shadow_core::technique::MAX_CPU_RESOLUTION <= NONE as u32);
 
 /// Columns per strip of the column pass.
 const STRIP: usize = 64;

@@ -1,10 +1,10 @@
-//! The width map by jump flooding ([`shadow_core::jump_flood`]): the seeds are the unblocked
+//! The width map by jump flooding ([`soft_shadow_core::jump_flood`]): the seeds are the unblocked
 //! texels, so every blocked texel learns its nearest unblocked one. `width.wgsl` seeds and
-//! resolves on the GPU, `shadow_core`'s jump-flood kernel floods, in the same order as here.
+//! resolves on the GPU, `soft_shadow_core`'s jump-flood kernel floods, in the same order as here.
 
-use shadow_core::jump_flood::flood;
-use shadow_core::seeds::{NONE, dist2, pack};
-use shadow_core::{Map2D, pool};
+use soft_shadow_core::jump_flood::flood;
+use soft_shadow_core::seeds::{NONE, dist2, pack};
+use soft_shadow_core::{Map2D, pool};
 
 /// The jump-flooded width map of `mask`, capped at [`super::cap`].
 pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {

@@ -10,7 +10,7 @@ pub mod jfa;
 pub mod propagate;
 
 use crate::params::WidthMethod;
-use shadow_core::Map2D;
+use soft_shadow_core::Map2D;
 
 /// Width given to texels with no reachable unblocked texel: twice the map side (beyond any
 /// distance inside the map).

@@ -9,7 +9,7 @@
 
 use crate::params::Neighbours;
 use rayon::prelude::*;
-use shadow_core::Map2D;
+use soft_shadow_core::Map2D;
 
 /// Value of a blocked texel before propagation reaches it.
 pub const UNREACHED: f32 = 1.0e9;
@@ -154,7 +154,7 @@ pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
     let res = mask.width();
     let rows = (res as usize).max(1);
     // The start and each pass write every texel of their destination: no clearing pass.
-    let mut a = shadow_core::pool::overwrite(mask.data().len(), 0.0f32);
+    let mut a = soft_shadow_core::pool::overwrite(mask.data().len(), 0.0f32);
     a.par_chunks_mut(rows)
         .zip(mask.data().par_chunks(rows))
         .for_each(|(a, m)| {
@@ -162,7 +162,7 @@ pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
                 *a = if b { UNREACHED } else { 0.0 };
             }
         });
-    let mut b = shadow_core::pool::overwrite(a.len(), 0.0f32);
+    let mut b = soft_shadow_core::pool::overwrite(a.len(), 0.0f32);
     let chunks = rows.div_ceil(CHUNK) * mask.height() as usize;
     let mut a_zero = vec![false; chunks];
     zero_chunks(&a, res, &mut a_zero);
@@ -173,7 +173,7 @@ pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
         std::mem::swap(&mut a, &mut b);
         std::mem::swap(&mut a_zero, &mut b_zero);
     }
-    shadow_core::pool::give(b);
+    soft_shadow_core::pool::give(b);
     let cap = super::cap(res);
     a.par_chunks_mut(rows)
         .for_each(|row| row.iter_mut().for_each(|w| *w = w.min(cap)));

@@ -1,16 +1,16 @@
-//! Measured profiles for [`crate::frame::TechniqueChoice::Auto`]: per light kind and backend,
+//! Measured profiles for [`crate::TechniqueChoice::Auto`]: per light kind and backend,
 //! each configuration's time (generation + evaluation) and error, from a `report.json` of this
 //! machine (the harness loads it) or the built-in defaults.
 
-use crate::light::LightKind;
-use crate::technique::Backend;
+use soft_shadow_core::light::LightKind;
+use soft_shadow_core::technique::Backend;
 
 /// One measured configuration.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProfileEntry {
-    /// Technique name, as [`crate::DynTechnique::name`].
+    /// Technique name, as [`soft_shadow_core::DynTechnique::name`].
     pub technique: String,
-    /// Variant label, as [`crate::DynTechnique::variant`].
+    /// Variant label, as [`soft_shadow_core::DynTechnique::variant`].
     pub variant: String,
     /// Light kind the measurement is for.
     pub light: LightKind,
@@ -36,7 +36,7 @@ pub struct TechniqueProfile {
 /// medians and mean rms over the built-in scenes of that light kind, as
 /// `harness::profile::from_report_json` reads them). Each technique crate lists its own
 /// (`PROFILE_DEFAULTS`) and registers them with
-/// [`crate::frame::FramePipeline::add_profile_defaults`].
+/// [`crate::FramePipeline::add_profile_defaults`].
 pub type DefaultCost = (&'static str, &'static str, LightKind, f64, f64);
 
 impl TechniqueProfile {

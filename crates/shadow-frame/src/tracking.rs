@@ -1,12 +1,12 @@
 //! The core systems that run before the techniques: caster tracking, technique resolution and
 //! staleness. Work downstream is driven by what they find changed, nothing else.
 
-use super::TechniqueRegistry;
-use super::components::*;
-use super::profile::TechniqueProfile;
-use crate::mesh::Aabb;
+use crate::TechniqueRegistry;
+use crate::components::*;
+use crate::profile::TechniqueProfile;
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, Transform};
 use bevy_ecs::prelude::*;
+use soft_shadow_core::mesh::Aabb;
 use std::sync::Arc;
 
 /// World bounds of a caster instance.
@@ -55,7 +55,7 @@ pub fn track_casters(
 /// Validates the frame receivers once per frame (equal lengths, finite values): bad receivers
 /// become every light's error, and a NaN point never passes as "out of range".
 pub fn check_receivers(frame: Res<FrameReceivers>, mut error: ResMut<ReceiversError>) {
-    let e = crate::Receivers {
+    let e = soft_shadow_core::Receivers {
         positions: &frame.positions,
         normals: &frame.normals,
     }
@@ -70,7 +70,7 @@ pub fn check_receivers(frame: Res<FrameReceivers>, mut error: ResMut<ReceiversEr
 /// The technique of a light: the hard path for a zero-size light, the explicit one, or the
 /// profile's pick within the budget.
 fn resolve_one(
-    light: &crate::Light,
+    light: &soft_shadow_core::Light,
     config: &ShadowConfig,
     registry: &TechniqueRegistry,
     profile: &TechniqueProfile,

@@ -7,15 +7,15 @@
 //!
 //! Everything read is checked before it is used: buffer, view and accessor ranges, component
 //! types and alignment (glTF 2.0 section 3.6.2.4), index bounds, primitive modes, and the mesh's
-//! coordinates ([`crate::mesh::MAX_COORDINATE`]). The `gltf` crate still panics on some
+//! coordinates ([`soft_shadow_core::mesh::MAX_COORDINATE`]). The `gltf` crate still panics on some
 //! malformed JSON while it validates (an index out of bounds in `gltf-json`'s mesh validation,
 //! `unreachable!` in its mode parsing): the import boundary catches those panics, without
 //! printing them, and returns a [`ShadowError::Gltf`] naming the file.
 
-use crate::error::{Result, ShadowError};
-use crate::mesh::TriangleMesh;
 use glam::{Mat4, Vec3};
 use gltf::mesh::Mode;
+use soft_shadow_core::error::{Result, ShadowError};
+use soft_shadow_core::mesh::TriangleMesh;
 use std::path::Path;
 
 fn err(source_name: &str, reason: impl Into<String>) -> ShadowError {

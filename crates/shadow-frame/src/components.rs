@@ -1,11 +1,11 @@
 //! What the frame pipeline keeps on light entities and in the world.
 
-use crate::GpuContext;
-use crate::light::{Light, LightKind};
-use crate::mesh::Aabb;
-use crate::technique::{AnyMaps, Backend, DynTechnique};
 use bevy_ecs::prelude::*;
 use glam::Vec3;
+use soft_shadow_core::GpuContext;
+use soft_shadow_core::light::{Light, LightKind};
+use soft_shadow_core::mesh::Aabb;
+use soft_shadow_core::technique::{AnyMaps, Backend, DynTechnique};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -15,7 +15,7 @@ pub enum TechniqueChoice {
     /// This technique, with these parameters.
     Explicit(Arc<dyn DynTechnique>),
     /// The configuration with the lowest measured error whose measured time (generation +
-    /// evaluation) fits `budget_ms`, from the pipeline's [`crate::frame::TechniqueProfile`].
+    /// evaluation) fits `budget_ms`, from the pipeline's [`crate::TechniqueProfile`].
     Auto {
         /// Time budget per light and frame, milliseconds.
         budget_ms: f64,
@@ -96,7 +96,7 @@ pub struct FrameReceivers {
 }
 
 /// Why this frame's [`FrameReceivers`] cannot be shaded (`None` when they are valid), checked
-/// once per frame by [`crate::frame::tracking::check_receivers`].
+/// once per frame by [`crate::tracking::check_receivers`].
 #[derive(Resource, Default, Clone)]
 pub struct ReceiversError(pub Option<String>);
 
@@ -148,7 +148,9 @@ pub struct CasterIndex {
 /// The sphere a light influences: centre and radius (infinite for distant lights).
 pub fn influence(light: &Light, range: f32) -> (Vec3, f32) {
     match light.center() {
-        crate::light::LightPoint::Position(p) if light.kind() != LightKind::Distant => (p, range),
+        soft_shadow_core::light::LightPoint::Position(p) if light.kind() != LightKind::Distant => {
+            (p, range)
+        }
         _ => (Vec3::ZERO, f32::INFINITY),
     }
 }

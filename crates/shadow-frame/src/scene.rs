@@ -3,13 +3,13 @@
 //! Techniques never see the world: [`Scene::geometry`] flattens it into plain world-space triangles
 //! ([`SceneGeometry`]), the data the kernels take.
 
-use crate::error::{Result, ShadowError};
-use crate::geometry::SceneGeometry;
-use crate::light::Light;
-use crate::mesh::{Aabb, TriangleMesh};
-use crate::view::Camera;
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec3};
+use soft_shadow_core::error::{Result, ShadowError};
+use soft_shadow_core::geometry::SceneGeometry;
+use soft_shadow_core::light::Light;
+use soft_shadow_core::mesh::{Aabb, TriangleMesh};
+use soft_shadow_core::view::Camera;
 use std::sync::Arc;
 
 /// A mesh attached to an entity (shared, so many entities can instance one mesh).

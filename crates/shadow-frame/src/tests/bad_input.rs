@@ -1,8 +1,9 @@
 //! Bad input gets a typed error naming the problem; nothing panics.
 
+use crate::Scene;
+use crate::gltf::{glb, import_gltf_slice};
 use glam::{Mat4, Vec3};
-use shadow_core::gltf_import::{glb, import_gltf_slice};
-use shadow_core::{Light, Scene, ShadowError, TriangleMesh};
+use soft_shadow_core::{Light, ShadowError, TriangleMesh};
 use std::sync::Arc;
 
 const BUNNY: &[u8] = include_bytes!("../../../../assets/stanford-bunny.glb");
@@ -28,7 +29,7 @@ fn triangle_glb(mode: u32, index: u16) -> Vec<u8> {
     glb(&json, &bin)
 }
 
-fn gltf_reason(r: shadow_core::Result<TriangleMesh>) -> String {
+fn gltf_reason(r: soft_shadow_core::Result<TriangleMesh>) -> String {
     match r {
         Err(ShadowError::Gltf { reason, .. }) => reason,
         other => panic!("expected a glTF error, got {other:?}"),
@@ -86,7 +87,7 @@ fn malformed_gltf_is_a_typed_error() {
 #[test]
 fn a_text_file_is_not_a_gltf_file() {
     for bytes in [&b"hello, this is text"[..], b"", b"\x00\x01binary"] {
-        match shadow_core::gltf_import::import_gltf_slice(bytes, "notes.glb", None) {
+        match crate::gltf::import_gltf_slice(bytes, "notes.glb", None) {
             Err(ShadowError::Gltf { reason, .. }) => {
                 assert!(reason.contains("not a glTF/GLB file"), "{reason}")
             }
@@ -141,7 +142,7 @@ fn zero_or_negative_light_size_is_a_typed_error() {
         Light::Distant {
             direction: Vec3::Y,
             angular_diameter: 0.0,
-            profile: shadow_core::DistantProfile::UniformDisk,
+            profile: soft_shadow_core::DistantProfile::UniformDisk,
         },
         Light::Point {
             position: Vec3::NAN,

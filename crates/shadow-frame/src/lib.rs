@@ -1,5 +1,9 @@
 //! The frame pipeline: simulate only the effects a scene calls for.
 //!
+//! A `bevy_ecs` scene ([`scene`], [`Scene`]: meshes with transforms, casters, receivers, lights, a
+//! camera), glTF import ([`gltf`], feature `gltf`) and the per-frame schedule that runs the
+//! techniques of `soft-shadow-core` over it.
+//!
 //! Lights carry a [`ShadowConfig`] (an explicit technique, or `Auto` within a time budget);
 //! technique crates register one system set each ([`FramePipeline::add_technique`], called from
 //! their `add_to`), with a run condition: a technique no light uses, or a scene without casters,
@@ -19,18 +23,24 @@
 //! system.
 
 pub mod components;
+#[cfg(feature = "gltf")]
+pub mod gltf;
 pub mod profile;
+pub mod scene;
 pub mod stats;
 pub mod technique_system;
+#[cfg(test)]
+mod tests;
 pub mod tracking;
 
 pub use components::*;
 pub use profile::{ProfileEntry, TechniqueProfile};
+pub use scene::Scene;
 pub use stats::{FrameStats, TechniqueStats};
 
 use crate::scene::ShadowCaster;
-use crate::technique::DynTechnique;
 use bevy_ecs::prelude::*;
+use soft_shadow_core::technique::DynTechnique;
 use std::sync::Arc;
 use technique_system::{CasterQuery, LightQuery, run_technique};
 

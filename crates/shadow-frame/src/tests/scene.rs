@@ -1,7 +1,8 @@
 //! The ECS scene flattens into plain geometry: transforms applied, caster/receiver flags kept.
 
+use crate::Scene;
 use glam::{Mat4, Vec3};
-use shadow_core::{Camera, Light, Scene, TriangleMesh};
+use soft_shadow_core::{Camera, Light, TriangleMesh};
 use std::sync::Arc;
 
 fn unit_triangle() -> Arc<TriangleMesh> {

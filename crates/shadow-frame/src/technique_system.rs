@@ -2,13 +2,13 @@
 //! of stale lights (from the casters within the light's influence), reuse the others, and
 //! evaluate the frame receivers within the influence.
 
-use super::components::*;
-use super::stats::FrameStats;
-use crate::SceneGeometry;
-use crate::mesh::Aabb;
+use crate::components::*;
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
-use crate::technique::Receivers;
+use crate::stats::FrameStats;
 use bevy_ecs::prelude::*;
+use soft_shadow_core::SceneGeometry;
+use soft_shadow_core::mesh::Aabb;
+use soft_shadow_core::technique::Receivers;
 use std::time::Instant;
 
 /// The lights a technique system reads and updates.
@@ -41,7 +41,7 @@ pub type CasterQuery<'w, 's> = Query<
 fn light_geometry(
     casters: &CasterQuery,
     index: &CasterIndex,
-    light: &crate::Light,
+    light: &soft_shadow_core::Light,
     range: f32,
     receivers: &[glam::Vec3],
 ) -> SceneGeometry {
