@@ -9,7 +9,7 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use harness::setup::scene_receivers;
 use shadow_benches::{configs, gpu, iter_device_time, timing};
-use soft_shadow_core::{Backend, Receivers};
+use soft_shadow_core::{Context, CpuContext, Receivers};
 
 /// G-buffer side: the receivers.
 const SIZE: u32 = 512;
@@ -18,6 +18,7 @@ const RESOLUTION: u32 = 1024;
 
 fn evaluation(c: &mut Criterion) {
     let gpu = gpu();
+    let cpu = CpuContext::new();
     for cfg in configs() {
         let (_, positions, normals) = scene_receivers(&cfg.spec, SIZE).expect("receivers");
         let recv = Receivers {
@@ -29,21 +30,21 @@ fn evaluation(c: &mut Criterion) {
         timing(&mut group, 10);
         group.throughput(Throughput::Elements(positions.len() as u64));
         let maps = t
-            .generate(Backend::Cpu, None, geo, light, RESOLUTION)
+            .generate(Context::Cpu(&cpu), geo, light, RESOLUTION)
             .expect("cpu generation");
         group.bench_function("cpu", |b| {
-            b.iter(|| t.evaluate(None, &maps, &recv).expect("cpu evaluation"))
+            b.iter(|| maps.evaluate(None, &recv).expect("cpu evaluation"))
         });
         if let Some(g) = &gpu {
             let maps = t
-                .generate(Backend::Gpu, Some(g), geo, light, RESOLUTION)
+                .generate(Context::Gpu(g), geo, light, RESOLUTION)
                 .expect("gpu generation");
             group.bench_function("gpu-wall", |b| {
-                b.iter(|| t.evaluate(Some(g), &maps, &recv).expect("gpu evaluation"))
+                b.iter(|| maps.evaluate(Some(g), &recv).expect("gpu evaluation"))
             });
             if g.has_timestamps() {
                 group.bench_function("gpu-device", |b| {
-                    iter_device_time(b, g, || t.evaluate(Some(g), &maps, &recv))
+                    iter_device_time(b, g, || maps.evaluate(Some(g), &recv))
                 });
             }
         }

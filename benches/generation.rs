@@ -14,12 +14,14 @@ use harness::scenes::catalogue::build;
 use shadow_benches::{EVICT_BYTES, RESOLUTIONS, configs, gpu, iter_cold, iter_device_time, timing};
 use shadow_frame::FrameSettings;
 use shadow_width::width::width_map;
-use shadow_width::{DepthLayer, ShadowWidth, cpu};
+use shadow_width::{DepthLayer, ShadowWidth};
+use soft_shadow_core::ShadowTechnique;
 use soft_shadow_core::gpu::GpuScene;
-use soft_shadow_core::{Backend, GpuContext};
+use soft_shadow_core::{Context, CpuContext, GpuContext};
 
 fn generation(c: &mut Criterion) {
     let gpu: Option<GpuContext> = gpu();
+    let cpu_ctx = CpuContext::new();
     for cfg in configs() {
         let (t, geo, light) = (&cfg.technique, &cfg.geometry, &cfg.spec.light);
         let mut group = c.benchmark_group(format!("generate/{}/{}", cfg.spec.name, cfg.label()));
@@ -28,7 +30,7 @@ fn generation(c: &mut Criterion) {
         let mut evict = (t.name() == HARD).then(|| vec![0u8; EVICT_BYTES]);
         for res in RESOLUTIONS {
             let cpu = || {
-                t.generate(Backend::Cpu, None, geo, light, res)
+                t.generate(Context::Cpu(&cpu_ctx), geo, light, res)
                     .expect("cpu generation")
             };
             group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, _| b.iter(cpu));
@@ -44,14 +46,14 @@ fn generation(c: &mut Criterion) {
                     let maps = t
                         .generate_gpu_on(g, &scene, light, res)
                         .expect("gpu generation");
-                    t.recycle(Some(g), maps);
+                    maps.recycle(Some(g));
                 })
             });
             if g.has_timestamps() {
                 group.bench_with_input(BenchmarkId::new("gpu-device", res), &res, |b, &res| {
                     iter_device_time(b, g, || {
                         let maps = t.generate_gpu_on(g, &scene, light, res)?;
-                        t.recycle(Some(g), maps);
+                        maps.recycle(Some(g));
                         Ok(())
                     })
                 });
@@ -72,10 +74,13 @@ fn shadow_width_map(c: &mut Criterion) {
     {
         let mut group = c.benchmark_group(format!("width-map/torus/{}", t.label()));
         timing(&mut group, 10);
+        let ctx = CpuContext::new();
         for res in RESOLUTIONS {
-            let maps = cpu::generate(&t, &geo, &spec.light, res);
+            let maps = t
+                .generate_cpu(&ctx, &geo, &spec.light, res)
+                .expect("cpu generation");
             group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, _| {
-                b.iter(|| width_map(&maps.occlusion, t.method))
+                b.iter(|| width_map(ctx.pool(), &maps.occlusion, t.method))
             });
         }
         group.finish();

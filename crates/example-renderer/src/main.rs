@@ -7,7 +7,7 @@ use clap::Parser;
 use example_renderer::{
     FrameSettings, Renderer, model_on_ground, moving_light, moving_triangle, own_device,
 };
-use soft_shadow_core::{LightKind, Result, ShadowError, ShadowTechnique};
+use soft_shadow_core::{LightKind, ShadowError, ShadowTechnique};
 use std::path::PathBuf;
 
 /// Command-line options.
@@ -34,6 +34,9 @@ struct Args {
     #[arg(long, default_value = "renderer-frames")]
     out: PathBuf,
 }
+
+/// What `main` reports: the library's error, or a frame that could not be written.
+type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
 
 fn run<T: ShadowTechnique>(technique: T, args: &Args) -> Result<()> {
     let model = shadow_frame::gltf::import_gltf_file(&args.model)?;
@@ -62,10 +65,7 @@ fn run<T: ShadowTechnique>(technique: T, args: &Args) -> Result<()> {
         renderer
             .read_color()?
             .save(&path)
-            .map_err(|e| ShadowError::Write {
-                path: path.display().to_string(),
-                source: std::io::Error::other(e),
-            })?;
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         println!("{}", path.display());
     }
     Ok(())
@@ -83,7 +83,7 @@ fn main() {
             &args,
         ),
         "penumbra-limit" => run(
-            penumbra_limit::PenumbraLimit::new(penumbra_limit::Generation::Silhouette),
+            penumbra_limit::PenumbraLimit::new(penumbra_limit::Generator::Silhouette),
             &args,
         ),
         "occlusion-slices" => run(
@@ -95,9 +95,9 @@ fn main() {
             shadow_width::ShadowWidth::new(shadow_width::WidthMethod::Exact),
             &args,
         ),
-        other => Err(ShadowError::InvalidScene(format!(
-            "unknown technique {other:?}; see --help"
-        ))),
+        other => Err(
+            ShadowError::InvalidScene(format!("unknown technique {other:?}; see --help")).into(),
+        ),
     };
     if let Err(e) = out {
         eprintln!("error: {e}");

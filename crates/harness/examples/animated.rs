@@ -12,7 +12,7 @@ use glam::Vec3;
 use harness::animated::{AnimatedScene, pipeline};
 use shadow_frame::scene::LightSource;
 use shadow_frame::{FrameBackend, LightState, ResolvedTechnique, ShadowConfig, influence};
-use soft_shadow_core::{Backend, GpuContext};
+use soft_shadow_core::GpuContext;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -47,15 +47,14 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(args: Args) -> soft_shadow_core::Result<()> {
+fn run(args: Args) -> harness::error::Result<()> {
     let (frames, out) = (args.frames, args.out);
     let size = 384;
     let mut lab = AnimatedScene::new(size, 512)?;
     if args.gpu {
-        lab.scene.world.insert_resource(FrameBackend {
-            backend: Backend::Gpu,
-            gpu: Some(Arc::new(GpuContext::new()?)),
-        });
+        lab.scene
+            .world
+            .insert_resource(FrameBackend::gpu(Arc::new(GpuContext::new()?)));
     }
     let mut pipeline = pipeline();
     for f in 0..frames {
@@ -113,10 +112,7 @@ fn run(args: Args) -> soft_shadow_core::Result<()> {
     }
     image
         .save(&out)
-        .map_err(|e| soft_shadow_core::ShadowError::Write {
-            path: out.display().to_string(),
-            source: std::io::Error::other(e),
-        })?;
+        .map_err(|e| harness::error::HarnessError::write(&out, e))?;
     println!("wrote {}", out.display());
     Ok(())
 }

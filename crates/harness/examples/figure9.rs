@@ -11,7 +11,7 @@ use harness::scenes::catalogue::build;
 use harness::setup::PreparedScene;
 use linear_light::LinearLight;
 use shadow_maps::{Filter, ShadowMapBaseline};
-use soft_shadow_core::{Backend, DynTechnique, GpuContext};
+use soft_shadow_core::{Context, CpuContext, DynTechnique, GpuContext};
 use std::time::Instant;
 
 const RES: u32 = 512;
@@ -25,8 +25,7 @@ struct Row {
 
 fn measure(
     t: &dyn DynTechnique,
-    backend: Backend,
-    gpu: Option<&GpuContext>,
+    ctx: Context<'_>,
     prep: &PreparedScene,
     reference: &[f32],
 ) -> soft_shadow_core::Result<Row> {
@@ -34,8 +33,8 @@ fn measure(
     let mut v = Vec::new();
     for _ in 0..5 {
         let start = Instant::now();
-        let maps = t.generate(backend, gpu, &prep.geometry, &prep.spec.light, RES)?;
-        v = t.evaluate(gpu, &maps, &prep.receivers())?;
+        let maps = t.generate(ctx, &prep.geometry, &prep.spec.light, RES)?;
+        v = maps.evaluate(ctx.gpu(), &prep.receivers())?;
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }
     let e = errors(&v, reference, &prep.shading);
@@ -54,19 +53,17 @@ fn main() -> soft_shadow_core::Result<()> {
     } else {
         None
     };
-    let backend = if gpu.is_some() {
-        Backend::Gpu
-    } else {
-        Backend::Cpu
+    let cpu = CpuContext::new();
+    let backend = match &gpu {
+        Some(g) => Context::Gpu(g),
+        None => Context::Cpu(&cpu),
     };
     let prep = PreparedScene::new(build("linear-bar")?, 256, GroundTruthSettings::default())?;
     let reference = prep.reference_v();
-    let g = gpu.as_ref();
-    let ours = measure(&LinearLight::new(2), backend, g, &prep, &reference)?;
+    let ours = measure(&LinearLight::new(2), backend, &prep, &reference)?;
     let mut rows = vec![measure(
         &ShadowMapBaseline::new(Filter::Accumulate { samples: 10 }),
         backend,
-        g,
         &prep,
         &reference,
     )?];
@@ -76,7 +73,6 @@ fn main() -> soft_shadow_core::Result<()> {
         let r = measure(
             &ShadowMapBaseline::new(Filter::Accumulate { samples: n }),
             backend,
-            g,
             &prep,
             &reference,
         )?;
@@ -88,17 +84,11 @@ fn main() -> soft_shadow_core::Result<()> {
     rows.extend(equal);
     // More samples along the segment, for context (section 3.3).
     for n in [3, 5, 9] {
-        rows.push(measure(
-            &LinearLight::new(n),
-            backend,
-            g,
-            &prep,
-            &reference,
-        )?);
+        rows.push(measure(&LinearLight::new(n), backend, &prep, &reference)?);
     }
     println!(
         "linear-bar, map {RES}, 256² receivers, {} backend",
-        backend.name()
+        backend.backend().name()
     );
     println!("| run | generate + evaluate (ms) | rms_255 | penumbra_rms_255 |");
     println!("|---|---|---|---|");

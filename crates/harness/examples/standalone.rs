@@ -4,7 +4,9 @@
 
 use glam::Vec3;
 use shadow_maps::{Filter, ShadowMapBaseline};
-use soft_shadow_core::{Aabb, GpuContext, Light, Receivers, SceneGeometry, ShadowTechnique};
+use soft_shadow_core::{
+    Aabb, CpuContext, GpuContext, Light, Receivers, SceneGeometry, ShadowTechnique,
+};
 
 fn main() -> soft_shadow_core::Result<()> {
     // A 1 m square occluder 1 m above a ground plane, a 0.8 m square light 3 m up.
@@ -40,7 +42,9 @@ fn main() -> soft_shadow_core::Result<()> {
     };
 
     let pcss = ShadowMapBaseline::new(Filter::Pcss);
-    let maps = pcss.generate_cpu(&geometry, &light, 1024)?;
+    // Keep one CPU context (its buffer pool, its memory budget) for every generation.
+    let cpu = CpuContext::new();
+    let maps = pcss.generate_cpu(&cpu, &geometry, &light, 1024)?;
     let v_cpu = pcss.evaluate_cpu(&maps, &receivers)?;
     println!("x      V (cpu)");
     for (p, v) in points.iter().zip(&v_cpu) {

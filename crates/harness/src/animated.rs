@@ -83,7 +83,7 @@ impl AnimatedScene {
                     radius: 0.4,
                 },
                 Arc::new(penumbra_limit::PenumbraLimit::new(
-                    penumbra_limit::Generation::Silhouette,
+                    penumbra_limit::Generator::Silhouette,
                 )),
             ),
             (
@@ -121,6 +121,7 @@ impl AnimatedScene {
         scene.set_camera(camera);
         let geo = scene.geometry();
         let gb = gbuffer(
+            &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
             &camera.view(size, size),
             camera.eye,
             size,

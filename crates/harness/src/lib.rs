@@ -2,6 +2,7 @@
 //! accuracy-vs-time report (`cargo run --release --bin harness -- report`).
 
 pub mod animated;
+pub mod error;
 pub mod ground_truth;
 pub mod metrics;
 pub mod papers;

@@ -3,7 +3,7 @@
 //! `harness papers [--out DIR] [--size N]`.
 
 use clap::{Parser, Subcommand, ValueEnum};
-use harness::report::{BackendChoice, ReportOptions, run};
+use harness::report::{BackendChoice, MemoryBudgets, ReportOptions, run};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -72,7 +72,29 @@ enum Command {
     },
 }
 
-fn report_error(e: &soft_shadow_core::ShadowError) -> ExitCode {
+/// Says once, before the GPU starts, that Mesa's Vulkan drivers print
+/// `error: XDG_RUNTIME_DIR is invalid or not set in the environment.` when that variable is
+/// missing (no display server to talk to): the line is the driver's, harmless for headless
+/// compute, and setting the variable silences it. Our own errors start `error:` too, so the line
+/// is explained rather than filtered; nothing is hidden.
+fn explain_driver_noise() {
+    let valid =
+        std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    if !valid {
+        eprintln!(
+            "note: XDG_RUNTIME_DIR is not set; the Vulkan driver may print \"error: \
+             XDG_RUNTIME_DIR is invalid or not set\" below. It is the driver's, harmless here \
+             (no display is used); set XDG_RUNTIME_DIR to silence it."
+        );
+    }
+}
+
+/// A budget in bytes from the environment variable `var`, where it is set and a number.
+fn budget_from_env(var: &str) -> Option<u64> {
+    std::env::var(var).ok()?.trim().parse().ok()
+}
+
+fn report_error(e: &harness::error::HarnessError) -> ExitCode {
     eprintln!("error: {e}");
     let mut src = std::error::Error::source(e);
     while let Some(s) = src {
@@ -112,7 +134,14 @@ fn main() -> ExitCode {
                 },
                 scene_files: scene_file,
                 size,
+                memory: MemoryBudgets {
+                    cpu: budget_from_env("SHADOW_CPU_MEMORY_BUDGET"),
+                    gpu: budget_from_env("SHADOW_GPU_MEMORY_BUDGET"),
+                },
             };
+            if opts.backend != BackendChoice::Cpu {
+                explain_driver_noise();
+            }
             run(&opts).map(|r| {
                 format!(
                     "wrote {} runs over {} scenes to {}",

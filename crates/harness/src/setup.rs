@@ -5,9 +5,11 @@ use crate::ground_truth::{GroundTruthSettings, RayTracer, Reference};
 use crate::metrics::{Shading, TERMINATOR_COS};
 use crate::scenes::SceneSpec;
 use glam::Vec3;
+use soft_shadow_core::pool::Pool;
 use soft_shadow_core::raster::{GBufferTexel, gbuffer, rasterize_nearest};
 use soft_shadow_core::{Light, LightPoint, Map2D, Receivers, Result, SceneGeometry, ShadowError};
 use std::collections::HashSet;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The receivers of a scene without its reference (cheap): flattened geometry and the positions
@@ -24,6 +26,7 @@ pub fn scene_receivers(
         .camera()
         .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
     let gb = gbuffer(
+        &Arc::new(Pool::new(0)),
         &camera.view(size, size),
         camera.eye,
         size,
@@ -85,7 +88,9 @@ impl PreparedScene {
             .camera()
             .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
         let view = camera.view(size, size);
-        let gb = gbuffer(&view, camera.eye, size, size, &geometry.receivers);
+        // One-off maps: nothing to keep for a later call.
+        let pool = Arc::new(Pool::new(0));
+        let gb = gbuffer(&pool, &view, camera.eye, size, size, &geometry.receivers);
         let covered: Vec<usize> = gb
             .data()
             .iter()
@@ -101,7 +106,7 @@ impl PreparedScene {
         }
         // Which covered pixels lie on a caster (an object) rather than on receiving-only geometry.
         let caster_set: HashSet<[u32; 9]> = geometry.casters.iter().map(bits).collect();
-        let nearest = rasterize_nearest(&view, size, size, &geometry.receivers);
+        let nearest = rasterize_nearest(&pool, &view, size, size, &geometry.receivers);
         let all_object: Vec<bool> = covered
             .iter()
             .map(|&i| {

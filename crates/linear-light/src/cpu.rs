@@ -10,7 +10,7 @@ use crate::skins::skins;
 use crate::warp::{Source, warp};
 use rayon::prelude::*;
 use soft_shadow_core::raster::depth_map;
-use soft_shadow_core::{Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+use soft_shadow_core::{CpuContext, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
 
 /// The maps of one light: `N` samples per segment, segment after segment.
 #[derive(Clone, Debug)]
@@ -25,9 +25,10 @@ pub struct CpuLinearMaps {
     pub channel: Vec<Map2D<f32>>,
 }
 
-/// Builds the maps for `segments` (inputs already checked).
+/// Builds the maps for `segments` (inputs already checked), their storage from `cpu`'s pool.
 pub fn generate(
     t: &LinearLight,
+    cpu: &CpuContext,
     geometry: &SceneGeometry,
     segments: &[Segment],
     res: u32,
@@ -39,7 +40,7 @@ pub fn generate(
         channel: Vec::new(),
     };
     for s in segments {
-        let m = generate_segment(t, geometry, s, res);
+        let m = generate_segment(t, cpu, geometry, s, res);
         all.views.extend(m.views);
         all.params.extend(m.params);
         all.depth.extend(m.depth);
@@ -51,6 +52,7 @@ pub fn generate(
 /// The maps of one segment, its shares scaled by its weight.
 fn generate_segment(
     t: &LinearLight,
+    cpu: &CpuContext,
     geometry: &SceneGeometry,
     seg: &Segment,
     res: u32,
@@ -61,25 +63,26 @@ fn generate_segment(
         soft_shadow_core::Coverage::new(geometry, &soft_shadow_core::Light::Linear { a, b });
     let views = sample_views(a, b, n, seg.axis, &coverage, w);
     let params: Vec<MapParams> = views.iter().map(|v| v.params(res)).collect();
+    let pool = cpu.pool();
     let depth: Vec<Map2D<f32>> = views
         .iter()
-        .map(|v| depth_map(&v.view, res, &geometry.casters))
+        .map(|v| depth_map(pool, &v.view, res, &geometry.casters))
         .collect();
     // Skins and their warps read the grid maps (casters and receivers, see `grid_geometry`).
     let all = crate::skins::grid_geometry(geometry);
     let grid: Vec<Map2D<f32>> = views
         .iter()
-        .map(|v| depth_map(&v.view, res, &all))
+        .map(|v| depth_map(pool, &v.view, res, &all))
         .collect();
     let skin_sets: Vec<_> = views
         .iter()
         .zip(&grid)
-        .map(|(v, d)| skins(&v.view, d, t.edge_threshold_at(res)))
+        .map(|(v, d)| skins(pool, &v.view, d, t.edge_threshold_at(res)))
         .collect();
     let s = w * piece_share(n);
     let channel = (0..n)
         .map(|i| {
-            let mut c = Map2D::new(res, res, w * lit_share(i, n));
+            let mut c = Map2D::pooled(pool, res, res, w * lit_share(i, n));
             for j in neighbours(i, n) {
                 let (i, j) = (i as usize, j as usize);
                 let src = Source {
@@ -88,7 +91,7 @@ fn generate_segment(
                     threshold: t.edge_threshold_at(res),
                     piece: s,
                 };
-                warp(&skin_sets[j], &views[i].view, &grid[i], &src, &mut c);
+                warp(pool, &skin_sets[j], &views[i].view, &grid[i], &src, &mut c);
             }
             c
         })

@@ -21,7 +21,7 @@
 //! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
 //! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
 //! let technique = LinearLight::new(3);
-//! let maps = technique.generate_cpu(geometry, light, 512)?;
+//! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 512)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
 //! # Ok(()) }
 //! ```
@@ -33,92 +33,44 @@ pub mod params;
 pub mod samples;
 pub mod segments;
 pub mod skins;
+#[cfg(test)]
+mod tests;
 pub mod warp;
 
 pub use params::LinearLight;
 
 use segments::segments;
 use soft_shadow_core::gpu::GpuScene;
-use soft_shadow_core::technique::MAX_CPU_RESOLUTION;
 use soft_shadow_core::{
-    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+    Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
 };
 
 impl ShadowTechnique for LinearLight {
     type CpuMaps = cpu::CpuLinearMaps;
     type GpuMaps = gpu::GpuLinearMaps;
 
-    fn name(&self) -> &'static str {
-        "linear-light"
+    fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuLinearMaps {
+        let segs = segments(input.light, input.geometry);
+        cpu::generate(self, cpu, input.geometry, &segs, input.resolution)
     }
 
-    fn variant(&self) -> String {
-        self.label()
-    }
-
-    /// Segment lights, and triangles as three of them.
-    fn models(&self, kind: LightKind) -> bool {
-        matches!(kind, LightKind::Linear | LightKind::Triangle)
-    }
-
-    fn generate_cpu(
+    fn cpu_visibility(
         &self,
-        geometry: &SceneGeometry,
-        light: &Light,
-        resolution: u32,
-    ) -> Result<cpu::CpuLinearMaps> {
-        self.validate()?;
-        self.check_inputs(
-            geometry,
-            light,
-            resolution,
-            MAX_CPU_RESOLUTION,
-            soft_shadow_core::memory::cpu_budget(),
-        )?;
-        Ok(cpu::generate(
-            self,
-            geometry,
-            &segments(light, geometry)?,
-            resolution,
-        ))
+        maps: &cpu::CpuLinearMaps,
+        receivers: Checked<Receivers<'_>>,
+    ) -> Result<Vec<f32>> {
+        Ok(cpu::evaluate(self, maps, &receivers))
     }
 
-    fn evaluate_cpu(&self, maps: &cpu::CpuLinearMaps, receivers: &Receivers) -> Result<Vec<f32>> {
-        self.validate()?;
-        receivers.validate()?;
-        Ok(cpu::evaluate(self, maps, receivers))
-    }
-
-    /// Per sample of each segment: its depth, grid depth, channel and skin list; plus the
-    /// two warped values and their depth.
-    fn memory_estimate(&self, light: &Light, resolution: u32) -> u64 {
-        let segments = if light.kind() == LightKind::Triangle {
-            3
-        } else {
-            1
-        };
-        let layers = self.samples as u64 * segments;
-        soft_shadow_core::memory::maps(1, resolution, layers * 16 + 12)
-    }
-
-    fn record_gpu(
+    fn gpu_maps(
         &self,
         gpu: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
-        light: &Light,
-        resolution: u32,
+        input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuLinearMaps> {
-        self.validate()?;
-        self.check_inputs(
-            scene.geometry(),
-            light,
-            resolution,
-            gpu.max_texture_size(),
-            soft_shadow_core::memory::gpu_budget(),
-        )?;
-        let segs = segments(light, scene.geometry())?;
-        gpu::generate(gpu, enc, self, scene, &segs, resolution)
+        let segs = segments(input.light, input.geometry);
+        gpu::generate(gpu, enc, self, scene, &segs, input.resolution)
     }
 
     fn visibility_wgsl() -> String {
@@ -140,7 +92,6 @@ impl ShadowTechnique for LinearLight {
         layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuLinearMaps,
     ) -> Result<wgpu::BindGroup> {
-        self.validate()?;
         Ok(gpu::bind_maps(gpu, layout, self, maps))
     }
 }
@@ -149,8 +100,20 @@ impl ShadowTechnique for LinearLight {
 /// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
 #[cfg(feature = "frame")]
 pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
-    ("linear-light", "n5", LightKind::Linear, 16.5, 2.5),
-    ("linear-light", "n5", LightKind::Triangle, 43.3, 7.8),
+    (
+        "linear-light",
+        "n5",
+        soft_shadow_core::LightKind::Linear,
+        16.5,
+        2.5,
+    ),
+    (
+        "linear-light",
+        "n5",
+        soft_shadow_core::LightKind::Triangle,
+        43.3,
+        7.8,
+    ),
 ];
 
 /// Registers this technique with a frame pipeline: its system set (which runs only while a

@@ -1,6 +1,6 @@
 //! The technique's parameters and their validation.
 
-use soft_shadow_core::{Bias, Result, ShadowError};
+use soft_shadow_core::{Bias, Light, LightKind, Result, ShadowError, TechniqueInfo};
 
 /// Fewest and most point samples along the segment.
 pub const SAMPLE_RANGE: std::ops::RangeInclusive<u32> = 2..=64;
@@ -58,9 +58,24 @@ impl LinearLight {
         }
         s
     }
+}
+
+impl TechniqueInfo for LinearLight {
+    fn name(&self) -> &'static str {
+        "linear-light"
+    }
+
+    fn variant(&self) -> String {
+        self.label()
+    }
+
+    /// Segment lights, and triangles as three of them.
+    fn models(&self, kind: LightKind) -> bool {
+        matches!(kind, LightKind::Linear | LightKind::Triangle)
+    }
 
     /// Checks every parameter; the error names the first bad one.
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         let bad = |what: String| Err(ShadowError::InvalidParameter(what));
         if !SAMPLE_RANGE.contains(&self.samples) {
             return bad(format!(
@@ -75,5 +90,17 @@ impl LinearLight {
             ));
         }
         self.bias.validate()
+    }
+
+    /// Per sample of each segment: its depth, grid depth, channel and skin list; plus the
+    /// two warped values and their depth.
+    fn memory_estimate(&self, light: &Light, resolution: u32) -> u64 {
+        let segments = if light.kind() == LightKind::Triangle {
+            3
+        } else {
+            1
+        };
+        let layers = self.samples as u64 * segments;
+        soft_shadow_core::memory::maps(1, resolution, layers * 16 + 12)
     }
 }

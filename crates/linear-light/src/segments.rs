@@ -8,7 +8,7 @@
 //! for the strip of the triangle it bounds) and look along the triangle's emitting normal.
 
 use glam::Vec3;
-use soft_shadow_core::{Coverage, Light, Result, SceneGeometry, ShadowError};
+use soft_shadow_core::{Coverage, Light, SceneGeometry};
 
 /// One segment of a light and what it contributes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,32 +24,30 @@ pub struct Segment {
 }
 
 /// The segments of `light` (validated): one for a segment light, the three edges of a
-/// triangle; any other kind is [`ShadowError::UnsupportedLight`].
-pub fn segments(light: &Light, geometry: &SceneGeometry) -> Result<Vec<Segment>> {
+/// triangle; none for the other kinds, which the technique does not model (its checks refuse
+/// them before a kernel runs).
+pub fn segments(light: &Light, geometry: &SceneGeometry) -> Vec<Segment> {
     let axis = light.axis(Coverage::new(geometry, light).center());
     match *light {
-        Light::Linear { a, b } => Ok(vec![Segment {
+        Light::Linear { a, b } => vec![Segment {
             a,
             b,
             axis,
             weight: 1.0,
-        }]),
+        }],
         Light::Triangle { a, b, c } => {
             let v = [a, b, c];
             let lens = [0, 1, 2].map(|k| (v[(k + 1) % 3] - v[k]).length());
             let total: f32 = lens.iter().sum();
-            Ok((0..3)
+            (0..3)
                 .map(|k| Segment {
                     a: v[k],
                     b: v[(k + 1) % 3],
                     axis,
                     weight: lens[k] / total,
                 })
-                .collect())
+                .collect()
         }
-        _ => Err(ShadowError::UnsupportedLight {
-            technique: "linear-light".into(),
-            light: light.kind().name(),
-        }),
+        _ => Vec::new(),
     }
 }

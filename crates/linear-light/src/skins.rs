@@ -15,7 +15,9 @@
 use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 use soft_shadow_core::Map2D;
+use soft_shadow_core::pool::Pool;
 use soft_shadow_core::view::{NO_OCCLUDER, ProjectionKind, View};
+use std::sync::Arc;
 
 /// The triangles of the *grid* maps skins are built from: the casters plus every receiver that
 /// does not cast.
@@ -89,11 +91,11 @@ impl Unproject {
 /// Edge flags of a linear depth map: `|4 w - sum of the 4 neighbours' w| > t w` with `w = 1/z`
 /// (empty texels have `w = 0`). A neighbour beyond the border is extrapolated linearly from the
 /// other side (`2 w - w_opposite`), so a plane stays free of edges up to the border.
-pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
+pub fn edges(pool: &Arc<Pool>, depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
     let (w, h) = (depth.width() as usize, depth.height() as usize);
     let rows = w.max(1);
     // `w = 1/z` once per texel (its five readers share it).
-    let mut inv = soft_shadow_core::pool::overwrite(w * h, 0.0f32);
+    let mut inv = pool.overwrite(w * h, 0.0f32);
     inv.par_chunks_mut(rows)
         .zip(depth.data().par_chunks(rows))
         .for_each(|(o, d)| {
@@ -101,7 +103,7 @@ pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
                 *o = if z >= NO_OCCLUDER { 0.0 } else { 1.0 / z };
             }
         });
-    let mut data = soft_shadow_core::pool::overwrite(w * h, false);
+    let mut data = pool.overwrite(w * h, false);
     // The flag from a texel's `w` and its neighbours' sums along x and y.
     let edge = |c: f32, sx: f32, sy: f32| {
         let lap = 4.0 * c - sx - sy;
@@ -136,8 +138,10 @@ pub fn edges(depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
             }
         }
     });
-    soft_shadow_core::pool::give(inv);
-    Map2D::from_vec(w as u32, h as u32, data).unwrap_or_else(|| Map2D::new(0, 0, false))
+    pool.give(inv);
+    Map2D::from_vec(w as u32, h as u32, data)
+        .unwrap_or_else(|| Map2D::new(0, 0, false))
+        .returning_to(pool)
 }
 
 /// The Gouraud values of a grid triangle with linear depths `z`, or `None` when it spans no
@@ -153,13 +157,13 @@ pub fn skin_values(z: [f32; 3], t: f32) -> Option<[f32; 3]> {
 }
 
 /// Every skin of the map `depth` seen through `view`.
-pub fn skins(view: &View, depth: &Map2D<f32>, t: f32) -> Vec<Skin> {
+pub fn skins(pool: &Arc<Pool>, view: &View, depth: &Map2D<f32>, t: f32) -> Vec<Skin> {
     let res = depth.width();
     if res < 2 {
         return Vec::new();
     }
     let un = Unproject::new(view, res);
-    let edge = edges(depth, t);
+    let edge = edges(pool, depth, t);
     let w = res as usize;
     (0..res - 1)
         .into_par_iter()

@@ -18,9 +18,11 @@ use crate::skins::{Skin, Unproject};
 use glam::{DVec2, Vec3};
 use rayon::prelude::*;
 use soft_shadow_core::map2d::bilinear_texels;
+use soft_shadow_core::pool::Pool;
 use soft_shadow_core::raster::rasterize_nearest;
 use soft_shadow_core::view::{NO_OCCLUDER, View};
 use soft_shadow_core::{Map2D, MapParams};
+use std::sync::Arc;
 
 /// Relative depth tolerance of a skin fragment against the destination's depth map.
 pub const SKIN_DEPTH_TOLERANCE: f32 = 1e-3;
@@ -69,6 +71,7 @@ pub struct Source<'a> {
 /// warps into a texture cleared to [`NO_SKIN`] and adds it where it holds a change, which is
 /// never `NO_SKIN`: the same sums.)
 pub fn warp(
+    pool: &Arc<Pool>,
     skins: &[Skin],
     view: &View,
     depth: &Map2D<f32>,
@@ -78,7 +81,7 @@ pub fn warp(
     let res = depth.width();
     let un = Unproject::new(view, res);
     let tris: Vec<[Vec3; 3]> = skins.iter().map(|s| s.vertices).collect();
-    let frags = rasterize_nearest(view, res, res, &tris);
+    let frags = rasterize_nearest(pool, view, res, res, &tris);
     let vp = view.view_projection();
     let r = res as f64;
     let screen = |p: Vec3| {

@@ -7,7 +7,7 @@ use crate::frame::Frame;
 use crate::params::OcclusionSlices;
 use crate::slicing::slice;
 use rayon::prelude::*;
-use soft_shadow_core::{Light, Map2D, Receivers, SceneGeometry};
+use soft_shadow_core::{CpuContext, Generation, Map2D, Receivers};
 
 /// The prefiltered occlusion textures of one light.
 #[derive(Clone, Debug)]
@@ -20,16 +20,12 @@ pub struct CpuSliceMaps {
     pub filtered: Filtered,
 }
 
-/// Slices and prefilters (inputs already checked).
-pub fn generate(
-    t: &OcclusionSlices,
-    geometry: &SceneGeometry,
-    light: &Light,
-    res: u32,
-) -> CpuSliceMaps {
-    let frame = Frame::fit(light, geometry, t.slices, res, t.thin_fix);
-    let masks = slice(&frame, geometry);
-    let filtered = Filtered::build(t.filter, res, masks.data(), frame.slices);
+/// Slices and prefilters (inputs already checked), the storage from `cpu`'s pool.
+pub fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation) -> CpuSliceMaps {
+    let (geometry, res) = (input.geometry, input.resolution);
+    let frame = Frame::fit(input.light, geometry, t.slices, res, t.thin_fix);
+    let masks = slice(cpu.pool(), &frame, geometry);
+    let filtered = Filtered::build(cpu.pool(), t.filter, res, masks.data(), frame.slices);
     CpuSliceMaps {
         frame,
         masks,

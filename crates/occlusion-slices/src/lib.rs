@@ -29,7 +29,7 @@
 //! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
 //! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
 //! let technique = OcclusionSlices::new(8, Filter::NBuffer);
-//! let maps = technique.generate_cpu(geometry, light, 256)?;
+//! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 256)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
 //! # Ok(()) }
 //! ```
@@ -42,95 +42,41 @@ pub mod frame;
 pub mod gpu;
 pub mod params;
 pub mod slicing;
+#[cfg(test)]
+mod tests;
 
 pub use frame::Frame;
-pub use params::{Combination, Filter, OcclusionSlices};
+pub use params::{Combination, Filter, MAX_RESOLUTION, OcclusionSlices};
 
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::{
-    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+    Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
 };
-
-/// Largest texture side: 8-bit prefiltered values are rounded from `u32` counts, exact up to
-/// 4096² texels.
-pub const MAX_RESOLUTION: u32 = 4096;
 
 impl ShadowTechnique for OcclusionSlices {
     type CpuMaps = cpu::CpuSliceMaps;
     type GpuMaps = gpu::GpuSliceMaps;
 
-    fn name(&self) -> &'static str {
-        "occlusion-slices"
+    fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuSliceMaps {
+        cpu::generate(self, cpu, &input)
     }
 
-    fn variant(&self) -> String {
-        self.label()
-    }
-
-    /// Rect lights, and disk, sphere and triangle lights through their equal-area square.
-    fn models(&self, kind: LightKind) -> bool {
-        matches!(
-            kind,
-            LightKind::Rect | LightKind::Disk | LightKind::Sphere | LightKind::Triangle
-        )
-    }
-
-    fn generate_cpu(
+    fn cpu_visibility(
         &self,
-        geometry: &SceneGeometry,
-        light: &Light,
-        resolution: u32,
-    ) -> Result<cpu::CpuSliceMaps> {
-        self.validate()?;
-        self.check_inputs(
-            geometry,
-            light,
-            resolution,
-            MAX_RESOLUTION,
-            soft_shadow_core::memory::cpu_budget(),
-        )?;
-        Ok(cpu::generate(self, geometry, light, resolution))
+        maps: &cpu::CpuSliceMaps,
+        receivers: Checked<Receivers<'_>>,
+    ) -> Result<Vec<f32>> {
+        Ok(cpu::evaluate(self, maps, &receivers))
     }
 
-    fn evaluate_cpu(&self, maps: &cpu::CpuSliceMaps, receivers: &Receivers) -> Result<Vec<f32>> {
-        self.validate()?;
-        receivers.validate()?;
-        Ok(cpu::evaluate(self, maps, receivers))
-    }
-
-    /// Per slice: its occupancy, the summed-area table and its row pass, and the prefiltered
-    /// levels (one byte per level for N-Buffers, 4/3 for mipmaps).
-    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
-        let levels = match self.filter {
-            Filter::NBuffer => filters::level_count(resolution) as u64,
-            // The pyramid, 4/3 of level 0 rounded up to 2 bytes a texel, in a texture of the
-            // next power of two on the GPU.
-            Filter::Mipmap => {
-                let pad = resolution.next_power_of_two() as f64 / resolution.max(1) as f64;
-                (2.0 * pad * pad).ceil() as u64
-            }
-            Filter::Sat => 0,
-        };
-        soft_shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
-    }
-
-    fn record_gpu(
+    fn gpu_maps(
         &self,
         gpu: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
-        light: &Light,
-        resolution: u32,
+        input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuSliceMaps> {
-        self.validate()?;
-        self.check_inputs(
-            scene.geometry(),
-            light,
-            resolution,
-            gpu.max_texture_size().saturating_sub(1).min(MAX_RESOLUTION),
-            soft_shadow_core::memory::gpu_budget(),
-        )?;
-        gpu::generate(gpu, enc, self, scene, light, resolution)
+        gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
     }
 
     fn visibility_wgsl() -> String {
@@ -153,7 +99,6 @@ impl ShadowTechnique for OcclusionSlices {
         layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuSliceMaps,
     ) -> Result<wgpu::BindGroup> {
-        self.validate()?;
         gpu::bind_maps(gpu, layout, self, maps)
     }
 }
@@ -162,10 +107,34 @@ impl ShadowTechnique for OcclusionSlices {
 /// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
 #[cfg(feature = "frame")]
 pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
-    ("occlusion-slices", "sat-8", LightKind::Rect, 3.5, 13.6),
-    ("occlusion-slices", "nbuffer-8", LightKind::Rect, 7.3, 14.3),
-    ("occlusion-slices", "sat-16", LightKind::Sphere, 7.9, 9.3),
-    ("occlusion-slices", "sat-8", LightKind::Triangle, 3.9, 4.4),
+    (
+        "occlusion-slices",
+        "sat-8",
+        soft_shadow_core::LightKind::Rect,
+        3.5,
+        13.6,
+    ),
+    (
+        "occlusion-slices",
+        "nbuffer-8",
+        soft_shadow_core::LightKind::Rect,
+        7.3,
+        14.3,
+    ),
+    (
+        "occlusion-slices",
+        "sat-16",
+        soft_shadow_core::LightKind::Sphere,
+        7.9,
+        9.3,
+    ),
+    (
+        "occlusion-slices",
+        "sat-8",
+        soft_shadow_core::LightKind::Triangle,
+        3.9,
+        4.4,
+    ),
 ];
 
 /// Registers this technique with a frame pipeline: its system set (which runs only while a

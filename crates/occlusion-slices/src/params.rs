@@ -1,6 +1,6 @@
 //! The technique's parameters and their validation.
 
-use soft_shadow_core::{Result, ShadowError};
+use soft_shadow_core::{Backend, Light, LightKind, Result, ShadowError, TechniqueInfo};
 
 /// How an occlusion texture is box-filtered (section 3.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -140,9 +140,31 @@ impl OcclusionSlices {
         }
         s
     }
+}
+
+/// Largest texture side: 8-bit prefiltered values are rounded from `u32` counts, exact up to
+/// 4096² texels.
+pub const MAX_RESOLUTION: u32 = 4096;
+
+impl TechniqueInfo for OcclusionSlices {
+    fn name(&self) -> &'static str {
+        "occlusion-slices"
+    }
+
+    fn variant(&self) -> String {
+        self.label()
+    }
+
+    /// Rect lights, and disk, sphere and triangle lights through their equal-area square.
+    fn models(&self, kind: LightKind) -> bool {
+        matches!(
+            kind,
+            LightKind::Rect | LightKind::Disk | LightKind::Sphere | LightKind::Triangle
+        )
+    }
 
     /// Checks every parameter; the error names the first bad one.
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         if !SLICE_RANGE.contains(&self.slices) {
             return Err(ShadowError::InvalidParameter(format!(
                 "slices {} is outside {SLICE_RANGE:?}",
@@ -156,5 +178,30 @@ impl OcclusionSlices {
             )));
         }
         Ok(())
+    }
+
+    /// [`MAX_RESOLUTION`]; on the GPU also one texel below the device's largest texture side
+    /// (the summed-area table is one texel wider than the map).
+    fn max_resolution(&self, backend: Backend, device_max: u32) -> u32 {
+        match backend {
+            Backend::Cpu => MAX_RESOLUTION,
+            Backend::Gpu => device_max.saturating_sub(1).min(MAX_RESOLUTION),
+        }
+    }
+
+    /// Per slice: its occupancy, the summed-area table and its row pass, and the prefiltered
+    /// levels (one byte per level for N-Buffers, 4/3 for mipmaps).
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        let levels = match self.filter {
+            Filter::NBuffer => crate::filters::level_count(resolution) as u64,
+            // The pyramid, 4/3 of level 0 rounded up to 2 bytes a texel, in a texture of the
+            // next power of two on the GPU.
+            Filter::Mipmap => {
+                let pad = resolution.next_power_of_two() as f64 / resolution.max(1) as f64;
+                (2.0 * pad * pad).ceil() as u64
+            }
+            Filter::Sat => 0,
+        };
+        soft_shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
     }
 }

@@ -12,8 +12,10 @@
 
 use crate::frame::Frame;
 use soft_shadow_core::View;
+use soft_shadow_core::pool::Pool;
 use soft_shadow_core::raster::rasterize_fold;
 use soft_shadow_core::{Map2D, SceneGeometry};
+use std::sync::Arc;
 
 /// Most slices a frame has ([`crate::params::SLICE_RANGE`]).
 const MAX_SLICES: usize = 16;
@@ -83,11 +85,11 @@ impl NdcSlicer {
 }
 
 /// The slice masks of `geometry`: `res²` texels, bit `k` set where slice `k` is occupied.
-pub fn slice(frame: &Frame, geometry: &SceneGeometry) -> Map2D<u32> {
+pub fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -> Map2D<u32> {
     let res = frame.resolution;
     let n = frame.slices;
     if frame.occupied == 0 {
-        return Map2D::new(res, res, 0);
+        return Map2D::pooled(pool, res, res, 0);
     }
     let view = frame.view();
     // The bits a fragment of slice k sets: k, and with the thin-occluder fix k + 1 as well.
@@ -98,23 +100,37 @@ pub fn slice(frame: &Frame, geometry: &SceneGeometry) -> Map2D<u32> {
     let mark = move |mask: &mut u32, k: u32| *mask |= bits[k as usize & 31];
     match NdcSlicer::new(frame, &view) {
         // The slice is monotone in NDC depth, so a span whose ends share a slice lies in it.
-        Some(slicer) => rasterize_fold(&view, res, &geometry.casters, 0u32, |masks, depths| {
-            let Some(last) = masks.len().checked_sub(1) else {
-                return;
-            };
-            let first = slicer.slice(depths.at(0));
-            if depths.monotone() && slicer.slice(depths.at(last)) == first {
-                let b = bits[first as usize & 31];
-                masks.iter_mut().for_each(|m| *m |= b);
-            } else {
-                depths.each(masks, |m, z| mark(m, slicer.slice(z)));
-            }
-        }),
-        None => rasterize_fold(&view, res, &geometry.casters, 0u32, |masks, depths| {
-            depths.each(masks, |m, z| {
-                mark(m, frame.slice_of(view.linear_depth_from_ndc(z)))
-            })
-        }),
+        Some(slicer) => rasterize_fold(
+            pool,
+            &view,
+            res,
+            &geometry.casters,
+            0u32,
+            |masks, depths| {
+                let Some(last) = masks.len().checked_sub(1) else {
+                    return;
+                };
+                let first = slicer.slice(depths.at(0));
+                if depths.monotone() && slicer.slice(depths.at(last)) == first {
+                    let b = bits[first as usize & 31];
+                    masks.iter_mut().for_each(|m| *m |= b);
+                } else {
+                    depths.each(masks, |m, z| mark(m, slicer.slice(z)));
+                }
+            },
+        ),
+        None => rasterize_fold(
+            pool,
+            &view,
+            res,
+            &geometry.casters,
+            0u32,
+            |masks, depths| {
+                depths.each(masks, |m, z| {
+                    mark(m, frame.slice_of(view.linear_depth_from_ndc(z)))
+                })
+            },
+        ),
     }
 }
 
@@ -170,16 +186,24 @@ mod tests {
             let frame = Frame::fit(&light, &geometry, slices, 256, thin_fix);
             let view = frame.view();
             assert!(NdcSlicer::new(&frame, &view).is_some());
-            let expected = rasterize_fold(&view, 256, &geometry.casters, 0u32, |masks, depths| {
-                depths.each(masks, |m, z| {
-                    let k = frame.slice_of(view.linear_depth_from_ndc(z));
-                    *m |= 1 << k;
-                    if thin_fix && k + 1 < slices {
-                        *m |= 1 << (k + 1);
-                    }
-                })
-            });
-            let masks = slice(&frame, &geometry);
+            let pool = Arc::new(Pool::new(1 << 30));
+            let expected = rasterize_fold(
+                &pool,
+                &view,
+                256,
+                &geometry.casters,
+                0u32,
+                |masks, depths| {
+                    depths.each(masks, |m, z| {
+                        let k = frame.slice_of(view.linear_depth_from_ndc(z));
+                        *m |= 1 << k;
+                        if thin_fix && k + 1 < slices {
+                            *m |= 1 << (k + 1);
+                        }
+                    })
+                },
+            );
+            let masks = slice(&pool, &frame, &geometry);
             let marked: u32 = expected.data().iter().map(|m| m.count_ones()).sum();
             let used: u32 = expected.data().iter().fold(0, |a, m| a | m);
             assert!(

@@ -88,10 +88,16 @@ fn texel(
 }
 
 /// The stored map: every texel combined, then quantised by `storage`.
-pub fn combine(l: &Layers, warp: &Warp, transition_gap: f32, storage: Storage) -> Map2D<Texel> {
+pub fn combine(
+    pool: &std::sync::Arc<soft_shadow_core::pool::Pool>,
+    l: &Layers,
+    warp: &Warp,
+    transition_gap: f32,
+    storage: Storage,
+) -> Map2D<Texel> {
     let (w, h) = (l.geom.width(), l.geom.height());
     // Every texel is written below: no clearing pass.
-    let mut data = soft_shadow_core::pool::overwrite(w as usize * h as usize, Texel::default());
+    let mut data = pool.overwrite(w as usize * h as usize, Texel::default());
     data.par_chunks_mut(w.max(1) as usize)
         .enumerate()
         .for_each_init(StoreScratch::default, |scratch, (y, row)| {
@@ -117,5 +123,7 @@ pub fn combine(l: &Layers, warp: &Warp, transition_gap: f32, storage: Storage) -
             }
             storage.store(row, scratch);
         });
-    Map2D::from_vec(w, h, data).unwrap_or_else(|| Map2D::new(0, 0, Texel::default()))
+    Map2D::from_vec(w, h, data)
+        .unwrap_or_else(|| Map2D::new(0, 0, Texel::default()))
+        .returning_to(pool)
 }

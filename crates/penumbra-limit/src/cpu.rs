@@ -3,14 +3,14 @@
 
 use crate::combine::{Layers, combine};
 use crate::eval::{EvalParams, shade};
-use crate::params::{Generation, PenumbraLimit};
+use crate::params::{Generator, PenumbraLimit};
 use crate::storage::Texel;
 use crate::table::IlluminationTable;
 use crate::warp::Warp;
 use crate::{depth_image, silhouette};
 use rayon::prelude::*;
 use soft_shadow_core::raster::{DepthPass, depth_map_pass_then};
-use soft_shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+use soft_shadow_core::{CpuContext, Generation, Map2D, MapParams, Receivers, SampleView};
 
 /// The penumbra limit map of one light, built on the CPU.
 pub struct CpuPenumbraMaps {
@@ -26,49 +26,50 @@ pub struct CpuPenumbraMaps {
     pub table: IlluminationTable,
 }
 
-/// The generators' layers before combination (inputs already checked).
+/// The generators' layers before combination (inputs already checked), their storage from
+/// `cpu`'s pool.
 pub fn layers(
     t: &PenumbraLimit,
+    cpu: &CpuContext,
     view: &SampleView,
     warp: &Warp,
     tris: &[[glam::Vec3; 3]],
     res: u32,
 ) -> Layers {
     let params = view.params(res);
-    let geom = depth_map_pass_then(&view.view, res, tris, DepthPass::NEAREST, |z| {
+    let pool = cpu.pool();
+    let geom = depth_map_pass_then(pool, &view.view, res, tris, DepthPass::NEAREST, |z| {
         warp.normalized(z)
     });
-    let (edge, lower) = match t.generation {
-        Generation::Silhouette => {
-            let ribbons: Vec<_> = silhouette::cached_edges(tris)
+    let (edge, lower) = match t.generator {
+        Generator::Silhouette => {
+            let ribbons: Vec<_> = cpu
+                .cached(silhouette::EdgeCache::default)
+                .edges(tris)
                 .iter()
                 .filter_map(|e| silhouette::ribbon(&params, warp, e))
                 .collect();
-            let edge = silhouette::rasterize_ribbons(&ribbons, res, warp.p_per_texel);
-            let lower = silhouette::lower_limit(&view.view, warp, tris, &edge, t.layer_gap);
+            let edge = silhouette::rasterize_ribbons(pool, &ribbons, res, warp.p_per_texel);
+            let lower = silhouette::lower_limit(pool, &view.view, warp, tris, &edge, t.layer_gap);
             (edge, lower)
         }
-        Generation::DepthImage => depth_image::limits(&geom, warp, t.layer_gap),
+        Generator::DepthImage => depth_image::limits(pool, &geom, warp, t.layer_gap),
     };
     Layers { geom, edge, lower }
 }
 
-/// Builds the map of `light` at `resolution` (inputs already checked).
-pub fn generate(
-    t: &PenumbraLimit,
-    geometry: &SceneGeometry,
-    light: &Light,
-    resolution: u32,
-) -> CpuPenumbraMaps {
+/// Builds the map of the input's light at its resolution (inputs already checked).
+pub fn generate(t: &PenumbraLimit, cpu: &CpuContext, input: &Generation) -> CpuPenumbraMaps {
+    let (geometry, light, resolution) = (input.geometry, input.light, input.resolution);
     let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
     let warp = Warp::new(&params, light);
-    let l = layers(t, &view, &warp, &geometry.casters, resolution);
+    let l = layers(t, cpu, &view, &warp, &geometry.casters, resolution);
     CpuPenumbraMaps {
         view,
         params,
         warp,
-        map: combine(&l, &warp, t.transition_gap, t.storage),
+        map: combine(cpu.pool(), &l, &warp, t.transition_gap, t.storage),
         table: IlluminationTable::new(t.profile.for_light(light), t.table_size),
     }
 }

@@ -21,9 +21,11 @@ use crate::combine::NO_EDGE;
 use crate::storage::MAX_P;
 use crate::warp::{NONE_DEPTH, Warp};
 use rayon::prelude::*;
+use soft_shadow_core::Map2D;
 use soft_shadow_core::feature_transform::nearest;
+use soft_shadow_core::pool::Pool;
 use soft_shadow_core::seeds::{NONE, dist2, pack};
-use soft_shadow_core::{Map2D, pool};
+use std::sync::Arc;
 
 /// Whether `t = (x, y)` is on the near side of an edge towards neighbour `(x, y) + d`.
 #[inline(always)]
@@ -115,16 +117,16 @@ fn edge_masks(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32, y: usize, out: &mu
 /// is a near-side seed when it is on the near side of an edge towards some 4-neighbour
 /// ([`near_side`]), a far-side seed when some 4-neighbour is on the near side towards it; both
 /// from one mask per texel of its [`near_side`] tests.
-pub fn seeds(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u32>) {
+pub fn seeds(pool: &Pool, geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u32>) {
     let (w, h) = (geom.width() as usize, geom.height() as usize);
     let n = w * h;
-    let mut masks: Vec<u8> = pool::overwrite(n, 0);
+    let mut masks: Vec<u8> = pool.overwrite(n, 0);
     masks
         .par_chunks_mut(w.max(1))
         .enumerate()
         .for_each(|(y, out)| edge_masks(geom, warp, layer_gap, y, out));
     let (mut near, mut far): (Vec<u32>, Vec<u32>) =
-        (pool::overwrite(n, NONE), pool::overwrite(n, NONE));
+        (pool.overwrite(n, NONE), pool.overwrite(n, NONE));
     near.par_chunks_mut(w.max(1))
         .zip(far.par_chunks_mut(w.max(1)))
         .enumerate()
@@ -145,7 +147,7 @@ pub fn seeds(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u
                 far[x] = if seen { me } else { NONE };
             }
         });
-    pool::give(masks);
+    pool.give(masks);
     (near, far)
 }
 
@@ -193,15 +195,23 @@ pub fn texel_limits(
 }
 
 /// The edge and lower-limit layers from the geometry map.
-pub fn limits(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Map2D<[f32; 2]>, Map2D<f32>) {
+pub fn limits(
+    pool: &Arc<Pool>,
+    geom: &Map2D<f32>,
+    warp: &Warp,
+    layer_gap: f32,
+) -> (Map2D<[f32; 2]>, Map2D<f32>) {
     let res = geom.width();
-    let (a, b) = seeds(geom, warp, layer_gap);
+    let (a, b) = seeds(pool, geom, warp, layer_gap);
     // Ties between near-side seeds to the nearer depth (step 2); only the far side's distance
     // is read.
-    let (a, b) = (nearest(a, res, Some(geom.data())), nearest(b, res, None));
+    let (a, b) = (
+        nearest(pool, a, res, Some(geom.data())),
+        nearest(pool, b, res, None),
+    );
     let n = (res * res) as usize;
     // Every texel is written below: no clearing pass.
-    let (mut edge, mut lower) = (pool::overwrite(n, NO_EDGE), pool::overwrite(n, NONE_DEPTH));
+    let (mut edge, mut lower) = (pool.overwrite(n, NO_EDGE), pool.overwrite(n, NONE_DEPTH));
     // Beyond the reach no texel is in a ribbon: skip the square roots and the depth reads there.
     let reach2 = (ribbon_reach(warp) as i64).pow(2);
     // Row by row: a texel's coordinates come from its row and place in it, not from a
@@ -223,10 +233,14 @@ pub fn limits(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Map2D<[f32; 2]
                 };
             }
         });
-    pool::give(a);
-    pool::give(b);
+    pool.give(a);
+    pool.give(b);
     (
-        Map2D::from_vec(res, res, edge).unwrap_or_else(|| Map2D::new(0, 0, NO_EDGE)),
-        Map2D::from_vec(res, res, lower).unwrap_or_else(|| Map2D::new(0, 0, NONE_DEPTH)),
+        Map2D::from_vec(res, res, edge)
+            .unwrap_or_else(|| Map2D::new(0, 0, NO_EDGE))
+            .returning_to(pool),
+        Map2D::from_vec(res, res, lower)
+            .unwrap_or_else(|| Map2D::new(0, 0, NONE_DEPTH))
+            .returning_to(pool),
     )
 }

@@ -9,7 +9,7 @@
 //! channel is linear in the map plane, so the map survives bilinear interpolation: that is the
 //! paper's point, and why coarse maps stay smooth.
 //!
-//! - Two generators ([`Generation`]): silhouette extrusion in the paper's three steps
+//! - Two generators ([`Generator`]): silhouette extrusion in the paper's three steps
 //!   ([`silhouette`], GPU: `silhouette.wgsl`), and propagation from a depth image
 //!   ([`depth_image`], GPU: `depth_image.wgsl`).
 //! - Three storage formats ([`Storage`]): f32, f16 and the paper's RGBA8 packing.
@@ -25,12 +25,12 @@
 //! (per-receiver shading shared by both backends), [`cpu`] and [`gpu`].
 //!
 //! ```no_run
-//! use penumbra_limit::{Generation, PenumbraLimit};
+//! use penumbra_limit::{Generator, PenumbraLimit};
 //! use soft_shadow_core::{Receivers, ShadowTechnique};
 //! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
 //! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
-//! let technique = PenumbraLimit::new(Generation::Silhouette);
-//! let maps = technique.generate_cpu(geometry, light, 256)?;
+//! let technique = PenumbraLimit::new(Generator::Silhouette);
+//! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 256)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
 //! # Ok(()) }
 //! ```
@@ -44,89 +44,46 @@ pub mod params;
 pub mod silhouette;
 pub mod storage;
 pub mod table;
+#[cfg(test)]
+mod tests;
 pub mod visibility;
 pub mod warp;
 
-pub use params::{Generation, PenumbraLimit};
+pub use params::{Generator, PenumbraLimit};
 pub use storage::{Storage, Texel};
 pub use table::{IlluminationTable, Profile};
 
 use soft_shadow_core::gpu::GpuScene;
-use soft_shadow_core::technique::MAX_CPU_RESOLUTION;
 use soft_shadow_core::{
-    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+    Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
 };
 
-/// Largest map side: packed seed coordinates of the depth-image generator are 16-bit.
-pub const MAX_RESOLUTION: u32 = 65535;
+pub use params::MAX_RESOLUTION;
 
 impl ShadowTechnique for PenumbraLimit {
     type CpuMaps = cpu::CpuPenumbraMaps;
     type GpuMaps = gpu::GpuPenumbraMaps;
 
-    fn name(&self) -> &'static str {
-        "penumbra-limit"
+    fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuPenumbraMaps {
+        cpu::generate(self, cpu, &input)
     }
 
-    fn variant(&self) -> String {
-        self.label()
-    }
-
-    /// Every light but a segment (see the crate docs).
-    fn models(&self, kind: LightKind) -> bool {
-        kind != LightKind::Linear
-    }
-
-    fn generate_cpu(
+    fn cpu_visibility(
         &self,
-        geometry: &SceneGeometry,
-        light: &Light,
-        resolution: u32,
-    ) -> Result<cpu::CpuPenumbraMaps> {
-        self.validate()?;
-        self.check_inputs(
-            geometry,
-            light,
-            resolution,
-            MAX_CPU_RESOLUTION.min(MAX_RESOLUTION),
-            soft_shadow_core::memory::cpu_budget(),
-        )?;
-        Ok(cpu::generate(self, geometry, light, resolution))
+        maps: &cpu::CpuPenumbraMaps,
+        receivers: Checked<Receivers<'_>>,
+    ) -> Result<Vec<f32>> {
+        Ok(cpu::evaluate(self, maps, &receivers))
     }
 
-    fn evaluate_cpu(&self, maps: &cpu::CpuPenumbraMaps, receivers: &Receivers) -> Result<Vec<f32>> {
-        self.validate()?;
-        receivers.validate()?;
-        Ok(cpu::evaluate(self, maps, receivers))
-    }
-
-    /// The stored map plus the depth, geometry, edge, lower-limit and seed layers.
-    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
-        let stored = match self.storage {
-            Storage::F32 => 16,
-            Storage::F16 => 8,
-            Storage::Rgba8 => 4,
-        };
-        soft_shadow_core::memory::maps(1, resolution, stored + 40)
-    }
-
-    fn record_gpu(
+    fn gpu_maps(
         &self,
         gpu: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
-        light: &Light,
-        resolution: u32,
+        input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuPenumbraMaps> {
-        self.validate()?;
-        self.check_inputs(
-            scene.geometry(),
-            light,
-            resolution,
-            gpu.max_texture_size().min(MAX_RESOLUTION),
-            soft_shadow_core::memory::gpu_budget(),
-        )?;
-        gpu::generate(gpu, enc, self, scene, light, resolution)
+        gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
     }
 
     fn visibility_wgsl() -> String {
@@ -147,7 +104,6 @@ impl ShadowTechnique for PenumbraLimit {
         layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuPenumbraMaps,
     ) -> Result<wgpu::BindGroup> {
-        self.validate()?;
         Ok(gpu::bind_maps(gpu, layout, self, maps))
     }
 }
@@ -159,21 +115,21 @@ pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
     (
         "penumbra-limit",
         "silhouette-f32",
-        LightKind::Disk,
+        soft_shadow_core::LightKind::Disk,
         105.6,
         20.5,
     ),
     (
         "penumbra-limit",
         "silhouette-f32",
-        LightKind::Distant,
+        soft_shadow_core::LightKind::Distant,
         2.2,
         4.4,
     ),
     (
         "penumbra-limit",
         "silhouette-f32",
-        LightKind::Triangle,
+        soft_shadow_core::LightKind::Triangle,
         3.8,
         11.6,
     ),

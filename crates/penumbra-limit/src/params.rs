@@ -2,11 +2,11 @@
 
 use crate::storage::Storage;
 use crate::table::{Profile, TABLE_SIZE_RANGE};
-use soft_shadow_core::{Bias, Result, ShadowError};
+use soft_shadow_core::{Backend, Bias, Light, LightKind, Result, ShadowError, TechniqueInfo};
 
 /// How the map is generated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Generation {
+pub enum Generator {
     /// Section 3.1: front geometry to `g`, silhouette edges extruded into soft-shadow ribbons
     /// that write `c` and `p_i` ("highest penumbra limit wins"), back faces to `b`.
     Silhouette,
@@ -16,15 +16,15 @@ pub enum Generation {
     DepthImage,
 }
 
-impl Generation {
+impl Generator {
     /// Both generators.
-    pub const ALL: [Generation; 2] = [Generation::Silhouette, Generation::DepthImage];
+    pub const ALL: [Generator; 2] = [Generator::Silhouette, Generator::DepthImage];
 
     /// Short name used in variant labels.
     pub fn name(self) -> &'static str {
         match self {
-            Generation::Silhouette => "silhouette",
-            Generation::DepthImage => "depth-image",
+            Generator::Silhouette => "silhouette",
+            Generator::DepthImage => "depth-image",
         }
     }
 }
@@ -36,7 +36,7 @@ pub const DEFAULT_TABLE_SIZE: u32 = 512;
 #[derive(Clone, Debug, PartialEq)]
 pub struct PenumbraLimit {
     /// Generator.
-    pub generation: Generation,
+    pub generator: Generator,
     /// Texel format of the map.
     pub storage: Storage,
     /// Light profile of the visibility-to-illumination table.
@@ -55,10 +55,10 @@ pub struct PenumbraLimit {
 }
 
 impl PenumbraLimit {
-    /// The technique with `generation`, f32 storage and the defaults.
-    pub fn new(generation: Generation) -> Self {
+    /// The technique with `generator`, f32 storage and the defaults.
+    pub fn new(generator: Generator) -> Self {
         Self {
-            generation,
+            generator,
             storage: Storage::F32,
             profile: Profile::Auto,
             table_size: DEFAULT_TABLE_SIZE,
@@ -76,7 +76,7 @@ impl PenumbraLimit {
 
     /// The variants the report runs: both generators in every storage format.
     pub fn standard_set() -> Vec<PenumbraLimit> {
-        Generation::ALL
+        Generator::ALL
             .iter()
             .flat_map(|&g| {
                 Storage::ALL
@@ -88,7 +88,7 @@ impl PenumbraLimit {
 
     /// Variant label: generator and storage, plus the profile and table size when not default.
     pub fn label(&self) -> String {
-        let mut s = format!("{}-{}", self.generation.name(), self.storage.name());
+        let mut s = format!("{}-{}", self.generator.name(), self.storage.name());
         match self.profile {
             Profile::Auto => {}
             Profile::UniformDisk => s.push_str("-disk"),
@@ -100,9 +100,27 @@ impl PenumbraLimit {
         }
         s
     }
+}
+
+/// Largest map side: packed seed coordinates of the depth-image generator are 16-bit.
+pub const MAX_RESOLUTION: u32 = 65535;
+
+impl TechniqueInfo for PenumbraLimit {
+    fn name(&self) -> &'static str {
+        "penumbra-limit"
+    }
+
+    fn variant(&self) -> String {
+        self.label()
+    }
+
+    /// Every light but a segment (see the crate docs).
+    fn models(&self, kind: LightKind) -> bool {
+        kind != LightKind::Linear
+    }
 
     /// Checks every parameter; the error names the first bad one.
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         let bad = |what: String| Err(ShadowError::InvalidParameter(what));
         if !TABLE_SIZE_RANGE.contains(&self.table_size) {
             return bad(format!(
@@ -124,5 +142,24 @@ impl PenumbraLimit {
             }
         }
         self.bias.validate()
+    }
+
+    /// [`MAX_RESOLUTION`] at most.
+    fn max_resolution(&self, backend: Backend, device_max: u32) -> u32 {
+        match backend {
+            Backend::Cpu => soft_shadow_core::technique::MAX_CPU_RESOLUTION,
+            Backend::Gpu => device_max,
+        }
+        .min(MAX_RESOLUTION)
+    }
+
+    /// The stored map plus the depth, geometry, edge, lower-limit and seed layers.
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        let stored = match self.storage {
+            Storage::F32 => 16,
+            Storage::F16 => 8,
+            Storage::Rgba8 => 4,
+        };
+        soft_shadow_core::memory::maps(1, resolution, stored + 40)
     }
 }

@@ -19,6 +19,7 @@ use crate::warp::Warp;
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
+use soft_shadow_core::pool::Pool;
 use soft_shadow_core::raster::snapped::{SUB, SnappedTri};
 use soft_shadow_core::raster::{DepthPass, DepthTest, Faces, depth_map_filtered};
 use soft_shadow_core::{Map2D, MapParams, View};
@@ -104,38 +105,53 @@ pub fn edges(tris: &[[Vec3; 3]]) -> Vec<Edge> {
     out
 }
 
-/// How many caster sets [`cached_edges`] keeps the edges of.
+/// How many caster sets an [`EdgeCache`] keeps the edges of.
 const CACHED_SETS: usize = 4;
 
-/// How many bytes of triangles and edges [`cached_edges`] keeps at most: a few sets of the
+/// How many bytes of triangles and edges an [`EdgeCache`] keeps at most: a few sets of the
 /// bunny's size (69,451 triangles: 2.5 MB of triangles, 10 MB of edges); a larger set is built
 /// on every call rather than kept.
 const CACHED_BYTES: usize = 64 << 20;
 
-/// The caster sets whose edges were built last, newest first: each set's triangles (as their
-/// bits) and its edges.
-type EdgeCache = Vec<(Arc<[u32]>, Arc<Vec<Edge>>)>;
+/// One cached caster set: its triangles (as their bits) and its edges.
+type CachedSet = (Arc<[u32]>, Arc<Vec<Edge>>);
 
-static EDGE_CACHE: Mutex<EdgeCache> = Mutex::new(Vec::new());
+/// [`edges`] of the caster sets seen last, newest first, kept in the caller's
+/// [`soft_shadow_core::CpuContext`] (`cpu.cached(EdgeCache::default)`): the CPU generator's
+/// counterpart of the GPU path's edges derived once per scene, so that a call on casters it has
+/// seen (the same triangles, bit for bit) does not rebuild the adjacency. The last 4 sets
+/// (`CACHED_SETS`) within 64 MiB (`CACHED_BYTES`) are kept; looking one up compares the
+/// triangles' bits (a copy of them is kept with the edges).
+#[derive(Default)]
+pub struct EdgeCache {
+    sets: Mutex<Vec<CachedSet>>,
+}
 
 /// Bytes an entry of the cache holds.
-fn cached_bytes((bits, edges): &(Arc<[u32]>, Arc<Vec<Edge>>)) -> usize {
+fn cached_bytes((bits, edges): &CachedSet) -> usize {
     size_of_val(&**bits) + edges.len() * size_of::<Edge>()
 }
 
-/// [`edges`] of `tris`, built once per caster set: the CPU generator's counterpart of the GPU
-/// path's edges derived once per scene, so that a call on casters it has seen (the same
-/// triangles, bit for bit) does not rebuild the adjacency. The last 4 sets (`CACHED_SETS`)
-/// within 64 MiB (`CACHED_BYTES`) are kept; looking one up compares the triangles' bits (a copy
-/// of them is kept with the edges).
-pub fn cached_edges(tris: &[[Vec3; 3]]) -> Arc<Vec<Edge>> {
-    cached_edges_within(tris, CACHED_SETS, CACHED_BYTES)
+impl EdgeCache {
+    /// [`edges`] of `tris`, built once per caster set (see the type).
+    pub fn edges(&self, tris: &[[Vec3; 3]]) -> Arc<Vec<Edge>> {
+        self.edges_within(tris, CACHED_SETS, CACHED_BYTES)
+    }
+
+    /// [`EdgeCache::edges`] keeping at most `sets` sets and `bytes` bytes.
+    fn edges_within(&self, tris: &[[Vec3; 3]], sets: usize, bytes: usize) -> Arc<Vec<Edge>> {
+        cached_edges_within(&self.sets, tris, sets, bytes)
+    }
 }
 
-/// [`cached_edges`] keeping at most `sets` sets and `bytes` bytes.
-fn cached_edges_within(tris: &[[Vec3; 3]], sets: usize, bytes: usize) -> Arc<Vec<Edge>> {
+fn cached_edges_within(
+    cache: &Mutex<Vec<CachedSet>>,
+    tris: &[[Vec3; 3]],
+    sets: usize,
+    bytes: usize,
+) -> Arc<Vec<Edge>> {
     let bits: &[u32] = bytemuck::cast_slice(tris);
-    let lock = || EDGE_CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    let lock = || cache.lock().unwrap_or_else(|e| e.into_inner());
     {
         let mut cache = lock();
         if let Some(i) = cache.iter().position(|(key, _)| **key == *bits) {
@@ -347,7 +363,12 @@ impl Row<'_> {
 }
 
 /// Step 2 on the CPU: the winning `[c, p_i]` per texel ([`NO_EDGE`] where no ribbon reaches).
-pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 2]> {
+pub fn rasterize_ribbons(
+    pool: &Arc<Pool>,
+    ribbons: &[Ribbon],
+    res: u32,
+    ppt: f32,
+) -> Map2D<[f32; 2]> {
     // Each quad as the GPU draws it: triangles (0, 1, 2) and (0, 2, 3), inner strip first.
     let tris: Vec<(usize, SnappedTri, f32)> = ribbons
         .iter()
@@ -365,7 +386,7 @@ pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 
         .collect();
     let boxes: Vec<_> = tris.iter().map(|(_, t, _)| t.texel_box()).collect();
     // Each band clears its own rows (in cache) before its ribbons: no clearing pass.
-    let mut data = soft_shadow_core::pool::overwrite(res as usize * res as usize, NO_EDGE);
+    let mut data = pool.overwrite(res as usize * res as usize, NO_EDGE);
     let w = res as usize;
     data.par_chunks_mut(w * BAND as usize)
         .enumerate()
@@ -391,12 +412,15 @@ pub fn rasterize_ribbons(ribbons: &[Ribbon], res: u32, ppt: f32) -> Map2D<[f32; 
                 }
             }
         });
-    Map2D::from_vec(res, res, data).unwrap_or_else(|| Map2D::new(0, 0, NO_EDGE))
+    Map2D::from_vec(res, res, data)
+        .unwrap_or_else(|| Map2D::new(0, 0, NO_EDGE))
+        .returning_to(pool)
 }
 
 /// Step 3 on the CPU: normalised depth of the nearest back face deeper than the texel's edge
 /// depth by more than `layer_gap` texels ([`crate::warp::NONE_DEPTH`] where none).
 pub fn lower_limit(
+    pool: &Arc<Pool>,
     view: &View,
     warp: &Warp,
     tris: &[[Vec3; 3]],
@@ -408,6 +432,7 @@ pub fn lower_limit(
         faces: Faces::Back,
     };
     depth_map_filtered(
+        pool,
         view,
         edge.width(),
         tris,
@@ -445,6 +470,9 @@ mod tests {
             ];
             vec![[p[0], p[1], p[2]], [p[0], p[2], p[3]]]
         };
+        let cache = EdgeCache::default();
+        let cached_edges = |t: &[[Vec3; 3]]| cache.edges(t);
+        let cached_edges_within = |t: &[[Vec3; 3]], s: usize, b: usize| cache.edges_within(t, s, b);
         let a = quad(0.25);
         let first = cached_edges(&a);
         assert_eq!(*first, edges(&a));
@@ -467,7 +495,7 @@ mod tests {
         assert_eq!(*again, edges(&a));
         // Within a byte bound that holds one quad's set but not two, the older one goes, and a
         // set over the bound is not kept at all.
-        let one = cached_bytes(&EDGE_CACHE.lock().unwrap()[0]);
+        let one = cached_bytes(&cache.sets.lock().unwrap()[0]);
         let b = quad(7.0);
         let kept_b = cached_edges_within(&b, CACHED_SETS, one);
         cached_edges_within(&a, CACHED_SETS, one);
@@ -480,6 +508,6 @@ mod tests {
             &big,
             &cached_edges_within(&quad(8.0), CACHED_SETS, one - 1)
         ));
-        assert!(EDGE_CACHE.lock().unwrap().is_empty());
+        assert!(cache.sets.lock().unwrap().is_empty());
     }
 }

@@ -15,18 +15,6 @@ pub enum ShadowError {
         /// What is wrong with it.
         reason: String,
     },
-    /// An output file or folder could not be written.
-    #[error("cannot write {path}")]
-    Write {
-        /// The path that failed.
-        path: String,
-        /// The underlying error.
-        #[source]
-        source: std::io::Error,
-    },
-    /// Every configuration a run asked for was skipped: nothing was measured.
-    #[error("nothing ran: {0}")]
-    NothingRan(String),
     /// An I/O error while reading an input file.
     #[error("cannot read {path}")]
     Io {
@@ -55,10 +43,10 @@ pub enum ShadowError {
         /// The largest accepted resolution.
         max: u32,
     },
-    /// A configuration would allocate more than the backend's memory budget
+    /// A configuration would allocate more than its context's memory budget
     /// ([`crate::memory`]).
     #[error(
-        "{what} needs about {} of memory, over the {} budget (SHADOW_CPU_MEMORY_BUDGET or SHADOW_GPU_MEMORY_BUDGET, in bytes, changes it)",
+        "{what} needs about {} of memory, over the {} budget of its context",
         crate::memory::human(*.need),
         crate::memory::human(*.budget)
     )]

@@ -23,6 +23,7 @@
 //! two steps in the same integer arithmetic ([`crate::gpu::feature_transform`]), so both
 //! backends give the same seeds.
 
+use crate::pool::Pool;
 use crate::seeds::{NONE, pack};
 use rayon::prelude::*;
 
@@ -56,7 +57,7 @@ impl Keys<'_> {
 /// column ([`NO_ROW`] when the column has none; of two equally near the one of lesser key, else
 /// the upper one), as strips of [`STRIP`] columns, strip `s` holding columns `s * STRIP ..` (the
 /// last one narrower), row-major.
-fn columns(seeds: &[u32], keys: Keys) -> Vec<Vec<u16>> {
+fn columns(pool: &Pool, seeds: &[u32], keys: Keys) -> Vec<Vec<u16>> {
     let res = keys.res;
     (0..res.div_ceil(STRIP))
         .into_par_iter()
@@ -64,7 +65,7 @@ fn columns(seeds: &[u32], keys: Keys) -> Vec<Vec<u16>> {
             let x0 = s * STRIP;
             let sw = STRIP.min(res - x0);
             // The downward sweep writes every texel: no clearing pass.
-            let mut out = crate::pool::overwrite(sw * res, NO_ROW);
+            let mut out = pool.overwrite(sw * res, NO_ROW);
             // Downwards: the nearest seed at or above.
             let mut above = [NO_ROW; STRIP];
             for (y, o) in out.chunks_exact_mut(sw).enumerate() {
@@ -210,18 +211,18 @@ impl Envelope {
 /// read); `keys`, where given, one per texel, decides between equally near seeds (the least
 /// wins; it is read at seeds only). The result holds the nearest seed's packed coordinates (of
 /// equally near ones, the one of least key, then the leftmost, then the uppermost), or [`NONE`]
-/// everywhere when there is no seed. Step 1's strips come from [`crate::pool`] and go back
-/// there; so may the result, once read ([`crate::pool::give`]), which reuses `seeds`' storage.
+/// everywhere when there is no seed. Step 1's strips come from `pool` and go back there; so
+/// may the result, once read ([`Pool::give`]), which reuses `seeds`' storage.
 ///
 /// # Panics
 ///
 /// If `seeds` (or `keys`, where given) does not hold `res²` values, or `res` is 65536 or more
 /// (beyond what [`pack`] holds).
-pub fn nearest(seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> Vec<u32> {
+pub fn nearest(pool: &Pool, seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> Vec<u32> {
     let n = res as usize;
     assert!(res < 1 << 16 && seeds.len() == n * n && keys.is_none_or(|k| k.len() == n * n));
     let keys = Keys { keys, res: n };
-    let strips = columns(&seeds, keys);
+    let strips = columns(pool, &seeds, keys);
     let mut out = seeds;
     out.par_chunks_mut(n.max(1))
         .enumerate()
@@ -233,7 +234,7 @@ pub fn nearest(seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> Vec<u32> {
             }
             e.row(y as u32, row, keys);
         });
-    strips.into_iter().for_each(crate::pool::give);
+    strips.into_iter().for_each(|s| pool.give(s));
     out
 }
 
@@ -286,7 +287,12 @@ mod tests {
                         0.0
                     }
                 };
-                let got = nearest(seeds.clone(), n, keyed.then_some(&keys[..]));
+                let got = nearest(
+                    &crate::pool::Pool::new(1 << 30),
+                    seeds.clone(),
+                    n,
+                    keyed.then_some(&keys[..]),
+                );
                 for (i, &g) in got.iter().enumerate() {
                     let (x, y) = ((i as u32 % n) as i32, (i as u32 / n) as i32);
                     let want = list.iter().copied().min_by(|&a, &b| {

@@ -175,19 +175,19 @@ fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
 /// Floods `seeds` (one value per texel of a `res`-wide square map: [`pack`]ed coordinates of the
 /// texel itself for a seed, [`NONE`] otherwise) and returns the nearest seed of every texel (up
 /// to jump flooding's rare misses; [`crate::feature_transform`] is exact). The scratch buffer
-/// comes from [`crate::pool`] and goes back there; so may the result, once read
-/// ([`crate::pool::give`]).
+/// comes from `pool` and goes back there; so may the result, once read
+/// ([`crate::pool::Pool::give`]).
 ///
 /// [`pack`]: crate::seeds::pack
-pub fn flood(seeds: Vec<u32>, res: u32) -> Vec<u32> {
+pub fn flood(pool: &crate::pool::Pool, seeds: Vec<u32>, res: u32) -> Vec<u32> {
     let mut a = seeds;
     // Each pass writes every texel of its destination: no clearing pass.
-    let mut b = crate::pool::overwrite(a.len(), NONE);
+    let mut b = pool.overwrite(a.len(), NONE);
     for k in steps(res) {
         pass(&a, &mut b, res, k);
         std::mem::swap(&mut a, &mut b);
     }
-    crate::pool::give(b);
+    pool.give(b);
     a
 }
 

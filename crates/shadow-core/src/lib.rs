@@ -16,6 +16,7 @@
 //! Conventions: right-handed, +Y up, metres; visibility `V` in `[0, 1]` (1 lit, 0 umbra).
 
 pub mod coverage;
+pub mod cpu;
 pub mod error;
 pub mod feature_transform;
 pub mod geometry;
@@ -28,12 +29,14 @@ pub mod memory;
 pub mod mesh;
 pub mod pool;
 pub mod raster;
+pub mod receivers;
 pub mod rng;
 pub mod seeds;
 pub mod technique;
 pub mod view;
 
 pub use coverage::Coverage;
+pub use cpu::CpuContext;
 pub use error::{Result, ShadowError};
 pub use geometry::SceneGeometry;
 pub use gpu::GpuContext;
@@ -41,5 +44,8 @@ pub use light::{DistantProfile, Light, LightKind, LightPoint};
 pub use light_space::{Bias, MapParams, SampleView, ShadowCoord};
 pub use map2d::Map2D;
 pub use mesh::{Aabb, TriangleMesh};
-pub use technique::{AnyMaps, Backend, DynTechnique, Receivers, ShadowTechnique};
+pub use receivers::Receivers;
+pub use technique::{
+    AnyMaps, Backend, Checked, Context, DynTechnique, Generation, ShadowTechnique, TechniqueInfo,
+};
 pub use view::{Camera, View};

@@ -1,21 +1,33 @@
 //! Row-major 2D maps with clamp-to-edge sampling and texel centres at +0.5.
 
+use crate::pool::Pool;
 use glam::Vec2;
+use std::sync::Arc;
 
 /// A row-major `width x height` grid of `T`; row 0 is the top row (v = 0).
 ///
-/// Its texels live in storage from [`crate::pool`] and go back there when the map is dropped,
-/// so the next map of the same size and texel type reuses pages already faulted in.
-#[derive(Clone, Debug, PartialEq)]
+/// A map made in a context ([`Map2D::pooled`], [`Map2D::returning_to`]) takes its texels from
+/// the context's [`Pool`] and gives them back when it is dropped, so the next map of the same
+/// size and texel type reuses pages already faulted in.
+#[derive(Clone, Debug)]
 pub struct Map2D<T: Send + 'static> {
     width: u32,
     height: u32,
     data: Vec<T>,
+    pool: Option<Arc<Pool>>,
+}
+
+impl<T: Send + PartialEq + 'static> PartialEq for Map2D<T> {
+    fn eq(&self, other: &Self) -> bool {
+        (self.width, self.height) == (other.width, other.height) && self.data == other.data
+    }
 }
 
 impl<T: Send + 'static> Drop for Map2D<T> {
     fn drop(&mut self) {
-        crate::pool::give(std::mem::take(&mut self.data));
+        if let Some(pool) = &self.pool {
+            pool.give(std::mem::take(&mut self.data));
+        }
     }
 }
 
@@ -25,26 +37,43 @@ impl<T: Clone + Send + 'static> Map2D<T> {
         Self {
             width,
             height,
-            data: crate::pool::filled(width as usize * height as usize, value),
+            data: vec![value; width as usize * height as usize],
+            pool: None,
         }
     }
 
-    /// A map of unspecified texels ([`crate::pool::overwrite`]; `fill` where fresh), for a
-    /// caller that writes every texel before anything reads it.
-    pub(crate) fn for_overwrite(width: u32, height: u32, fill: T) -> Self {
+    /// A map filled with `value`, its texels from `pool` and given back there when dropped.
+    pub fn pooled(pool: &Arc<Pool>, width: u32, height: u32, value: T) -> Self {
         Self {
             width,
             height,
-            data: crate::pool::overwrite(width as usize * height as usize, fill),
+            data: pool.filled(width as usize * height as usize, value),
+            pool: Some(pool.clone()),
+        }
+    }
+
+    /// A map of unspecified texels from `pool` ([`Pool::overwrite`]; `fill` where fresh), for a
+    /// caller that writes every texel before anything reads it.
+    pub(crate) fn for_overwrite(pool: &Arc<Pool>, width: u32, height: u32, fill: T) -> Self {
+        Self {
+            width,
+            height,
+            data: pool.overwrite(width as usize * height as usize, fill),
+            pool: Some(pool.clone()),
         }
     }
 }
 
 impl<T: Clone + Send + Sync + 'static> Map2D<T> {
-    /// A map whose texel `i` (row-major) is `f(i)`, computed in parallel into pooled storage
-    /// ([`crate::pool::overwrite`]: no clearing pass), rows at a time (the loop over a row's
-    /// texels vectorizes where `f` does).
-    pub fn from_par_fn(width: u32, height: u32, f: impl Fn(usize) -> T + Sync + Send) -> Self {
+    /// A map whose texel `i` (row-major) is `f(i)`, computed in parallel, rows at a time (the
+    /// loop over a row's texels vectorizes where `f` does), into storage from `pool` where one
+    /// is given ([`Pool::overwrite`]: no clearing pass).
+    pub fn from_par_fn(
+        pool: Option<&Arc<Pool>>,
+        width: u32,
+        height: u32,
+        f: impl Fn(usize) -> T + Sync + Send,
+    ) -> Self {
         use rayon::prelude::*;
         let n = width as usize * height as usize;
         if n == 0 {
@@ -52,9 +81,13 @@ impl<T: Clone + Send + Sync + 'static> Map2D<T> {
                 width,
                 height,
                 data: Vec::new(),
+                pool: None,
             };
         }
-        let mut data = crate::pool::overwrite(n, f(0));
+        let mut data = match pool {
+            Some(p) => p.overwrite(n, f(0)),
+            None => vec![f(0); n],
+        };
         let rows = (width as usize).max(1) * 16;
         data.par_chunks_mut(rows)
             .enumerate()
@@ -67,6 +100,7 @@ impl<T: Clone + Send + Sync + 'static> Map2D<T> {
             width,
             height,
             data,
+            pool: pool.cloned(),
         }
     }
 }
@@ -78,7 +112,19 @@ impl<T: Send + 'static> Map2D<T> {
             width,
             height,
             data,
+            pool: None,
         })
+    }
+
+    /// The same map, giving its texels to `pool` when dropped (for storage that came from it).
+    pub fn returning_to(mut self, pool: &Arc<Pool>) -> Self {
+        self.pool = Some(pool.clone());
+        self
+    }
+
+    /// The pool this map gives its texels back to, if any.
+    pub fn pool(&self) -> Option<&Arc<Pool>> {
+        self.pool.as_ref()
     }
 
     /// Width in texels.
@@ -137,7 +183,7 @@ impl<T: Send + 'static> Map2D<T> {
         bilinear_texels(st, self.width, self.height).map(|(x, y, w)| (self.get(x, y), w))
     }
 
-    /// Maps every texel, in parallel.
+    /// Maps every texel, in parallel (into storage from this map's pool, if it has one).
     pub fn map<U: Clone + Send + Sync + 'static>(
         &self,
         f: impl Fn(&T) -> U + Sync + Send,
@@ -146,7 +192,7 @@ impl<T: Send + 'static> Map2D<T> {
         T: Sync,
     {
         let d = &self.data;
-        Map2D::from_par_fn(self.width, self.height, |i| f(&d[i]))
+        Map2D::from_par_fn(self.pool.as_ref(), self.width, self.height, |i| f(&d[i]))
     }
 }
 

@@ -1,26 +1,22 @@
 //! Memory budgets: what one generation may allocate, checked before it allocates.
 //!
 //! Every technique estimates the bytes of its maps and scratch for a light and a resolution
-//! ([`crate::ShadowTechnique::memory_estimate`]); generation refuses a configuration over the
-//! backend's budget with [`crate::ShadowError::OverBudget`], naming both.
+//! ([`crate::TechniqueInfo::memory_estimate`]); generation refuses a configuration over the
+//! budget of the context it runs in ([`crate::CpuContext::memory_budget`],
+//! [`crate::GpuContext::memory_budget`]) with [`crate::ShadowError::OverBudget`], naming both.
 //!
-//! - CPU: `SHADOW_CPU_MEMORY_BUDGET` (bytes) when set, else [`CPU_SHARE`] of the memory this
-//!   process may use: the smallest of physical memory (`/proc/meminfo`), the cgroup limit
-//!   (`/sys/fs/cgroup/memory.max`) and the address-space limit (`/proc/self/limits`); 8 GiB
-//!   where none of them can be read.
-//! - GPU: `SHADOW_GPU_MEMORY_BUDGET` (bytes) when set, else the same share of memory (wgpu does
-//!   not report a device's memory); the device's own limits (largest buffer, texture side and
-//!   layers) are checked where each resource is made.
+//! A context starts with [`default_budget`]: [`CPU_SHARE`] of the memory this process may use,
+//! the smallest of physical memory (`/proc/meminfo`), the cgroup limit
+//! (`/sys/fs/cgroup/memory.max`) and the address-space limit (`/proc/self/limits`); 8 GiB where
+//! none of them can be read. On the GPU it is the same share (wgpu does not report a device's
+//! memory); the device's own limits (largest buffer, texture side and layers) are checked where
+//! each resource is made. A caller sets its own with `with_memory_budget`.
 
 /// Share of the usable memory one generation may take.
 pub const CPU_SHARE: f64 = 0.5;
 
 /// Budget where no limit can be read.
 const FALLBACK: u64 = 8 << 30;
-
-fn from_env(var: &str) -> Option<u64> {
-    std::env::var(var).ok()?.trim().parse().ok()
-}
 
 fn meminfo_total() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
@@ -55,16 +51,9 @@ pub fn usable_memory() -> Option<u64> {
     })
 }
 
-/// Bytes one CPU generation may allocate (module docs).
-pub fn cpu_budget() -> u64 {
-    from_env("SHADOW_CPU_MEMORY_BUDGET")
-        .unwrap_or_else(|| usable_memory().map_or(FALLBACK, |m| (m as f64 * CPU_SHARE) as u64))
-}
-
-/// Bytes one GPU generation may allocate (module docs).
-pub fn gpu_budget() -> u64 {
-    from_env("SHADOW_GPU_MEMORY_BUDGET")
-        .unwrap_or_else(|| usable_memory().map_or(FALLBACK, |m| (m as f64 * CPU_SHARE) as u64))
+/// The budget a new context starts with (module docs).
+pub fn default_budget() -> u64 {
+    usable_memory().map_or(FALLBACK, |m| (m as f64 * CPU_SHARE) as u64)
 }
 
 /// `bytes` as MiB or GiB for messages.

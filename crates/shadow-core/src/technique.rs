@@ -1,12 +1,20 @@
-//! The `ShadowTechnique` trait every technique and baseline implements, on CPU and on GPU.
+//! The technique traits: what a technique is ([`TechniqueInfo`]), its kernels and the checked
+//! entry points every caller uses ([`ShadowTechnique`]), and the object-safe form a registry
+//! holds ([`DynTechnique`], whose maps [`AnyMaps`] evaluate themselves).
+//!
+//! A technique implements only what differs: its names and the lights it models, its limits
+//! (largest resolution, memory estimate), its CPU kernels, its GPU recording, its visibility
+//! shader and the bind group that shader reads. The checks (parameters, light, resolution,
+//! memory budget, geometry, receivers) and the GPU error scopes run here, once, before a
+//! kernel sees its input: a kernel takes [`Checked`] input, which only this crate makes.
 
+use crate::cpu::CpuContext;
 use crate::error::{Result, ShadowError};
 use crate::geometry::SceneGeometry;
 use crate::gpu::visibility::{self, ReceiverTextures};
 use crate::gpu::{GpuContext, GpuScene};
 use crate::light::{Light, LightKind};
-use glam::Vec3;
-use std::any::Any;
+use crate::receivers::Receivers;
 
 /// Largest map side the CPU paths accept (a 16384² f32 map is 1 GiB).
 pub const MAX_CPU_RESOLUTION: u32 = 16384;
@@ -30,100 +38,191 @@ impl Backend {
     }
 }
 
-/// A batch of world-space receiver points with unit normals, the input of evaluation.
+/// Where one generation runs, with the context it runs in.
 #[derive(Clone, Copy, Debug)]
-pub struct Receivers<'a> {
-    /// World-space positions.
-    pub positions: &'a [Vec3],
-    /// Unit normals facing the viewer (same length as `positions`).
-    pub normals: &'a [Vec3],
+pub enum Context<'a> {
+    /// On the CPU, reusing this context's buffers.
+    Cpu(&'a CpuContext),
+    /// On this GPU.
+    Gpu(&'a GpuContext),
 }
 
-impl Receivers<'_> {
-    /// Checks equal lengths and finite values.
-    pub fn validate(&self) -> Result<()> {
-        if self.positions.len() != self.normals.len() {
-            return Err(ShadowError::InvalidReceivers(format!(
-                "{} positions but {} normals",
-                self.positions.len(),
-                self.normals.len()
-            )));
+impl<'a> Context<'a> {
+    /// The backend.
+    pub fn backend(&self) -> Backend {
+        match self {
+            Context::Cpu(_) => Backend::Cpu,
+            Context::Gpu(_) => Backend::Gpu,
         }
-        if let Some(i) = self
-            .positions
-            .iter()
-            .chain(self.normals)
-            .position(|p| !p.is_finite())
-        {
-            return Err(ShadowError::InvalidReceivers(format!(
-                "entry {i} is not finite"
-            )));
+    }
+
+    /// The GPU context, on the GPU backend.
+    pub fn gpu(&self) -> Option<&'a GpuContext> {
+        match *self {
+            Context::Gpu(g) => Some(g),
+            Context::Cpu(_) => None,
         }
-        Ok(())
     }
 }
 
-/// A soft-shadow technique: parameters (the implementing value), a generation step that builds
-/// light-space maps and an evaluation step that turns maps plus receivers into visibility.
-///
-/// # Contract
-///
-/// - `generate_*` takes the scene's plain geometry, one light and a map resolution. It validates
-///   them and returns [`ShadowError::UnsupportedLight`] for a light kind that [`models`](Self::models)
-///   rejects, [`ShadowError::InvalidLight`] for a bad light and
-///   [`ShadowError::InvalidResolution`] for 0 or above the backend's limit.
-/// - On the GPU, [`record_gpu`](Self::record_gpu) records generation into the caller's encoder
-///   from geometry already on the GPU ([`GpuScene`]); the maps are ready once that encoder's
-///   work has run. `generate_gpu` and `generate_gpu_on` are blocking wrappers that return after
-///   the GPU has finished, so timing `generate_gpu_on` measures the GPU work without uploads.
-/// - The GPU evaluation is one WGSL function, `visibility(world_pos, normal) -> f32`
-///   ([`visibility_wgsl`](Self::visibility_wgsl), [`crate::gpu::visibility`]): the blocking
-///   `evaluate_gpu`, the G-buffer pass [`record_visibility`](Self::record_visibility) and a
-///   renderer's own shader all call it.
-/// - `evaluate_*` returns one visibility `V` per receiver, in `[0, 1]` and finite: the fraction of
-///   the light the point sees under the light's emission profile (1 lit, 0 umbra).
-/// - The GPU path computes the same function as the CPU path: RMS of `V * 255` below 1.0 on every
-///   catalogue scene, checked by tests on a real Vulkan driver.
-pub trait ShadowTechnique: Send + Sync + 'static {
-    /// Maps produced on the CPU.
-    type CpuMaps: Send + Sync + 'static;
-    /// Maps produced on (and kept on) the GPU.
-    type GpuMaps: Send + Sync + 'static;
+/// A value this crate has checked: only this crate makes one, so a kernel that takes one runs
+/// on checked input only. Reads as the value it holds.
+#[derive(Clone, Copy, Debug)]
+pub struct Checked<T>(T);
 
+impl<T> std::ops::Deref for Checked<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+/// The inputs of one generation: the scene's plain geometry, one light and a map resolution.
+#[derive(Clone, Copy, Debug)]
+pub struct Generation<'a> {
+    /// Casters and receivers.
+    pub geometry: &'a SceneGeometry,
+    /// The light.
+    pub light: &'a Light,
+    /// The map side in texels.
+    pub resolution: u32,
+}
+
+/// What a technique is, object-safe: its names, the lights it models and its limits.
+pub trait TechniqueInfo: Send + Sync {
     /// Technique name as in reports (`"pcf"`, `"occlusion-slices"`, ...).
     fn name(&self) -> &'static str;
     /// Variant label of these parameters (`"r2"`, `"nbuffer-8"`, ...).
     fn variant(&self) -> String;
     /// Whether this technique models lights of `kind`.
     fn models(&self, kind: LightKind) -> bool;
+    /// Checks the parameters: a value out of its documented range is
+    /// [`ShadowError::InvalidParameter`] naming it.
+    fn validate(&self) -> Result<()> {
+        Ok(())
+    }
+    /// Largest map side on `backend`, where the device's largest texture side is `device_max`.
+    fn max_resolution(&self, backend: Backend, device_max: u32) -> u32 {
+        match backend {
+            Backend::Cpu => MAX_CPU_RESOLUTION,
+            Backend::Gpu => device_max,
+        }
+    }
+    /// Bytes one generation for `light` at `resolution` allocates (maps and scratch, about the
+    /// same on both backends), checked against the context's budget before anything is
+    /// allocated. The default counts one `f32` map.
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        crate::memory::maps(1, resolution, 4)
+    }
+}
 
-    /// Builds the light-space maps on the CPU.
-    fn generate_cpu(
+/// The checks every generation passes before a kernel runs: parameters, light valid and
+/// modelled, resolution in range, memory estimate within `budget`, geometry non-empty.
+fn check<'a>(
+    t: &(impl TechniqueInfo + ?Sized),
+    backend: Backend,
+    device_max: u32,
+    budget: u64,
+    geometry: &'a SceneGeometry,
+    light: &'a Light,
+    resolution: u32,
+) -> Result<Checked<Generation<'a>>> {
+    t.validate()?;
+    light.validate()?;
+    if !t.models(light.kind()) {
+        return Err(ShadowError::UnsupportedLight {
+            technique: t.name().to_string(),
+            light: light.kind().name(),
+        });
+    }
+    let max = t.max_resolution(backend, device_max);
+    if resolution == 0 || resolution > max {
+        return Err(ShadowError::InvalidResolution {
+            requested: resolution,
+            max,
+        });
+    }
+    let need = t.memory_estimate(light, resolution);
+    if need > budget {
+        return Err(ShadowError::OverBudget {
+            what: format!("{} {} at {resolution}²", t.name(), t.variant()),
+            need,
+            budget,
+        });
+    }
+    geometry.validate()?;
+    Ok(Checked(Generation {
+        geometry,
+        light,
+        resolution,
+    }))
+}
+
+/// The receivers after [`Receivers::validate`].
+fn checked_receivers<'a>(receivers: &Receivers<'a>) -> Result<Checked<Receivers<'a>>> {
+    receivers.validate()?;
+    Ok(Checked(*receivers))
+}
+
+/// A soft-shadow technique: parameters (the implementing value), a generation step that builds
+/// light-space maps and an evaluation step that turns maps plus receivers into visibility `V`,
+/// on the CPU and on the GPU.
+///
+/// # Contract
+///
+/// - The required methods are the technique's kernels; they take [`Checked`] input and are
+///   called through the provided methods, which check first: [`ShadowError::InvalidParameter`],
+///   [`ShadowError::InvalidLight`], [`ShadowError::UnsupportedLight`] for a kind
+///   [`models`](TechniqueInfo::models) rejects, [`ShadowError::InvalidResolution`] for 0 or
+///   above [`max_resolution`](TechniqueInfo::max_resolution), [`ShadowError::OverBudget`] over
+///   the context's memory budget, [`ShadowError::InvalidScene`] for empty geometry and
+///   [`ShadowError::InvalidReceivers`] for receivers of unequal length or non-finite values.
+/// - On the GPU, [`record_gpu`](Self::record_gpu) records generation into the caller's encoder
+///   from geometry already on the GPU ([`GpuScene`]); the maps are ready once that encoder's
+///   work has run. `generate_gpu` and `generate_gpu_on` are blocking wrappers that return after
+///   the GPU has finished, so timing `generate_gpu_on` measures the GPU work without uploads.
+///   wgpu validation and out-of-memory errors become [`ShadowError::Gpu`].
+/// - The GPU evaluation is one WGSL function, `visibility(world_pos, normal) -> f32`
+///   ([`visibility_wgsl`](Self::visibility_wgsl), [`crate::gpu::visibility`]): the blocking
+///   `evaluate_gpu`, the G-buffer pass [`record_visibility`](Self::record_visibility) and a
+///   renderer's own shader all call it.
+/// - Evaluation returns one visibility `V` per receiver, in `[0, 1]` and finite: the fraction of
+///   the light the point sees under the light's emission profile (1 lit, 0 umbra).
+/// - The GPU path computes the same function as the CPU path: RMS of `V * 255` below 1.0 on every
+///   catalogue scene, checked by tests on a real Vulkan driver.
+pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
+    /// Maps produced on the CPU.
+    type CpuMaps: Send + Sync + 'static;
+    /// Maps produced on (and kept on) the GPU.
+    type GpuMaps: Send + Sync + 'static;
+
+    /// The CPU generation kernel: the light-space maps of checked input, their storage from
+    /// `cpu`'s pool.
+    fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> Self::CpuMaps;
+
+    /// The CPU evaluation kernel: `V` per checked receiver. Maps made with other parameters
+    /// than these are [`ShadowError::MapsMismatch`].
+    fn cpu_visibility(
         &self,
-        geometry: &SceneGeometry,
-        light: &Light,
-        resolution: u32,
-    ) -> Result<Self::CpuMaps>;
-    /// Visibility per receiver from CPU maps.
-    fn evaluate_cpu(&self, maps: &Self::CpuMaps, receivers: &Receivers) -> Result<Vec<f32>>;
-    /// Records the generation of the light-space maps of `scene` into `enc` (nothing is
-    /// submitted, mapped or uploaded beyond small parameter buffers): the maps hold their
-    /// contents once the caller has submitted `enc`.
-    fn record_gpu(
+        maps: &Self::CpuMaps,
+        receivers: Checked<Receivers<'_>>,
+    ) -> Result<Vec<f32>>;
+
+    /// The GPU generation: records the maps of checked input into `enc` (nothing is submitted,
+    /// mapped or uploaded beyond small parameter buffers).
+    fn gpu_maps(
         &self,
         gpu: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
-        light: &Light,
-        resolution: u32,
+        input: Checked<Generation<'_>>,
     ) -> Result<Self::GpuMaps>;
 
     /// WGSL that defines `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` (the
     /// same function as [`evaluate_cpu`](Self::evaluate_cpu), with `normal` a unit normal
     /// facing the viewer) over bindings in `@group(0)` laid out by
     /// [`maps_layout_entries`](Self::maps_layout_entries). It depends on the type only, not on
-    /// the parameters (those reach it through the bind group). Its other top-level names are the
-    /// technique's helpers; a shader that includes it must not reuse them.
+    /// the parameters (those reach it through the bind group).
     fn visibility_wgsl() -> String
     where
         Self: Sized;
@@ -150,6 +249,57 @@ pub trait ShadowTechnique: Send + Sync + 'static {
     /// recording the next allocates nothing per frame. Dropping the maps instead frees them.
     fn recycle_gpu(&self, gpu: &GpuContext, maps: Self::GpuMaps);
 
+    /// Builds the light-space maps on the CPU, in `cpu` (its pool and memory budget).
+    fn generate_cpu(
+        &self,
+        cpu: &CpuContext,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<Self::CpuMaps> {
+        let input = check(
+            self,
+            Backend::Cpu,
+            0,
+            cpu.memory_budget(),
+            geometry,
+            light,
+            resolution,
+        )?;
+        Ok(self.cpu_maps(cpu, input))
+    }
+
+    /// Visibility per receiver from CPU maps.
+    fn evaluate_cpu(&self, maps: &Self::CpuMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+        self.validate()?;
+        self.cpu_visibility(maps, checked_receivers(receivers)?)
+    }
+
+    /// Records the generation of the light-space maps of `scene` into `enc` (nothing is
+    /// submitted, mapped or uploaded beyond small parameter buffers): the maps hold their
+    /// contents once the caller has submitted `enc`.
+    fn record_gpu(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        light: &Light,
+        resolution: u32,
+    ) -> Result<Self::GpuMaps> {
+        let input = check(
+            self,
+            Backend::Gpu,
+            gpu.max_texture_size(),
+            gpu.memory_budget(),
+            scene.geometry(),
+            light,
+            resolution,
+        )?;
+        gpu.checked(&format!("{} generation", self.name()), || {
+            self.gpu_maps(gpu, enc, scene, input)
+        })
+    }
+
     /// Builds the light-space maps on the GPU and waits: uploads `geometry`, then
     /// [`generate_gpu_on`](Self::generate_gpu_on).
     fn generate_gpu(
@@ -158,26 +308,20 @@ pub trait ShadowTechnique: Send + Sync + 'static {
         geometry: &SceneGeometry,
         light: &Light,
         resolution: u32,
-    ) -> Result<Self::GpuMaps>
-    where
-        Self: Sized,
-    {
+    ) -> Result<Self::GpuMaps> {
         let scene = GpuScene::new(gpu, geometry)?;
         self.generate_gpu_on(gpu, &scene, light, resolution)
     }
 
     /// Records [`record_gpu`](Self::record_gpu) into a fresh encoder, submits it and waits for
-    /// the GPU; wgpu validation and out-of-memory errors become [`ShadowError::Gpu`].
+    /// the GPU.
     fn generate_gpu_on(
         &self,
         gpu: &GpuContext,
         scene: &GpuScene,
         light: &Light,
         resolution: u32,
-    ) -> Result<Self::GpuMaps>
-    where
-        Self: Sized,
-    {
+    ) -> Result<Self::GpuMaps> {
         gpu.checked(&format!("{} generation", self.name()), || {
             let mut enc = gpu.device.create_command_encoder(&Default::default());
             let maps = self.record_gpu(gpu, &mut enc, scene, light, resolution)?;
@@ -190,11 +334,9 @@ pub trait ShadowTechnique: Send + Sync + 'static {
     /// The bind group a renderer's shader binds (at the group its
     /// [`visibility_wgsl`](Self::visibility_wgsl) was moved to) to call `visibility()`, with
     /// the layout [`crate::gpu::visibility::pipelines`] holds for this type.
-    fn maps_bind_group(&self, gpu: &GpuContext, maps: &Self::GpuMaps) -> Result<wgpu::BindGroup>
-    where
-        Self: Sized,
-    {
-        let p = visibility::pipelines::<Self>(gpu);
+    fn maps_bind_group(&self, gpu: &GpuContext, maps: &Self::GpuMaps) -> Result<wgpu::BindGroup> {
+        self.validate()?;
+        let p = pipelines::<Self>(gpu);
         gpu.checked(&format!("{} maps", self.name()), || {
             self.bind_maps(gpu, &p.maps_layout, maps)
         })
@@ -206,13 +348,13 @@ pub trait ShadowTechnique: Send + Sync + 'static {
         gpu: &GpuContext,
         maps: &Self::GpuMaps,
         receivers: &Receivers,
-    ) -> Result<Vec<f32>>
-    where
-        Self: Sized,
-    {
-        receivers.validate()?;
+    ) -> Result<Vec<f32>> {
+        let receivers = checked_receivers(receivers)?;
+        self.validate()?;
         gpu.checked(&format!("{} evaluation", self.name()), || {
-            visibility::evaluate_buffers(self, gpu, maps, receivers)
+            let p = pipelines::<Self>(gpu);
+            let bind = self.bind_maps(gpu, &p.maps_layout, maps)?;
+            visibility::evaluate_buffers(gpu, &p, &bind, &receivers)
         })
     }
 
@@ -225,81 +367,95 @@ pub trait ShadowTechnique: Send + Sync + 'static {
         enc: &mut wgpu::CommandEncoder,
         maps_bind: &wgpu::BindGroup,
         target: &ReceiverTextures,
-    ) where
-        Self: Sized,
-    {
-        visibility::record_texels::<Self>(gpu, enc, maps_bind, target);
-    }
-
-    /// Bytes one generation for `light` at `resolution` allocates (maps and scratch, about the
-    /// same on both backends), checked against the budget before anything is allocated. The
-    /// default counts one `f32` map; techniques with more layers or scratch say so.
-    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
-        crate::memory::maps(1, resolution, 4)
-    }
-
-    /// The common input checks: light valid and modelled, geometry non-empty, resolution in
-    /// range, [`memory_estimate`](Self::memory_estimate) within `memory_budget` bytes
-    /// ([`crate::memory::cpu_budget`], [`crate::memory::gpu_budget`]).
-    fn check_inputs(
-        &self,
-        geometry: &SceneGeometry,
-        light: &Light,
-        resolution: u32,
-        max_resolution: u32,
-        memory_budget: u64,
-    ) -> Result<()> {
-        light.validate()?;
-        if !self.models(light.kind()) {
-            return Err(ShadowError::UnsupportedLight {
-                technique: self.name().to_string(),
-                light: light.kind().name(),
-            });
-        }
-        if resolution == 0 || resolution > max_resolution {
-            return Err(ShadowError::InvalidResolution {
-                requested: resolution,
-                max: max_resolution,
-            });
-        }
-        let need = self.memory_estimate(light, resolution);
-        if need > memory_budget {
-            return Err(ShadowError::OverBudget {
-                what: format!("{} {} at {resolution}²", self.name(), self.variant()),
-                need,
-                budget: memory_budget,
-            });
-        }
-        geometry.validate()
+    ) {
+        visibility::record_texels(gpu, &pipelines::<Self>(gpu), enc, maps_bind, target);
     }
 }
 
-/// Type-erased maps of either backend, as [`DynTechnique`] hands them around.
-pub struct AnyMaps {
-    backend: Backend,
-    maps: Box<dyn Any + Send + Sync>,
+/// The evaluation pipelines of technique type `T` on `gpu`, built once.
+fn pipelines<T: ShadowTechnique>(
+    gpu: &GpuContext,
+) -> std::sync::Arc<visibility::VisibilityPipelines> {
+    visibility::pipelines::<T>(
+        gpu,
+        std::any::type_name::<T>(),
+        T::visibility_wgsl,
+        T::maps_layout_entries,
+    )
+}
+
+/// Maps of either backend with the technique that made them, as [`DynTechnique`] hands them
+/// out: they evaluate themselves, so a registry holds no map type and casts none.
+pub struct AnyMaps(Box<dyn ErasedMaps>);
+
+/// What [`AnyMaps`] can do, per technique type and backend.
+trait ErasedMaps: Send + Sync {
+    fn backend(&self) -> Backend;
+    fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>>;
+    fn recycle(self: Box<Self>, gpu: Option<&GpuContext>);
+}
+
+struct CpuMapsOf<T: ShadowTechnique>(T, T::CpuMaps);
+struct GpuMapsOf<T: ShadowTechnique>(T, T::GpuMaps);
+
+fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
+    gpu.ok_or_else(|| {
+        ShadowError::NoAdapter("GPU maps were evaluated without a GPU context".into())
+    })
+}
+
+impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
+    fn backend(&self) -> Backend {
+        Backend::Cpu
+    }
+    fn evaluate(&self, _: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
+        self.0.evaluate_cpu(&self.1, receivers)
+    }
+    fn recycle(self: Box<Self>, _: Option<&GpuContext>) {}
+}
+
+impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
+    fn backend(&self) -> Backend {
+        Backend::Gpu
+    }
+    fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
+        self.0.evaluate_gpu(need_gpu(gpu)?, &self.1, receivers)
+    }
+    fn recycle(self: Box<Self>, gpu: Option<&GpuContext>) {
+        if let Some(gpu) = gpu {
+            let Self(t, maps) = *self;
+            t.recycle_gpu(gpu, maps);
+        }
+    }
 }
 
 impl AnyMaps {
     /// The backend that produced these maps.
     pub fn backend(&self) -> Backend {
-        self.backend
+        self.0.backend()
+    }
+
+    /// Visibility per receiver, on the backend that produced the maps (`gpu` is required for
+    /// GPU maps).
+    pub fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
+        self.0.evaluate(gpu, receivers)
+    }
+
+    /// Gives GPU maps back to `gpu`'s pool ([`ShadowTechnique::recycle_gpu`]); CPU maps are
+    /// dropped, their storage going back to the pool of the context that made them.
+    pub fn recycle(self, gpu: Option<&GpuContext>) {
+        self.0.recycle(gpu);
     }
 }
 
-/// Object-safe view of a [`ShadowTechnique`], so harnesses can hold a list of techniques.
-pub trait DynTechnique: Send + Sync {
-    /// See [`ShadowTechnique::name`].
-    fn name(&self) -> &'static str;
-    /// See [`ShadowTechnique::variant`].
-    fn variant(&self) -> String;
-    /// See [`ShadowTechnique::models`].
-    fn models(&self, kind: LightKind) -> bool;
-    /// Generation on `backend`; `gpu` is required for [`Backend::Gpu`].
+/// The object-safe form of a [`ShadowTechnique`], for a registry of techniques of different
+/// types: every [`ShadowTechnique`] is one.
+pub trait DynTechnique: TechniqueInfo {
+    /// Generation in `ctx` (see [`ShadowTechnique::generate_cpu`] and
+    /// [`ShadowTechnique::generate_gpu`]).
     fn generate(
         &self,
-        backend: Backend,
-        gpu: Option<&GpuContext>,
+        ctx: Context<'_>,
         geometry: &SceneGeometry,
         light: &Light,
         resolution: u32,
@@ -314,49 +470,26 @@ pub trait DynTechnique: Send + Sync {
     ) -> Result<AnyMaps>;
     /// See [`ShadowTechnique::visibility_wgsl`].
     fn visibility_wgsl(&self) -> String;
-    /// Evaluation on the backend that produced `maps`.
-    fn evaluate(
-        &self,
-        gpu: Option<&GpuContext>,
-        maps: &AnyMaps,
-        receivers: &Receivers,
-    ) -> Result<Vec<f32>>;
-    /// Gives GPU maps back to `gpu`'s pool ([`ShadowTechnique::recycle_gpu`]); CPU maps (and
-    /// maps of another technique) are dropped, their storage going back to [`crate::pool`].
-    fn recycle(&self, gpu: Option<&GpuContext>, maps: AnyMaps);
-}
-
-fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
-    gpu.ok_or_else(|| {
-        ShadowError::NoAdapter("the GPU backend was asked for without a GPU context".into())
-    })
 }
 
 impl<T: ShadowTechnique> DynTechnique for T {
-    fn name(&self) -> &'static str {
-        ShadowTechnique::name(self)
-    }
-    fn variant(&self) -> String {
-        ShadowTechnique::variant(self)
-    }
-    fn models(&self, kind: LightKind) -> bool {
-        ShadowTechnique::models(self, kind)
-    }
     fn generate(
         &self,
-        backend: Backend,
-        gpu: Option<&GpuContext>,
+        ctx: Context<'_>,
         geometry: &SceneGeometry,
         light: &Light,
         resolution: u32,
     ) -> Result<AnyMaps> {
-        let maps: Box<dyn Any + Send + Sync> = match backend {
-            Backend::Cpu => Box::new(self.generate_cpu(geometry, light, resolution)?),
-            Backend::Gpu => {
-                Box::new(self.generate_gpu(need_gpu(gpu)?, geometry, light, resolution)?)
-            }
-        };
-        Ok(AnyMaps { backend, maps })
+        Ok(AnyMaps(match ctx {
+            Context::Cpu(cpu) => Box::new(CpuMapsOf(
+                self.clone(),
+                self.generate_cpu(cpu, geometry, light, resolution)?,
+            )),
+            Context::Gpu(gpu) => Box::new(GpuMapsOf(
+                self.clone(),
+                self.generate_gpu(gpu, geometry, light, resolution)?,
+            )),
+        }))
     }
     fn generate_gpu_on(
         &self,
@@ -365,45 +498,12 @@ impl<T: ShadowTechnique> DynTechnique for T {
         light: &Light,
         resolution: u32,
     ) -> Result<AnyMaps> {
-        Ok(AnyMaps {
-            backend: Backend::Gpu,
-            maps: Box::new(ShadowTechnique::generate_gpu_on(
-                self, gpu, scene, light, resolution,
-            )?),
-        })
+        Ok(AnyMaps(Box::new(GpuMapsOf(
+            self.clone(),
+            ShadowTechnique::generate_gpu_on(self, gpu, scene, light, resolution)?,
+        ))))
     }
     fn visibility_wgsl(&self) -> String {
         T::visibility_wgsl()
-    }
-    fn evaluate(
-        &self,
-        gpu: Option<&GpuContext>,
-        maps: &AnyMaps,
-        receivers: &Receivers,
-    ) -> Result<Vec<f32>> {
-        receivers.validate()?;
-        let mismatch = || {
-            ShadowError::MapsMismatch(format!(
-                "maps were not produced by {}",
-                ShadowTechnique::name(self)
-            ))
-        };
-        match maps.backend {
-            Backend::Cpu => {
-                self.evaluate_cpu(maps.maps.downcast_ref().ok_or_else(mismatch)?, receivers)
-            }
-            Backend::Gpu => self.evaluate_gpu(
-                need_gpu(gpu)?,
-                maps.maps.downcast_ref().ok_or_else(mismatch)?,
-                receivers,
-            ),
-        }
-    }
-    fn recycle(&self, gpu: Option<&GpuContext>, maps: AnyMaps) {
-        if let (Backend::Gpu, Some(gpu)) = (maps.backend, gpu)
-            && let Ok(m) = maps.maps.downcast::<T::GpuMaps>()
-        {
-            self.recycle_gpu(gpu, *m);
-        }
     }
 }

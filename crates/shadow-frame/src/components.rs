@@ -2,10 +2,10 @@
 
 use bevy_ecs::prelude::*;
 use glam::Vec3;
-use soft_shadow_core::GpuContext;
 use soft_shadow_core::light::{Light, LightKind};
 use soft_shadow_core::mesh::Aabb;
 use soft_shadow_core::technique::{AnyMaps, Backend, DynTechnique};
+use soft_shadow_core::{Context, CpuContext, GpuContext};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -100,11 +100,13 @@ pub struct FrameReceivers {
 #[derive(Resource, Default, Clone)]
 pub struct ReceiversError(pub Option<String>);
 
-/// Where the frame runs its techniques.
+/// Where the frame runs its techniques, and the contexts they run in.
 #[derive(Resource, Clone)]
 pub struct FrameBackend {
     /// CPU or GPU.
     pub backend: Backend,
+    /// The context of [`Backend::Cpu`] (its pool and memory budget).
+    pub cpu: Arc<CpuContext>,
     /// The context for [`Backend::Gpu`].
     pub gpu: Option<Arc<GpuContext>>,
 }
@@ -113,7 +115,31 @@ impl Default for FrameBackend {
     fn default() -> Self {
         Self {
             backend: Backend::Cpu,
+            cpu: Arc::new(CpuContext::new()),
             gpu: None,
+        }
+    }
+}
+
+impl FrameBackend {
+    /// The GPU backend on `gpu`.
+    pub fn gpu(gpu: Arc<GpuContext>) -> Self {
+        Self {
+            backend: Backend::Gpu,
+            gpu: Some(gpu),
+            ..Self::default()
+        }
+    }
+
+    /// The context a generation runs in: the CPU's, or the GPU's (an error naming the missing
+    /// context when the GPU backend has none).
+    pub fn context(&self) -> Result<Context<'_>, String> {
+        match (self.backend, &self.gpu) {
+            (Backend::Cpu, _) => Ok(Context::Cpu(&self.cpu)),
+            (Backend::Gpu, Some(gpu)) => Ok(Context::Gpu(gpu)),
+            (Backend::Gpu, None) => {
+                Err("the GPU backend was asked for without a GPU context".to_string())
+            }
         }
     }
 }

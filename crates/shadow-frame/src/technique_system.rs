@@ -6,9 +6,9 @@ use crate::components::*;
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
 use crate::stats::FrameStats;
 use bevy_ecs::prelude::*;
+use soft_shadow_core::Receivers;
 use soft_shadow_core::SceneGeometry;
 use soft_shadow_core::mesh::Aabb;
-use soft_shadow_core::technique::Receivers;
 use std::time::Instant;
 
 /// The lights a technique system reads and updates.
@@ -112,19 +112,19 @@ pub fn run_technique(
                 state.stale = false;
                 continue;
             }
-            match resolved.technique.generate(
-                backend.backend,
-                gpu,
-                &g,
-                &light.0,
-                resolved.resolution,
-            ) {
+            let made = backend.context().and_then(|ctx| {
+                resolved
+                    .technique
+                    .generate(ctx, &g, &light.0, resolved.resolution)
+                    .map_err(|e| e.to_string())
+            });
+            match made {
                 Ok(m) => {
                     state.maps = Some(m);
                     state.error = None;
                 }
                 Err(e) => {
-                    state.error = Some(e.to_string());
+                    state.error = Some(e);
                     state.stale = false;
                     continue;
                 }
@@ -138,7 +138,7 @@ pub fn run_technique(
             positions: &positions,
             normals: &normals,
         };
-        match resolved.technique.evaluate(gpu, maps, &recv) {
+        match maps.evaluate(gpu, &recv) {
             Ok(v) => {
                 for (&i, x) in inside.iter().zip(v) {
                     state.visibility[i] = x;

@@ -17,9 +17,9 @@ pub mod maps;
 use maps::CpuShadowMaps;
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::light_space::sample_views;
-use soft_shadow_core::technique::MAX_CPU_RESOLUTION;
 use soft_shadow_core::{
-    Bias, GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+    Bias, Checked, CpuContext, Generation, GpuContext, Light, LightKind, Receivers, Result,
+    SceneGeometry, ShadowTechnique, TechniqueInfo,
 };
 
 /// Which baseline filter.
@@ -102,10 +102,7 @@ impl ShadowMapBaseline {
     }
 }
 
-impl ShadowTechnique for ShadowMapBaseline {
-    type CpuMaps = CpuShadowMaps;
-    type GpuMaps = gpu::GpuShadowMaps;
-
+impl TechniqueInfo for ShadowMapBaseline {
     fn name(&self) -> &'static str {
         match self.filter {
             Filter::Hard => "hard-shadow-map",
@@ -129,57 +126,52 @@ impl ShadowTechnique for ShadowMapBaseline {
         true
     }
 
-    fn generate_cpu(
-        &self,
-        geometry: &SceneGeometry,
-        light: &Light,
-        resolution: u32,
-    ) -> Result<CpuShadowMaps> {
-        self.check_inputs(
-            geometry,
-            light,
-            resolution,
-            MAX_CPU_RESOLUTION,
-            soft_shadow_core::memory::cpu_budget(),
-        )?;
-        let views = self.views(geometry, light);
-        Ok(CpuShadowMaps::render(
-            &views,
-            &geometry.casters,
-            resolution,
-            light.size(),
-        ))
-    }
-
-    fn evaluate_cpu(&self, maps: &CpuShadowMaps, receivers: &Receivers) -> Result<Vec<f32>> {
-        receivers.validate()?;
-        let params = filters::EvalParams::new(self, maps.views.len() as u32, maps.light_size);
-        Ok(filters::evaluate_cpu(&params, maps, receivers))
-    }
-
     /// One `f32` depth map per light sample.
     fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
         soft_shadow_core::memory::maps(self.map_count() as u64, resolution, 4)
     }
+}
 
-    fn record_gpu(
+impl ShadowTechnique for ShadowMapBaseline {
+    type CpuMaps = CpuShadowMaps;
+    type GpuMaps = gpu::GpuShadowMaps;
+
+    fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> CpuShadowMaps {
+        let views = self.views(input.geometry, input.light);
+        CpuShadowMaps::render(
+            cpu,
+            &views,
+            &input.geometry.casters,
+            input.resolution,
+            input.light.size(),
+        )
+    }
+
+    fn cpu_visibility(
+        &self,
+        maps: &CpuShadowMaps,
+        receivers: Checked<Receivers<'_>>,
+    ) -> Result<Vec<f32>> {
+        let params = filters::EvalParams::new(self, maps.views.len() as u32, maps.light_size);
+        Ok(filters::evaluate_cpu(&params, maps, &receivers))
+    }
+
+    fn gpu_maps(
         &self,
         gpu: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
-        light: &Light,
-        resolution: u32,
+        input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuShadowMaps> {
-        let geometry = scene.geometry();
-        self.check_inputs(
-            geometry,
-            light,
-            resolution,
-            gpu.max_texture_size(),
-            soft_shadow_core::memory::gpu_budget(),
-        )?;
-        let views = self.views(geometry, light);
-        gpu::GpuShadowMaps::record(gpu, enc, &views, scene, resolution, light.size())
+        let views = self.views(input.geometry, input.light);
+        gpu::GpuShadowMaps::record(
+            gpu,
+            enc,
+            &views,
+            scene,
+            input.resolution,
+            input.light.size(),
+        )
     }
 
     fn visibility_wgsl() -> String {
@@ -238,7 +230,7 @@ pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
     use std::sync::Arc;
     frame.set_hard_path(Arc::new(ShadowMapBaseline::new(Filter::Hard)));
     for b in ShadowMapBaseline::standard_set(&[16]) {
-        let name = ShadowTechnique::name(&b);
+        let name = TechniqueInfo::name(&b);
         frame.add_technique(
             name,
             vec![Arc::new(b) as Arc<dyn soft_shadow_core::DynTechnique>],

@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 use soft_shadow_core::raster::depth_map;
-use soft_shadow_core::{Map2D, SampleView};
+use soft_shadow_core::{CpuContext, Map2D, SampleView};
 
 /// Depth maps rendered on the CPU.
 pub struct CpuShadowMaps {
@@ -17,8 +17,9 @@ pub struct CpuShadowMaps {
 }
 
 impl CpuShadowMaps {
-    /// Rasterizes one depth map per view; `light_size` is [`soft_shadow_core::Light::size`], kept for PCSS.
+    /// Rasterizes one depth map per view (storage from `cpu`'s pool); `light_size` is [`soft_shadow_core::Light::size`], kept for PCSS.
     pub fn render(
+        cpu: &CpuContext,
         views: &[SampleView],
         casters: &[[Vec3; 3]],
         resolution: u32,
@@ -26,7 +27,7 @@ impl CpuShadowMaps {
     ) -> Self {
         let maps = views
             .iter()
-            .map(|v| depth_map(&v.view, resolution, casters))
+            .map(|v| depth_map(cpu.pool(), &v.view, resolution, casters))
             .collect();
         Self {
             maps,

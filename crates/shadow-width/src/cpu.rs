@@ -8,7 +8,7 @@ use crate::params::{DepthLayer, ShadowWidth};
 use crate::width::width_map;
 use rayon::prelude::*;
 use soft_shadow_core::raster::{DepthPass, depth_map_pass};
-use soft_shadow_core::{Light, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+use soft_shadow_core::{CpuContext, Generation, Map2D, MapParams, Receivers, SampleView};
 
 /// The maps of one light, built on the CPU.
 pub struct CpuWidthMaps {
@@ -26,23 +26,21 @@ pub struct CpuWidthMaps {
     pub light_size: f32,
 }
 
-/// Builds the depth, occlusion and width maps of `light` at `resolution` (inputs already checked).
-pub fn generate(
-    t: &ShadowWidth,
-    geometry: &SceneGeometry,
-    light: &Light,
-    resolution: u32,
-) -> CpuWidthMaps {
+/// Builds the depth, occlusion and width maps of the input's light at its resolution (inputs
+/// already checked), their storage from `cpu`'s pool.
+pub fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) -> CpuWidthMaps {
+    let (geometry, light, resolution) = (input.geometry, input.light, input.resolution);
     let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
     let tris = &geometry.casters;
-    let near = depth_map_pass(&view.view, resolution, tris, DepthPass::NEAREST);
+    let pool = cpu.pool();
+    let near = depth_map_pass(pool, &view.view, resolution, tris, DepthPass::NEAREST);
     let occlusion = occlusion_mask(&near);
-    let width = width_map(&occlusion, t.method);
+    let width = width_map(pool, &occlusion, t.method);
     let depth = match t.depth {
         DepthLayer::Front => near,
         DepthLayer::BackFaces => {
-            depth_map_pass(&view.view, resolution, tris, DepthPass::FARTHEST_BACK)
+            depth_map_pass(pool, &view.view, resolution, tris, DepthPass::FARTHEST_BACK)
         }
     };
     CpuWidthMaps {

@@ -27,7 +27,7 @@
 //! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
 //! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
 //! let technique = ShadowWidth::new(WidthMethod::Exact);
-//! let maps = technique.generate_cpu(geometry, light, 512)?;
+//! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 512)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
 //! # Ok(()) }
 //! ```
@@ -38,83 +38,42 @@ pub mod eval;
 pub mod gpu;
 pub mod occlusion;
 pub mod params;
+#[cfg(test)]
+mod tests;
 pub mod width;
 
 pub use attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation};
 pub use params::{DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
 
 use soft_shadow_core::gpu::GpuScene;
-use soft_shadow_core::technique::MAX_CPU_RESOLUTION;
 use soft_shadow_core::{
-    GpuContext, Light, LightKind, Receivers, Result, SceneGeometry, ShadowTechnique,
+    Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
 };
 
 impl ShadowTechnique for ShadowWidth {
     type CpuMaps = cpu::CpuWidthMaps;
     type GpuMaps = gpu::GpuWidthMaps;
 
-    fn name(&self) -> &'static str {
-        "shadow-width"
+    fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuWidthMaps {
+        cpu::generate(self, cpu, &input)
     }
 
-    fn variant(&self) -> String {
-        self.label()
-    }
-
-    /// Any light: one sample at its centre, softness from its size.
-    fn models(&self, _kind: LightKind) -> bool {
-        true
-    }
-
-    fn generate_cpu(
+    fn cpu_visibility(
         &self,
-        geometry: &SceneGeometry,
-        light: &Light,
-        resolution: u32,
-    ) -> Result<cpu::CpuWidthMaps> {
-        self.validate()?;
-        self.check_inputs(
-            geometry,
-            light,
-            resolution,
-            MAX_CPU_RESOLUTION.min(65535),
-            soft_shadow_core::memory::cpu_budget(),
-        )?;
-        Ok(cpu::generate(self, geometry, light, resolution))
+        maps: &cpu::CpuWidthMaps,
+        receivers: Checked<Receivers<'_>>,
+    ) -> Result<Vec<f32>> {
+        Ok(cpu::evaluate(self, maps, &receivers))
     }
 
-    fn evaluate_cpu(&self, maps: &cpu::CpuWidthMaps, receivers: &Receivers) -> Result<Vec<f32>> {
-        self.validate()?;
-        receivers.validate()?;
-        Ok(cpu::evaluate(self, maps, receivers))
-    }
-
-    /// The depth layers, two width buffers, the mask and the jump-flood seeds.
-    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
-        let depth = match self.depth {
-            DepthLayer::Front => 4,
-            DepthLayer::BackFaces => 8,
-        };
-        soft_shadow_core::memory::maps(1, resolution, depth + 20)
-    }
-
-    fn record_gpu(
+    fn gpu_maps(
         &self,
         gpu: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
-        light: &Light,
-        resolution: u32,
+        input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuWidthMaps> {
-        self.validate()?;
-        self.check_inputs(
-            scene.geometry(),
-            light,
-            resolution,
-            gpu.max_texture_size(),
-            soft_shadow_core::memory::gpu_budget(),
-        )?;
-        gpu::generate(gpu, enc, self, scene, light, resolution)
+        gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
     }
 
     fn visibility_wgsl() -> String {
@@ -136,7 +95,6 @@ impl ShadowTechnique for ShadowWidth {
         layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuWidthMaps,
     ) -> Result<wgpu::BindGroup> {
-        self.validate()?;
         Ok(gpu::bind_maps(gpu, layout, self, maps))
     }
 }

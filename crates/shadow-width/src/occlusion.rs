@@ -13,8 +13,8 @@ pub fn is_blocked(near: f32) -> bool {
     near != NO_OCCLUDER
 }
 
-/// The inverted occlusion map (`true` = blocked) from the nearest depth map.
+/// The inverted occlusion map (`true` = blocked) from the nearest depth map (storage from its
+/// pool).
 pub fn occlusion_mask(near: &Map2D<f32>) -> Map2D<bool> {
-    let d = near.data();
-    Map2D::from_par_fn(near.width(), near.height(), |i| is_blocked(d[i]))
+    near.map(|&d| is_blocked(d))
 }

@@ -2,7 +2,7 @@
 //! measured from, the softness and the attenuation.
 
 use crate::attenuation::FalloffKind;
-use soft_shadow_core::{Bias, Light, LightKind, Result, ShadowError};
+use soft_shadow_core::{Bias, Light, LightKind, Result, ShadowError, TechniqueInfo};
 
 /// How the shadow-width map is built from the inverted occlusion map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -159,9 +159,47 @@ impl ShadowWidth {
         v
     }
 
+    /// The variant label: method, then `-back` for back-face depth, `-table{n}` for table lookup,
+    /// `-custom` for a custom falloff, `-c{c_scale}` for a constant softness.
+    pub fn label(&self) -> String {
+        let mut s = match self.method {
+            WidthMethod::Propagate { neighbours } => format!("propagate-{}", neighbours.count()),
+            WidthMethod::Exact => "edt".to_string(),
+            WidthMethod::JumpFlood => "jfa".to_string(),
+        };
+        if self.depth == DepthLayer::BackFaces {
+            s.push_str("-back");
+        }
+        if let Some(n) = self.table {
+            s.push_str(&format!("-table{n}"));
+        }
+        if matches!(self.falloff, FalloffKind::Custom(_)) {
+            s.push_str("-custom");
+        }
+        if let Softness::Constant(c) = self.softness {
+            s.push_str(&format!("-c{c}"));
+        }
+        s
+    }
+}
+
+impl TechniqueInfo for ShadowWidth {
+    fn name(&self) -> &'static str {
+        "shadow-width"
+    }
+
+    fn variant(&self) -> String {
+        self.label()
+    }
+
+    /// Any light: one sample at its centre, softness from its size.
+    fn models(&self, _kind: LightKind) -> bool {
+        true
+    }
+
     /// Checks the parameters: `c_scale` and `c_bias` finite and non-negative,
     /// and non-negative, biases finite, table size in range.
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         let bad = |what: String| Err(ShadowError::InvalidParameter(what));
         if let Softness::Constant(c) = self.softness
             && !(c.is_finite() && c >= 0.0)
@@ -185,26 +223,12 @@ impl ShadowWidth {
         Ok(())
     }
 
-    /// The variant label: method, then `-back` for back-face depth, `-table{n}` for table lookup,
-    /// `-custom` for a custom falloff, `-c{c_scale}` for a constant softness.
-    pub fn label(&self) -> String {
-        let mut s = match self.method {
-            WidthMethod::Propagate { neighbours } => format!("propagate-{}", neighbours.count()),
-            WidthMethod::Exact => "edt".to_string(),
-            WidthMethod::JumpFlood => "jfa".to_string(),
+    /// The depth layers, two width buffers, the mask and the jump-flood seeds.
+    fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
+        let depth = match self.depth {
+            DepthLayer::Front => 4,
+            DepthLayer::BackFaces => 8,
         };
-        if self.depth == DepthLayer::BackFaces {
-            s.push_str("-back");
-        }
-        if let Some(n) = self.table {
-            s.push_str(&format!("-table{n}"));
-        }
-        if matches!(self.falloff, FalloffKind::Custom(_)) {
-            s.push_str("-custom");
-        }
-        if let Softness::Constant(c) = self.softness {
-            s.push_str(&format!("-c{c}"));
-        }
-        s
+        soft_shadow_core::memory::maps(1, resolution, depth + 20)
     }
 }

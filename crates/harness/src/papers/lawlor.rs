@@ -6,9 +6,10 @@ use super::{Claim, Experiment, Row, measure_run, prepare, ray_traced_run, rms_wh
 use crate::ground_truth::RayTracer;
 use crate::report::json::Run;
 use glam::Vec3;
-use penumbra_limit::{Generation, PenumbraLimit};
+use penumbra_limit::{Generator, PenumbraLimit};
 use shadow_maps::{Filter, ShadowMapBaseline};
 use shadow_width::{ShadowWidth, WidthMethod};
+use soft_shadow_core::TechniqueInfo;
 use soft_shadow_core::{Bias, DistantProfile, DynTechnique, Light, Result, TriangleMesh};
 
 /// Scene name of the runs.
@@ -138,7 +139,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
             plm = ours;
         }
     }
-    let biased = PenumbraLimit::new(Generation::Silhouette);
+    let biased = PenumbraLimit::new(Generator::Silhouette);
     measure_row(
         "Penumbra Limit Maps (silhouette-f32, default biases)".into(),
         vec![None; 4],

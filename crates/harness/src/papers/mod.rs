@@ -23,7 +23,7 @@ use crate::scenes::{MeshInstance, SceneSpec};
 use crate::setup::PreparedScene;
 use glam::Vec3;
 use serde::Serialize;
-use soft_shadow_core::{Backend, Camera, DynTechnique, Light, LightPoint, Result, ShadowError};
+use soft_shadow_core::{Camera, DynTechnique, Light, LightPoint, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -131,7 +131,7 @@ impl Experiment {
 }
 
 /// Runs every experiment at G-buffer side `size`, in the order of the module docs.
-pub fn run_all(size: u32) -> Result<Papers> {
+pub fn run_all(size: u32) -> crate::error::Result<Papers> {
     let mut experiments = Vec::new();
     let mut runs = Vec::new();
     type Exp = fn(u32) -> Result<(Vec<Experiment>, Vec<Run>)>;
@@ -156,17 +156,17 @@ pub fn run_all(size: u32) -> Result<Papers> {
 }
 
 /// Runs every experiment and writes `papers.json`, `papers.md` and `papers.html` into `opts.out`.
-pub fn run(opts: &PapersOptions) -> Result<Papers> {
+pub fn run(opts: &PapersOptions) -> crate::error::Result<Papers> {
     let papers = run_all(opts.size)?;
     write(&papers, &opts.out)?;
     Ok(papers)
 }
 
 /// Writes the three files.
-pub fn write(papers: &Papers, out: &Path) -> Result<()> {
+pub fn write(papers: &Papers, out: &Path) -> crate::error::Result<()> {
     crate::report::create_dir(out)?;
     let json = serde_json::to_string_pretty(papers)
-        .map_err(|e| ShadowError::InvalidScene(format!("papers.json: {e}")))?;
+        .map_err(|e| crate::error::HarnessError::write(&out.join("papers.json"), e))?;
     let md = markdown(papers);
     crate::report::write_text(&out.join("papers.json"), &json)?;
     crate::report::write_text(&out.join("papers.html"), &crate::report::html::render(&md))?;
@@ -278,7 +278,16 @@ pub fn measure_run(
     res: u32,
     reference: Option<&[f32]>,
 ) -> Result<(Run, Vec<f32>)> {
-    let m = measure(t, Backend::Cpu, None, p, res, 1, false, None)?;
+    let cpu = soft_shadow_core::CpuContext::new();
+    let m = measure(
+        t,
+        soft_shadow_core::Context::Cpu(&cpu),
+        p,
+        res,
+        1,
+        false,
+        None,
+    )?;
     let own = p.reference_v();
     let reference = reference.unwrap_or(&own);
     let run = Run {

@@ -10,7 +10,7 @@
 
 use crate::setup::PreparedScene;
 use glam::Vec3;
-use soft_shadow_core::{Backend, DynTechnique, GpuContext, Light, Result};
+use soft_shadow_core::{Context, DynTechnique, Light, Result};
 
 /// Scenes on which the report measures flicker.
 pub const SCENES: [&str; 2] = ["torus", "overlap"];
@@ -60,8 +60,7 @@ pub fn flicker_255(frames: &[Vec<f32>], references: &[Vec<f32>]) -> f64 {
 /// it against `references`.
 pub fn measure(
     t: &dyn DynTechnique,
-    backend: Backend,
-    gpu: Option<&GpuContext>,
+    ctx: Context<'_>,
     p: &PreparedScene,
     resolution: u32,
     references: &[Vec<f32>],
@@ -69,8 +68,8 @@ pub fn measure(
     let frames = lights(&p.spec.light, references.len())
         .iter()
         .map(|l| {
-            let maps = t.generate(backend, gpu, &p.geometry, l, resolution)?;
-            t.evaluate(gpu, &maps, &p.receivers())
+            let maps = t.generate(ctx, &p.geometry, l, resolution)?;
+            maps.evaluate(ctx.gpu(), &p.receivers())
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(flicker_255(&frames, references))

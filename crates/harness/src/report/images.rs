@@ -1,17 +1,14 @@
 //! Pictures and raw data: a PNG strip per scene (reference | runs, signed error below) and OpenEXR
 //! files of the G-buffer, the reference and every run's `V`.
 
+use crate::error::{HarnessError, Result};
 use image::{Rgb, RgbImage};
-use soft_shadow_core::{Result, ShadowError};
 use std::path::Path;
 
 const BACKGROUND: Rgb<u8> = Rgb([40, 44, 60]);
 
-fn io_err(path: &Path, e: impl std::fmt::Display) -> ShadowError {
-    ShadowError::Write {
-        path: path.display().to_string(),
-        source: std::io::Error::other(e.to_string()),
-    }
+fn io_err(path: &Path, e: impl std::fmt::Display) -> HarnessError {
+    HarnessError::write(path, e)
 }
 
 /// Scatters per-receiver values back into a `size²` image; `None` where no receiver is.

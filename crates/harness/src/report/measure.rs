@@ -3,7 +3,7 @@
 use crate::metrics::median;
 use crate::setup::PreparedScene;
 use soft_shadow_core::gpu::GpuScene;
-use soft_shadow_core::{Backend, DynTechnique, GpuContext, Result};
+use soft_shadow_core::{Context, DynTechnique, Result};
 use std::time::Instant;
 
 /// Most repetitions of one configuration in the full run.
@@ -61,7 +61,7 @@ impl<'a, M> Frame<'a, M> {
 /// first CPU generation that faults in fresh pages measured 3-8x its steady time
 /// (occlusion-slices sat-8 on `torus` at 2048²: 152 ms, then 18-22 ms). With `warm_up` (a
 /// technique's first GPU use) that run evaluates too: pipelines compile on first use and are
-/// cached per device. Maps are recycled after each generation ([`DynTechnique::recycle`]), so
+/// cached per device. Maps are recycled after each generation ([`soft_shadow_core::AnyMaps::recycle`]), so
 /// every timed repetition reuses their textures and pages as a renderer's frames do.
 ///
 /// With `beside` (the report passes the hard shadow map at the resolution of its cost table),
@@ -71,8 +71,7 @@ impl<'a, M> Frame<'a, M> {
 #[allow(clippy::too_many_arguments)]
 pub fn measure<'t>(
     t: &'t dyn DynTechnique,
-    backend: Backend,
-    gpu: Option<&GpuContext>,
+    ctx: Context<'_>,
     p: &PreparedScene,
     res: u32,
     reps: usize,
@@ -80,20 +79,21 @@ pub fn measure<'t>(
     beside: Option<&'t dyn DynTechnique>,
 ) -> Result<Measured> {
     let light = &p.spec.light;
-    let scene = match (backend, gpu) {
-        (Backend::Gpu, Some(g)) => Some((g, GpuScene::new(g, &p.geometry)?)),
-        _ => None,
+    let gpu = ctx.gpu();
+    let scene = match gpu {
+        Some(g) => Some((g, GpuScene::new(g, &p.geometry)?)),
+        None => None,
     };
     let generate_with = |t: &dyn DynTechnique| match &scene {
         Some((g, s)) => t.generate_gpu_on(g, s, light, res),
-        None => t.generate(backend, gpu, &p.geometry, light, res),
+        None => t.generate(ctx, &p.geometry, light, res),
     };
     // A technique's three steps, for its `Frame`.
     let steps = |t: &'t dyn DynTechnique| {
         (
             move || generate_with(t),
-            move |maps: &_| t.evaluate(gpu, maps, &p.receivers()),
-            move |maps| t.recycle(gpu, maps),
+            move |maps: &soft_shadow_core::AnyMaps| maps.evaluate(gpu, &p.receivers()),
+            move |maps: soft_shadow_core::AnyMaps| maps.recycle(gpu),
         )
     };
     let own = steps(t);

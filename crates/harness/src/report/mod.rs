@@ -13,14 +13,15 @@ pub mod progress;
 pub mod stability;
 pub mod summary;
 
+use crate::error::{HarnessError, Result};
 use crate::ground_truth::GroundTruthSettings;
 use crate::metrics::errors;
 use crate::scenes::{SceneSpec, catalogue, scene_file};
 use crate::setup::PreparedScene;
 use json::{Machine, ReferenceInfo, Report, Run};
-pub use options::{BackendChoice, ReportOptions, all_techniques};
+pub use options::{BackendChoice, MemoryBudgets, ReportOptions, all_techniques};
 use progress::Progress;
-use soft_shadow_core::{Backend, DynTechnique, GpuContext, Result, ShadowError};
+use soft_shadow_core::{Backend, Context, CpuContext, DynTechnique, GpuContext, ShadowError};
 use std::collections::HashSet;
 use std::path::Path;
 
@@ -95,14 +96,14 @@ pub fn file_stem(name: &str) -> String {
 }
 
 pub(crate) fn create_dir(path: &Path) -> Result<()> {
-    std::fs::create_dir_all(path).map_err(|source| ShadowError::Write {
+    std::fs::create_dir_all(path).map_err(|source| HarnessError::Write {
         path: path.display().to_string(),
         source,
     })
 }
 
 pub(crate) fn write_text(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|source| ShadowError::Write {
+    std::fs::write(path, text).map_err(|source| HarnessError::Write {
         path: path.display().to_string(),
         source,
     })
@@ -154,6 +155,7 @@ struct Runner<'a> {
     resolutions: Vec<u32>,
     techniques: Vec<Box<dyn DynTechnique>>,
     backends: Vec<Backend>,
+    cpu: CpuContext,
     gpu: Option<GpuContext>,
     bar: Progress,
     /// Techniques already warmed up on the GPU.
@@ -166,6 +168,17 @@ struct Runner<'a> {
 type StripColumn = (String, u32, Backend, Vec<f32>);
 
 impl Runner<'_> {
+    /// The context `backend` runs in.
+    fn context(&self, backend: Backend) -> std::result::Result<Context<'_>, ShadowError> {
+        match (backend, &self.gpu) {
+            (Backend::Cpu, _) => Ok(Context::Cpu(&self.cpu)),
+            (Backend::Gpu, Some(g)) => Ok(Context::Gpu(g)),
+            (Backend::Gpu, None) => Err(ShadowError::NoAdapter(
+                "the GPU backend was asked for without a GPU context".into(),
+            )),
+        }
+    }
+
     fn runs_per_scene(&self, job: &Job) -> u64 {
         let flicker = if flicker::SCENES.contains(&job.spec.name.as_str()) {
             job.techniques.len() * self.backends.len()
@@ -256,8 +269,8 @@ impl Runner<'_> {
             .then(|| self.techniques.iter().find(|h| h.name() == cost::HARD))
             .flatten()
             .map(|h| h.as_ref());
-        let gpu = self.gpu.as_ref();
-        let m = match measure::measure(t, backend, gpu, p, res, reps, warm_up, beside) {
+        let ctx = self.context(backend)?;
+        let m = match measure::measure(t, ctx, p, res, reps, warm_up, beside) {
             Ok(m) => m,
             // A light the technique does not model, a resolution or memory need over the
             // backend's limits, or a GPU fault (out of memory, a lost device) on the GPU row:
@@ -283,7 +296,7 @@ impl Runner<'_> {
                 );
                 return Ok(None);
             }
-            Err(e) => return Err(e),
+            Err(e) => return Err(e.into()),
         };
         let run = Run {
             scene: name.clone(),
@@ -356,14 +369,8 @@ impl Runner<'_> {
                         && r.resolution == res
                 });
                 if let Some(run) = run {
-                    run.flicker_255 = Some(flicker::measure(
-                        t,
-                        backend,
-                        self.gpu.as_ref(),
-                        p,
-                        res,
-                        &refs,
-                    )?);
+                    run.flicker_255 =
+                        Some(flicker::measure(t, self.context(backend)?, p, res, &refs)?);
                 }
                 self.bar.inc();
             }
@@ -469,7 +476,8 @@ fn select_techniques(opts: &ReportOptions) -> Result<Vec<Box<dyn DynTechnique>>>
                     "unknown technique {n:?}; techniques: {}; variants: {}",
                     known.join(", "),
                     variants.join(", ")
-                )));
+                ))
+                .into());
             }
         }
         techniques.retain(|t| names.iter().any(|n| selects(n, t.as_ref())));
@@ -478,9 +486,6 @@ fn select_techniques(opts: &ReportOptions) -> Result<Vec<Box<dyn DynTechnique>>>
 }
 
 fn select_gpu(choice: BackendChoice) -> Result<(Option<GpuContext>, String)> {
-    if choice != BackendChoice::Cpu {
-        explain_driver_noise();
-    }
     Ok(match choice {
         BackendChoice::Cpu => (None, "not used (--backend cpu)".to_string()),
         BackendChoice::Gpu => {
@@ -514,23 +519,6 @@ pub fn no_shadow_warning(scene: &str, reference: &[f32]) -> Option<String> {
     })
 }
 
-/// Says once, before the GPU starts, that Mesa's Vulkan drivers print
-/// `error: XDG_RUNTIME_DIR is invalid or not set in the environment.` when that variable is
-/// missing (no display server to talk to): the line is the driver's, harmless for headless
-/// compute, and setting the variable silences it. Our own errors start `error:` too, so the line
-/// is explained rather than filtered; nothing is hidden.
-pub fn explain_driver_noise() {
-    let valid =
-        std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
-    if !valid {
-        eprintln!(
-            "note: XDG_RUNTIME_DIR is not set; the Vulkan driver may print \"error: \
-             XDG_RUNTIME_DIR is invalid or not set\" below. It is the driver's, harmless here \
-             (no display is used); set XDG_RUNTIME_DIR to silence it."
-        );
-    }
-}
-
 /// Runs the report and writes `report.json`, `report.md`, `index.html`, PNG strips, Pareto
 /// charts and EXR data into `opts.out`.
 pub fn run(opts: &ReportOptions) -> Result<Report> {
@@ -538,7 +526,8 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     if size == 0 || size > 4096 {
         return Err(ShadowError::InvalidParameter(format!(
             "--size (the G-buffer side in pixels) must be in 1..=4096, got {size}"
-        )));
+        ))
+        .into());
     }
     let settings = GroundTruthSettings::default();
     let resolutions = opts.resolutions();
@@ -546,10 +535,14 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         return Err(ShadowError::InvalidResolution {
             requested: bad,
             max: soft_shadow_core::technique::MAX_CPU_RESOLUTION,
-        });
+        }
+        .into());
     }
     let techniques = select_techniques(opts)?;
     let (gpu, gpu_adapter) = select_gpu(opts.backend)?;
+    if let (Some(g), Some(bytes)) = (&gpu, opts.memory.gpu) {
+        g.set_memory_budget(bytes);
+    }
     let mut backends = Vec::new();
     if opts.backend != BackendChoice::Gpu {
         backends.push(Backend::Cpu);
@@ -566,7 +559,8 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
                 "scenes {other:?} and {:?} would write the same files ({})",
                 j.spec.name,
                 file_stem(&j.spec.name)
-            )));
+            ))
+            .into());
         }
     }
     create_dir(&opts.out)?;
@@ -577,6 +571,10 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         resolutions,
         techniques,
         backends,
+        cpu: match opts.memory.cpu {
+            Some(bytes) => CpuContext::with_memory_budget(bytes),
+            None => CpuContext::new(),
+        },
         gpu,
         bar: Progress::with_mode(0, false),
         warmed: HashSet::new(),
@@ -607,7 +605,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     let largest = report.runs.iter().map(|r| r.resolution).max().unwrap_or(0);
     report.machine.write_once_ms = cost::write_once_ms(largest);
     if report.runs.is_empty() {
-        return Err(ShadowError::NothingRan(format!(
+        return Err(HarnessError::NothingRan(format!(
             "every configuration was skipped ({})",
             if runner.skipped.is_empty() {
                 "no technique, resolution and backend to run".to_string()
@@ -624,7 +622,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     write_text(
         &opts.out.join("report.json"),
         &serde_json::to_string_pretty(&report)
-            .map_err(|e| ShadowError::InvalidScene(e.to_string()))?,
+            .map_err(|e| HarnessError::write(&opts.out.join("report.json"), e))?,
     )?;
     let md = markdown::render(&report, opts.out.join("papers.html").is_file());
     write_text(&opts.out.join("report.md"), &md)?;

@@ -32,6 +32,16 @@ pub enum BackendChoice {
     All,
 }
 
+/// The memory budgets of one generation, per backend (`None`: the contexts' defaults,
+/// [`soft_shadow_core::memory::default_budget`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MemoryBudgets {
+    /// Bytes one CPU generation may allocate.
+    pub cpu: Option<u64>,
+    /// Bytes one GPU generation may allocate.
+    pub gpu: Option<u64>,
+}
+
 /// Options of `report`, as the CLI flags of the guide.
 #[derive(Clone, Debug)]
 pub struct ReportOptions {
@@ -52,6 +62,9 @@ pub struct ReportOptions {
     pub scene_files: Vec<PathBuf>,
     /// `--size`: G-buffer side; `None` = [`FULL_SIZE`] (quick: [`QUICK_SIZE`]).
     pub size: Option<u32>,
+    /// Memory budgets (the binary reads `SHADOW_CPU_MEMORY_BUDGET` and
+    /// `SHADOW_GPU_MEMORY_BUDGET`, in bytes).
+    pub memory: MemoryBudgets,
 }
 
 impl ReportOptions {

@@ -1,8 +1,8 @@
 //! Error-vs-time charts (log axes), one line per technique/variant/backend, Pareto front ringed.
 
 use super::json::Run;
+use crate::error::{HarnessError, Result};
 use plotters::prelude::*;
-use soft_shadow_core::{Result, ShadowError};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Once;
@@ -27,11 +27,8 @@ fn register_font() {
     });
 }
 
-fn plot_err(path: &Path, e: impl std::fmt::Display) -> ShadowError {
-    ShadowError::Write {
-        path: path.display().to_string(),
-        source: std::io::Error::other(e.to_string()),
-    }
+fn plot_err(path: &Path, e: impl std::fmt::Display) -> HarnessError {
+    HarnessError::write(path, e)
 }
 
 /// Indices of the runs on the Pareto front of (total time, image rms): no other run is both faster and more accurate.

@@ -37,3 +37,39 @@ impl Receivers {
         }
     }
 }
+
+/// A context for a GPU test, or `None` (after printing why) when no adapter exists outside CI.
+/// With `CI` set, a GPU test that cannot get an adapter fails: CI runs the GPU tests on
+/// lavapipe.
+pub fn gpu_for_test(test: &str) -> Option<soft_shadow_core::GpuContext> {
+    match soft_shadow_core::GpuContext::new() {
+        Ok(ctx) => Some(ctx),
+        Err(e) if std::env::var_os("CI").is_some() => {
+            panic!(
+                "{test}: GPU tests are required in CI (CI is set) but no adapter is available: {e}"
+            )
+        }
+        Err(e) => {
+            eprintln!("skipping GPU test {test}: {e}");
+            None
+        }
+    }
+}
+
+/// One CPU context for the whole test binary (its pool shared by the tests running in it).
+pub fn cpu() -> &'static soft_shadow_core::CpuContext {
+    static CPU: std::sync::OnceLock<soft_shadow_core::CpuContext> = std::sync::OnceLock::new();
+    CPU.get_or_init(soft_shadow_core::CpuContext::new)
+}
+
+/// The context `backend` runs in: [`cpu`], or `gpu` (which the GPU backend needs).
+pub fn context(
+    backend: soft_shadow_core::Backend,
+    gpu: Option<&soft_shadow_core::GpuContext>,
+) -> soft_shadow_core::Context<'_> {
+    match (backend, gpu) {
+        (soft_shadow_core::Backend::Gpu, Some(g)) => soft_shadow_core::Context::Gpu(g),
+        (soft_shadow_core::Backend::Gpu, None) => panic!("the GPU backend without a GPU context"),
+        (soft_shadow_core::Backend::Cpu, _) => soft_shadow_core::Context::Cpu(cpu()),
+    }
+}

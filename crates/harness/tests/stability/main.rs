@@ -29,9 +29,9 @@ mod random_scenes;
 mod resolved_gap;
 mod tiny_light;
 
+use crate::common::gpu_for_test;
 use harness::report::all_techniques;
 use harness::scenes::SceneSpec;
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::{Backend, DynTechnique, GpuContext};
 use std::sync::OnceLock;
 
@@ -91,10 +91,10 @@ pub fn visibility(
 ) -> Vec<f32> {
     let t0 = std::time::Instant::now();
     let maps = t
-        .generate(backend, gpu(), &r.geometry, light, res)
+        .generate(common::context(backend, gpu()), &r.geometry, light, res)
         .unwrap_or_else(|e| panic!("{what}: generate: {e}"));
-    let v = t
-        .evaluate(gpu(), &maps, &r.as_receivers())
+    let v = maps
+        .evaluate(gpu(), &r.as_receivers())
         .unwrap_or_else(|e| panic!("{what}: evaluate: {e}"));
     if std::env::var_os("STABILITY_TIMES").is_some() {
         eprintln!("TIME {:.1} ms {what}", t0.elapsed().as_secs_f64() * 1e3);

@@ -118,10 +118,10 @@ proptest! {
                     l.kind(), t.name(), t.variant(), be.name()
                 );
                 let maps = t
-                    .generate(be, gpu(), &geometry, &l, res)
+                    .generate(crate::common::context(be, gpu()), &geometry, &l, res)
                     .map_err(|e| TestCaseError::fail(format!("{what}: generate: {e}")))?;
-                let v = t
-                    .evaluate(gpu(), &maps, &recv)
+                let v = maps
+                    .evaluate(gpu(), &recv)
                     .map_err(|e| TestCaseError::fail(format!("{what}: evaluate: {e}")))?;
                 assert_stable(&v, positions.len(), &what);
             }

@@ -125,10 +125,15 @@ fn no_bias_pushes_a_receiver_through_a_resolved_gap() {
                     let what = label(t.as_ref(), &scene.name, res, be);
                     let gpu = super::gpu();
                     let maps = t
-                        .generate(be, gpu, &geometry, &scene.light, res)
+                        .generate(
+                            crate::common::context(be, gpu),
+                            &geometry,
+                            &scene.light,
+                            res,
+                        )
                         .unwrap_or_else(|e| panic!("{what}: generate: {e}"));
-                    let v = t
-                        .evaluate(gpu, &maps, &receivers)
+                    let v = maps
+                        .evaluate(gpu, &receivers)
                         .unwrap_or_else(|e| panic!("{what}: evaluate: {e}"));
                     let mean = v.iter().sum::<f32>() / v.len() as f32;
                     if mean > MAX_MEAN_V {

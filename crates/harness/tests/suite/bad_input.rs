@@ -1,9 +1,10 @@
 //! Bad input to techniques and to the CLI: typed errors, no panic.
 
+use crate::common::context;
+use crate::common::gpu_for_test;
 use glam::Vec3;
 use harness::scenes::catalogue::build;
 use shadow_maps::{Filter, ShadowMapBaseline};
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::{Backend, DynTechnique, Light, ShadowError};
 
 #[test]
@@ -22,21 +23,19 @@ fn resolution_zero_and_zero_size_light_are_typed_errors() {
         v_half: Vec3::Z,
     };
     for be in backends {
-        let r = b.generate(be, ctx.as_ref(), &geo, &spec.light, 0);
+        let r = b.generate(context(be, ctx.as_ref()), &geo, &spec.light, 0);
         assert!(
             matches!(r, Err(ShadowError::InvalidResolution { requested: 0, .. })),
             "{be:?}"
         );
-        let r = b.generate(be, ctx.as_ref(), &geo, &spec.light, 1 << 20);
+        let r = b.generate(context(be, ctx.as_ref()), &geo, &spec.light, 1 << 20);
         assert!(
             matches!(r, Err(ShadowError::InvalidResolution { .. })),
             "{be:?}"
         );
-        let r = b.generate(be, ctx.as_ref(), &geo, &zero, 64);
+        let r = b.generate(context(be, ctx.as_ref()), &geo, &zero, 64);
         assert!(matches!(r, Err(ShadowError::InvalidLight(_))), "{be:?}");
     }
-    let r = b.generate(Backend::Gpu, None, &geo, &spec.light, 64);
-    assert!(matches!(r, Err(ShadowError::NoAdapter(_))));
 }
 
 #[test]
@@ -258,6 +257,7 @@ fn technique_selection_and_scale_are_checked() {
         backend: BackendChoice::Cpu,
         scene_files: files,
         size: Some(16),
+        memory: Default::default(),
     };
     let r = run(&opts("pcf:r2", Vec::new())).unwrap();
     assert!(
@@ -267,7 +267,7 @@ fn technique_selection_and_scale_are_checked() {
     );
     assert_eq!(r.runs.len(), 1);
     match run(&opts("no-such", Vec::new())) {
-        Err(soft_shadow_core::ShadowError::InvalidParameter(m)) => {
+        Err(harness::error::HarnessError::Shadow(ShadowError::InvalidParameter(m))) => {
             assert!(m.contains("unknown technique \"no-such\""), "{m}");
             assert_eq!(m.matches("occlusion-slices,").count(), 1, "{m}");
             assert!(m.contains("pcf:r2"), "{m}");
@@ -282,7 +282,7 @@ fn technique_selection_and_scale_are_checked() {
     )
     .unwrap();
     match run(&opts("pcf", vec![f])) {
-        Err(soft_shadow_core::ShadowError::InvalidScene(m)) => {
+        Err(harness::error::HarnessError::Shadow(ShadowError::InvalidScene(m))) => {
             assert!(m.contains("`scale`"), "{m}")
         }
         other => panic!("{other:?}"),
@@ -313,14 +313,16 @@ fn report_list_names_scenes_techniques_and_variants() {
 /// the budget (accumulation n64 at 16384² asks for 64 GiB of maps).
 #[test]
 fn a_configuration_over_the_memory_budget_is_a_typed_error() {
-    use soft_shadow_core::ShadowTechnique;
+    use soft_shadow_core::{CpuContext, ShadowTechnique, TechniqueInfo};
     let spec = harness::scenes::catalogue::build("plane-occluder").unwrap();
     let geometry = spec.to_scene().unwrap().geometry();
     let t = shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Accumulate { samples: 64 });
     assert_eq!(t.memory_estimate(&spec.light, 16384), 64 << 30);
+    let cpu = CpuContext::with_memory_budget(6 << 30);
     let e = t
-        .check_inputs(&geometry, &spec.light, 16384, 16384, 6 << 30)
-        .unwrap_err();
+        .generate_cpu(&cpu, &geometry, &spec.light, 16384)
+        .err()
+        .expect("over the budget");
     assert!(
         matches!(e, soft_shadow_core::ShadowError::OverBudget { need, budget, .. } if need == 64 << 30 && budget == 6 << 30),
         "{e}"

@@ -398,18 +398,16 @@ fn bad_frame_input_is_reported_not_panicked() {
 /// light) and the same bookkeeping.
 #[test]
 fn the_frame_pipeline_agrees_between_cpu_and_gpu() {
-    let Some(ctx) = soft_shadow_core::gpu::testing::gpu_for_test(
-        "the_frame_pipeline_agrees_between_cpu_and_gpu",
-    ) else {
+    let Some(ctx) = crate::common::gpu_for_test("the_frame_pipeline_agrees_between_cpu_and_gpu")
+    else {
         return;
     };
     let mut cpu = lab(5.0);
     let sc = pipeline().run(&mut cpu.scene.world);
     let mut gpu = lab(5.0);
-    gpu.scene.world.insert_resource(shadow_frame::FrameBackend {
-        backend: Backend::Gpu,
-        gpu: Some(Arc::new(ctx)),
-    });
+    gpu.scene
+        .world
+        .insert_resource(shadow_frame::FrameBackend::gpu(Arc::new(ctx)));
     let sg = pipeline().run(&mut gpu.scene.world);
     assert_eq!(
         (sc.maps_generated, sc.receivers_evaluated),

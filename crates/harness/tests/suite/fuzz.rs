@@ -142,7 +142,7 @@ fn load_and_render(dir: &Path, what: &str) -> Outcome {
     {
         outcome = Outcome::Rendered;
         let hard = ShadowMapBaseline::new(Filter::Hard);
-        if let Ok(maps) = hard.generate_cpu(&geometry, &spec.light, 64) {
+        if let Ok(maps) = hard.generate_cpu(crate::common::cpu(), &geometry, &spec.light, 64) {
             let r = soft_shadow_core::Receivers {
                 positions: &positions,
                 normals: &normals,

@@ -2,14 +2,14 @@
 //! With `CI` set a missing adapter fails these tests; elsewhere they skip with one line.
 
 use super::receivers;
+use crate::common::gpu_for_test;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_maps::ShadowMapBaseline;
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::gpu::{GpuRasterizer, GpuTriangles};
 use soft_shadow_core::raster::{DepthPass, depth_map_pass, gbuffer};
 use soft_shadow_core::view::NO_OCCLUDER;
-use soft_shadow_core::{Backend, DynTechnique, Receivers as Recv, View};
+use soft_shadow_core::{Receivers as Recv, ShadowTechnique, TechniqueInfo, View};
 
 /// Texels where the CPU and GPU disagree on coverage (a fragment exactly on an edge after snapping)
 /// may be at most this fraction of the map.
@@ -38,7 +38,13 @@ fn gpu_depth_maps_match_the_cpu_rasterizer() {
         let res = 256;
         let tris = GpuTriangles::new(&ctx, &geo.casters).unwrap();
         for pass in passes {
-            let cpu = depth_map_pass(&view, res, &geo.casters, pass);
+            let cpu = depth_map_pass(
+                &soft_shadow_core::pool::Pool::new(0).into(),
+                &view,
+                res,
+                &geo.casters,
+                pass,
+            );
             let tex = GpuRasterizer::depth_array(&ctx, res, 1).unwrap();
             let mut enc = ctx.device.create_command_encoder(&Default::default());
             raster.encode_depth_pass(&ctx, &mut enc, &tris, &view, &tex, 0, pass);
@@ -82,7 +88,14 @@ fn gpu_gbuffer_matches_the_cpu_rasterizer() {
         let geo = spec.to_scene().unwrap().geometry();
         let (w, h) = (160, 120);
         let view = spec.camera.view(w, h);
-        let cpu = gbuffer(&view, spec.camera.eye, w, h, &geo.receivers);
+        let cpu = gbuffer(
+            &soft_shadow_core::pool::Pool::new(0).into(),
+            &view,
+            spec.camera.eye,
+            w,
+            h,
+            &geo.receivers,
+        );
         let gpu = raster
             .gbuffer(&ctx, &geo.receivers, &view, spec.camera.eye, w, h)
             .unwrap();
@@ -126,18 +139,16 @@ fn baselines_agree_between_cpu_and_gpu_on_every_scene() {
         for b in &baselines {
             for res in super::AGREEMENT_RESOLUTIONS {
                 let cm = b
-                    .generate(Backend::Cpu, None, &r.geometry, &spec.light, res)
+                    .generate_cpu(crate::common::cpu(), &r.geometry, &spec.light, res)
                     .unwrap();
-                let gm = b
-                    .generate(Backend::Gpu, Some(&ctx), &r.geometry, &spec.light, res)
-                    .unwrap();
-                let cv = b.evaluate(None, &cm, &recv).unwrap();
-                let gv = b.evaluate(Some(&ctx), &gm, &recv).unwrap();
+                let gm = b.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
+                let cv = b.evaluate_cpu(&cm, &recv).unwrap();
+                let gv = b.evaluate_gpu(&ctx, &gm, &recv).unwrap();
                 let rms = rms_255(&cv, &gv);
                 assert!(
                     rms < 1.0,
                     "{name} {} {res}: CPU/GPU rms {rms:.3}",
-                    DynTechnique::name(b)
+                    TechniqueInfo::name(b)
                 );
             }
         }

@@ -2,6 +2,7 @@
 //! convergence in N on `linear-bar` and CPU against GPU (hard cases: the stability suite, over every technique).
 
 use super::receivers;
+use crate::common::gpu_for_test;
 use glam::{Vec2, Vec3};
 use harness::ground_truth::GroundTruthSettings;
 use harness::metrics::rms_255;
@@ -10,7 +11,6 @@ use harness::scenes::shapes::{horizontal_rect, quad_grid};
 use harness::setup::PreparedScene;
 use linear_light::LinearLight;
 use proptest::prelude::*;
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::{
     Aabb, Light, Receivers as Recv, SceneGeometry, ShadowTechnique, TriangleMesh,
 };
@@ -77,7 +77,9 @@ fn linear_light_is_linear_across_a_straight_edge() {
     assert!(exact.iter().filter(|v| **v > 0.0 && **v < 1.0).count() > 300);
     for n in [2, 3, 5] {
         let t = LinearLight::new(n);
-        let maps = t.generate_cpu(&g, &light, 1024).unwrap();
+        let maps = t
+            .generate_cpu(crate::common::cpu(), &g, &light, 1024)
+            .unwrap();
         let v = t.evaluate_cpu(&maps, &recv).unwrap();
         let rms = rms_255(&v, &exact);
         println!("straight edge, N = {n}, 1024: rms {rms:.3}/255 against the linear closed form");
@@ -115,7 +117,9 @@ fn linear_light_on_a_tilted_receiver_stays_finite_at_the_light_line() {
     assert!(exact.iter().filter(|v| **v > 0.0 && **v < 1.0).count() > 30);
     for n in [2, 3, 5] {
         let t = LinearLight::new(n);
-        let maps = t.generate_cpu(&g, &light, 1024).unwrap();
+        let maps = t
+            .generate_cpu(crate::common::cpu(), &g, &light, 1024)
+            .unwrap();
         let v = t.evaluate_cpu(&maps, &recv).unwrap();
         assert!(v.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x)));
         let rms = rms_255(&v, &exact);
@@ -137,7 +141,7 @@ proptest! {
     ) {
         let (g, light) = edge_scene(occ_y, h);
         let t = LinearLight::new(n);
-        let maps = t.generate_cpu(&g, &light, 256).unwrap();
+        let maps = t.generate_cpu(crate::common::cpu(), &g, &light, 256).unwrap();
         let margin = 0.08;
         let candidates: Vec<Vec3> = (0..=60)
             .map(|i| Vec3::new(-1.2 + 0.04 * i as f32, 0.0, 0.1))
@@ -170,7 +174,7 @@ fn more_samples_do_not_increase_the_error_on_linear_bar() {
     for n in [2, 3, 5, 9] {
         let t = LinearLight::new(n);
         let maps = t
-            .generate_cpu(&prep.geometry, &prep.spec.light, 512)
+            .generate_cpu(crate::common::cpu(), &prep.geometry, &prep.spec.light, 512)
             .unwrap();
         let v = t.evaluate_cpu(&maps, &prep.receivers()).unwrap();
         let rms = rms_255(&v, &reference);
@@ -226,7 +230,9 @@ fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
         };
         for t in LinearLight::standard_set() {
             for res in super::AGREEMENT_RESOLUTIONS {
-                let cm = t.generate_cpu(&r.geometry, &light, res).unwrap();
+                let cm = t
+                    .generate_cpu(crate::common::cpu(), &r.geometry, &light, res)
+                    .unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &light, res).unwrap();
                 let gc = gm.read_channels(&ctx).unwrap();
                 let diff: f64 = cm

@@ -3,9 +3,12 @@
 
 mod bad_input;
 mod dependencies;
+mod example_renderer;
+mod feature_transform;
 mod frame;
 mod fuzz;
 mod gpu_agreement;
+mod gpu_timer;
 mod ground_truth;
 mod linear_light;
 mod occlusion_slices;

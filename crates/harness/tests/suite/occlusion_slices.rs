@@ -2,13 +2,15 @@
 //! (hard cases and the hard-shadow limit: the stability suite, over every technique).
 
 use super::receivers;
+use crate::common::gpu_for_test;
 use glam::Vec3;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use occlusion_slices::filters::{NBuffer, Sat};
 use occlusion_slices::{Filter, OcclusionSlices};
-use soft_shadow_core::gpu::testing::gpu_for_test;
-use soft_shadow_core::{Backend, DynTechnique, Light, Receivers as Recv, ShadowTechnique};
+use soft_shadow_core::{
+    Backend, DynTechnique, Light, Receivers as Recv, ShadowTechnique, TechniqueInfo,
+};
 
 /// Section 3.1's closed form for `plane-occluder`: the pyramid from `p` to the square light cut
 /// by the occluder's plane is a square; `V` is the fraction of it outside the occluder.
@@ -57,9 +59,14 @@ fn occlusion_slices_sat_matches_the_closed_form_on_plane_occluder() {
         }
         for be in backends {
             let maps = t
-                .generate(be, ctx.as_ref(), &r.geometry, &spec.light, 512)
+                .generate(
+                    crate::common::context(be, ctx.as_ref()),
+                    &r.geometry,
+                    &spec.light,
+                    512,
+                )
                 .unwrap();
-            let v = t.evaluate(ctx.as_ref(), &maps, &recv).unwrap();
+            let v = maps.evaluate(ctx.as_ref(), &recv).unwrap();
             let rms = rms_255(&v, &exact);
             println!("plane-occluder sat-{slices} {be:?} at 512: rms {rms:.3}/255");
             assert!(
@@ -90,11 +97,13 @@ fn occlusion_slices_agree_between_cpu_and_gpu_on_every_scene() {
         let mut set = OcclusionSlices::standard_set();
         set.push(OcclusionSlices::new(8, Filter::NBuffer).with_thin_fix(true));
         for t in set {
-            if !ShadowTechnique::models(&t, spec.light.kind()) {
+            if !TechniqueInfo::models(&t, spec.light.kind()) {
                 continue;
             }
             for res in super::AGREEMENT_RESOLUTIONS {
-                let cm = t.generate_cpu(&r.geometry, &spec.light, res).unwrap();
+                let cm = t
+                    .generate_cpu(crate::common::cpu(), &r.geometry, &spec.light, res)
+                    .unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
                 let gs = gm.read_slices(&ctx).unwrap();
                 let differ: usize = cm
@@ -147,7 +156,10 @@ fn gpu_nbuffer_levels_equal_the_cpu() {
             "overlap {res}: {occupied} slices hold a blocker"
         );
         for (k, (slice, gpu)) in slices.iter().zip(&levels).enumerate() {
-            let cpu = NBuffer::new(&Sat::new(res, slice));
+            let cpu = NBuffer::new(
+                &soft_shadow_core::pool::Pool::new(0).into(),
+                &Sat::new(&soft_shadow_core::pool::Pool::new(0).into(), res, slice),
+            );
             assert_eq!(
                 gpu.len(),
                 cpu.levels.len(),

@@ -3,11 +3,11 @@
 //! harness's own context; a device below the defaults is refused with the limits it lacks.
 
 use super::receivers;
+use crate::common::gpu_for_test;
 use harness::report::all_techniques;
 use harness::scenes::catalogue::build;
 use harness::scenes::relight::relight;
-use soft_shadow_core::gpu::testing::gpu_for_test;
-use soft_shadow_core::{Backend, GpuContext, Receivers as Recv, ShadowError};
+use soft_shadow_core::{Context, GpuContext, Receivers as Recv, ShadowError};
 
 /// A device as a renderer would make it: the environment's adapter, WebGPU default limits, no
 /// optional features; `None` without an adapter (then `gpu_for_test` has decided to skip).
@@ -47,9 +47,9 @@ fn every_technique_runs_on_a_renderers_default_limits_device() {
         };
         let run = |ctx: &GpuContext| {
             let maps = t
-                .generate(Backend::Gpu, Some(ctx), &r.geometry, &light, 64)
+                .generate(Context::Gpu(ctx), &r.geometry, &light, 64)
                 .unwrap();
-            t.evaluate(Some(ctx), &maps, &recv).unwrap()
+            maps.evaluate(Some(ctx), &recv).unwrap()
         };
         let (a, b) = (run(&own), run(&reference_ctx));
         let worst = a
@@ -103,21 +103,21 @@ fn a_lost_device_is_a_typed_error() {
         .iter()
         .map(|t| {
             let light = relight(&spec.light, &r.geometry.bounds, |k| t.models(k)).unwrap();
-            t.generate(Backend::Gpu, Some(&ctx), &r.geometry, &light, 32)
+            t.generate(Context::Gpu(&ctx), &r.geometry, &light, 32)
                 .unwrap()
         })
         .collect();
     ctx.device.destroy();
     for (t, maps) in techniques.iter().zip(&before) {
         let light = relight(&spec.light, &r.geometry.bounds, |k| t.models(k)).unwrap();
-        let generated = t.generate(Backend::Gpu, Some(&ctx), &r.geometry, &light, 32);
+        let generated = t.generate(Context::Gpu(&ctx), &r.geometry, &light, 32);
         assert!(
             matches!(generated, Err(ShadowError::Gpu(_))),
             "{}: generate on a lost device: {:?}",
             t.name(),
             generated.err()
         );
-        let evaluated = t.evaluate(Some(&ctx), maps, &recv);
+        let evaluated = maps.evaluate(Some(&ctx), &recv);
         assert!(
             matches!(evaluated, Err(ShadowError::Gpu(_))),
             "{}: evaluate on a lost device: {:?}",

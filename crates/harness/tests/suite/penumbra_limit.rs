@@ -2,11 +2,11 @@
 //! light's eye plane (hard cases and the hard-shadow limit: the stability suite).
 
 use super::receivers;
+use crate::common::gpu_for_test;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use penumbra_limit::{PenumbraLimit, Storage};
-use soft_shadow_core::gpu::testing::gpu_for_test;
-use soft_shadow_core::{Backend, DynTechnique, Receivers as Recv, ShadowTechnique};
+use soft_shadow_core::{Backend, DynTechnique, Receivers as Recv, ShadowTechnique, TechniqueInfo};
 
 /// Every variant, every catalogue scene whose light it models, two resolutions: RMS of
 /// `V * 255` between CPU and GPU below 1.0, and the stored maps equal up to rasterization
@@ -24,11 +24,13 @@ fn penumbra_limit_agrees_between_cpu_and_gpu_on_every_scene() {
             normals: &r.normals,
         };
         for t in PenumbraLimit::standard_set() {
-            if !ShadowTechnique::models(&t, spec.light.kind()) {
+            if !TechniqueInfo::models(&t, spec.light.kind()) {
                 continue;
             }
             for res in super::AGREEMENT_RESOLUTIONS {
-                let cm = t.generate_cpu(&r.geometry, &spec.light, res).unwrap();
+                let cm = t
+                    .generate_cpu(crate::common::cpu(), &r.geometry, &spec.light, res)
+                    .unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
                 let gmap = gm.read_map(&ctx).unwrap();
                 let step = match t.storage {
@@ -111,8 +113,15 @@ fn receivers_beside_a_local_light_are_not_wrapped_into_umbra() {
             backends.push(Backend::Gpu);
         }
         for be in backends {
-            let maps = t.generate(be, gpu.as_ref(), &geometry, &light, 16).unwrap();
-            let v = t.evaluate(gpu.as_ref(), &maps, &recv).unwrap();
+            let maps = t
+                .generate(
+                    crate::common::context(be, gpu.as_ref()),
+                    &geometry,
+                    &light,
+                    16,
+                )
+                .unwrap();
+            let v = maps.evaluate(gpu.as_ref(), &recv).unwrap();
             let worst = v.iter().copied().fold(1.0f32, f32::min);
             assert!(
                 worst >= 0.99,
@@ -139,7 +148,7 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
     use soft_shadow_core::raster::{DepthPass, depth_map_pass_then};
     use soft_shadow_core::seeds::dist2;
     use soft_shadow_core::{Coverage, SampleView};
-    let layer_gap = PenumbraLimit::new(penumbra_limit::Generation::DepthImage).layer_gap;
+    let layer_gap = PenumbraLimit::new(penumbra_limit::Generator::DepthImage).layer_gap;
     for (name, res) in [
         ("torus", 256),
         ("foliage", 512),
@@ -153,6 +162,7 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
         let view = SampleView::center(&spec.light, &Coverage::new(&geometry, &spec.light));
         let warp = Warp::new(&view.params(res), &spec.light);
         let geom = depth_map_pass_then(
+            &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
             &view.view,
             res,
             &geometry.casters,
@@ -161,10 +171,30 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
         );
         let reach = ribbon_reach(&warp);
         assert!(reach < res / 2, "{name}: reach {reach} spans the map");
-        let (near, far) = seeds(&geom, &warp, layer_gap);
-        let near = nearest(near, res, Some(geom.data()));
-        let far = nearest(far, res, None);
-        let (edge, lower) = limits(&geom, &warp, layer_gap);
+        let (near, far) = seeds(
+            &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
+            &geom,
+            &warp,
+            layer_gap,
+        );
+        let near = nearest(
+            &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
+            near,
+            res,
+            Some(geom.data()),
+        );
+        let far = nearest(
+            &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
+            far,
+            res,
+            None,
+        );
+        let (edge, lower) = limits(
+            &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
+            &geom,
+            &warp,
+            layer_gap,
+        );
         let mut ribbon = 0;
         for (i, (&a, &b)) in near.iter().zip(&far).enumerate() {
             let (x, y) = (i as u32 % res, i as u32 / res);

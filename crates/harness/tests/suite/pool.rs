@@ -4,11 +4,11 @@
 //! reads what it did not write).
 
 use super::receivers;
+use crate::common::gpu_for_test;
 use harness::report::all_techniques;
 use harness::scenes::catalogue::build;
 use harness::scenes::relight::relight;
 use soft_shadow_core::gpu::GpuScene;
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::{GpuContext, Receivers as Recv};
 
 #[test]
@@ -40,11 +40,11 @@ fn recycled_maps_serve_the_next_generation_unchanged() {
         // Fresh resources.
         ctx.clear_pool();
         let fresh = t.generate_gpu_on(&ctx, &b_scene, &b_light, 64).unwrap();
-        let want = t.evaluate(Some(&ctx), &fresh, &recv).unwrap();
+        let want = fresh.evaluate(Some(&ctx), &recv).unwrap();
         drop(fresh);
         // Resources full of another scene's maps.
         let other = t.generate_gpu_on(&ctx, &a_scene, &a_light, 64).unwrap();
-        t.recycle(Some(&ctx), other);
+        other.recycle(Some(&ctx));
         let before = counts(&ctx);
         let reused = t.generate_gpu_on(&ctx, &b_scene, &b_light, 64).unwrap();
         assert_eq!(
@@ -52,7 +52,7 @@ fn recycled_maps_serve_the_next_generation_unchanged() {
             before,
             "{label}: allocated with its maps recycled"
         );
-        let got = t.evaluate(Some(&ctx), &reused, &recv).unwrap();
+        let got = reused.evaluate(Some(&ctx), &recv).unwrap();
         let differ = want.iter().zip(&got).filter(|(x, y)| x != y).count();
         assert_eq!(
             differ, 0,

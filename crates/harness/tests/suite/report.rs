@@ -15,6 +15,7 @@ fn quick_report_writes_the_contract() {
         backend: BackendChoice::Cpu,
         scene_files: Vec::new(),
         size: Some(64),
+        memory: Default::default(),
     };
     let report = run(&opts).expect("report runs");
     // The page reads offline: every image, sprite and link it names is a file of the report,
@@ -281,6 +282,7 @@ fn report_recasts_hard_cases_and_measures_flicker() {
         backend: BackendChoice::Cpu,
         scene_files: Vec::new(),
         size: Some(48),
+        memory: Default::default(),
     };
     let report = run(&opts).expect("report runs");
     let names: Vec<(&str, Option<&str>)> = report
@@ -354,7 +356,6 @@ fn cpu_timings_follow_an_unmeasured_generation() {
     use harness::report::measure::{Frame, repeat};
     use harness::scenes::catalogue::build;
     use harness::setup::PreparedScene;
-    use soft_shadow_core::Backend;
     use std::cell::Cell;
 
     let t = all_techniques(false)
@@ -373,13 +374,18 @@ fn cpu_timings_follow_an_unmeasured_generation() {
         Frame {
             generate: &|| {
                 generated.set(generated.get() + 1);
-                t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, 64)
+                t.generate(
+                    soft_shadow_core::Context::Cpu(crate::common::cpu()),
+                    &p.geometry,
+                    &p.spec.light,
+                    64,
+                )
             },
-            evaluate: &|maps| {
+            evaluate: &|maps: &soft_shadow_core::AnyMaps| {
                 evaluated.set(evaluated.get() + 1);
-                t.evaluate(None, maps, &p.receivers())
+                maps.evaluate(None, &p.receivers())
             },
-            recycle: &|maps| t.recycle(None, maps),
+            recycle: &|maps: soft_shadow_core::AnyMaps| maps.recycle(None),
         },
         None,
         1,
@@ -402,13 +408,18 @@ fn cpu_timings_follow_an_unmeasured_generation() {
         (
             move || {
                 steps.borrow_mut().push(generate);
-                t.generate(Backend::Cpu, None, &p.geometry, &p.spec.light, res)
+                t.generate(
+                    soft_shadow_core::Context::Cpu(crate::common::cpu()),
+                    &p.geometry,
+                    &p.spec.light,
+                    res,
+                )
             },
-            move |maps: &_| {
+            move |maps: &soft_shadow_core::AnyMaps| {
                 steps.borrow_mut().push(evaluate);
-                t.evaluate(None, maps, &p.receivers())
+                maps.evaluate(None, &p.receivers())
             },
-            move |maps| t.recycle(None, maps),
+            move |maps: soft_shadow_core::AnyMaps| maps.recycle(None),
         )
     };
     let (own, beside) = (

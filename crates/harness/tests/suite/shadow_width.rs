@@ -2,10 +2,10 @@
 //! the hard-shadow limit: the stability suite, over every technique).
 
 use super::receivers;
+use crate::common::gpu_for_test;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_width::{Neighbours, ShadowWidth, WidthMethod};
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::{Receivers as Recv, ShadowTechnique};
 
 /// Every standard variant (and the 3- and 6-neighbour propagation on `plane-occluder`), every
@@ -33,7 +33,9 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
         };
         for t in ShadowWidth::standard_set().iter().chain(extra) {
             for res in super::AGREEMENT_RESOLUTIONS {
-                let cm = t.generate_cpu(&r.geometry, &spec.light, res).unwrap();
+                let cm = t
+                    .generate_cpu(crate::common::cpu(), &r.geometry, &spec.light, res)
+                    .unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
                 let gw = gm.read_width(&ctx).unwrap();
                 let mean_diff: f64 = cm

@@ -6,14 +6,23 @@ use super::nbuffer::floor_log2;
 use super::{bilinear, level_count, unorm8_pow2};
 use glam::Vec2;
 use rayon::prelude::*;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
 
 /// The pyramid of one slice.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Mipmap {
     /// Side of level 0.
     pub res: u32,
     /// Level `l` at index `l`, `mip_size(res, l)²` bytes.
     pub levels: Vec<Vec<u8>>,
+    pool: Arc<Pool>,
+}
+
+impl PartialEq for Mipmap {
+    fn eq(&self, other: &Self) -> bool {
+        (self.res, &self.levels) == (other.res, &other.levels)
+    }
 }
 
 /// Side of mip level `l` of a `res`-wide slice.
@@ -22,46 +31,56 @@ pub fn mip_size(res: u32, l: u32) -> u32 {
 }
 
 impl Drop for Mipmap {
-    /// The levels' storage goes back to [`soft_shadow_core::pool`].
+    /// The levels' storage goes back to the pool it came from.
     fn drop(&mut self) {
-        self.levels.drain(..).for_each(soft_shadow_core::pool::give);
+        self.levels.drain(..).for_each(|l| self.pool.give(l));
     }
 }
 
 impl Mipmap {
     /// Every level down to 1x1 of a `res x res` binary slice (`occupied(x, y)`, row-major).
-    pub fn new(res: u32, occupied: &[bool]) -> Mipmap {
-        Mipmap::build(res, occupied, |&o| o as u32)
+    pub fn new(pool: &Arc<Pool>, res: u32, occupied: &[bool]) -> Mipmap {
+        Mipmap::build(pool, res, occupied, |&o| o as u32)
     }
 
     /// Every level of slice `k` of the slice masks (bit `k` of each texel,
     /// [`crate::slicing::slice`]).
-    pub fn from_masks(res: u32, masks: &[u32], k: u32) -> Mipmap {
-        Mipmap::build(res, masks, |&m| (m >> k) & 1)
+    pub fn from_masks(pool: &Arc<Pool>, res: u32, masks: &[u32], k: u32) -> Mipmap {
+        Mipmap::build(pool, res, masks, |&m| (m >> k) & 1)
     }
 
     /// The pyramid of exact counts, each level the sums of 2x2 blocks of the one below (a
     /// missing row or column beyond an odd side counts as empty), each count stored as
     /// [`unorm8_pow2`] of its block's area: the same bits as counting each block directly.
-    fn build<T: Sync>(res: u32, cells: &[T], bit: impl Fn(&T) -> u32 + Sync) -> Mipmap {
+    fn build<T: Sync>(
+        pool: &Arc<Pool>,
+        res: u32,
+        cells: &[T],
+        bit: impl Fn(&T) -> u32 + Sync,
+    ) -> Mipmap {
         let (n, half) = (res as usize, (res as usize).div_ceil(2));
-        let (mut level0, mut counts) = Self::base_storage(n);
+        let (mut level0, mut counts) = Self::base_storage(pool, n);
         level0
             .par_chunks_mut(2 * n.max(1))
             .zip(counts.par_chunks_mut(half.max(1)))
             .enumerate()
             .for_each(|(y, (rows, out))| base_row(n, cells, &bit, y, rows, out));
-        Self::from_base(res, level0, counts)
+        Self::from_base(pool, res, level0, counts)
     }
 
     /// The pyramids of slices `ks` of the slice masks, their bases built together: one pass
     /// down the rows reads each pair of rows of masks once for all of them, where
     /// [`Mipmap::from_masks`] per slice reads the whole mask map (16 MiB at 2048²) per slice.
     /// Equal to `from_masks` of each.
-    pub fn from_masks_together(res: u32, masks: &[u32], ks: std::ops::Range<u32>) -> Vec<Mipmap> {
+    pub fn from_masks_together(
+        pool: &Arc<Pool>,
+        res: u32,
+        masks: &[u32],
+        ks: std::ops::Range<u32>,
+    ) -> Vec<Mipmap> {
         let (n, half) = (res as usize, (res as usize).div_ceil(2));
         let mut bases: Vec<(Vec<u8>, Vec<u32>)> =
-            ks.clone().map(|_| Self::base_storage(n)).collect();
+            ks.clone().map(|_| Self::base_storage(pool, n)).collect();
         for y in 0..half {
             let rows = 2 * y * n..((2 * y + 2) * n).min(n * n);
             for (k, (level0, counts)) in ks.clone().zip(&mut bases) {
@@ -78,38 +97,42 @@ impl Mipmap {
         }
         bases
             .into_iter()
-            .map(|(level0, counts)| Self::from_base(res, level0, counts))
+            .map(|(level0, counts)| Self::from_base(pool, res, level0, counts))
             .collect()
     }
 
     /// Storage for level 0 of an `n x n` slice and the counts of level 1, every entry written by
     /// [`base_row`].
-    fn base_storage(n: usize) -> (Vec<u8>, Vec<u32>) {
+    fn base_storage(pool: &Pool, n: usize) -> (Vec<u8>, Vec<u32>) {
         let half = n.div_ceil(2);
         (
-            soft_shadow_core::pool::overwrite(n * n, 0u8),
-            soft_shadow_core::pool::overwrite(half * half, 0u32),
+            pool.overwrite(n * n, 0u8),
+            pool.overwrite(half * half, 0u32),
         )
     }
 
     /// The pyramid from its level 0 and the counts of level 1.
-    fn from_base(res: u32, level0: Vec<u8>, mut counts: Vec<u32>) -> Mipmap {
+    fn from_base(pool: &Arc<Pool>, res: u32, level0: Vec<u8>, mut counts: Vec<u32>) -> Mipmap {
         let mut levels = vec![level0];
         for l in 1..level_count(res) {
             let (src, dst) = (mip_size(res, l - 1) as usize, mip_size(res, l) as usize);
             if l > 1 {
                 let c = &counts;
-                let next = sum_blocks(src, dst, |y| &c[y * src..(y + 1) * src], |&c| c);
-                soft_shadow_core::pool::give(std::mem::replace(&mut counts, next));
+                let next = sum_blocks(pool, src, dst, |y| &c[y * src..(y + 1) * src], |&c| c);
+                pool.give(std::mem::replace(&mut counts, next));
             }
-            let mut out = soft_shadow_core::pool::overwrite(dst * dst, 0u8);
+            let mut out = pool.overwrite(dst * dst, 0u8);
             out.par_iter_mut()
                 .zip(counts.par_iter())
                 .for_each(|(o, &c)| *o = unorm8_pow2(c, 2 * l));
             levels.push(out);
         }
-        soft_shadow_core::pool::give(counts);
-        Mipmap { res, levels }
+        pool.give(counts);
+        Mipmap {
+            res,
+            levels,
+            pool: pool.clone(),
+        }
     }
 
     /// Texel `(x, y)` of level `l` in [0, 1]; 0 outside.
@@ -184,12 +207,13 @@ fn base_row<T>(
 /// The `dst x dst` sums of the 2x2 blocks of a `src x src` grid whose row `y` is `row(y)`, each
 /// cell counting `value(cell)`; cells beyond `src` count 0.
 fn sum_blocks<'a, S: Sync + 'a>(
+    pool: &Pool,
     src: usize,
     dst: usize,
     row: impl Fn(usize) -> &'a [S] + Sync,
     value: impl Fn(&S) -> u32 + Sync,
 ) -> Vec<u32> {
-    let mut out = soft_shadow_core::pool::overwrite(dst * dst, 0u32);
+    let mut out = pool.overwrite(dst * dst, 0u32);
     out.par_chunks_mut(dst.max(1))
         .enumerate()
         .for_each(|(y, out)| {

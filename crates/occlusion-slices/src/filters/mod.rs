@@ -13,6 +13,8 @@ pub use mipmap::Mipmap;
 pub use nbuffer::NBuffer;
 use rayon::prelude::*;
 pub use sat::Sat;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
 
 /// Number of levels (mipmap or N-Buffer) of a `res`-wide slice: up to the first box of side
 /// `>= res`.
@@ -89,13 +91,22 @@ pub enum Filtered {
 
 impl Filtered {
     /// Prefilters the `slices` binary slices packed in `masks` (`res²` texels, bit `k` for
-    /// slice `k`: [`crate::slicing::slice`]) with `filter`, the slices in parallel.
-    pub fn build(filter: Filter, res: u32, masks: &[u32], slices: u32) -> Filtered {
+    /// slice `k`: [`crate::slicing::slice`]) with `filter`, the slices in parallel, their
+    /// storage from `pool`.
+    pub fn build(
+        pool: &Arc<Pool>,
+        filter: Filter,
+        res: u32,
+        masks: &[u32],
+        slices: u32,
+    ) -> Filtered {
         let each = (0..slices).into_par_iter();
         match filter {
-            Filter::Sat => Filtered::Sat(each.map(|k| Sat::from_masks(res, masks, k)).collect()),
+            Filter::Sat => {
+                Filtered::Sat(each.map(|k| Sat::from_masks(pool, res, masks, k)).collect())
+            }
             Filter::NBuffer => Filtered::NBuffer(
-                each.map(|k| NBuffer::new(&Sat::from_masks(res, masks, k)))
+                each.map(|k| NBuffer::new(pool, &Sat::from_masks(pool, res, masks, k)))
                     .collect(),
             ),
             Filter::Mipmap => {
@@ -105,7 +116,7 @@ impl Filtered {
                     .into_par_iter()
                     .map(|g| {
                         let ks = g * group..((g + 1) * group).min(slices);
-                        Mipmap::from_masks_together(res, masks, ks)
+                        Mipmap::from_masks_together(pool, res, masks, ks)
                     })
                     .collect();
                 Filtered::Mipmap(groups.into_iter().flatten().collect())

@@ -9,42 +9,50 @@ use super::sat::Sat;
 use super::{U32_SHIFT_MAX, bilinear, level_count, unorm8_pow2, unorm8_pow2_u32};
 use glam::Vec2;
 use rayon::prelude::*;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
 
 /// Rows per band of the construction.
 const BAND_ROWS: usize = 16;
 
 /// Every level of one slice, `res²` bytes each.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct NBuffer {
     /// Side in texels.
     pub res: u32,
     /// Level `l` at index `l`.
     pub levels: Vec<Vec<u8>>,
+    pool: Arc<Pool>,
+}
+
+impl PartialEq for NBuffer {
+    fn eq(&self, other: &Self) -> bool {
+        (self.res, &self.levels) == (other.res, &other.levels)
+    }
 }
 
 impl Drop for NBuffer {
-    /// The levels' storage goes back to [`soft_shadow_core::pool`].
+    /// The levels' storage goes back to the pool it came from.
     fn drop(&mut self) {
-        self.levels.drain(..).for_each(soft_shadow_core::pool::give);
+        self.levels.drain(..).for_each(|l| self.pool.give(l));
     }
 }
 
 impl NBuffer {
-    /// The levels `0..level_count(res)` of the slice whose table is `sat`.
+    /// The levels `0..level_count(res)` of the slice whose table is `sat`, their storage from
+    /// `pool`.
     ///
     /// Bands of rows in parallel, every level of a row at once: the table row `y` that each
     /// level reads is read once for all of them, and the rows `y + 2^l` below it are read
     /// while neighbouring output rows still have them in cache (a pass per level re-read the
     /// whole 16 MiB table at 2048² for each of the 12 levels).
-    pub fn new(sat: &Sat) -> NBuffer {
+    pub fn new(pool: &Arc<Pool>, sat: &Sat) -> NBuffer {
         let res = sat.res;
         let n = res as usize;
         let w = n + 1;
         let count = level_count(res) as usize;
         // Every texel is written below: no clearing pass.
-        let mut levels: Vec<Vec<u8>> = (0..count)
-            .map(|_| soft_shadow_core::pool::overwrite(n * n, 0u8))
-            .collect();
+        let mut levels: Vec<Vec<u8>> = (0..count).map(|_| pool.overwrite(n * n, 0u8)).collect();
         // Per band of rows, that band of every level.
         let band = BAND_ROWS * n.max(1);
         let mut bands: Vec<Vec<&mut [u8]>> =
@@ -96,7 +104,11 @@ impl NBuffer {
                 }
             }
         });
-        NBuffer { res, levels }
+        NBuffer {
+            res,
+            levels,
+            pool: pool.clone(),
+        }
     }
 
     /// Texel `(x, y)` of level `l` as a value in [0, 1]; 0 outside.

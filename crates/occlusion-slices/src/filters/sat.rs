@@ -8,42 +8,51 @@
 //! precision does not decay with resolution, unlike the paper's f32 table.
 
 use glam::Vec2;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
 
 /// The table of one slice: `(res + 1)²` counts, row-major, `S(i, j)` at `j * (res + 1) + i`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Sat {
     /// Side of the slice in texels.
     pub res: u32,
     /// The counts.
     pub data: Vec<u32>,
+    pool: Arc<Pool>,
+}
+
+impl PartialEq for Sat {
+    fn eq(&self, other: &Self) -> bool {
+        (self.res, &self.data) == (other.res, &other.data)
+    }
 }
 
 impl Drop for Sat {
-    /// The table's storage goes back to [`soft_shadow_core::pool`].
+    /// The table's storage goes back to the pool it came from.
     fn drop(&mut self) {
-        soft_shadow_core::pool::give(std::mem::take(&mut self.data));
+        self.pool.give(std::mem::take(&mut self.data));
     }
 }
 
 impl Sat {
     /// The table of a `res x res` binary slice (`occupied(x, y)`, row-major).
-    pub fn new(res: u32, occupied: &[bool]) -> Sat {
-        Sat::build(res, occupied, |&o| o as u32)
+    pub fn new(pool: &Arc<Pool>, res: u32, occupied: &[bool]) -> Sat {
+        Sat::build(pool, res, occupied, |&o| o as u32)
     }
 
     /// The table of slice `k` of the slice masks (bit `k` of each texel,
     /// [`crate::slicing::slice`]).
-    pub fn from_masks(res: u32, masks: &[u32], k: u32) -> Sat {
-        Sat::build(res, masks, |&m| (m >> k) & 1)
+    pub fn from_masks(pool: &Arc<Pool>, res: u32, masks: &[u32], k: u32) -> Sat {
+        Sat::build(pool, res, masks, |&m| (m >> k) & 1)
     }
 
     /// One pass down the rows: each row's running count plus the table row above it. Row `y`
     /// reads only row `y - 1`, still in cache; the slices of one light build in parallel.
-    fn build<T>(res: u32, cells: &[T], bit: impl Fn(&T) -> u32) -> Sat {
+    fn build<T>(pool: &Arc<Pool>, res: u32, cells: &[T], bit: impl Fn(&T) -> u32) -> Sat {
         let n = res as usize;
         let w = n + 1;
         // Row 0 and column 0 are zeros, every other entry is written below: no clearing pass.
-        let mut data = soft_shadow_core::pool::overwrite(w * w, 0u32);
+        let mut data = pool.overwrite(w * w, 0u32);
         data[..w].fill(0);
         for (y, cells) in cells.chunks_exact(n.max(1)).take(n).enumerate() {
             let (above, below) = data.split_at_mut((y + 1) * w);
@@ -55,7 +64,11 @@ impl Sat {
                 *o = p.wrapping_add(s);
             }
         }
-        Sat { res, data }
+        Sat {
+            res,
+            data,
+            pool: pool.clone(),
+        }
     }
 
     /// `S(i, j)` with indices clamped to `[0, res]`.

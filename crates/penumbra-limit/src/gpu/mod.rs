@@ -12,7 +12,7 @@
 pub mod pipelines;
 
 use crate::eval::EvalParams;
-use crate::params::{Generation, PenumbraLimit};
+use crate::params::{Generator, PenumbraLimit};
 use crate::silhouette::{Edge, edges};
 use crate::storage::{Storage, Texel};
 use crate::table::IlluminationTable;
@@ -284,7 +284,7 @@ pub fn generate(
         _pad: 0.0,
     };
     let uniform = ctx.uniform_buffer("penumbra params", bytemuck::bytes_of(&gen_params));
-    let seeds_bytes = if t.generation == Generation::DepthImage {
+    let seeds_bytes = if t.generator == Generator::DepthImage {
         texels * 4
     } else {
         4
@@ -340,11 +340,11 @@ pub fn generate(
     };
     raster.encode_depth_pass(ctx, enc, tris, &view.view, &depth, 0, DepthPass::NEAREST);
     dispatch(ctx, enc, &di.geometry, &di_bind(&seeds[0], &seeds[1]), res);
-    match t.generation {
-        Generation::Silhouette => {
+    match t.generator {
+        Generator::Silhouette => {
             encode_silhouette(ctx, enc, scene, &uniform, &edge, &lower, res)?;
         }
-        Generation::DepthImage => {
+        Generator::DepthImage => {
             dispatch(ctx, enc, &di.seeds, &di_bind(&seeds[0], &seeds[1]), res);
             let ft = ctx.cached(GpuFeatureTransform::new);
             // Near-side ties to the nearer depth, as on the CPU.

@@ -4,7 +4,7 @@
 use super::GpuContext;
 use super::resources::{compute_pipeline, pipeline_layout};
 use crate::error::{Result, ShadowError};
-use crate::technique::Receivers;
+use crate::receivers::Receivers;
 
 /// Receivers per workgroup of the evaluation shaders (`@workgroup_size(64)`).
 pub const EVAL_WORKGROUP: u32 = 64;

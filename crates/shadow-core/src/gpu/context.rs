@@ -27,7 +27,16 @@ pub struct GpuContext {
     pub(super) timer: Mutex<Option<Arc<super::timer::TimerState>>>,
     geometry_uploads: AtomicU64,
     buffer_maps: AtomicU64,
+    memory_budget: AtomicU64,
     pub(super) pool: super::pool::GpuPool,
+}
+
+impl std::fmt::Debug for GpuContext {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GpuContext")
+            .field("adapter", &self.describe())
+            .finish()
+    }
 }
 
 impl GpuContext {
@@ -118,8 +127,20 @@ impl GpuContext {
             timer: Mutex::new(None),
             geometry_uploads: AtomicU64::new(0),
             buffer_maps: AtomicU64::new(0),
+            memory_budget: AtomicU64::new(crate::memory::default_budget()),
             pool: Default::default(),
         })
+    }
+
+    /// Bytes one GPU generation may allocate: [`crate::memory::default_budget`] until
+    /// [`GpuContext::set_memory_budget`].
+    pub fn memory_budget(&self) -> u64 {
+        self.memory_budget.load(Ordering::Relaxed)
+    }
+
+    /// Sets the bytes one GPU generation may allocate from now on.
+    pub fn set_memory_budget(&self, bytes: u64) {
+        self.memory_budget.store(bytes, Ordering::Relaxed);
     }
 
     /// One line naming the adapter, e.g. `"llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, Cpu)"`.

@@ -8,7 +8,6 @@ pub mod pool;
 pub mod raster;
 pub mod resources;
 mod scene;
-pub mod testing;
 pub mod timer;
 pub mod visibility;
 pub mod wgsl;

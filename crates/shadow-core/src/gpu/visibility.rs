@@ -17,7 +17,7 @@ use super::resources::{
     wgsl_module,
 };
 use crate::error::Result;
-use crate::technique::{Receivers, ShadowTechnique};
+use crate::receivers::Receivers;
 use std::marker::PhantomData;
 use std::sync::Arc;
 
@@ -64,19 +64,29 @@ pub struct VisibilityPipelines {
     texels: wgpu::ComputePipeline,
 }
 
-struct Cached<T>(Arc<VisibilityPipelines>, PhantomData<fn() -> T>);
+struct Cached<K>(Arc<VisibilityPipelines>, PhantomData<fn() -> K>);
 
-/// The pipelines of technique type `T` on this device (built on first use, then cached).
-pub fn pipelines<T: ShadowTechnique>(ctx: &GpuContext) -> Arc<VisibilityPipelines> {
-    ctx.cached(|c| Cached::<T>(Arc::new(build::<T>(c)), PhantomData))
+/// The pipelines of the technique type `K` on this device (built on first use from its
+/// visibility module `wgsl` and its maps' layout `entries`, then cached).
+pub fn pipelines<K: 'static>(
+    ctx: &GpuContext,
+    name: &str,
+    wgsl: impl FnOnce() -> String,
+    entries: impl FnOnce() -> Vec<wgpu::BindGroupLayoutEntry>,
+) -> Arc<VisibilityPipelines> {
+    ctx.cached(|c| Cached::<K>(Arc::new(build(c, name, wgsl(), entries())), PhantomData))
         .0
         .clone()
 }
 
-fn build<T: ShadowTechnique>(ctx: &GpuContext) -> VisibilityPipelines {
-    let name = std::any::type_name::<T>();
+fn build(
+    ctx: &GpuContext,
+    name: &str,
+    source: String,
+    entries: Vec<wgpu::BindGroupLayoutEntry>,
+) -> VisibilityPipelines {
     let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = T::maps_layout_entries()
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = entries
         .into_iter()
         .map(|e| wgpu::BindGroupLayoutEntry {
             visibility: stages,
@@ -107,7 +117,6 @@ fn build<T: ShadowTechnique>(ctx: &GpuContext) -> VisibilityPipelines {
             ),
         ],
     );
-    let source = T::visibility_wgsl();
     let pipeline = |tail: &str, entry: &str, receivers: &wgpu::BindGroupLayout| {
         let module = wgsl_module(ctx, name, &[&source, tail]);
         let pl = pipeline_layout(ctx, name, &[&maps_layout, receivers]);
@@ -124,18 +133,17 @@ fn build<T: ShadowTechnique>(ctx: &GpuContext) -> VisibilityPipelines {
     }
 }
 
-/// The blocking evaluation: uploads `r`, runs `evaluate_receivers` and reads `V` back.
-pub(crate) fn evaluate_buffers<T: ShadowTechnique>(
-    t: &T,
+/// The blocking evaluation: uploads `r`, runs `evaluate_receivers` with the maps bound by
+/// `maps_bind` and reads `V` back.
+pub(crate) fn evaluate_buffers(
     ctx: &GpuContext,
-    maps: &T::GpuMaps,
+    p: &VisibilityPipelines,
+    maps_bind: &wgpu::BindGroup,
     r: &Receivers,
 ) -> Result<Vec<f32>> {
     let Some(rb) = ReceiverBuffers::new(ctx, r)? else {
         return Ok(Vec::new());
     };
-    let p = pipelines::<T>(ctx);
-    let maps_bind = t.bind_maps(ctx, &p.maps_layout, maps)?;
     let recv = bind_group(
         ctx,
         "receivers",
@@ -150,7 +158,7 @@ pub(crate) fn evaluate_buffers<T: ShadowTechnique>(
     {
         let mut pass = ctx.begin_compute_pass(&mut enc, "evaluate");
         pass.set_pipeline(&p.buffers);
-        pass.set_bind_group(0, &maps_bind, &[]);
+        pass.set_bind_group(0, maps_bind, &[]);
         pass.set_bind_group(1, &recv, &[]);
         pass.dispatch_workgroups(rb.groups, 1, 1);
     }
@@ -160,13 +168,13 @@ pub(crate) fn evaluate_buffers<T: ShadowTechnique>(
 }
 
 /// Records `evaluate_texels` over `target` with the maps bound by `maps_bind`.
-pub(crate) fn record_texels<T: ShadowTechnique>(
+pub(crate) fn record_texels(
     ctx: &GpuContext,
+    p: &VisibilityPipelines,
     enc: &mut wgpu::CommandEncoder,
     maps_bind: &wgpu::BindGroup,
     target: &ReceiverTextures,
 ) {
-    let p = pipelines::<T>(ctx);
     let recv = bind_group(
         ctx,
         "receiver textures",

@@ -10,12 +10,14 @@ mod setup;
 pub mod snapped;
 
 use crate::map2d::Map2D;
+use crate::pool::Pool;
 use crate::view::View;
 use bins::bins;
 use glam::Vec3;
 use rayon::prelude::*;
 use setup::{Screen, ScreenTri, setup_world};
 pub use snapped::{SUBPIXEL_BITS, SnappedTri};
+use std::sync::Arc;
 
 const BAND_ROWS: usize = 16;
 
@@ -333,8 +335,9 @@ struct Target<T, Z, S, A, F> {
 }
 
 /// Clears, rasterizes and finishes the map band by band in parallel (each band's texels are
-/// written while they are in cache; the storage comes from [`crate::pool`]).
+/// written while they are in cache; the storage comes from `pool`).
 fn rasterize_into<T, Z, S, A, F>(
+    pool: &Arc<Pool>,
     screen: &Screen,
     width: u32,
     height: u32,
@@ -348,7 +351,7 @@ where
     A: Fn(usize, usize, f32) -> bool + Sync,
     F: Fn(&mut [T]) + Sync,
 {
-    let mut out = Map2D::for_overwrite(width, height, target.empty.clone());
+    let mut out = Map2D::for_overwrite(pool, width, height, target.empty.clone());
     raster_bands(
         screen,
         width,
@@ -414,9 +417,17 @@ fn raster_bands<T: Clone + Send + Sync>(
         });
 }
 
-/// Rasterizes world-space triangles through `view` into a `width x height` map of nearest fragments.
-pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Map2D<Fragment> {
+/// Rasterizes world-space triangles through `view` into a `width x height` map of nearest
+/// fragments (storage from `pool`, as for every map here).
+pub fn rasterize(
+    pool: &Arc<Pool>,
+    view: &View,
+    width: u32,
+    height: u32,
+    tris: &[[Vec3; 3]],
+) -> Map2D<Fragment> {
     nearest_of(
+        pool,
         view,
         (width, height),
         tris,
@@ -428,6 +439,7 @@ pub fn rasterize(view: &View, width: u32, height: u32, tris: &[[Vec3; 3]]) -> Ma
 
 /// [`rasterize`]'s depth and triangle per pixel, without the barycentrics ([`Nearest`]).
 pub fn rasterize_nearest(
+    pool: &Arc<Pool>,
     view: &View,
     width: u32,
     height: u32,
@@ -438,6 +450,7 @@ pub fn rasterize_nearest(
         triangle: t.triangle,
     };
     nearest_of(
+        pool,
         view,
         (width, height),
         tris,
@@ -450,6 +463,7 @@ pub fn rasterize_nearest(
 /// The nearest fragment of every face per pixel, as `shade` stores it (`z_of` reads its NDC
 /// depth back), `empty` where none.
 fn nearest_of<T: Clone + Send + Sync + 'static>(
+    pool: &Arc<Pool>,
     view: &View,
     (width, height): (u32, u32),
     tris: &[[Vec3; 3]],
@@ -457,7 +471,7 @@ fn nearest_of<T: Clone + Send + Sync + 'static>(
     z_of: impl Fn(&T) -> f32 + Sync,
     shade: impl Fn(&ScreenTri, [f64; 3], f32) -> T + Sync,
 ) -> Map2D<T> {
-    let screen = setup_world(view, width, height, tris, Faces::All);
+    let screen = setup_world(pool, view, width, height, tris, Faces::All);
     let target = Target {
         empty,
         z_of,
@@ -465,30 +479,32 @@ fn nearest_of<T: Clone + Send + Sync + 'static>(
         accept: |_, _, _| true,
         finish: |_: &mut [T]| {},
     };
-    rasterize_into(&screen, width, height, DepthPass::NEAREST, target)
+    rasterize_into(pool, &screen, width, height, DepthPass::NEAREST, target)
 }
 
 /// A linear depth map (distance along the view axis; [`crate::view::NO_OCCLUDER`] where empty).
 ///
 /// Depth-only: keeps 4 bytes per texel while rasterizing.
-pub fn depth_map(view: &View, resolution: u32, tris: &[[Vec3; 3]]) -> Map2D<f32> {
-    depth_map_pass(view, resolution, tris, DepthPass::NEAREST)
+pub fn depth_map(pool: &Arc<Pool>, view: &View, resolution: u32, tris: &[[Vec3; 3]]) -> Map2D<f32> {
+    depth_map_pass(pool, view, resolution, tris, DepthPass::NEAREST)
 }
 
 /// A linear depth map of the surfaces `pass` keeps ([`crate::view::NO_OCCLUDER`] where empty).
 pub fn depth_map_pass(
+    pool: &Arc<Pool>,
     view: &View,
     resolution: u32,
     tris: &[[Vec3; 3]],
     pass: DepthPass,
 ) -> Map2D<f32> {
-    depth_map_pass_then(view, resolution, tris, pass, |z| z)
+    depth_map_pass_then(pool, view, resolution, tris, pass, |z| z)
 }
 
 /// [`depth_map_pass`] with `then` applied to every texel's linear depth (and to
 /// [`crate::view::NO_OCCLUDER`] where empty) while its band is in cache: the map of
 /// `then(depth)` without a second pass over the map, and without the depth map beside it.
 pub fn depth_map_pass_then(
+    pool: &Arc<Pool>,
     view: &View,
     resolution: u32,
     tris: &[[Vec3; 3]],
@@ -497,9 +513,9 @@ pub fn depth_map_pass_then(
 ) -> Map2D<f32> {
     // [`depth_map_filtered`] accepting every fragment, with the depth test resolved once per
     // span so that the merge loop vectorizes.
-    let screen = setup_world(view, resolution, resolution, tris, pass.faces);
+    let screen = setup_world(pool, view, resolution, resolution, tris, pass.faces);
     let empty = pass.clear_depth();
-    let mut out = Map2D::for_overwrite(resolution, resolution, empty);
+    let mut out = Map2D::for_overwrite(pool, resolution, resolution, empty);
     raster_bands(
         &screen,
         resolution,
@@ -522,6 +538,7 @@ pub fn depth_map_pass_then(
 /// applies to every texel's linear depth as in [`depth_map_pass_then`] (`|z| z` for the linear
 /// depth map itself).
 pub fn depth_map_filtered(
+    pool: &Arc<Pool>,
     view: &View,
     resolution: u32,
     tris: &[[Vec3; 3]],
@@ -529,7 +546,7 @@ pub fn depth_map_filtered(
     accept: impl Fn(u32, u32, f32) -> bool + Sync,
     then: impl Fn(f32) -> f32 + Sync,
 ) -> Map2D<f32> {
-    let screen = setup_world(view, resolution, resolution, tris, pass.faces);
+    let screen = setup_world(pool, view, resolution, resolution, tris, pass.faces);
     let target = Target {
         empty: pass.clear_depth(),
         z_of: |z: &f32| *z,
@@ -542,7 +559,7 @@ pub fn depth_map_filtered(
             band.iter_mut().for_each(|z| *z = then(*z));
         },
     };
-    rasterize_into(&screen, resolution, resolution, pass, target)
+    rasterize_into(pool, &screen, resolution, resolution, pass, target)
 }
 
 /// The NDC depths (reversed Z; [`View::linear_depth_from_ndc`] turns them into linear depth) of
@@ -580,14 +597,15 @@ impl Depths<'_> {
 /// starting from `empty` (as a render pass with an order-independent blend does, e.g. `Max`
 /// into slice masks).
 pub fn rasterize_fold<T: Clone + Send + Sync + 'static>(
+    pool: &Arc<Pool>,
     view: &View,
     resolution: u32,
     tris: &[[Vec3; 3]],
     empty: T,
     update: impl Fn(&mut [T], &Depths) + Sync,
 ) -> Map2D<T> {
-    let screen = setup_world(view, resolution, resolution, tris, Faces::All);
-    let mut out = Map2D::for_overwrite(resolution, resolution, empty.clone());
+    let screen = setup_world(pool, view, resolution, resolution, tris, Faces::All);
+    let mut out = Map2D::for_overwrite(pool, resolution, resolution, empty.clone());
     raster_bands(
         &screen,
         resolution,
@@ -618,13 +636,14 @@ pub fn facing_normal(tri: &[Vec3; 3], eye: Vec3) -> Vec3 {
 
 /// The camera G-buffer: per pixel the nearest receiver's world position and normal.
 pub fn gbuffer(
+    pool: &Arc<Pool>,
     view: &View,
     eye: Vec3,
     width: u32,
     height: u32,
     tris: &[[Vec3; 3]],
 ) -> Map2D<GBufferTexel> {
-    let frags = rasterize(view, width, height, tris);
+    let frags = rasterize(pool, view, width, height, tris);
     frags.map(|f| {
         if !f.is_covered() {
             return GBufferTexel {

@@ -4,9 +4,11 @@
 
 use super::Faces;
 use super::snapped::{self, SnappedTri};
+use crate::pool::Pool;
 use crate::view::View;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
+use std::sync::Arc;
 
 const SUB: f64 = snapped::SUB as f64;
 const GUARD_BAND: f32 = 64.0;
@@ -71,7 +73,7 @@ impl Poly {
 }
 
 /// Input triangles set up together, in submission order: one chunk's screen triangles are one
-/// allocation, large enough for [`crate::pool`] to keep between passes (no page faulted in per
+/// allocation, large enough for the [`Pool`] to keep between passes (no page faulted in per
 /// pass, nothing copied to concatenate).
 const CHUNK: usize = crate::pool::MIN_BYTES.div_ceil(size_of::<ScreenTri>());
 /// Screen triangles one input triangle can become: its clipped polygon's fan.
@@ -81,11 +83,12 @@ const FAN_MAX: usize = 8;
 /// chunk, addressed by `chunk * CHUNK * FAN_MAX + index in the chunk`.
 pub(super) struct Screen {
     chunks: Vec<Vec<ScreenTri>>,
+    pool: Arc<Pool>,
 }
 
 impl Drop for Screen {
     fn drop(&mut self) {
-        self.chunks.drain(..).for_each(crate::pool::give);
+        self.chunks.drain(..).for_each(|c| self.pool.give(c));
     }
 }
 
@@ -110,6 +113,7 @@ impl Screen {
 
 /// Screen triangles of `count` triangles whose clip-space vertices `clip(i)` gives.
 fn setup(
+    pool: &Arc<Pool>,
     count: usize,
     clip: impl Fn(usize) -> [Vec4; 3] + Sync,
     width: u32,
@@ -121,12 +125,15 @@ fn setup(
         .into_par_iter()
         .map(|c| {
             let indices = c * CHUNK..(c * CHUNK + CHUNK).min(count);
-            let mut out = crate::pool::take(CHUNK);
+            let mut out = pool.take(CHUNK);
             indices.for_each(|index| set_up(index, clip(index), (w, h), faces, &mut out));
             out
         })
         .collect();
-    Screen { chunks }
+    Screen {
+        chunks,
+        pool: pool.clone(),
+    }
 }
 
 /// Appends the screen triangles of input triangle `index` (clip-space vertices `tri`) on a
@@ -254,6 +261,7 @@ fn screen_tri(v: [Vert; 3], triangle: u32, faces: Faces) -> Option<ScreenTri> {
 
 /// Screen triangles of world-space `tris` seen through `view`.
 pub(super) fn setup_world(
+    pool: &Arc<Pool>,
     view: &View,
     width: u32,
     height: u32,
@@ -262,6 +270,7 @@ pub(super) fn setup_world(
 ) -> Screen {
     let vp = view.view_projection();
     setup(
+        pool,
         tris.len(),
         |i| tris[i].map(|p| vp * p.extend(1.0)),
         width,

@@ -1,7 +1,13 @@
 //! shadow-core tests, one binary (each test binary links wgpu, which is slow on 2 cores).
 
 mod bias;
-mod feature_transform;
-mod gpu_timer;
 mod light_sampling;
 mod rasterizer;
+
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
+
+/// A pool for one test's maps (nothing kept between calls).
+pub fn pool() -> Arc<Pool> {
+    Arc::new(Pool::new(0))
+}

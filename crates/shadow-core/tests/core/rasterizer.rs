@@ -1,5 +1,6 @@
 //! The CPU rasterizer against closed forms: coverage rules and perspective-correct depth.
 
+use crate::pool;
 use glam::Vec3;
 use soft_shadow_core::light::LightPoint;
 use soft_shadow_core::raster::{
@@ -38,7 +39,7 @@ fn shared_edges_cover_each_pixel_once() {
         let tris: Vec<[Vec3; 3]> = (0..6).map(|i| [c, ring[i], ring[(i + 1) % 6]]).collect();
         let mut counts = vec![0u32; 37 * 37];
         for t in &tris {
-            let f = rasterize(&view, 37, 37, std::slice::from_ref(t));
+            let f = rasterize(&pool(), &view, 37, 37, std::slice::from_ref(t));
             for (i, frag) in f.data().iter().enumerate() {
                 if frag.is_covered() {
                     counts[i] += 1;
@@ -75,7 +76,7 @@ fn perspective_depth_matches_ray_plane_intersection() {
         Vec3::new(3.0, 1.0, 3.0),
     );
     let res = 64;
-    let map = depth_map(&view, res, &tris);
+    let map = depth_map(&pool(), &view, res, &tris);
     let inv = view.view_projection().inverse();
     let exact = |x: f32, y: f32| {
         let ndc = glam::Vec2::new(x / res as f32 * 2.0 - 1.0, 1.0 - y / res as f32 * 2.0);
@@ -125,7 +126,7 @@ fn orthographic_depth_matches_plane() {
         [q(-9., -9.), q(9., 9.), q(-9., 9.)],
     ];
     let res = 48;
-    let map = depth_map(&view, res, &tris);
+    let map = depth_map(&pool(), &view, res, &tris);
     let inv = view.view_projection().inverse();
     for y in 0..res {
         for x in 0..res {
@@ -192,9 +193,9 @@ fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
         })
         .collect();
     for res in [37, 1100, 1201] {
-        let near = depth_map_pass(&view, res, &tris, DepthPass::NEAREST);
-        let frags = rasterize(&view, res, res, &tris);
-        let nearest = rasterize_nearest(&view, res, res, &tris);
+        let near = depth_map_pass(&pool(), &view, res, &tris, DepthPass::NEAREST);
+        let frags = rasterize(&pool(), &view, res, res, &tris);
+        let nearest = rasterize_nearest(&pool(), &view, res, res, &tris);
         for (i, (n, f)) in nearest.data().iter().zip(frags.data()).enumerate() {
             assert_eq!(
                 (n.z_ndc.to_bits(), n.triangle),
@@ -219,12 +220,13 @@ fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
         );
         // The same map through a per-texel function, applied in the pass or after it.
         let then = |z: f32| (z.min(1e3) + 0.25).sqrt() * 3.0;
-        let fused = depth_map_pass_then(&view, res, &tris, DepthPass::NEAREST, then);
+        let fused = depth_map_pass_then(&pool(), &view, res, &tris, DepthPass::NEAREST, then);
         for (i, (a, b)) in fused.data().iter().zip(near.data()).enumerate() {
             assert_eq!(a.to_bits(), then(*b).to_bits(), "res {res} texel {i}");
         }
-        let far = depth_map_pass(&view, res, &tris, DepthPass::FARTHEST);
+        let far = depth_map_pass(&pool(), &view, res, &tris, DepthPass::FARTHEST);
         let filtered = depth_map_filtered(
+            &pool(),
             &view,
             res,
             &tris,
@@ -232,8 +234,15 @@ fn depth_maps_hold_the_fragments_beyond_the_triangles_boxes() {
             |_, _, _| true,
             |z| z,
         );
-        let filtered_then =
-            depth_map_filtered(&view, res, &tris, DepthPass::FARTHEST, |_, _, _| true, then);
+        let filtered_then = depth_map_filtered(
+            &pool(),
+            &view,
+            res,
+            &tris,
+            DepthPass::FARTHEST,
+            |_, _, _| true,
+            then,
+        );
         for (i, (a, b)) in filtered_then.data().iter().zip(filtered.data()).enumerate() {
             assert_eq!(a.to_bits(), then(*b).to_bits(), "res {res} texel {i}");
         }
@@ -258,7 +267,7 @@ fn gbuffer_positions_lie_on_the_receiver() {
         Vec3::new(1., 0., -1.),
         Vec3::new(1., 0., 1.),
     ]];
-    let gb = gbuffer(&cam.view(40, 30), cam.eye, 40, 30, &tris);
+    let gb = gbuffer(&pool(), &cam.view(40, 30), cam.eye, 40, 30, &tris);
     let covered: Vec<_> = gb.data().iter().filter(|t| t.covered).collect();
     assert!(covered.len() > 50);
     for t in covered {
@@ -266,6 +275,6 @@ fn gbuffer_positions_lie_on_the_receiver() {
         assert!(t.position.x >= -1.0 - 1e-4 && t.position.x <= 1.0 + 1e-4);
         assert!((t.normal - Vec3::Y).length() < 1e-6);
     }
-    let dm = depth_map(&cam.view(16, 16), 16, &[]);
+    let dm = depth_map(&pool(), &cam.view(16, 16), 16, &[]);
     assert!(dm.data().iter().all(|&d| d == NO_OCCLUDER));
 }

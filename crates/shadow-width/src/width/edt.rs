@@ -9,7 +9,9 @@
 //! without an envelope.
 
 use rayon::prelude::*;
-use soft_shadow_core::{Map2D, pool};
+use soft_shadow_core::Map2D;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
 
 /// Column distance of a texel whose column has no unblocked texel. Column distances are `u16`
 /// (every other one is below the map side), which halves the column pass's traffic.
@@ -22,7 +24,7 @@ const STRIP: usize = 64;
 /// Column pass: for every texel, the vertical distance to the nearest unblocked texel of its
 /// column ([`NONE`] when the column has none), as strips of [`STRIP`] columns: strip `s` holds
 /// columns `s * STRIP ..` (the last one narrower), row-major.
-fn columns(mask: &Map2D<bool>) -> Vec<Vec<u16>> {
+fn columns(pool: &Pool, mask: &Map2D<bool>) -> Vec<Vec<u16>> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
     let m = mask.data();
     (0..w.div_ceil(STRIP))
@@ -31,7 +33,7 @@ fn columns(mask: &Map2D<bool>) -> Vec<Vec<u16>> {
             let x0 = s * STRIP;
             let sw = STRIP.min(w - x0);
             // The downward sweep writes every texel: no clearing pass.
-            let mut out = pool::overwrite(sw * h, NONE);
+            let mut out = pool.overwrite(sw * h, NONE);
             let mut run = [NONE; STRIP];
             // Branch-free, so the sweeps vectorize: one more than above when blocked, else 0.
             let step = |r: &mut u16, blocked: bool| {
@@ -159,12 +161,12 @@ impl Envelope {
 }
 
 /// The exact width map of `mask`, capped at [`super::cap`].
-pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
+pub fn width(pool: &Arc<Pool>, mask: &Map2D<bool>) -> Map2D<f32> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
-    let strips = columns(mask);
+    let strips = columns(pool, mask);
     let cap = super::cap(mask.width());
     // Every row is written below: no clearing pass.
-    let mut out = pool::overwrite(mask.data().len(), 0.0f32);
+    let mut out = pool.overwrite(mask.data().len(), 0.0f32);
     out.par_chunks_mut(w.max(1))
         .enumerate()
         .for_each_init(Envelope::default, |e, (y, row)| {
@@ -179,6 +181,8 @@ pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
                 e.row(row, cap);
             }
         });
-    strips.into_iter().for_each(pool::give);
-    Map2D::from_vec(mask.width(), mask.height(), out).unwrap_or_else(|| Map2D::new(0, 0, 0.0))
+    strips.into_iter().for_each(|s| pool.give(s));
+    Map2D::from_vec(mask.width(), mask.height(), out)
+        .unwrap_or_else(|| Map2D::new(0, 0, 0.0))
+        .returning_to(pool)
 }

@@ -2,14 +2,16 @@
 //! texels, so every blocked texel learns its nearest unblocked one. `width.wgsl` seeds and
 //! resolves on the GPU, `soft_shadow_core`'s jump-flood kernel floods, in the same order as here.
 
+use soft_shadow_core::Map2D;
 use soft_shadow_core::jump_flood::flood;
+use soft_shadow_core::pool::Pool;
 use soft_shadow_core::seeds::{NONE, dist2, pack};
-use soft_shadow_core::{Map2D, pool};
+use std::sync::Arc;
 
 /// The jump-flooded width map of `mask`, capped at [`super::cap`].
-pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
+pub fn width(pool: &Arc<Pool>, mask: &Map2D<bool>) -> Map2D<f32> {
     let res = mask.width();
-    let mut seeds = pool::take(mask.data().len());
+    let mut seeds = pool.take(mask.data().len());
     seeds.extend(mask.data().iter().enumerate().map(|(i, &b)| {
         if b {
             NONE
@@ -17,9 +19,9 @@ pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
             pack(i as u32 % res, i as u32 / res)
         }
     }));
-    let nearest = flood(seeds, res);
+    let nearest = flood(pool, seeds, res);
     let cap = super::cap(res);
-    let w = Map2D::from_par_fn(res, mask.height(), |i| {
+    let w = Map2D::from_par_fn(Some(pool), res, mask.height(), |i| {
         let s = nearest[i];
         if s == NONE {
             cap
@@ -28,6 +30,6 @@ pub fn width(mask: &Map2D<bool>) -> Map2D<f32> {
             (dist2(x as i32, y as i32, s) as f32).sqrt().min(cap)
         }
     });
-    pool::give(nearest);
+    pool.give(nearest);
     w
 }

@@ -11,6 +11,8 @@ pub mod propagate;
 
 use crate::params::WidthMethod;
 use soft_shadow_core::Map2D;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
 
 /// Width given to texels with no reachable unblocked texel: twice the map side (beyond any
 /// distance inside the map).
@@ -19,11 +21,11 @@ pub fn cap(resolution: u32) -> f32 {
 }
 
 /// The shadow-width map of `mask` (`true` = blocked; square) by `method`, in texels, capped at
-/// [`cap`].
-pub fn width_map(mask: &Map2D<bool>, method: WidthMethod) -> Map2D<f32> {
+/// [`cap`], its storage and scratch from `pool`.
+pub fn width_map(pool: &Arc<Pool>, mask: &Map2D<bool>, method: WidthMethod) -> Map2D<f32> {
     match method {
-        WidthMethod::Propagate { neighbours } => propagate::width(mask, neighbours),
-        WidthMethod::Exact => edt::width(mask),
-        WidthMethod::JumpFlood => jfa::width(mask),
+        WidthMethod::Propagate { neighbours } => propagate::width(pool, mask, neighbours),
+        WidthMethod::Exact => edt::width(pool, mask),
+        WidthMethod::JumpFlood => jfa::width(pool, mask),
     }
 }

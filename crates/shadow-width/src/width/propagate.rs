@@ -150,11 +150,15 @@ fn pass_chunks(
 }
 
 /// The propagated width map of `mask`, capped at [`super::cap`].
-pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
+pub fn width(
+    pool: &std::sync::Arc<soft_shadow_core::pool::Pool>,
+    mask: &Map2D<bool>,
+    n: Neighbours,
+) -> Map2D<f32> {
     let res = mask.width();
     let rows = (res as usize).max(1);
     // The start and each pass write every texel of their destination: no clearing pass.
-    let mut a = soft_shadow_core::pool::overwrite(mask.data().len(), 0.0f32);
+    let mut a = pool.overwrite(mask.data().len(), 0.0f32);
     a.par_chunks_mut(rows)
         .zip(mask.data().par_chunks(rows))
         .for_each(|(a, m)| {
@@ -162,7 +166,7 @@ pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
                 *a = if b { UNREACHED } else { 0.0 };
             }
         });
-    let mut b = soft_shadow_core::pool::overwrite(a.len(), 0.0f32);
+    let mut b = pool.overwrite(a.len(), 0.0f32);
     let chunks = rows.div_ceil(CHUNK) * mask.height() as usize;
     let mut a_zero = vec![false; chunks];
     zero_chunks(&a, res, &mut a_zero);
@@ -173,9 +177,11 @@ pub fn width(mask: &Map2D<bool>, n: Neighbours) -> Map2D<f32> {
         std::mem::swap(&mut a, &mut b);
         std::mem::swap(&mut a_zero, &mut b_zero);
     }
-    soft_shadow_core::pool::give(b);
+    pool.give(b);
     let cap = super::cap(res);
     a.par_chunks_mut(rows)
         .for_each(|row| row.iter_mut().for_each(|w| *w = w.min(cap)));
-    Map2D::from_vec(res, mask.height(), a).unwrap_or_else(|| Map2D::new(0, 0, 0.0))
+    Map2D::from_vec(res, mask.height(), a)
+        .unwrap_or_else(|| Map2D::new(0, 0, 0.0))
+        .returning_to(pool)
 }

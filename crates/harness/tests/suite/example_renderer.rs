@@ -1,11 +1,11 @@
 //! The example renderer against the CPU path, and what a static scene's frame costs in
-//! transfers. Both run on lavapipe in CI (`soft_shadow_core::gpu::testing`).
+//! transfers. Both run on lavapipe in CI (`crate::common::gpu_for_test`).
 
+use crate::common::gpu_for_test;
 use example_renderer::shade::ShadeUniform;
 use example_renderer::{FrameSettings, Renderer, model_on_ground, moving_light};
 use glam::Vec3;
 use soft_shadow_core::gpu::raster::read_texture;
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::{Receivers, SceneGeometry, ShadowTechnique};
 
 const SIZE: u32 = 96;
@@ -67,7 +67,9 @@ fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
         .map(|&i| Vec3::from_slice(&n[i][..3]))
         .collect();
     let t = r.technique();
-    let maps = t.generate_cpu(&geometry, &light, RESOLUTION).unwrap();
+    let maps = t
+        .generate_cpu(crate::common::cpu(), &geometry, &light, RESOLUTION)
+        .unwrap();
     let v = t
         .evaluate_cpu(
             &maps,
@@ -118,7 +120,7 @@ fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
 fn penumbra_limit_frame_matches_the_cpu_path() {
     frame_matches_cpu(
         "penumbra_limit_frame_matches_the_cpu_path",
-        penumbra_limit::PenumbraLimit::new(penumbra_limit::Generation::Silhouette),
+        penumbra_limit::PenumbraLimit::new(penumbra_limit::Generator::Silhouette),
     );
 }
 
@@ -137,7 +139,7 @@ fn a_static_scenes_second_frame_maps_uploads_and_allocates_nothing() {
     let test = "a_static_scenes_second_frame_maps_uploads_and_allocates_nothing";
     let Some((r, _)) = renderer(
         test,
-        penumbra_limit::PenumbraLimit::new(penumbra_limit::Generation::Silhouette),
+        penumbra_limit::PenumbraLimit::new(penumbra_limit::Generator::Silhouette),
     ) else {
         return;
     };

@@ -1,9 +1,9 @@
 //! The exact nearest-seed map: the GPU's (`GpuFeatureTransform`) equals the CPU's
 //! (`feature_transform::nearest`), which a unit test holds to the brute-force nearest seed.
 
+use crate::common::gpu_for_test;
 use soft_shadow_core::feature_transform::nearest;
 use soft_shadow_core::gpu::GpuFeatureTransform;
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::rng::SplitMix;
 use soft_shadow_core::seeds::{NONE, pack};
 
@@ -62,7 +62,12 @@ fn gpu_feature_transform_equals_the_cpu() {
             ctx.queue.submit([enc.finish()]);
             let got = ctx.read_buffer(&a, bytes).expect("read back");
             let got: &[u32] = bytemuck::cast_slice(&got);
-            let want = nearest(s.clone(), side, keyed.then_some(&keys[..]));
+            let want = nearest(
+                &soft_shadow_core::pool::Pool::new(0),
+                s.clone(),
+                side,
+                keyed.then_some(&keys[..]),
+            );
             let differ = got.iter().zip(&want).filter(|(g, w)| g != w).count();
             assert_eq!(
                 differ, 0,

@@ -1,10 +1,19 @@
 //! penumbra-limit against the paper's equations and closed forms (no GPU needed).
 
+use soft_shadow_core::CpuContext;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
+
+/// A pool for one test's maps (nothing kept between calls).
+fn pool() -> Arc<Pool> {
+    Arc::new(Pool::new(0))
+}
+
+use crate::silhouette::edges;
+use crate::storage::MAX_P;
+use crate::visibility::{clamped_visibility, clamped_visibility_piecewise};
+use crate::{Generator, IlluminationTable, PenumbraLimit, Profile, Storage, Texel};
 use glam::Vec3;
-use penumbra_limit::silhouette::edges;
-use penumbra_limit::storage::MAX_P;
-use penumbra_limit::visibility::{clamped_visibility, clamped_visibility_piecewise};
-use penumbra_limit::{Generation, IlluminationTable, PenumbraLimit, Profile, Storage, Texel};
 use proptest::prelude::*;
 use soft_shadow_core::{
     Aabb, Bias, DistantProfile, Light, Receivers, SceneGeometry, ShadowTechnique,
@@ -98,7 +107,7 @@ proptest! {
         ppt in 0.0f32..0.05, end: bool, outer: bool,
     ) {
         use glam::Vec2;
-        let r = penumbra_limit::silhouette::Ribbon {
+        let r = crate::silhouette::Ribbon {
             a: Vec2::new(ax, ay),
             b: Vec2::new(bx, by),
             ca,
@@ -116,7 +125,7 @@ proptest! {
         // A zero-length edge's fragments are NaN, which never win a texel either.
         prop_assert!(key.is_nan() || key >= r.key_floor(), "{key} below {}", r.key_floor());
         // Not vacuous: the floor is within a few ulps of the nearer end's key.
-        prop_assert!(r.key_floor() >= ca.min(cb) * penumbra_limit::silhouette::KEY_SCALE - 1e-5);
+        prop_assert!(r.key_floor() >= ca.min(cb) * crate::silhouette::KEY_SCALE - 1e-5);
     }
 
     #[test]
@@ -235,7 +244,7 @@ fn plate_edge(
         angular_diameter: a,
         profile: DistantProfile::UniformDisk,
     };
-    let maps = t.generate_cpu(&g, &light, res).unwrap();
+    let maps = t.generate_cpu(&CpuContext::new(), &g, &light, res).unwrap();
     let r = (h - LIFT) * (0.5 * a).tan();
     let xs: Vec<f32> = (-40..=40).map(|i| edge + i as f32 * 0.005).collect();
     let positions: Vec<Vec3> = xs.iter().map(|&x| Vec3::new(x, LIFT, 0.13)).collect();
@@ -263,7 +272,7 @@ fn plate_edge(
 /// edge at an arbitrary sub-texel offset.
 #[test]
 fn straight_edge_matches_the_closed_form_at_every_resolution() {
-    let mut t = PenumbraLimit::new(Generation::Silhouette);
+    let mut t = PenumbraLimit::new(Generator::Silhouette);
     t.bias = Bias::new(0.0, 0.0, 0.0);
     for res in [16, 32, 64, 128, 256, 512] {
         for (x, v, e) in straight_edge(&t, res, 0.0371) {
@@ -283,7 +292,7 @@ fn straight_edge_matches_the_closed_form_at_every_resolution() {
 /// texel.
 #[test]
 fn contact_edge_stays_on_the_edge_at_every_resolution() {
-    let mut t = PenumbraLimit::new(Generation::Silhouette);
+    let mut t = PenumbraLimit::new(Generator::Silhouette);
     t.bias = Bias::NONE;
     let h = 0.05;
     let edge = 0.0371;
@@ -310,7 +319,7 @@ fn contact_edge_stays_on_the_edge_at_every_resolution() {
 /// (the plate spans the map's left half).
 #[test]
 fn depth_image_edge_is_within_half_a_texel() {
-    let mut t = PenumbraLimit::new(Generation::DepthImage);
+    let mut t = PenumbraLimit::new(Generator::DepthImage);
     t.bias = Bias::new(0.0, 0.0, 0.0);
     let r = (1.0 - LIFT) * (0.15f32).tan();
     for res in [16, 64, 256] {
@@ -346,8 +355,8 @@ fn depth_image_edge_is_within_half_a_texel() {
 /// and a perspective warp.
 #[test]
 fn depth_image_seeds_are_the_near_side_tests() {
-    use penumbra_limit::depth_image::{near_side, seeds};
-    use penumbra_limit::warp::{NONE_DEPTH, Warp};
+    use crate::depth_image::{near_side, seeds};
+    use crate::warp::{NONE_DEPTH, Warp};
     use soft_shadow_core::Map2D;
     use soft_shadow_core::seeds::{NONE, pack};
     let warp = |ortho: u32| Warp {
@@ -374,7 +383,7 @@ fn depth_image_seeds_are_the_near_side_tests() {
             .collect();
         let geom = Map2D::from_vec(w, h, data).expect("map");
         let (warp, gap) = (warp((case % 2) as u32), 1.0 + (case % 3) as f32);
-        let (near, far) = seeds(&geom, &warp, gap);
+        let (near, far) = seeds(&pool(), &geom, &warp, gap);
         const NEIGHBOURS: [(i64, i64); 4] = [(-1, 0), (1, 0), (0, -1), (0, 1)];
         for y in 0..h as i64 {
             for x in 0..w as i64 {
@@ -420,7 +429,7 @@ fn lit_and_umbra_for_every_variant() {
     ];
     let normals = [Vec3::Y; 3];
     for t in PenumbraLimit::standard_set() {
-        let maps = t.generate_cpu(&g, &light, 64).unwrap();
+        let maps = t.generate_cpu(&CpuContext::new(), &g, &light, 64).unwrap();
         let v = t
             .evaluate_cpu(
                 &maps,
@@ -464,24 +473,24 @@ fn bad_input_gets_typed_errors() {
         angular_diameter: 0.1,
         profile: DistantProfile::UniformDisk,
     };
-    let mut t = PenumbraLimit::new(Generation::Silhouette);
+    let mut t = PenumbraLimit::new(Generator::Silhouette);
     t.table_size = 1;
     assert!(
-        matches!(t.generate_cpu(&g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("table_size"))
+        matches!(t.generate_cpu(&CpuContext::new(), &g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("table_size"))
     );
-    let mut t = PenumbraLimit::new(Generation::DepthImage);
+    let mut t = PenumbraLimit::new(Generator::DepthImage);
     t.profile = Profile::LimbDarkened { u: f32::NAN };
     assert!(
-        matches!(t.generate_cpu(&g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("limb"))
+        matches!(t.generate_cpu(&CpuContext::new(), &g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("limb"))
     );
-    let mut t = PenumbraLimit::new(Generation::DepthImage);
+    let mut t = PenumbraLimit::new(Generator::DepthImage);
     t.layer_gap = -1.0;
     assert!(
-        matches!(t.generate_cpu(&g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("layer_gap"))
+        matches!(t.generate_cpu(&CpuContext::new(), &g, &sun, 64), Err(ShadowError::InvalidParameter(m)) if m.contains("layer_gap"))
     );
-    let t = PenumbraLimit::new(Generation::Silhouette);
+    let t = PenumbraLimit::new(Generator::Silhouette);
     assert!(matches!(
-        t.generate_cpu(&g, &sun, 0),
+        t.generate_cpu(&CpuContext::new(), &g, &sun, 0),
         Err(ShadowError::InvalidResolution { requested: 0, .. })
     ));
     let segment = Light::Linear {
@@ -489,10 +498,10 @@ fn bad_input_gets_typed_errors() {
         b: Vec3::new(1.0, 3.0, 0.0),
     };
     assert!(matches!(
-        t.generate_cpu(&g, &segment, 64),
+        t.generate_cpu(&CpuContext::new(), &g, &segment, 64),
         Err(ShadowError::UnsupportedLight { .. })
     ));
-    let maps = t.generate_cpu(&g, &sun, 16).unwrap();
+    let maps = t.generate_cpu(&CpuContext::new(), &g, &sun, 16).unwrap();
     let bad = Receivers {
         positions: &[Vec3::NAN],
         normals: &[Vec3::Y],

@@ -2,10 +2,19 @@
 //! discontinuities (section 3.2), planes free of edges, typed errors on bad input, and the
 //! triangle light of section 4.
 
+use soft_shadow_core::CpuContext;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
+
+/// A pool for one test's maps (nothing kept between calls).
+fn pool() -> Arc<Pool> {
+    Arc::new(Pool::new(0))
+}
+
+use crate::LinearLight;
+use crate::samples::{lit_share, neighbours, piece_share};
+use crate::skins::{QUAD_TRIANGLES, Unproject, edges, skin_values, skins};
 use glam::Vec3;
-use linear_light::LinearLight;
-use linear_light::samples::{lit_share, neighbours, piece_share};
-use linear_light::skins::{QUAD_TRIANGLES, Unproject, edges, skin_values, skins};
 use proptest::prelude::*;
 use soft_shadow_core::{
     Aabb, Light, Map2D, Receivers, SceneGeometry, ShadowError, ShadowTechnique,
@@ -57,7 +66,7 @@ proptest! {
         let data: Vec<f32> = (0..res * res)
             .map(|i| 1.0 / w((i % res) as f32, (i / res) as f32))
             .collect();
-        let e = edges(&Map2D::from_vec(res, res, data).unwrap(), 0.02);
+        let e = edges(&pool(), &Map2D::from_vec(res, res, data).unwrap(), 0.02);
         prop_assert!(!e.data().iter().any(|x| *x));
     }
 }
@@ -86,7 +95,7 @@ fn edges_are_the_laplacian_of_inverse_depth() {
             if z >= NO_OCCLUDER { 0.0 } else { 1.0 / z }
         };
         let map = Map2D::from_vec(w as u32, h as u32, data.clone()).unwrap();
-        let e = edges(&map, t);
+        let e = edges(&pool(), &map, t);
         for y in 0..h {
             for x in 0..w {
                 let c = inv(x, y);
@@ -143,7 +152,7 @@ fn skins_are_the_discontinuous_triangles_of_edge_quads() {
             .collect();
         let depth = Map2D::from_vec(res, res, data).unwrap();
         let t = 0.05;
-        let edge = edges(&depth, t);
+        let edge = edges(&pool(), &depth, t);
         let un = Unproject::new(&view, res);
         let mut expected = Vec::new();
         for y in 0..res - 1 {
@@ -164,7 +173,7 @@ fn skins_are_the_discontinuous_triangles_of_edge_quads() {
                 }
             }
         }
-        let got: Vec<_> = skins(&view, &depth, t)
+        let got: Vec<_> = skins(&pool(), &view, &depth, t)
             .iter()
             .map(|s| (s.vertices, s.values))
             .collect();
@@ -204,7 +213,7 @@ fn triangle_light_is_lit_outside_and_dark_under_the_occluder() {
     );
     let t = LinearLight::new(3);
     let maps = t
-        .generate_cpu(&g, &Light::Triangle { a, b, c }, 256)
+        .generate_cpu(&CpuContext::new(), &g, &Light::Triangle { a, b, c }, 256)
         .unwrap();
     assert_eq!(maps.params.len(), 9, "three edges of three samples");
     let positions = [Vec3::new(2.5, 0.0, 2.5), Vec3::new(0.0, 0.0, 0.0)];
@@ -229,7 +238,7 @@ fn triangle_light_is_lit_outside_and_dark_under_the_occluder() {
             b: bad.1,
             c: bad.2,
         };
-        match t.generate_cpu(&g, &light, 64) {
+        match t.generate_cpu(&CpuContext::new(), &g, &light, 64) {
             Err(ShadowError::InvalidLight(m)) => assert!(m.contains("triangle"), "{what}: {m}"),
             other => panic!("{what}: {:?}", other.map(|_| ())),
         }
@@ -245,7 +254,7 @@ fn bad_input_gets_typed_errors() {
         b: Vec3::new(0.5, 3.0, 0.0),
     };
     for n in [0, 1, 65] {
-        match LinearLight::new(n).generate_cpu(&g, &seg, 64) {
+        match LinearLight::new(n).generate_cpu(&CpuContext::new(), &g, &seg, 64) {
             Err(ShadowError::InvalidParameter(m)) => assert!(m.contains("samples")),
             other => panic!("samples {n}: {:?}", other.map(|_| ())),
         }
@@ -253,7 +262,7 @@ fn bad_input_gets_typed_errors() {
     let mut t = LinearLight::new(2);
     t.edge_threshold = 0.0;
     assert!(matches!(
-        t.generate_cpu(&g, &seg, 64),
+        t.generate_cpu(&CpuContext::new(), &g, &seg, 64),
         Err(ShadowError::InvalidParameter(_))
     ));
     let t = LinearLight::new(2);
@@ -263,11 +272,11 @@ fn bad_input_gets_typed_errors() {
         v_half: Vec3::Z,
     };
     assert!(matches!(
-        t.generate_cpu(&g, &rect, 64),
+        t.generate_cpu(&CpuContext::new(), &g, &rect, 64),
         Err(ShadowError::UnsupportedLight { .. })
     ));
     assert!(matches!(
-        t.generate_cpu(&g, &seg, 0),
+        t.generate_cpu(&CpuContext::new(), &g, &seg, 0),
         Err(ShadowError::InvalidResolution { .. })
     ));
     let zero = Light::Linear {
@@ -275,7 +284,7 @@ fn bad_input_gets_typed_errors() {
         b: Vec3::Y,
     };
     assert!(matches!(
-        t.generate_cpu(&g, &zero, 64),
+        t.generate_cpu(&CpuContext::new(), &g, &zero, 64),
         Err(ShadowError::InvalidLight(_))
     ));
 }

@@ -1,10 +1,19 @@
 //! shadow-width against the paper's properties and closed forms (no GPU needed).
 
+use soft_shadow_core::CpuContext;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
+
+/// A pool for one test's maps (nothing kept between calls).
+fn pool() -> Arc<Pool> {
+    Arc::new(Pool::new(0))
+}
+
+use crate::attenuation::{AttenuationTable, linear_falloff};
+use crate::width::{cap, edt, jfa, propagate};
+use crate::{FalloffKind, Neighbours, ShadowWidth, WidthMethod, attenuation};
 use glam::Vec3;
 use proptest::prelude::*;
-use shadow_width::attenuation::{AttenuationTable, linear_falloff};
-use shadow_width::width::{cap, edt, jfa, propagate};
-use shadow_width::{FalloffKind, Neighbours, ShadowWidth, WidthMethod, attenuation};
 use soft_shadow_core::{
     Aabb, DistantProfile, Light, Map2D, Receivers, SceneGeometry, ShadowTechnique,
 };
@@ -163,7 +172,7 @@ proptest! {
         seed: u64,
     ) {
         let mask = random_mask(res, density, seed);
-        let exact = edt::width(&mask);
+        let exact = edt::width(&pool(), &mask);
         let brute = brute_force(&mask);
         for (i, (a, b)) in exact.data().iter().zip(&brute).enumerate() {
             prop_assert_eq!(*a, *b, "texel {}", i);
@@ -243,7 +252,7 @@ fn bits(v: &[f32]) -> Vec<u32> {
 fn propagation_ignores_what_its_pooled_buffers_held() {
     let res = 320;
     for n in [Neighbours::Four, Neighbours::Eight] {
-        drop(propagate::width(&Map2D::new(res, res, true), n));
+        drop(propagate::width(&pool(), &Map2D::new(res, res, true), n));
         let disc: Vec<bool> = (0..res * res)
             .map(|i| {
                 let (x, y) = ((i % res) as f32 - 150.0, (i / res) as f32 - 170.0);
@@ -251,7 +260,7 @@ fn propagation_ignores_what_its_pooled_buffers_held() {
             })
             .collect();
         let mask = Map2D::from_vec(res, res, disc).unwrap();
-        let got = propagate::width(&mask, n);
+        let got = propagate::width(&pool(), &mask, n);
         assert!(bits(got.data()) == width_per_texel(&mask, n), "{n:?}");
     }
 }
@@ -271,7 +280,7 @@ proptest! {
     ) {
         let mask = random_mask(res, density, seed);
         for n in [Neighbours::Three, Neighbours::Four, Neighbours::Six, Neighbours::Eight] {
-            let got = propagate::width(&mask, n);
+            let got = propagate::width(&pool(), &mask, n);
             prop_assert_eq!(bits(got.data()), width_per_texel(&mask, n), "{:?}", n);
         }
     }
@@ -285,13 +294,13 @@ proptest! {
     #[test]
     fn approximations_never_underestimate(res in 1u32..40, density in 0.0f64..=1.0, seed: u64) {
         let mask = random_mask(res, density, seed);
-        let exact = edt::width(&mask);
+        let exact = edt::width(&pool(), &mask);
         for w in [
-            propagate::width(&mask, Neighbours::Three),
-            propagate::width(&mask, Neighbours::Four),
-            propagate::width(&mask, Neighbours::Six),
-            propagate::width(&mask, Neighbours::Eight),
-            jfa::width(&mask),
+            propagate::width(&pool(), &mask, Neighbours::Three),
+            propagate::width(&pool(), &mask, Neighbours::Four),
+            propagate::width(&pool(), &mask, Neighbours::Six),
+            propagate::width(&pool(), &mask, Neighbours::Eight),
+            jfa::width(&pool(), &mask),
         ] {
             for ((a, e), m) in w.data().iter().zip(exact.data()).zip(mask.data()) {
                 prop_assert!(*a >= *e - 1e-4, "{a} < exact {e}");
@@ -320,7 +329,7 @@ fn approximation_error_is_bounded_and_reported() {
         }
     }
     let mask = Map2D::from_vec(res, res, data).unwrap();
-    let exact = edt::width(&mask);
+    let exact = edt::width(&pool(), &mask);
     let report = |name: &str, w: &Map2D<f32>| {
         let (mut max_abs, mut max_rel, mut sum, mut n) = (0.0f32, 0.0f32, 0.0f64, 0usize);
         for ((a, e), m) in w.data().iter().zip(exact.data()).zip(mask.data()) {
@@ -337,11 +346,23 @@ fn approximation_error_is_bounded_and_reported() {
         );
         (mean, max_rel)
     };
-    let (m3, r3) = report("propagate-3", &propagate::width(&mask, Neighbours::Three));
-    let (m4, r4) = report("propagate-4", &propagate::width(&mask, Neighbours::Four));
-    let (m6, r6) = report("propagate-6", &propagate::width(&mask, Neighbours::Six));
-    let (m8, r8) = report("propagate-8", &propagate::width(&mask, Neighbours::Eight));
-    let (mj, rj) = report("jfa", &jfa::width(&mask));
+    let (m3, r3) = report(
+        "propagate-3",
+        &propagate::width(&pool(), &mask, Neighbours::Three),
+    );
+    let (m4, r4) = report(
+        "propagate-4",
+        &propagate::width(&pool(), &mask, Neighbours::Four),
+    );
+    let (m6, r6) = report(
+        "propagate-6",
+        &propagate::width(&pool(), &mask, Neighbours::Six),
+    );
+    let (m8, r8) = report(
+        "propagate-8",
+        &propagate::width(&pool(), &mask, Neighbours::Eight),
+    );
+    let (mj, rj) = report("jfa", &jfa::width(&pool(), &mask));
     // The doubling scheme moves at most once per power of two, in one direction per pass, so some
     // offsets cannot be reached directly and the path found can exceed even the city-block
     // distance (measured on this mask: 4 neighbours up to 2.24x the exact distance, 8 neighbours
@@ -417,7 +438,7 @@ fn width_units_follow_the_closed_form() {
     ];
     for light in lights {
         let t = ShadowWidth::new(WidthMethod::Exact);
-        let maps = t.generate_cpu(&g, &light, res).unwrap();
+        let maps = t.generate_cpu(&CpuContext::new(), &g, &light, res).unwrap();
         let xs: Vec<f32> = (1..40).map(|i| -0.005 * i as f32).collect();
         let positions: Vec<Vec3> = xs.iter().map(|&x| Vec3::new(x, 0.0, 0.1)).collect();
         let normals = vec![Vec3::Y; positions.len()];
@@ -430,7 +451,7 @@ fn width_units_follow_the_closed_form() {
                 },
             )
             .unwrap();
-        let l = light.size() / shadow_width::params::fit_factor(light.kind());
+        let l = light.size() / crate::params::fit_factor(light.kind());
         let (slope, texel) = match light {
             Light::Distant { .. } => (2.0 / (h * l), maps.params.texel_b),
             _ => {
@@ -453,7 +474,7 @@ fn width_units_follow_the_closed_form() {
 /// Bad parameters and inputs get typed errors naming the problem, never a panic.
 #[test]
 fn bad_input_gets_typed_errors() {
-    use shadow_width::Softness;
+    use crate::Softness;
     use soft_shadow_core::ShadowError;
     let g = geometry(1.0);
     let light = Light::Point {
@@ -462,24 +483,24 @@ fn bad_input_gets_typed_errors() {
     let mut t = ShadowWidth::new(WidthMethod::JumpFlood);
     t.softness = Softness::Constant(f32::NAN);
     assert!(matches!(
-        t.generate_cpu(&g, &light, 64),
+        t.generate_cpu(&CpuContext::new(), &g, &light, 64),
         Err(ShadowError::InvalidParameter(m)) if m.contains("c_scale")
     ));
     let mut t = ShadowWidth::new(WidthMethod::Exact);
     t.falloff = FalloffKind::Linear { c_bias: -0.1 };
     assert!(matches!(
-        t.generate_cpu(&g, &light, 64),
+        t.generate_cpu(&CpuContext::new(), &g, &light, 64),
         Err(ShadowError::InvalidParameter(m)) if m.contains("c_bias")
     ));
     let mut t = ShadowWidth::new(WidthMethod::Exact);
     t.table = Some(1);
     assert!(matches!(
-        t.generate_cpu(&g, &light, 64),
+        t.generate_cpu(&CpuContext::new(), &g, &light, 64),
         Err(ShadowError::InvalidParameter(m)) if m.contains("table")
     ));
     let t = ShadowWidth::new(WidthMethod::Exact);
     assert!(matches!(
-        t.generate_cpu(&g, &light, 0),
+        t.generate_cpu(&CpuContext::new(), &g, &light, 0),
         Err(ShadowError::InvalidResolution { requested: 0, .. })
     ));
     let bad = Light::Disk {
@@ -488,10 +509,10 @@ fn bad_input_gets_typed_errors() {
         radius: -1.0,
     };
     assert!(matches!(
-        t.generate_cpu(&g, &bad, 64),
+        t.generate_cpu(&CpuContext::new(), &g, &bad, 64),
         Err(ShadowError::InvalidLight(_))
     ));
-    let maps = t.generate_cpu(&g, &light, 64).unwrap();
+    let maps = t.generate_cpu(&CpuContext::new(), &g, &light, 64).unwrap();
     let p = [Vec3::ZERO, Vec3::ONE];
     let n = [Vec3::Y];
     assert!(matches!(

@@ -1,11 +1,20 @@
 //! Properties from the paper: the probabilistic combination's bounds (section 3.3) and the box
 //! filters of section 3.2 against brute-force box sums.
 
+use soft_shadow_core::CpuContext;
+use soft_shadow_core::pool::Pool;
+use std::sync::Arc;
+
+/// A pool for one test's maps (nothing kept between calls).
+fn pool() -> Arc<Pool> {
+    Arc::new(Pool::new(0))
+}
+
+use crate::combine::combine;
+use crate::filters::mipmap::mip_size;
+use crate::filters::{Mipmap, NBuffer, Sat, unorm8};
+use crate::{Combination, Filter, OcclusionSlices};
 use glam::Vec2;
-use occlusion_slices::combine::combine;
-use occlusion_slices::filters::mipmap::mip_size;
-use occlusion_slices::filters::{Mipmap, NBuffer, Sat, unorm8};
-use occlusion_slices::{Combination, Filter, OcclusionSlices};
 use proptest::prelude::*;
 use soft_shadow_core::{Light, SceneGeometry, ShadowError, ShadowTechnique};
 
@@ -69,7 +78,7 @@ proptest! {
         rects in prop::collection::vec((-10i64..60, -10i64..60, -10i64..60, -10i64..60), 1..20),
     ) {
         let mask = random_mask(res, density, seed);
-        let sat = Sat::new(res, &mask);
+        let sat = Sat::new(&pool(), res, &mask);
         for (a, b, c, d) in rects {
             let (x0, x1) = (a.min(c), a.max(c));
             let (y0, y1) = (b.min(d), b.max(d));
@@ -89,8 +98,8 @@ proptest! {
         k in 0u32..16,
     ) {
         let mask = random_mask(res, density, seed);
-        let sat = Sat::new(res, &mask);
-        let mm = Mipmap::new(res, &mask);
+        let sat = Sat::new(&pool(), res, &mask);
+        let mm = Mipmap::new(&pool(), res, &mask);
         for (l, level) in mm.levels.iter().enumerate() {
             let (s, n) = (1i64 << l, mip_size(res, l as u32) as i64);
             prop_assert_eq!(level.len() as i64, n * n);
@@ -104,12 +113,12 @@ proptest! {
         // Another slice's bit set wherever this one is empty.
         let other = (k + 1) % 16;
         let masks: Vec<u32> = mask.iter().map(|&b| ((b as u32) << k) | ((!b as u32) << other)).collect();
-        prop_assert!(Sat::from_masks(res, &masks, k) == sat);
-        prop_assert!(Mipmap::from_masks(res, &masks, k) == mm);
+        prop_assert!(Sat::from_masks(&pool(), res, &masks, k) == sat);
+        prop_assert!(Mipmap::from_masks(&pool(), res, &masks, k) == mm);
         let (lo, hi) = (k.min(other), k.max(other));
-        let together = Mipmap::from_masks_together(res, &masks, lo..hi + 1);
+        let together = Mipmap::from_masks_together(&pool(), res, &masks, lo..hi + 1);
         prop_assert!(together[(k - lo) as usize] == mm);
-        prop_assert!(together[(other - lo) as usize] == Mipmap::from_masks(res, &masks, other));
+        prop_assert!(together[(other - lo) as usize] == Mipmap::from_masks(&pool(), res, &masks, other));
     }
 
     /// Every N-Buffer level holds, at every texel, the exact count of the `2^l` box whose
@@ -123,9 +132,9 @@ proptest! {
         seed in any::<u64>(),
     ) {
         let mask = random_mask(res, density, seed);
-        let sat = Sat::new(res, &mask);
-        let nb = NBuffer::new(&sat);
-        prop_assert_eq!(nb.levels.len() as u32, occlusion_slices::filters::level_count(res));
+        let sat = Sat::new(&pool(), res, &mask);
+        let nb = NBuffer::new(&pool(), &sat);
+        prop_assert_eq!(nb.levels.len() as u32, crate::filters::level_count(res));
         let n = res as i64;
         for (l, level) in nb.levels.iter().enumerate() {
             let s = 1i64 << l;
@@ -150,7 +159,7 @@ proptest! {
         boxes in prop::collection::vec((-5.0f32..45.0, -5.0f32..45.0, 0.01f32..50.0), 1..20),
     ) {
         let mask = random_mask(res, density, seed);
-        let sat = Sat::new(res, &mask);
+        let sat = Sat::new(&pool(), res, &mask);
         for (cx, cy, size) in boxes {
             let exact = integral(&mask, res, cx, cy, size);
             let got = sat.mean(Vec2::new(cx, cy), size) as f64;
@@ -207,8 +216,11 @@ fn nbuffer_and_mipmap_errors_against_brute_force() {
     let (mut max_n, mut max_m) = (0.0f64, 0.0f64);
     for seed in 1..=20u64 {
         let mask = random_mask(res, 0.05 * seed as f64, seed);
-        let sat = Sat::new(res, &mask);
-        let (nb, mm) = (NBuffer::new(&sat), Mipmap::new(res, &mask));
+        let sat = Sat::new(&pool(), res, &mask);
+        let (nb, mm) = (
+            NBuffer::new(&pool(), &sat),
+            Mipmap::new(&pool(), res, &mask),
+        );
         let mut s = seed;
         for _ in 0..200 {
             s = s
@@ -262,7 +274,7 @@ fn bad_input_gets_typed_errors() {
     };
     for slices in [0, 3, 17] {
         let t = OcclusionSlices::new(slices, Filter::Sat);
-        match t.generate_cpu(&geometry, &rect, 64) {
+        match t.generate_cpu(&CpuContext::new(), &geometry, &rect, 64) {
             Err(ShadowError::InvalidParameter(m)) => assert!(m.contains("slices")),
             other => panic!("slices {slices}: {:?}", other.map(|_| ())),
         }
@@ -270,7 +282,7 @@ fn bad_input_gets_typed_errors() {
     let mut t = OcclusionSlices::new(8, Filter::Sat);
     t.normal_offset = f32::NAN;
     assert!(matches!(
-        t.generate_cpu(&geometry, &rect, 64),
+        t.generate_cpu(&CpuContext::new(), &geometry, &rect, 64),
         Err(ShadowError::InvalidParameter(_))
     ));
     let t = OcclusionSlices::new(8, Filter::Sat);
@@ -279,15 +291,15 @@ fn bad_input_gets_typed_errors() {
         b: glam::Vec3::X,
     };
     assert!(matches!(
-        t.generate_cpu(&geometry, &segment, 64),
+        t.generate_cpu(&CpuContext::new(), &geometry, &segment, 64),
         Err(ShadowError::UnsupportedLight { .. })
     ));
     assert!(matches!(
-        t.generate_cpu(&geometry, &rect, 0),
+        t.generate_cpu(&CpuContext::new(), &geometry, &rect, 0),
         Err(ShadowError::InvalidResolution { .. })
     ));
     assert!(matches!(
-        t.generate_cpu(&geometry, &rect, 8192),
+        t.generate_cpu(&CpuContext::new(), &geometry, &rect, 8192),
         Err(ShadowError::InvalidResolution { .. })
     ));
 }

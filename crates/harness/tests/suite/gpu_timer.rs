@@ -1,7 +1,7 @@
 //! `GpuContext::gpu_time`: the device time of the passes a piece of work records.
 
+use crate::common::gpu_for_test;
 use glam::Vec3;
-use soft_shadow_core::gpu::testing::gpu_for_test;
 use soft_shadow_core::gpu::{GpuRasterizer, GpuTriangles};
 use soft_shadow_core::raster::DepthPass;
 use soft_shadow_core::{Aabb, GpuContext, Light, View};

@@ -1,0 +1,38 @@
+//! The harness's own error: the library's, or a report that could not be written or measured
+//! nothing.
+
+use soft_shadow_core::ShadowError;
+use thiserror::Error;
+
+/// What can go wrong in a report, the papers' experiments or a profile.
+#[derive(Debug, Error)]
+pub enum HarnessError {
+    /// A library error: bad input, an unsupported light, a GPU failure, ...
+    #[error(transparent)]
+    Shadow(#[from] ShadowError),
+    /// An output file or folder could not be written.
+    #[error("cannot write {path}")]
+    Write {
+        /// The path that failed.
+        path: String,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Every configuration a run asked for was skipped: nothing was measured.
+    #[error("nothing ran: {0}")]
+    NothingRan(String),
+}
+
+impl HarnessError {
+    /// A write failure of `path` for `e`.
+    pub fn write(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
+        HarnessError::Write {
+            path: path.display().to_string(),
+            source: std::io::Error::other(e.to_string()),
+        }
+    }
+}
+
+/// Shorthand for results of the harness.
+pub type Result<T> = std::result::Result<T, HarnessError>;
