@@ -11,6 +11,9 @@
 pub mod shade;
 
 use glam::{Mat4, Vec3};
+use soft_shadow_core::gpu::shader::{
+    Group, Library, Program, ShaderModule, float_texture, storage_texture, uniform,
+};
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::gpu::{GpuContext, GpuScene};
 use soft_shadow_core::{Camera, Light, Result, SceneGeometry, ShadowError, ShadowTechnique};
@@ -105,6 +108,51 @@ pub fn own_device() -> Result<(wgpu::Device, wgpu::Queue)> {
     })
 }
 
+/// The renderer's own WGSL, composed by naga_oil like the library's.
+pub static SHADERS: Library = Library {
+    name: "example-renderer",
+    modules: &[
+        ShaderModule {
+            path: "example_renderer::gbuffer",
+            source: include_str!("gbuffer.wgsl"),
+        },
+        ShaderModule {
+            path: "example_renderer::shade",
+            source: include_str!("shade.wgsl"),
+        },
+    ],
+    depends: &[],
+    programs: &[&GBUFFER, &SHADE],
+};
+
+/// `gbuffer.wgsl`: the camera (view-projection and eye), read by both stages.
+static GBUFFER: Program = Program {
+    library: &SHADERS,
+    module: "example_renderer::gbuffer",
+    defs: &[],
+    groups: &[Group {
+        stages: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        bindings: &[uniform::<[f32; 20]>()],
+    }],
+};
+
+/// `shade.wgsl`: the light, the G-buffer and `V`, the colour written.
+static SHADE: Program = Program {
+    library: &SHADERS,
+    module: "example_renderer::shade",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<shade::ShadeUniform>(),
+        float_texture(wgpu::TextureViewDimension::D2),
+        float_texture(wgpu::TextureViewDimension::D2),
+        float_texture(wgpu::TextureViewDimension::D2),
+        storage_texture(
+            wgpu::TextureFormat::Rgba8Unorm,
+            wgpu::TextureViewDimension::D2,
+        ),
+    ])],
+};
+
 impl<T: ShadowTechnique> Renderer<T> {
     /// Builds the passes and targets and uploads `geometry` once (its surfaces for the
     /// renderer's own G-buffer, its casters for the technique).
@@ -150,32 +198,14 @@ impl<T: ShadowTechnique> Renderer<T> {
         let mut cam = cam_view.to_cols_array().to_vec();
         cam.extend_from_slice(&[eye.x, eye.y, eye.z, 1.0]);
         let cam_buf = gpu.uniform_buffer("camera", bytemuck::cast_slice(&cam));
-        let gmod = d.create_shader_module(wgpu::include_wgsl!("gbuffer.wgsl"));
-        let cam_layout = d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("camera"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
+        let gprog = gpu.program(&GBUFFER);
         let camera_bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("camera"),
-            layout: &cam_layout,
+            layout: &gprog.layouts[0],
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: cam_buf.as_entire_binding(),
             }],
-        });
-        let gl = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("gbuffer"),
-            bind_group_layouts: &[Some(&cam_layout)],
-            immediate_size: 0,
         });
         let color_target = Some(wgpu::ColorTargetState {
             format: GBUFFER_FORMAT,
@@ -184,9 +214,9 @@ impl<T: ShadowTechnique> Renderer<T> {
         });
         let gbuffer = d.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("gbuffer"),
-            layout: Some(&gl),
+            layout: Some(&gprog.pipeline_layout),
             vertex: wgpu::VertexState {
-                module: &gmod,
+                module: &gprog.module,
                 entry_point: Some("vs"),
                 compilation_options: Default::default(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
@@ -206,7 +236,7 @@ impl<T: ShadowTechnique> Renderer<T> {
             }),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module: &gmod,
+                module: &gprog.module,
                 entry_point: Some("fs"),
                 compilation_options: Default::default(),
                 targets: &[color_target.clone(), color_target],
@@ -239,15 +269,8 @@ impl<T: ShadowTechnique> Renderer<T> {
             ),
             color: target(d, "color", size, wgpu::TextureFormat::Rgba8Unorm, storage),
         };
-        let smod = d.create_shader_module(wgpu::include_wgsl!("shade.wgsl"));
-        let shade_pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("shade"),
-            layout: None,
-            module: &smod,
-            entry_point: Some("shade"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let sprog = gpu.program(&SHADE);
+        let shade_pipeline = sprog.compute(&gpu, "shade");
         let shade_uniform = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("shade"),
             size: std::mem::size_of::<shade::ShadeUniform>() as u64,
@@ -256,7 +279,7 @@ impl<T: ShadowTechnique> Renderer<T> {
         });
         let shade_bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shade"),
-            layout: &shade_pipeline.get_bind_group_layout(0),
+            layout: &sprog.layouts[0],
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,

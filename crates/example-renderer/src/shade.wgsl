@@ -1,3 +1,5 @@
+#define_import_path example_renderer::shade
+
 // The renderer's own shading pass: Lambert, one rectangular area light, times the technique's V.
 // Mirrors `shade::radiance` in Rust.
 

@@ -1,4 +1,5 @@
-// requires: light_space.wgsl sample.wgsl
+#define_import_path linear_light::combine
+
 // The visibility channel of one sample (cpu.rs): its lit share plus, for each neighbour whose
 // skins cover the texel, the change the skin pass wrote (skins.wgsl).
 
@@ -9,8 +10,8 @@ struct Combine {
     lit: f32,
     piece: f32,
     res: u32,
-    _pad0: u32,
-    _pad1: u32,
+    _pad_a: u32,
+    _pad_b: u32,
 };
 
 const NO_SKIN: f32 = -1.0;

@@ -1,4 +1,6 @@
-// requires: light_space.wgsl sample.wgsl grid.wgsl
+#define_import_path linear_light::find_skins
+#import linear_light::grid::{grid_triangle, pair, quad_touches_edge, samples}
+
 // Lists the quads of a source map that hold a skin (skins.rs::skins), for the indirect draw of
 // skins.wgsl: one invocation per quad, appended with an atomic counter that is also the draw's
 // vertex count (6 per quad).

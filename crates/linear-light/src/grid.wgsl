@@ -1,12 +1,15 @@
-// requires: light_space.wgsl sample.wgsl
+#define_import_path linear_light::grid
+#import soft_shadow_core::light_space::{NO_OCCLUDER, linear_from_ndc}
+#import linear_light::sample::{Sample}
+
 // The grid of one sample's depth map (skins.rs), shared by find_skins.wgsl and skins.wgsl:
 // linear depths, edge texels (Laplacian of inverse depth) and the skin test of a grid triangle.
 
 struct Pair {
     src: u32,
     dst: u32,
-    _pad0: u32,
-    _pad1: u32,
+    _pad_a: u32,
+    _pad_b: u32,
 };
 
 const SKIN_DEPTH_TOLERANCE: f32 = 1e-3;

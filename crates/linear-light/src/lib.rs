@@ -37,10 +37,12 @@ pub mod skins;
 mod tests;
 pub mod warp;
 
+pub use gpu::pipelines::SHADERS;
 pub use params::LinearLight;
 
 use segments::segments;
 use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::{
     Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
 };
@@ -73,13 +75,7 @@ impl ShadowTechnique for LinearLight {
         gpu::generate(gpu, enc, self, scene, &segs, input.resolution)
     }
 
-    fn visibility_wgsl() -> String {
-        gpu::visibility_wgsl()
-    }
-
-    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-        gpu::maps_layout_entries()
-    }
+    const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
     fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuLinearMaps) {
         gpu.recycle_texture(maps.depth);

@@ -1,7 +1,9 @@
-// requires: light_space.wgsl
+#define_import_path linear_light::sample
+#import soft_shadow_core::light_space::{MapView}
+
 // One light sample of the linear light: its map (MapView), the unprojection of its texel
-// centres (skins.rs::Unproject) and the shares of samples.rs. Prepended to every shader of the
-// crate after light_space.wgsl.
+// centres (skins.rs::Unproject) and the shares of samples.rs, imported by the crate's other
+// shaders.
 
 struct Sample {
     map: MapView,

@@ -1,4 +1,8 @@
-// requires: light_space.wgsl sample.wgsl grid.wgsl
+#define_import_path linear_light::skins
+#import soft_shadow_core::light_space::{NO_OCCLUDER, linear_depth, linear_from_ndc}
+#import linear_light::sample::{unproject}
+#import linear_light::grid::{SKIN_DEPTH_TOLERANCE, depth_at, grid_triangle, pair, quad_offset, samples}
+
 // Skins warped into a neighbour's view (section 3.2): skins.rs and warp.rs on the GPU. The draw is
 // indirect: find_skins.wgsl listed the source's quads that hold a skin, 6 vertices each; a
 // triangle of such a quad that spans no discontinuity collapses outside the clip volume. The

@@ -1,5 +1,7 @@
-// The slicing frame (frame.rs): COP view, light axes, slice planes. Prepended to every shader
-// of the crate.
+#define_import_path occlusion_slices::frame
+
+// The slicing frame (frame.rs): COP view, light axes, slice planes, imported by the crate's
+// other shaders.
 
 struct Frame {
     view_proj: mat4x4<f32>,

@@ -1,4 +1,6 @@
-// requires: frame.wgsl
+#define_import_path occlusion_slices::levels
+#import occlusion_slices::frame::{Frame}
+
 // N-Buffer and mipmap levels from the exact summed-area table: the mean of a 2^l box as 8-bit
 // unorm, rounded in integers (filters::unorm8) so every backend stores the same bits.
 

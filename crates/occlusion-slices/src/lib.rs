@@ -46,9 +46,11 @@ pub mod slicing;
 mod tests;
 
 pub use frame::Frame;
+pub use gpu::pipelines::SHADERS;
 pub use params::{Combination, Filter, MAX_RESOLUTION, OcclusionSlices};
 
 use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::{
     Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
 };
@@ -79,13 +81,7 @@ impl ShadowTechnique for OcclusionSlices {
         gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
     }
 
-    fn visibility_wgsl() -> String {
-        gpu::visibility_wgsl()
-    }
-
-    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-        gpu::maps_layout_entries()
-    }
+    const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
     fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuSliceMaps) {
         for t in [maps.occupancy, maps.sat, maps.filtered] {

@@ -1,4 +1,6 @@
-// requires: frame.wgsl
+#define_import_path occlusion_slices::sat_cols
+#import occlusion_slices::frame::{Frame}
+
 // The column scan that completes the summed-area table: S(i, j) = sum of row prefixes above j.
 
 @group(0) @binding(0) var<uniform> frame: Frame;

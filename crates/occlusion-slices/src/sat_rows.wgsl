@@ -1,4 +1,6 @@
-// requires: frame.wgsl
+#define_import_path occlusion_slices::sat_rows
+#import occlusion_slices::frame::{Frame}
+
 // The row scan of the summed-area table (section 3.2), four slices per texel: one invocation
 // per table row sums its occupancy row into integer prefixes; row 0 of the table is all zeros.
 // sat_cols.wgsl completes the table, levels.wgsl derives the N-Buffers and mipmaps from it.

@@ -1,4 +1,6 @@
-// requires: frame.wgsl
+#define_import_path occlusion_slices::slicing
+#import occlusion_slices::frame::{Frame, slice_of}
+
 // The slicing pass (section 3.4): casters drawn once from the COP; each fragment sets the channel
 // of its slice (and of the next with the thin-occluder fix) in one of four RGBA8 targets,
 // blended with Max: a bitwise OR of the slices. Mirrors slicing.rs.

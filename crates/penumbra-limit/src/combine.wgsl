@@ -1,18 +1,26 @@
-// requires: light_space.wgsl warp.wgsl
+#define_import_path penumbra_limit::combine
+#import penumbra_limit::warp::{GenParams, MAX_P, NONE_DEPTH, depth_gap, has_edge, linear}
+
 // The stored texel (c, g, b, p_i / 4 + 1/2); mirrors penumbra_limit::combine::combine (its per-texel `texel`).
-// The storage format below (rgba32float) and STORAGE are replaced by the map's format when the
-// pipeline is built. Values are rounded to the format here (to nearest, ties to even, as
-// penumbra_limit::storage does), so the hardware's conversion, whose rounding mode varies
-// between drivers, only ever stores exactly representable values.
+// The shader def STORAGE picks the map's format: 0 rgba32float, 1 rgba16float, 2 rgba8unorm.
+// Values are rounded to the format here (to nearest, ties to even, as penumbra_limit::storage
+// does), so the hardware's conversion, whose rounding mode varies between drivers, only ever
+// stores exactly representable values.
 
 @group(0) @binding(0) var<uniform> gp: GenParams;
 @group(0) @binding(1) var<storage, read> geom: array<f32>;
 @group(0) @binding(2) var edge_tex: texture_2d<f32>;
 @group(0) @binding(3) var lower_tex: texture_2d<f32>;
+#if STORAGE == 2
+@group(0) @binding(4) var map_out: texture_storage_2d<rgba8unorm, write>;
+#else if STORAGE == 1
+@group(0) @binding(4) var map_out: texture_storage_2d<rgba16float, write>;
+#else
 @group(0) @binding(4) var map_out: texture_storage_2d<rgba32float, write>;
+#endif
 
 // 0: f32, 1: f16, 2: 8-bit unorm.
-const STORAGE: u32 = 0u;
+const STORAGE: u32 = #{STORAGE}u;
 
 fn quantize(v: f32) -> f32 {
     if STORAGE == 1u {

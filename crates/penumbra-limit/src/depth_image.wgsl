@@ -1,4 +1,8 @@
-// requires: light_space.wgsl warp.wgsl seeds.wgsl
+#define_import_path penumbra_limit::depth_image
+#import soft_shadow_core::light_space::{linear_from_ndc}
+#import penumbra_limit::warp::{GenParams, MAX_P, NONE_DEPTH, depth_gap, linear, normalized, ribbon_texels}
+#import soft_shadow_core::seeds::{NONE_SEED, seed_dist2, seed_pack}
+
 // Generation from a depth image; mirrors penumbra_limit::depth_image (and the geometry layer of
 // both generators): `geometry` normalises the nearest-surface depth map, `seeds` marks the near
 // and far sides of depth discontinuities, the exact nearest-seed map (soft_shadow_core's

@@ -54,10 +54,12 @@ pub use storage::{Storage, Texel};
 pub use table::{IlluminationTable, Profile};
 
 use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::{
     Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
 };
 
+pub use gpu::pipelines::SHADERS;
 pub use params::MAX_RESOLUTION;
 
 impl ShadowTechnique for PenumbraLimit {
@@ -86,13 +88,7 @@ impl ShadowTechnique for PenumbraLimit {
         gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
     }
 
-    fn visibility_wgsl() -> String {
-        gpu::visibility_wgsl()
-    }
-
-    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-        gpu::maps_layout_entries()
-    }
+    const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
     fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuPenumbraMaps) {
         gpu.recycle_texture(maps.map);

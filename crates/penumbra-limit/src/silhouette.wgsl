@@ -1,4 +1,7 @@
-// requires: light_space.wgsl warp.wgsl
+#define_import_path penumbra_limit::silhouette
+#import soft_shadow_core::light_space::{linear_depth}
+#import penumbra_limit::warp::{GenParams, MAX_P, depth_gap, has_edge, linear, normalized, ribbon_texels}
+
 // Silhouette extrusion (section 3.1), steps 2 and 3; mirrors penumbra_limit::silhouette.
 // Step 2 pulls each edge from a storage buffer, 12 vertices per edge (inner strip, then the
 // outer strip with its caps), degenerate when the edge is no silhouette; the fragment computes

@@ -1,6 +1,8 @@
-// requires: light_space.wgsl
-// Map depths of a penumbra limit map; mirrors penumbra_limit::warp and the shared generation
-// parameters. Prepended (after light_space.wgsl) to every shader of this crate.
+#define_import_path penumbra_limit::warp
+#import soft_shadow_core::light_space::{MapView, NO_OCCLUDER}
+
+// Map depths of a penumbra limit map; mirrors warp.rs and the shared generation parameters,
+// imported by the crate's other shaders.
 
 struct Warp {
     ortho: u32,
@@ -10,7 +12,7 @@ struct Warp {
     rate: f32,
     p_per_texel: f32,
     far_norm: f32,
-    _pad0: f32,
+    _pad_a: f32,
 };
 
 const DEPTH_SPAN: f32 = 0.99;
@@ -72,5 +74,5 @@ struct GenParams {
     res: u32,
     layer_gap: f32,
     transition_gap: f32,
-    _pad0: f32,
+    _pad_a: f32,
 };

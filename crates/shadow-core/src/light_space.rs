@@ -1,8 +1,9 @@
 //! Light-space projection shared by every depth-map technique: the per-map parameters that CPU
 //! and GPU code read, the views of light samples, and the receiver biases against shadow acne.
 //!
-//! `gpu/light_space.wgsl` is the same code in WGSL (prepended to the shaders that require it by
-//! [`crate::gpu::wgsl::resolve`]), so both backends project receivers identically.
+//! `gpu/light_space.wgsl` is the same code in WGSL (the module `soft_shadow_core::light_space`,
+//! imported by the shaders that use it: [`crate::gpu::shader`]), so both backends project
+//! receivers identically.
 
 use crate::coverage::Coverage;
 use crate::light::{Light, LightPoint};

@@ -11,6 +11,7 @@
 use crate::cpu::CpuContext;
 use crate::error::{Result, ShadowError};
 use crate::geometry::SceneGeometry;
+use crate::gpu::shader::{self, VisibilityShader};
 use crate::gpu::visibility::{self, ReceiverTextures};
 use crate::gpu::{GpuContext, GpuScene};
 use crate::light::{Light, LightKind};
@@ -183,7 +184,7 @@ fn checked_receivers<'a>(receivers: &Receivers<'a>) -> Result<Checked<Receivers<
 ///   the GPU has finished, so timing `generate_gpu_on` measures the GPU work without uploads.
 ///   wgpu validation and out-of-memory errors become [`ShadowError::Gpu`].
 /// - The GPU evaluation is one WGSL function, `visibility(world_pos, normal) -> f32`
-///   ([`visibility_wgsl`](Self::visibility_wgsl), [`crate::gpu::visibility`]): the blocking
+///   ([`VISIBILITY`](Self::VISIBILITY), [`crate::gpu::visibility`]): the blocking
 ///   `evaluate_gpu`, the G-buffer pass [`record_visibility`](Self::record_visibility) and a
 ///   renderer's own shader all call it.
 /// - Evaluation returns one visibility `V` per receiver, in `[0, 1]` and finite: the fraction of
@@ -218,24 +219,16 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
         input: Checked<Generation<'_>>,
     ) -> Result<Self::GpuMaps>;
 
-    /// WGSL that defines `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` (the
-    /// same function as [`evaluate_cpu`](Self::evaluate_cpu), with `normal` a unit normal
-    /// facing the viewer) over bindings in `@group(0)` laid out by
-    /// [`maps_layout_entries`](Self::maps_layout_entries). It depends on the type only, not on
-    /// the parameters (those reach it through the bind group).
-    fn visibility_wgsl() -> String
-    where
-        Self: Sized;
-
-    /// Layout entries of the bindings [`visibility_wgsl`](Self::visibility_wgsl) reads, in
-    /// binding order from 0 (their stage visibility is set by [`crate::gpu::visibility`]).
-    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry>
-    where
-        Self: Sized;
+    /// The GPU evaluation: the WGSL module that defines
+    /// `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` (the same function as
+    /// [`evaluate_cpu`](Self::evaluate_cpu), with `normal` a unit normal facing the viewer)
+    /// over the maps' bindings in `@group(#{MAPS_GROUP})`, and the layout of that group. It
+    /// depends on the type only, not on the parameters (those reach it through the bind group).
+    const VISIBILITY: &'static VisibilityShader;
 
     /// A bind group of `maps` (and these parameters) for `layout`, the layout of
-    /// [`maps_layout_entries`](Self::maps_layout_entries). Maps made with other parameters
-    /// than these are [`ShadowError::MapsMismatch`].
+    /// [`VISIBILITY`](Self::VISIBILITY)'s maps. Maps made with other parameters than these are
+    /// [`ShadowError::MapsMismatch`].
     fn bind_maps(
         &self,
         gpu: &GpuContext,
@@ -332,8 +325,8 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     }
 
     /// The bind group a renderer's shader binds (at the group its
-    /// [`visibility_wgsl`](Self::visibility_wgsl) was moved to) to call `visibility()`, with
-    /// the layout [`crate::gpu::visibility::pipelines`] holds for this type.
+    /// [`visibility_wgsl`](Self::visibility_wgsl) names) to call `visibility()`, with the
+    /// layout [`crate::gpu::visibility::pipelines`] holds for this type.
     fn maps_bind_group(&self, gpu: &GpuContext, maps: &Self::GpuMaps) -> Result<wgpu::BindGroup> {
         self.validate()?;
         let p = pipelines::<Self>(gpu);
@@ -358,6 +351,15 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
         })
     }
 
+    /// WGSL that defines `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` over
+    /// the maps' bindings in `@group(group)` (laid out as [`VISIBILITY`](Self::VISIBILITY)'s
+    /// maps: `maps_bind_group` binds them), for a renderer's own shader. Its other top-level
+    /// names carry naga_oil's module decoration; a renderer with its own naga_oil composer can
+    /// import the module instead ([`crate::gpu::shader::Library::add_to`]).
+    fn visibility_wgsl(group: u32) -> Result<String> {
+        flattened(Self::VISIBILITY, group)
+    }
+
     /// Records the evaluation of every texel of the caller's G-buffer `target` into `enc`, with
     /// the maps bound by `maps_bind` (from [`maps_bind_group`](Self::maps_bind_group)); no
     /// readback.
@@ -376,12 +378,21 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
 fn pipelines<T: ShadowTechnique>(
     gpu: &GpuContext,
 ) -> std::sync::Arc<visibility::VisibilityPipelines> {
-    visibility::pipelines::<T>(
-        gpu,
-        std::any::type_name::<T>(),
-        T::visibility_wgsl,
-        T::maps_layout_entries,
+    visibility::pipelines(gpu, T::VISIBILITY)
+}
+
+/// The technique's visibility module flattened to WGSL with its maps in `@group(group)`.
+fn flattened(technique: &VisibilityShader, group: u32) -> Result<String> {
+    let mut composer =
+        shader::composer(technique.library, None).map_err(|e| ShadowError::Gpu(e.to_string()))?;
+    let module = shader::compose_in(
+        &mut composer,
+        technique.library,
+        technique.module,
+        &[(shader::MAPS_GROUP, group)],
     )
+    .map_err(|e| ShadowError::Gpu(e.to_string()))?;
+    shader::wgsl(&module).map_err(|e| ShadowError::Gpu(e.to_string()))
 }
 
 /// Maps of either backend with the technique that made them, as [`DynTechnique`] hands them
@@ -469,7 +480,9 @@ pub trait DynTechnique: TechniqueInfo {
         resolution: u32,
     ) -> Result<AnyMaps>;
     /// See [`ShadowTechnique::visibility_wgsl`].
-    fn visibility_wgsl(&self) -> String;
+    fn visibility_wgsl(&self, group: u32) -> Result<String>;
+    /// See [`ShadowTechnique::VISIBILITY`].
+    fn visibility_shader(&self) -> &'static VisibilityShader;
 }
 
 impl<T: ShadowTechnique> DynTechnique for T {
@@ -503,7 +516,10 @@ impl<T: ShadowTechnique> DynTechnique for T {
             ShadowTechnique::generate_gpu_on(self, gpu, scene, light, resolution)?,
         ))))
     }
-    fn visibility_wgsl(&self) -> String {
-        T::visibility_wgsl()
+    fn visibility_wgsl(&self, group: u32) -> Result<String> {
+        T::visibility_wgsl(group)
+    }
+    fn visibility_shader(&self) -> &'static VisibilityShader {
+        T::VISIBILITY
     }
 }

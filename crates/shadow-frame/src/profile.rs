@@ -8,9 +8,9 @@ use soft_shadow_core::technique::Backend;
 /// One measured configuration.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProfileEntry {
-    /// Technique name, as [`soft_shadow_core::DynTechnique::name`].
+    /// Technique name, as [`soft_shadow_core::TechniqueInfo::name`].
     pub technique: String,
-    /// Variant label, as [`soft_shadow_core::DynTechnique::variant`].
+    /// Variant label, as [`soft_shadow_core::TechniqueInfo::variant`].
     pub variant: String,
     /// Light kind the measurement is for.
     pub light: LightKind,

@@ -2,8 +2,9 @@
 //! reversed-Z texture array, filters evaluated by `visibility()` in `shadow_map_eval.wgsl`.
 
 use crate::filters::EvalParams;
-use soft_shadow_core::gpu::compute::{
-    bind_group, depth_array_entry, depth_array_view, storage_entry, uniform_entry,
+use soft_shadow_core::gpu::compute::{bind_group, depth_array_view};
+use soft_shadow_core::gpu::shader::{
+    DEPTH_ARRAY, Group, Library, ShaderModule, VisibilityShader, storage, uniform,
 };
 use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
 use soft_shadow_core::{GpuContext, Map2D, MapParams, Result, SampleView, ShadowError};
@@ -54,22 +55,27 @@ impl GpuShadowMaps {
     }
 }
 
-/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
-pub const WGSL: &[(&str, &str)] = &[("shadow_map_eval.wgsl", include_str!("shadow_map_eval.wgsl"))];
+/// The crate's WGSL: `shadow_maps::visibility`, the filters' `visibility()`.
+pub static SHADERS: Library = Library {
+    name: "shadow-maps",
+    modules: &[ShaderModule {
+        path: "shadow_maps::visibility",
+        source: include_str!("visibility.wgsl"),
+    }],
+    depends: &[&soft_shadow_core::gpu::shader::SHADERS],
+    programs: &[],
+};
 
-/// The filters' `visibility()` (`shadow_map_eval.wgsl` after the light-space helpers).
-pub fn visibility_wgsl() -> String {
-    soft_shadow_core::gpu::wgsl::source("shadow_map_eval.wgsl", WGSL)
-}
-
-/// Parameters, map views, the depth array.
-pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    vec![
-        uniform_entry(0),
-        storage_entry(1, true),
-        depth_array_entry(2),
-    ]
-}
+/// The filters' `visibility()` over the parameters, the map views and the depth array.
+pub static VISIBILITY: VisibilityShader = VisibilityShader {
+    library: &SHADERS,
+    module: "shadow_maps::visibility",
+    maps: Group::compute(&[
+        uniform::<EvalParams>(),
+        storage::<MapParams>(true),
+        DEPTH_ARRAY,
+    ]),
+};
 
 /// The bind group of `maps` filtered as `prm` says.
 pub fn bind_maps(

@@ -14,8 +14,11 @@ pub mod filters;
 pub mod gpu;
 pub mod maps;
 
+pub use gpu::SHADERS;
+
 use maps::CpuShadowMaps;
 use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::light_space::sample_views;
 use soft_shadow_core::{
     Bias, Checked, CpuContext, Generation, GpuContext, Light, LightKind, Receivers, Result,
@@ -174,13 +177,7 @@ impl ShadowTechnique for ShadowMapBaseline {
         )
     }
 
-    fn visibility_wgsl() -> String {
-        gpu::visibility_wgsl()
-    }
-
-    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-        gpu::maps_layout_entries()
-    }
+    const VISIBILITY: &'static VisibilityShader = &gpu::VISIBILITY;
 
     fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuShadowMaps) {
         gpu.recycle_texture(maps.texture);

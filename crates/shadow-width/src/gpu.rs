@@ -7,12 +7,12 @@ use crate::eval::EvalParams;
 use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, WidthMethod};
 use crate::width::{cap, propagate};
 use bytemuck::{Pod, Zeroable};
-use soft_shadow_core::gpu::compute::{
-    bind_group, compute_pipelines, depth_array_entry, depth_array_view, storage_entry,
-    uniform_entry,
+use soft_shadow_core::gpu::compute::{bind_group, depth_array_view};
+use soft_shadow_core::gpu::resources::storage_buffer;
+use soft_shadow_core::gpu::shader::{
+    DEPTH_ARRAY, Group, Library, Program, ShaderModule, VisibilityShader, storage, uniform,
 };
-use soft_shadow_core::gpu::resources::{layout, storage_buffer, wgsl_module};
-use soft_shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene, wgsl};
+use soft_shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
 use soft_shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
 
@@ -65,81 +65,66 @@ struct WidthPipelines {
 
 impl WidthPipelines {
     fn new(ctx: &GpuContext) -> Self {
-        let module = wgsl_module(ctx, "shadow width", &[&source("width.wgsl")]);
-        let layout = layout(
-            ctx,
-            "shadow width",
-            &[
-                uniform_entry(0),
-                depth_array_entry(1),
-                storage_entry(2, true),
-                storage_entry(3, false),
-                storage_entry(4, true),
-                storage_entry(5, false),
-                storage_entry(6, false),
-                storage_entry(7, false),
-            ],
-        );
-        let [
-            mask,
-            propagate,
-            cap,
-            jfa_init,
-            jfa_resolve,
-            edt_columns,
-            edt_rows,
-        ] = compute_pipelines(
-            ctx,
-            "shadow width",
-            &module,
-            &layout,
-            [
-                "mask",
-                "propagate",
-                "cap_width",
-                "jfa_init",
-                "jfa_resolve",
-                "edt_columns",
-                "edt_rows",
-            ],
-        );
+        let p = ctx.program(&WIDTH);
         Self {
-            layout,
-            mask,
-            propagate,
-            cap,
-            jfa_init,
-            jfa_resolve,
-            edt_columns,
-            edt_rows,
+            layout: p.layouts[0].clone(),
+            mask: p.compute(ctx, "mask"),
+            propagate: p.compute(ctx, "propagate"),
+            cap: p.compute(ctx, "cap_width"),
+            jfa_init: p.compute(ctx, "jfa_init"),
+            jfa_resolve: p.compute(ctx, "jfa_resolve"),
+            edt_columns: p.compute(ctx, "edt_columns"),
+            edt_rows: p.compute(ctx, "edt_rows"),
         }
     }
 }
 
-/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
-pub const WGSL: &[(&str, &str)] = &[
-    ("width.wgsl", include_str!("width.wgsl")),
-    ("evaluate.wgsl", include_str!("evaluate.wgsl")),
-];
+/// The crate's WGSL: the width kernels and the visibility module.
+pub static SHADERS: Library = Library {
+    name: "shadow-width",
+    modules: &[
+        ShaderModule {
+            path: "shadow_width::width",
+            source: include_str!("width.wgsl"),
+        },
+        ShaderModule {
+            path: "shadow_width::visibility",
+            source: include_str!("visibility.wgsl"),
+        },
+    ],
+    depends: &[&soft_shadow_core::gpu::shader::SHADERS],
+    programs: &[&WIDTH],
+};
 
-fn source(name: &str) -> String {
-    wgsl::source(name, WGSL)
-}
+/// `width.wgsl`: parameters, the depth array, the float buffers (source, destination), the seed
+/// buffers (source, destination) and the envelope scratch (vertices, boundaries).
+static WIDTH: Program = Program {
+    library: &SHADERS,
+    module: "shadow_width::width",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<WidthParams>(),
+        DEPTH_ARRAY,
+        storage::<f32>(true),
+        storage::<f32>(false),
+        storage::<u32>(true),
+        storage::<u32>(false),
+        storage::<u32>(false),
+        storage::<f32>(false),
+    ])],
+};
 
-/// `visibility()`: `evaluate.wgsl` after the light-space helpers.
-pub fn visibility_wgsl() -> String {
-    source("evaluate.wgsl")
-}
-
-/// Parameters, the depth array, the width map, the attenuation table.
-pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    vec![
-        uniform_entry(0),
-        depth_array_entry(1),
-        storage_entry(2, true),
-        storage_entry(3, true),
-    ]
-}
+/// `visibility()` over the parameters, the depth array, the width map and the attenuation table.
+pub static VISIBILITY: VisibilityShader = VisibilityShader {
+    library: &SHADERS,
+    module: "shadow_width::visibility",
+    maps: Group::compute(&[
+        uniform::<EvalParams>(),
+        DEPTH_ARRAY,
+        storage::<f32>(true),
+        storage::<f32>(true),
+    ]),
+};
 
 /// One dispatch of the width kernels: pipeline, step, and the buffers in bindings 2..=7.
 struct Dispatch<'a> {

@@ -43,9 +43,11 @@ mod tests;
 pub mod width;
 
 pub use attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation};
+pub use gpu::SHADERS;
 pub use params::{DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
 
 use soft_shadow_core::gpu::GpuScene;
+use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::{
     Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
 };
@@ -76,13 +78,7 @@ impl ShadowTechnique for ShadowWidth {
         gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
     }
 
-    fn visibility_wgsl() -> String {
-        gpu::visibility_wgsl()
-    }
-
-    fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-        gpu::maps_layout_entries()
-    }
+    const VISIBILITY: &'static VisibilityShader = &gpu::VISIBILITY;
 
     fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuWidthMaps) {
         gpu.recycle_texture(maps.depth);

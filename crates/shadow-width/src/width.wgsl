@@ -1,4 +1,7 @@
-// requires: light_space.wgsl seeds.wgsl
+#define_import_path shadow_width::width
+#import soft_shadow_core::light_space::{MapView, NO_OCCLUDER, linear_from_ndc}
+#import soft_shadow_core::seeds::{NONE_SEED, seed_dist2, seed_pack}
+
 // Shadow-width maps on the GPU (Kirsch & Döllner 2003, section 4, and two exact/fast
 // alternatives). Mirrors shadow_width::occlusion and shadow_width::width::{propagate, jfa, edt}.
 

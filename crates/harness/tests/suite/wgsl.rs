@@ -1,10 +1,27 @@
-//! Every `.wgsl` file of the workspace parses and validates with naga, on any machine, as the
-//! GPU code builds it: `soft_shadow_core::gpu::wgsl::resolve` puts the files its
-//! `// requires: light_space.wgsl [sibling.wgsl ...]` header names first.
-//! A file that starts with `// tail:` is an entry point appended to a technique's visibility
-//! module; every technique's module is validated with each tail, as the pipelines build them.
+//! Every WGSL module of the workspace composes and validates with naga_oil and naga, on any
+//! machine, as the GPU code builds it; every binding a module declares matches its Rust
+//! declaration (`soft_shadow_core::gpu::shader`): every program of every library, every
+//! variant, and every technique's visibility module with both evaluation entry points.
 
+use naga_oil::compose::{NagaModuleDescriptor, ShaderDefValue};
+use soft_shadow_core::gpu::shader::{
+    self, Library, MAPS_GROUP, Program, TECHNIQUE_ALIAS, check_bindings,
+};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+
+/// Every library of the workspace.
+fn libraries() -> [&'static Library; 7] {
+    [
+        &soft_shadow_core::gpu::shader::SHADERS,
+        &shadow_maps::SHADERS,
+        &shadow_width::SHADERS,
+        &penumbra_limit::SHADERS,
+        &occlusion_slices::SHADERS,
+        &linear_light::SHADERS,
+        &example_renderer::SHADERS,
+    ]
+}
 
 fn wgsl_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for e in std::fs::read_dir(dir).unwrap().flatten() {
@@ -19,63 +36,101 @@ fn wgsl_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// Every `.wgsl` file is a module of one library, under the import path it declares.
 #[test]
-fn every_wgsl_file_validates() {
+fn every_wgsl_file_is_a_module_of_a_library() {
     let crates = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let mut checked = 0;
-    for entry in std::fs::read_dir(crates).unwrap().flatten() {
-        let mut files = Vec::new();
-        wgsl_files(&entry.path(), &mut files);
-        // The crate's files by name, as its `WGSL` list gives them to the resolver.
-        let sources: Vec<(String, String)> = files
+    let mut files = Vec::new();
+    wgsl_files(crates, &mut files);
+    assert!(files.len() >= 25, "{} files", files.len());
+    let modules: Vec<_> = libraries().iter().flat_map(|l| l.modules.iter()).collect();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let path = text
+            .lines()
+            .next()
+            .and_then(|l| l.strip_prefix("#define_import_path "))
+            .unwrap_or_else(|| panic!("{}: no #define_import_path first", f.display()));
+        let owners: Vec<_> = modules
             .iter()
-            .map(|f| {
-                let name = f.file_name().unwrap().to_string_lossy().into_owned();
-                (name, std::fs::read_to_string(f).unwrap())
-            })
+            .filter(|m| m.source == text && m.path == path)
             .collect();
-        let named: Vec<(&str, &str)> = sources
-            .iter()
-            .map(|(n, s)| (n.as_str(), s.as_str()))
-            .collect();
-        for (f, (name, text)) in files.iter().zip(&sources) {
-            if text.starts_with("// tail:") {
+        assert_eq!(
+            owners.len(),
+            1,
+            "{}: in {} libraries",
+            f.display(),
+            owners.len()
+        );
+        assert!(!text.contains("// requires:"), "{}", f.display());
+    }
+    assert_eq!(modules.len(), files.len(), "a library lists a module twice");
+}
+
+/// Every module composes on its own (its maps in group 0), except the two evaluation entry
+/// points, which import the technique they evaluate (composed per technique below).
+#[test]
+fn every_module_composes() {
+    for lib in libraries() {
+        let mut c = shader::composer(lib, None).unwrap_or_else(|e| panic!("{e}"));
+        for m in lib.modules {
+            let (_, imports, _) = naga_oil::compose::get_preprocessor_data(m.source);
+            if imports.iter().any(|i| i.import == TECHNIQUE_ALIAS) {
                 continue;
             }
-            let src = soft_shadow_core::gpu::wgsl::resolve(name, &named)
-                .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-            validate(&f.display().to_string(), &src);
-            checked += 1;
+            shader::compose_in(&mut c, lib, m.path, &[(MAPS_GROUP, 0), ("STORAGE", 0)])
+                .unwrap_or_else(|e| panic!("{e}"));
         }
     }
-    assert!(checked >= 20, "{checked} files");
 }
 
-fn validate(name: &str, src: &str) -> naga::Module {
-    let module = naga::front::wgsl::parse_str(src)
-        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(src)));
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .unwrap_or_else(|e| panic!("{name}: {e:?}"));
-    module
-}
-
-/// Every technique's `visibility()` module, alone, with each shared entry point, and moved to
-/// another bind group: it declares `fn visibility(vec3<f32>, vec3<f32>) -> f32` and binds only
-/// in the group it was given.
+/// Every program of every library, every variant: it composes and validates, and every
+/// binding matches its declaration (a uniform's size, a buffer's access and stride, a
+/// texture's type and dimension, a storage texture's format).
 #[test]
-fn every_visibility_module_validates_with_each_entry_point() {
-    use soft_shadow_core::gpu::visibility::{RECEIVER_TEXTURES_WGSL, RECEIVERS_WGSL, in_group};
+fn every_program_composes_with_the_bindings_it_declares() {
+    let mut count = 0;
+    for lib in libraries() {
+        for p in lib.programs {
+            assert!(
+                std::ptr::eq(p.library, lib),
+                "{} is not {}'s",
+                p.module,
+                lib.name
+            );
+            shader::compose(p).unwrap_or_else(|e| panic!("{e}"));
+            count += 1;
+        }
+    }
+    assert!(count >= 17, "{count} programs");
+}
+
+/// Every technique's visibility module with each evaluation entry point, and flattened for a
+/// renderer into another group: `fn visibility(vec3<f32>, vec3<f32>) -> f32`, binding only in
+/// that group, as the maps' layout declares.
+#[test]
+fn every_visibility_module_composes_with_each_entry_point() {
     let mut seen = std::collections::HashSet::new();
-    for t in harness::report::options::all_techniques(false) {
+    for t in harness::report::all_techniques(false) {
         if !seen.insert(t.name()) {
             continue;
         }
-        let src = t.visibility_wgsl();
-        let module = validate(t.name(), &src);
+        let v = t.visibility_shader();
+        for (entry, groups) in soft_shadow_core::gpu::visibility::entry_points(v) {
+            let mut c = shader::composer(&shader::SHADERS, Some(v)).unwrap();
+            let m = shader::compose_in(&mut c, &shader::SHADERS, entry, &[(MAPS_GROUP, 0)])
+                .unwrap_or_else(|e| panic!("{}: {e}", t.name()));
+            check_bindings(&m, &groups).unwrap_or_else(|e| panic!("{}: {entry}: {e}", t.name()));
+        }
+        let src = t.visibility_wgsl(2).unwrap();
+        let module = naga::front::wgsl::parse_str(&src)
+            .unwrap_or_else(|e| panic!("{}: {}", t.name(), e.emit_to_string(&src)));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}: {e:?}", t.name()));
         let f = module
             .functions
             .iter()
@@ -84,130 +139,79 @@ fn every_visibility_module_validates_with_each_entry_point() {
             .unwrap_or_else(|| panic!("{}: no fn visibility", t.name()));
         assert_eq!(f.arguments.len(), 2, "{}", t.name());
         assert!(f.result.is_some(), "{}", t.name());
-        for tail in [RECEIVERS_WGSL, RECEIVER_TEXTURES_WGSL] {
-            validate(t.name(), &format!("{src}\n{tail}"));
-        }
-        let moved = validate(t.name(), &in_group(&src, 2));
-        for (_, g) in moved.global_variables.iter() {
-            if let Some(b) = &g.binding {
-                assert_eq!(b.group, 2, "{}: {:?}", t.name(), g.name);
-            }
-        }
+        let mut groups = vec![shader::Group::compute(&[]); 2];
+        groups.push(v.maps);
+        check_bindings(&module, &groups).unwrap_or_else(|e| panic!("{}: {e}", t.name()));
     }
+    assert_eq!(seen.len(), 8);
 }
 
-/// Every Rust struct the GPU reads as a uniform or storage element has the size naga gives the
-/// WGSL struct it mirrors (a missing, extra or re-typed field changes it).
-#[test]
-fn uniform_structs_match_their_wgsl_layout() {
-    use soft_shadow_core::gpu::wgsl::resolve;
-    use std::mem::size_of;
-    let files = |list: &[(&'static str, &'static str)]| list.to_vec();
-    let core = files(&[]);
-    // (crate, its WGSL files, file, WGSL struct, size of the Rust struct)
-    type Case = (
-        &'static str,
-        Vec<(&'static str, &'static str)>,
-        &'static str,
-        &'static str,
-        usize,
+/// `program`'s entry module with its text edited by `edit`, composed with its library.
+fn compose_edited(program: &Program, edit: impl Fn(&str) -> String) -> naga::Module {
+    let mut c = shader::composer(program.library, None).unwrap();
+    let source = program
+        .library
+        .module(program.module)
+        .expect("the program's module")
+        .source;
+    let edited = edit(source);
+    assert_ne!(
+        edited, source,
+        "{}: the edit changed nothing",
+        program.module
     );
-    let cases: [Case; 11] = [
-        (
-            "shadow-core",
-            core.clone(),
-            "light_space.wgsl",
-            "MapView",
-            size_of::<soft_shadow_core::MapParams>(),
-        ),
-        (
-            "shadow-core",
-            core,
-            "light_space.wgsl",
-            "Bias",
-            size_of::<soft_shadow_core::Bias>(),
-        ),
-        (
-            "shadow-maps",
-            files(shadow_maps::gpu::WGSL),
-            "shadow_map_eval.wgsl",
-            "Params",
-            size_of::<shadow_maps::filters::EvalParams>(),
-        ),
-        (
-            "shadow-width",
-            files(shadow_width::gpu::WGSL),
-            "evaluate.wgsl",
-            "EvalParams",
-            size_of::<shadow_width::eval::EvalParams>(),
-        ),
-        (
-            "penumbra-limit",
-            files(penumbra_limit::gpu::pipelines::WGSL),
-            "evaluate.wgsl",
-            "EvalParams",
-            size_of::<penumbra_limit::eval::EvalParams>(),
-        ),
-        (
-            "penumbra-limit",
-            files(penumbra_limit::gpu::pipelines::WGSL),
-            "warp.wgsl",
-            "Warp",
-            size_of::<penumbra_limit::warp::Warp>(),
-        ),
-        (
-            "occlusion-slices",
-            files(occlusion_slices::gpu::pipelines::WGSL),
-            "frame.wgsl",
-            "Frame",
-            size_of::<occlusion_slices::Frame>(),
-        ),
-        (
-            "occlusion-slices",
-            files(occlusion_slices::gpu::pipelines::WGSL),
-            "evaluate.wgsl",
-            "EvalParams",
-            size_of::<occlusion_slices::gpu::EvalParams>(),
-        ),
-        (
-            "linear-light",
-            files(linear_light::gpu::pipelines::WGSL),
-            "evaluate.wgsl",
-            "EvalParams",
-            size_of::<linear_light::gpu::EvalParams>(),
-        ),
-        (
-            "linear-light",
-            files(linear_light::gpu::pipelines::WGSL),
-            "sample.wgsl",
-            "Sample",
-            size_of::<linear_light::gpu::SampleGpu>(),
-        ),
-        (
-            "example-renderer",
-            vec![(
-                "shade.wgsl",
-                include_str!("../../../example-renderer/src/shade.wgsl"),
-            )],
-            "shade.wgsl",
-            "Shade",
-            size_of::<example_renderer::shade::ShadeUniform>(),
-        ),
-    ];
-    for (krate, list, file, name, rust) in cases {
-        let src = resolve(file, &list).unwrap();
-        let module = naga::front::wgsl::parse_str(&src).unwrap();
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(module.to_ctx()).unwrap();
-        let (handle, _) = module
-            .types
+    let defs: HashMap<String, ShaderDefValue> = program
+        .defs
+        .iter()
+        .map(|&(k, v)| (k.to_string(), ShaderDefValue::UInt(v)))
+        .collect();
+    c.make_naga_module(NagaModuleDescriptor {
+        source: &edited,
+        file_path: program.module,
+        shader_defs: defs,
+        ..Default::default()
+    })
+    .unwrap_or_else(|e| panic!("{}: {}", program.module, e.emit_to_string(&c)))
+}
+
+/// The check fails when one binding's type changes in the WGSL: a storage buffer made
+/// writable, a storage texture's format changed, a uniform struct that grows, a binding moved.
+#[test]
+fn a_binding_changed_in_the_wgsl_fails_the_check() {
+    let program = |lib: &'static Library, module: &str| -> &'static Program {
+        lib.programs
             .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("{krate}: no struct {name} in {file}"));
-        let wgsl = layouter[handle].size as usize;
-        assert_eq!(
-            rust, wgsl,
-            "{krate}: {name} in {file}: Rust {rust} bytes, WGSL {wgsl}"
-        );
+            .copied()
+            .find(|p| p.module == module)
+            .unwrap_or_else(|| panic!("no program {module}"))
+    };
+    let jump = program(&shader::SHADERS, "soft_shadow_core::jump_flood");
+    let sat_cols = program(&occlusion_slices::SHADERS, "occlusion_slices::sat_cols");
+    /// A program and an edit of its entry module's text.
+    type Case = (&'static Program, fn(&str) -> String);
+    let cases: [Case; 4] = [
+        (jump, |s| {
+            s.replace(
+                "var<storage, read> src: array<u32>",
+                "var<storage, read_write> src: array<u32>",
+            )
+        }),
+        (sat_cols, |s| {
+            s.replace(
+                "texture_storage_2d_array<rgba32uint, write>",
+                "texture_storage_2d_array<rgba16uint, write>",
+            )
+        }),
+        (jump, |s| {
+            s.replace("_pad_b: u32,", "_pad_b: u32,\n    extra: vec4<f32>,")
+        }),
+        (jump, |s| s.replace("@binding(2)", "@binding(3)")),
+    ];
+    for (p, edit) in cases {
+        let good = shader::compose(p).map(|_| ());
+        assert_eq!(good, Ok(()), "{}", p.module);
+        let bad = compose_edited(p, edit);
+        let e = check_bindings(&bad, p.groups).expect_err("the edited binding must fail");
+        assert!(e.contains("@group(0) @binding("), "{}: {e}", p.module);
     }
 }

@@ -16,9 +16,10 @@ use crate::segments::Segment;
 use crate::skins::Unproject;
 use bytemuck::{Pod, Zeroable};
 use pipelines::{CombineKernel, FindSkinsKernel, SkinPipeline, VALUE_FORMAT};
+use soft_shadow_core::gpu::Kernel;
 use soft_shadow_core::gpu::compute::{bind_group, depth_array_view};
 use soft_shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
-use soft_shadow_core::gpu::resources::{Kernel, texture_2d};
+use soft_shadow_core::gpu::resources::texture_2d;
 use soft_shadow_core::gpu::timer::PassSlot;
 use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
@@ -68,7 +69,7 @@ impl GpuLinearMaps {
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct Pair {
+pub(crate) struct Pair {
     src: u32,
     dst: u32,
     _pad: [u32; 2],
@@ -76,7 +77,7 @@ struct Pair {
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct CombineParams {
+pub(crate) struct CombineParams {
     layer: u32,
     has_prev: u32,
     has_next: u32,
@@ -367,16 +368,6 @@ pub fn generate(
         depth,
         channel,
     })
-}
-
-/// `visibility()`: `evaluate.wgsl` after the light-space helpers and the sample layout.
-pub fn visibility_wgsl() -> String {
-    pipelines::source("evaluate.wgsl")
-}
-
-/// Parameters, the samples, the depth array, the visibility channels.
-pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    pipelines::eval_entries()
 }
 
 /// The bind group of `maps` read with `t`'s biases.

@@ -1,30 +1,106 @@
 //! The pipelines of the GPU path, built once per context: the skin warp render pipeline
-//! (`skins.wgsl`), the channel combine kernel (`combine.wgsl`) and evaluation (`evaluate.wgsl`).
+//! (`skins.wgsl`), the skin search (`find_skins.wgsl`), the channel combine kernel
+//! (`combine.wgsl`) and evaluation (`visibility.wgsl`), each declared once with its bindings.
 
+use super::{CombineParams, EvalParams, Pair, SampleGpu};
 use soft_shadow_core::GpuContext;
-use soft_shadow_core::gpu::compute::{storage_entry, uniform_entry};
+use soft_shadow_core::gpu::Kernel;
 use soft_shadow_core::gpu::raster::DEPTH_FORMAT;
-use soft_shadow_core::gpu::resources::{
-    FLOAT, Kernel, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
+use soft_shadow_core::gpu::shader::{
+    Binding, DEPTH_ARRAY, Group, Library, Program, ShaderModule, VisibilityShader, float_texture,
+    storage, storage_texture, uniform,
 };
-
-/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
-pub const WGSL: &[(&str, &str)] = &[
-    ("sample.wgsl", include_str!("../sample.wgsl")),
-    ("grid.wgsl", include_str!("../grid.wgsl")),
-    ("skins.wgsl", include_str!("../skins.wgsl")),
-    ("find_skins.wgsl", include_str!("../find_skins.wgsl")),
-    ("combine.wgsl", include_str!("../combine.wgsl")),
-    ("evaluate.wgsl", include_str!("../evaluate.wgsl")),
-];
 
 /// Format of the warped skin values and of the visibility channels.
 pub const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-/// File `name` of [`WGSL`] after the files it requires.
-pub fn source(name: &str) -> String {
-    soft_shadow_core::gpu::wgsl::source(name, WGSL)
-}
+/// The crate's WGSL: the sample views, the skin grid, the skin search and warp, the channel
+/// combine kernel and the visibility module.
+pub static SHADERS: Library = Library {
+    name: "linear-light",
+    modules: &[
+        ShaderModule {
+            path: "linear_light::sample",
+            source: include_str!("../sample.wgsl"),
+        },
+        ShaderModule {
+            path: "linear_light::grid",
+            source: include_str!("../grid.wgsl"),
+        },
+        ShaderModule {
+            path: "linear_light::skins",
+            source: include_str!("../skins.wgsl"),
+        },
+        ShaderModule {
+            path: "linear_light::find_skins",
+            source: include_str!("../find_skins.wgsl"),
+        },
+        ShaderModule {
+            path: "linear_light::combine",
+            source: include_str!("../combine.wgsl"),
+        },
+        ShaderModule {
+            path: "linear_light::visibility",
+            source: include_str!("../visibility.wgsl"),
+        },
+    ],
+    depends: &[&soft_shadow_core::gpu::shader::SHADERS],
+    programs: &[&SKINS, &FIND_SKINS, &COMBINE],
+};
+
+/// The grid's bindings (`grid.wgsl`): the sample pair, the samples, their depth maps.
+const GRID: [Binding; 3] = [uniform::<Pair>(), storage::<SampleGpu>(true), DEPTH_ARRAY];
+
+/// `skins.wgsl`: the grid's bindings and the listed quads, read by both stages.
+static SKINS: Program = Program {
+    library: &SHADERS,
+    module: "linear_light::skins",
+    defs: &[],
+    groups: &[Group {
+        stages: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        bindings: &[GRID[0], GRID[1], GRID[2], storage::<u32>(true)],
+    }],
+};
+
+/// `find_skins.wgsl`: the grid's bindings, the quads listed and the indirect draw's arguments.
+static FIND_SKINS: Program = Program {
+    library: &SHADERS,
+    module: "linear_light::find_skins",
+    defs: &[],
+    groups: &[Group::compute(&[
+        GRID[0],
+        GRID[1],
+        GRID[2],
+        storage::<u32>(false),
+        storage::<[u32; 4]>(false),
+    ])],
+};
+
+/// `combine.wgsl`: parameters, the warped values of the previous and next samples, the
+/// channels.
+static COMBINE: Program = Program {
+    library: &SHADERS,
+    module: "linear_light::combine",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<CombineParams>(),
+        float_texture(wgpu::TextureViewDimension::D2),
+        float_texture(wgpu::TextureViewDimension::D2),
+        storage_texture(VALUE_FORMAT, wgpu::TextureViewDimension::D2Array),
+    ])],
+};
+
+/// Evaluation: parameters, samples, the depth array and the channels.
+pub static VISIBILITY: VisibilityShader = VisibilityShader {
+    library: &SHADERS,
+    module: "linear_light::visibility",
+    maps: Group::compute(&[
+        uniform::<EvalParams>(),
+        storage::<SampleGpu>(true),
+        DEPTH_ARRAY,
+        float_texture(wgpu::TextureViewDimension::D2Array),
+    ]),
+};
 
 /// Skins of one sample warped into a neighbour's view.
 pub struct SkinPipeline {
@@ -37,34 +113,16 @@ pub struct SkinPipeline {
 impl SkinPipeline {
     /// Builds the pipeline.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = wgsl_module(ctx, "skins", &[&source("skins.wgsl")]);
-        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
-        let mut pair = uniform_entry(0);
-        pair.visibility = vf;
-        let samples = storage_entry_in(1, true, vf);
-        let layout = layout(
-            ctx,
-            "skins",
-            &[
-                pair,
-                samples,
-                texture_entry(
-                    2,
-                    vf,
-                    wgpu::TextureSampleType::Depth,
-                    wgpu::TextureViewDimension::D2Array,
-                ),
-                storage_entry_in(3, true, vf),
-            ],
-        );
-        let pl = pipeline_layout(ctx, "skins", &[&layout]);
+        let program = ctx.program(&SKINS);
+        let (m, pl) = (&program.module, &program.pipeline_layout);
+        let layout = program.layouts[0].clone();
         let pipeline = ctx
             .device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("skins"),
-                layout: Some(&pl),
+                layout: Some(pl),
                 vertex: wgpu::VertexState {
-                    module: &m,
+                    module: m,
                     entry_point: Some("vs_skin"),
                     compilation_options: Default::default(),
                     buffers: &[],
@@ -82,7 +140,7 @@ impl SkinPipeline {
                 }),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
-                    module: &m,
+                    module: m,
                     entry_point: Some("fs_skin"),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
@@ -98,40 +156,13 @@ impl SkinPipeline {
     }
 }
 
-fn storage_entry_in(
-    binding: u32,
-    read_only: bool,
-    visibility: wgpu::ShaderStages,
-) -> wgpu::BindGroupLayoutEntry {
-    let mut e = storage_entry(binding, read_only);
-    e.visibility = visibility;
-    e
-}
-
 /// The kernel that lists a source map's skin quads for the indirect skin draw.
 pub struct FindSkinsKernel(pub Kernel);
 
 impl FindSkinsKernel {
     /// Builds the kernel.
     pub fn new(ctx: &GpuContext) -> Self {
-        Self(Kernel::new(
-            ctx,
-            "find skins",
-            &[&source("find_skins.wgsl")],
-            "find_skins",
-            &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                texture_entry(
-                    2,
-                    wgpu::ShaderStages::COMPUTE,
-                    wgpu::TextureSampleType::Depth,
-                    wgpu::TextureViewDimension::D2Array,
-                ),
-                storage_entry(3, false),
-                storage_entry(4, false),
-            ],
-        ))
+        Self(Kernel::new(ctx, &FIND_SKINS, "find_skins"))
     }
 }
 
@@ -141,34 +172,6 @@ pub struct CombineKernel(pub Kernel);
 impl CombineKernel {
     /// Builds the kernel.
     pub fn new(ctx: &GpuContext) -> Self {
-        let c = wgpu::ShaderStages::COMPUTE;
-        Self(Kernel::new(
-            ctx,
-            "linear-light combine",
-            &[&source("combine.wgsl")],
-            "combine",
-            &[
-                uniform_entry(0),
-                texture_entry(1, c, FLOAT, wgpu::TextureViewDimension::D2),
-                texture_entry(2, c, FLOAT, wgpu::TextureViewDimension::D2),
-                storage_texture_entry(3, VALUE_FORMAT, wgpu::TextureViewDimension::D2Array),
-            ],
-        ))
+        Self(Kernel::new(ctx, &COMBINE, "combine"))
     }
-}
-
-/// Evaluation's bindings: parameters, samples, the depth array and the channels.
-pub fn eval_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    let c = wgpu::ShaderStages::COMPUTE;
-    vec![
-        uniform_entry(0),
-        storage_entry(1, true),
-        texture_entry(
-            2,
-            c,
-            wgpu::TextureSampleType::Depth,
-            wgpu::TextureViewDimension::D2Array,
-        ),
-        texture_entry(3, c, FLOAT, wgpu::TextureViewDimension::D2Array),
-    ]
 }

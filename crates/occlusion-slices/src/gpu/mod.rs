@@ -15,9 +15,10 @@ use crate::frame::Frame;
 use crate::params::{Filter, OcclusionSlices};
 use bytemuck::{Pod, Zeroable};
 use pipelines::{LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT, SlicingPipelines};
+use soft_shadow_core::gpu::Kernel;
 use soft_shadow_core::gpu::compute::{self, bind_group};
 use soft_shadow_core::gpu::raster::read_texture;
-use soft_shadow_core::gpu::resources::{Kernel, texture_2d};
+use soft_shadow_core::gpu::resources::texture_2d;
 use soft_shadow_core::gpu::timer::PassSlot;
 use soft_shadow_core::gpu::{GpuScene, GpuTriangles};
 use soft_shadow_core::{GpuContext, Light, Result, ShadowError};
@@ -87,7 +88,7 @@ impl GpuSliceMaps {
 /// Per-level parameters, laid out as `Level` in `levels.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct LevelParams {
+pub(crate) struct LevelParams {
     level: u32,
     groups: u32,
     size: u32,
@@ -371,16 +372,6 @@ pub fn generate(
         sat,
         filtered,
     })
-}
-
-/// `visibility()`: `evaluate.wgsl` after the slicing frame.
-pub fn visibility_wgsl() -> String {
-    pipelines::source("evaluate.wgsl")
-}
-
-/// Frame, parameters, the table, the levels.
-pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    pipelines::eval_entries()
 }
 
 /// The bind group of `maps` read with `t`'s filter and combination; maps built with another

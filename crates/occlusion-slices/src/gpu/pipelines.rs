@@ -1,27 +1,16 @@
 //! The pipelines of the GPU path, built once per context: the slicing render pipelines
 //! (`slicing.wgsl`, one per number of targets), the prefiltering kernels (`sat_rows.wgsl`,
-//! `sat_cols.wgsl`, `levels.wgsl`) and evaluation (`evaluate.wgsl`).
+//! `sat_cols.wgsl`, `levels.wgsl`) and evaluation (`visibility.wgsl`), each declared once with
+//! its bindings.
 
+use super::{EvalParams, LevelParams};
+use crate::frame::Frame;
 use soft_shadow_core::GpuContext;
-use soft_shadow_core::gpu::compute::uniform_entry;
-use soft_shadow_core::gpu::resources::{
-    FLOAT, Kernel, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
+use soft_shadow_core::gpu::Kernel;
+use soft_shadow_core::gpu::shader::{
+    Group, Library, Program, ShaderModule, VisibilityShader, float_texture, storage_texture,
+    uint_texture, uniform,
 };
-
-/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
-pub const WGSL: &[(&str, &str)] = &[
-    ("frame.wgsl", include_str!("../frame.wgsl")),
-    ("slicing.wgsl", include_str!("../slicing.wgsl")),
-    ("sat_rows.wgsl", include_str!("../sat_rows.wgsl")),
-    ("sat_cols.wgsl", include_str!("../sat_cols.wgsl")),
-    ("levels.wgsl", include_str!("../levels.wgsl")),
-    ("evaluate.wgsl", include_str!("../evaluate.wgsl")),
-];
-
-/// File `name` of [`WGSL`] after the files it requires.
-pub fn source(name: &str) -> String {
-    soft_shadow_core::gpu::wgsl::source(name, WGSL)
-}
 
 /// Format of the occlusion textures: four slices per RGBA8 texel.
 pub const OCCUPANCY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -30,20 +19,101 @@ pub const SAT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of N-Buffer and mipmap levels (the paper's RGBA8).
 pub const LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
-const UINT: wgpu::TextureSampleType = wgpu::TextureSampleType::Uint;
+const ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2Array;
 
-fn texture_array(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
-    texture_entry(
-        binding,
-        wgpu::ShaderStages::COMPUTE,
-        sample_type,
-        wgpu::TextureViewDimension::D2Array,
-    )
-}
+/// The crate's WGSL: the slicing frame, the slicing pass, the prefiltering kernels and the
+/// visibility module.
+pub static SHADERS: Library = Library {
+    name: "occlusion-slices",
+    modules: &[
+        ShaderModule {
+            path: "occlusion_slices::frame",
+            source: include_str!("../frame.wgsl"),
+        },
+        ShaderModule {
+            path: "occlusion_slices::slicing",
+            source: include_str!("../slicing.wgsl"),
+        },
+        ShaderModule {
+            path: "occlusion_slices::sat_rows",
+            source: include_str!("../sat_rows.wgsl"),
+        },
+        ShaderModule {
+            path: "occlusion_slices::sat_cols",
+            source: include_str!("../sat_cols.wgsl"),
+        },
+        ShaderModule {
+            path: "occlusion_slices::levels",
+            source: include_str!("../levels.wgsl"),
+        },
+        ShaderModule {
+            path: "occlusion_slices::visibility",
+            source: include_str!("../visibility.wgsl"),
+        },
+    ],
+    depends: &[],
+    programs: &[&SLICING, &SAT_ROWS, &SAT_COLS, &LEVELS],
+};
 
-fn storage_array(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
-    storage_texture_entry(binding, format, wgpu::TextureViewDimension::D2Array)
-}
+/// `slicing.wgsl`: the frame, read by the vertex and fragment stages.
+static SLICING: Program = Program {
+    library: &SHADERS,
+    module: "occlusion_slices::slicing",
+    defs: &[],
+    groups: &[Group {
+        stages: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        bindings: &[uniform::<Frame>()],
+    }],
+};
+
+/// `sat_rows.wgsl`: the frame, the occupancy, the row prefix sums.
+static SAT_ROWS: Program = Program {
+    library: &SHADERS,
+    module: "occlusion_slices::sat_rows",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<Frame>(),
+        float_texture(ARRAY),
+        storage_texture(SAT_FORMAT, ARRAY),
+    ])],
+};
+
+/// `sat_cols.wgsl`: the frame, the row prefix sums, the summed-area table.
+static SAT_COLS: Program = Program {
+    library: &SHADERS,
+    module: "occlusion_slices::sat_cols",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<Frame>(),
+        uint_texture(ARRAY),
+        storage_texture(SAT_FORMAT, ARRAY),
+    ])],
+};
+
+/// `levels.wgsl`: the frame, the table, the level's parameters, the level written.
+static LEVELS: Program = Program {
+    library: &SHADERS,
+    module: "occlusion_slices::levels",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<Frame>(),
+        uint_texture(ARRAY),
+        uniform::<LevelParams>(),
+        storage_texture(LEVEL_FORMAT, ARRAY),
+    ])],
+};
+
+/// Evaluation: the frame, the parameters, the table and the level texture.
+pub static VISIBILITY: VisibilityShader = VisibilityShader {
+    library: &SHADERS,
+    module: "occlusion_slices::visibility",
+    maps: Group::compute(&[
+        uniform::<Frame>(),
+        uniform::<EvalParams>(),
+        uint_texture(ARRAY),
+        float_texture(ARRAY),
+    ]),
+};
 
 /// The slicing pass: `pipelines[g - 1]` draws into `g` targets.
 pub struct SlicingPipelines {
@@ -56,11 +126,9 @@ pub struct SlicingPipelines {
 impl SlicingPipelines {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = wgsl_module(ctx, "slicing", &[&source("slicing.wgsl")]);
-        let mut uniform = uniform_entry(0);
-        uniform.visibility = wgpu::ShaderStages::VERTEX_FRAGMENT;
-        let layout = layout(ctx, "slicing", &[uniform]);
-        let pl = pipeline_layout(ctx, "slicing", &[&layout]);
+        let program = ctx.program(&SLICING);
+        let (m, pl) = (&program.module, &program.pipeline_layout);
+        let layout = program.layouts[0].clone();
         let max = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::One,
             dst_factor: wgpu::BlendFactor::One,
@@ -82,9 +150,9 @@ impl SlicingPipelines {
             ctx.device
                 .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                     label: Some("slicing"),
-                    layout: Some(&pl),
+                    layout: Some(pl),
                     vertex: wgpu::VertexState {
-                        module: &m,
+                        module: m,
                         entry_point: Some("vs_slice"),
                         compilation_options: Default::default(),
                         buffers: &[Some(wgpu::VertexBufferLayout {
@@ -100,7 +168,7 @@ impl SlicingPipelines {
                     depth_stencil: None,
                     multisample: Default::default(),
                     fragment: Some(wgpu::FragmentState {
-                        module: &m,
+                        module: m,
                         entry_point: Some("fs_slice"),
                         compilation_options: Default::default(),
                         targets: &targets,
@@ -128,54 +196,11 @@ pub struct PrefilterPipelines {
 impl PrefilterPipelines {
     /// Builds the kernels.
     pub fn new(ctx: &GpuContext) -> Self {
-        let levels = source("levels.wgsl");
-        let level_entries = [
-            uniform_entry(0),
-            texture_array(1, UINT),
-            uniform_entry(2),
-            storage_array(3, LEVEL_FORMAT),
-        ];
         Self {
-            sat_rows: Kernel::new(
-                ctx,
-                "sat rows",
-                &[&source("sat_rows.wgsl")],
-                "sat_rows",
-                &[
-                    uniform_entry(0),
-                    texture_array(1, FLOAT),
-                    storage_array(2, SAT_FORMAT),
-                ],
-            ),
-            sat_cols: Kernel::new(
-                ctx,
-                "sat cols",
-                &[&source("sat_cols.wgsl")],
-                "sat_cols",
-                &[
-                    uniform_entry(0),
-                    texture_array(1, UINT),
-                    storage_array(2, SAT_FORMAT),
-                ],
-            ),
-            nbuffer_level: Kernel::new(
-                ctx,
-                "nbuffer level",
-                &[&levels],
-                "nbuffer_level",
-                &level_entries,
-            ),
-            mip_level: Kernel::new(ctx, "mip level", &[&levels], "mip_level", &level_entries),
+            sat_rows: Kernel::new(ctx, &SAT_ROWS, "sat_rows"),
+            sat_cols: Kernel::new(ctx, &SAT_COLS, "sat_cols"),
+            nbuffer_level: Kernel::new(ctx, &LEVELS, "nbuffer_level"),
+            mip_level: Kernel::new(ctx, &LEVELS, "mip_level"),
         }
     }
-}
-
-/// Evaluation's bindings: frame, parameters, the table and the level texture.
-pub fn eval_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    vec![
-        uniform_entry(0),
-        uniform_entry(1),
-        texture_array(2, UINT),
-        texture_array(3, FLOAT),
-    ]
 }

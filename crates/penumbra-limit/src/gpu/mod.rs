@@ -23,7 +23,7 @@ use pipelines::{
 };
 use soft_shadow_core::gpu::compute::{self, bind_group, depth_array_view};
 use soft_shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
-use soft_shadow_core::gpu::resources::{FLOAT, storage_buffer, texture_2d, texture_entry};
+use soft_shadow_core::gpu::resources::{storage_buffer, texture_2d};
 use soft_shadow_core::gpu::timer::PassSlot;
 use soft_shadow_core::gpu::{GpuFeatureTransform, GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
@@ -71,7 +71,7 @@ impl GpuPenumbraMaps {
 /// Generation parameters, laid out as `GenParams` in `warp.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct GenParams {
+pub(crate) struct GenParams {
     map: MapParams,
     warp: Warp,
     res: u32,
@@ -383,25 +383,6 @@ pub fn generate(
         storage: t.storage,
         table: IlluminationTable::new(t.profile.for_light(light), t.table_size),
     })
-}
-
-/// `visibility()`: `evaluate.wgsl` after the light-space helpers and the warp.
-pub fn visibility_wgsl() -> String {
-    pipelines::source("evaluate.wgsl")
-}
-
-/// Parameters, the stored map, the illumination table.
-pub fn maps_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    vec![
-        compute::uniform_entry(0),
-        texture_entry(
-            1,
-            wgpu::ShaderStages::COMPUTE,
-            FLOAT,
-            wgpu::TextureViewDimension::D2,
-        ),
-        compute::storage_entry(2, true),
-    ]
 }
 
 /// The bind group of `maps` read with `t`'s biases.

@@ -1,47 +1,143 @@
 //! The pipelines of the GPU path, built once per context: the ribbon and back-face render
 //! pipelines (`silhouette.wgsl`), the depth-image kernels (`depth_image.wgsl`), one combine
-//! kernel per storage format (`combine.wgsl`) and evaluation (`evaluate.wgsl`).
+//! kernel per storage format (`combine.wgsl`, its shader def `STORAGE`) and evaluation
+//! (`visibility.wgsl`), each declared once with its bindings.
 
+use super::GenParams;
+use crate::eval::EvalParams;
+use crate::silhouette::Edge;
 use crate::storage::Storage;
 use soft_shadow_core::GpuContext;
-use soft_shadow_core::gpu::compute::{
-    compute_pipelines, depth_array_entry, storage_entry, uniform_entry,
-};
 use soft_shadow_core::gpu::raster::DEPTH_FORMAT;
-use soft_shadow_core::gpu::resources::{
-    FLOAT, layout, pipeline_layout, storage_texture_entry, texture_entry, wgsl_module,
+use soft_shadow_core::gpu::shader::{
+    Binding, DEPTH_ARRAY, Group, Library, Program, ShaderModule, VisibilityShader, float_texture,
+    storage, storage_texture, uniform,
 };
 
-/// The crate's WGSL files, for [`soft_shadow_core::gpu::wgsl::resolve`].
-pub const WGSL: &[(&str, &str)] = &[
-    ("warp.wgsl", include_str!("../warp.wgsl")),
-    ("silhouette.wgsl", include_str!("../silhouette.wgsl")),
-    ("depth_image.wgsl", include_str!("../depth_image.wgsl")),
-    ("combine.wgsl", include_str!("../combine.wgsl")),
-    ("evaluate.wgsl", include_str!("../evaluate.wgsl")),
+const D2: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2;
+
+/// The crate's WGSL: the depth warp, both generators, the combine kernel and the visibility
+/// module.
+pub static SHADERS: Library = Library {
+    name: "penumbra-limit",
+    modules: &[
+        ShaderModule {
+            path: "penumbra_limit::warp",
+            source: include_str!("../warp.wgsl"),
+        },
+        ShaderModule {
+            path: "penumbra_limit::silhouette",
+            source: include_str!("../silhouette.wgsl"),
+        },
+        ShaderModule {
+            path: "penumbra_limit::depth_image",
+            source: include_str!("../depth_image.wgsl"),
+        },
+        ShaderModule {
+            path: "penumbra_limit::combine",
+            source: include_str!("../combine.wgsl"),
+        },
+        ShaderModule {
+            path: "penumbra_limit::visibility",
+            source: include_str!("../visibility.wgsl"),
+        },
+    ],
+    depends: &[&soft_shadow_core::gpu::shader::SHADERS],
+    programs: &[
+        &SILHOUETTE,
+        &DEPTH_IMAGE,
+        &COMBINE[0],
+        &COMBINE[1],
+        &COMBINE[2],
+    ],
+};
+
+/// `silhouette.wgsl`: parameters, the edges (vertex stage), the edge layer (fragment stage).
+static SILHOUETTE: Program = Program {
+    library: &SHADERS,
+    module: "penumbra_limit::silhouette",
+    defs: &[],
+    groups: &[Group {
+        stages: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        bindings: &[
+            uniform::<GenParams>(),
+            storage::<Edge>(true),
+            float_texture(D2),
+        ],
+    }],
+};
+
+/// `depth_image.wgsl`: parameters, the depth map, the geometry layer, the near and far seeds,
+/// the edge and lower-limit layers.
+static DEPTH_IMAGE: Program = Program {
+    library: &SHADERS,
+    module: "penumbra_limit::depth_image",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<GenParams>(),
+        DEPTH_ARRAY,
+        storage::<f32>(false),
+        storage::<u32>(false),
+        storage::<u32>(false),
+        storage_texture(EDGE_FORMAT, D2),
+        storage_texture(LOWER_FORMAT, D2),
+    ])],
+};
+
+/// `combine.wgsl`'s bindings writing a map of `format`: parameters, the geometry layer, the
+/// edge and lower layers, the map.
+const fn combine_bindings(format: wgpu::TextureFormat) -> [Binding; 5] {
+    [
+        uniform::<GenParams>(),
+        storage::<f32>(true),
+        float_texture(D2),
+        float_texture(D2),
+        storage_texture(format, D2),
+    ]
+}
+
+const COMBINE_F32: [Binding; 5] = combine_bindings(wgpu::TextureFormat::Rgba32Float);
+const COMBINE_F16: [Binding; 5] = combine_bindings(wgpu::TextureFormat::Rgba16Float);
+const COMBINE_RGBA8: [Binding; 5] = combine_bindings(wgpu::TextureFormat::Rgba8Unorm);
+
+/// `combine.wgsl` for each storage format, indexed like [`Storage::ALL`]: the shader def
+/// `STORAGE` picks the map's format.
+static COMBINE: [Program; 3] = [
+    Program {
+        library: &SHADERS,
+        module: "penumbra_limit::combine",
+        defs: &[("STORAGE", 0)],
+        groups: &[Group::compute(&COMBINE_F32)],
+    },
+    Program {
+        library: &SHADERS,
+        module: "penumbra_limit::combine",
+        defs: &[("STORAGE", 1)],
+        groups: &[Group::compute(&COMBINE_F16)],
+    },
+    Program {
+        library: &SHADERS,
+        module: "penumbra_limit::combine",
+        defs: &[("STORAGE", 2)],
+        groups: &[Group::compute(&COMBINE_RGBA8)],
+    },
 ];
 
-/// File `name` of [`WGSL`] after the files it requires.
-pub fn source(name: &str) -> String {
-    soft_shadow_core::gpu::wgsl::source(name, WGSL)
-}
+/// Evaluation: the parameters, the stored map, the illumination table.
+pub static VISIBILITY: VisibilityShader = VisibilityShader {
+    library: &SHADERS,
+    module: "penumbra_limit::visibility",
+    maps: Group::compute(&[
+        uniform::<EvalParams>(),
+        float_texture(D2),
+        storage::<f32>(true),
+    ]),
+};
 
 /// Format of the edge layer `[c, p_i]`.
 pub const EDGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// Format of the lower-limit layer.
 pub const LOWER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-
-fn module(ctx: &GpuContext, label: &str, file: &str) -> wgpu::ShaderModule {
-    wgsl_module(ctx, label, &[&source(file)])
-}
-
-fn texture(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    texture_entry(binding, visibility, FLOAT, wgpu::TextureViewDimension::D2)
-}
-
-fn storage_texture(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
-    storage_texture_entry(binding, format, wgpu::TextureViewDimension::D2)
-}
 
 /// Silhouette extrusion, steps 2 and 3.
 pub struct SilhouettePipelines {
@@ -56,18 +152,9 @@ pub struct SilhouettePipelines {
 impl SilhouettePipelines {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = module(ctx, "penumbra silhouette", "silhouette.wgsl");
-        let vf = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
-        let mut uniform = uniform_entry(0);
-        uniform.visibility = vf;
-        let mut edges = storage_entry(1, true);
-        edges.visibility = wgpu::ShaderStages::VERTEX;
-        let layout = layout(
-            ctx,
-            "penumbra silhouette",
-            &[uniform, edges, texture(2, wgpu::ShaderStages::FRAGMENT)],
-        );
-        let pl = pipeline_layout(ctx, "penumbra silhouette", &[&layout]);
+        let program = ctx.program(&SILHOUETTE);
+        let (m, pl) = (&program.module, &program.pipeline_layout);
+        let layout = program.layouts[0].clone();
         let pipeline = |label: &str,
                         vs: &str,
                         fs: &str,
@@ -78,9 +165,9 @@ impl SilhouettePipelines {
             ctx.device
                 .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                     label: Some(label),
-                    layout: Some(&pl),
+                    layout: Some(pl),
                     vertex: wgpu::VertexState {
-                        module: &m,
+                        module: m,
                         entry_point: Some(vs),
                         compilation_options: Default::default(),
                         buffers,
@@ -98,7 +185,7 @@ impl SilhouettePipelines {
                     }),
                     multisample: Default::default(),
                     fragment: Some(wgpu::FragmentState {
-                        module: &m,
+                        module: m,
                         entry_point: Some(fs),
                         compilation_options: Default::default(),
                         targets: &[Some(format.into())],
@@ -151,86 +238,32 @@ pub struct DepthImagePipelines {
 impl DepthImagePipelines {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
-        let m = module(ctx, "penumbra depth image", "depth_image.wgsl");
-        let layout = layout(
-            ctx,
-            "penumbra depth image",
-            &[
-                uniform_entry(0),
-                depth_array_entry(1),
-                storage_entry(2, false),
-                storage_entry(3, false),
-                storage_entry(4, false),
-                storage_texture(5, EDGE_FORMAT),
-                storage_texture(6, LOWER_FORMAT),
-            ],
-        );
-        let [geometry, seeds, limits] = compute_pipelines(
-            ctx,
-            "penumbra depth image",
-            &m,
-            &layout,
-            ["geometry", "seeds", "limits"],
-        );
+        let p = ctx.program(&DEPTH_IMAGE);
         Self {
-            layout,
-            geometry,
-            seeds,
-            limits,
+            layout: p.layouts[0].clone(),
+            geometry: p.compute(ctx, "geometry"),
+            seeds: p.compute(ctx, "seeds"),
+            limits: p.compute(ctx, "limits"),
         }
     }
 }
 
 /// One combine kernel per storage format.
 pub struct CombinePipelines {
-    /// Parameters, geometry, edge and lower textures, the map.
+    /// Parameters, geometry, edge and lower textures, the map; indexed like [`Storage::ALL`].
     pub layouts: Vec<wgpu::BindGroupLayout>,
     /// Indexed like [`Storage::ALL`].
     pub pipelines: Vec<wgpu::ComputePipeline>,
 }
 
-/// The WGSL name of a storage texture format.
-fn wgsl_format(s: Storage) -> &'static str {
-    match s {
-        Storage::F32 => "rgba32float",
-        Storage::F16 => "rgba16float",
-        Storage::Rgba8 => "rgba8unorm",
-    }
-}
-
 impl CombinePipelines {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
-        let (mut layouts, mut pipelines) = (Vec::new(), Vec::new());
-        for s in Storage::ALL {
-            let mode = CombinePipelines::index(s);
-            let src = source("combine.wgsl")
-                .replace(
-                    "texture_storage_2d<rgba32float, write>",
-                    &format!("texture_storage_2d<{}, write>", wgsl_format(s)),
-                )
-                .replace(
-                    "const STORAGE: u32 = 0u;",
-                    &format!("const STORAGE: u32 = {mode}u;"),
-                );
-            let m = wgsl_module(ctx, "penumbra combine", &[&src]);
-            let c = wgpu::ShaderStages::COMPUTE;
-            let l = layout(
-                ctx,
-                "penumbra combine",
-                &[
-                    uniform_entry(0),
-                    storage_entry(1, true),
-                    texture(2, c),
-                    texture(3, c),
-                    storage_texture(4, s.texture_format()),
-                ],
-            );
-            let [p] = compute_pipelines(ctx, "penumbra combine", &m, &l, ["combine"]);
-            layouts.push(l);
-            pipelines.push(p);
+        let built: Vec<_> = COMBINE.iter().map(|p| ctx.program(p)).collect();
+        Self {
+            layouts: built.iter().map(|p| p.layouts[0].clone()).collect(),
+            pipelines: built.iter().map(|p| p.compute(ctx, "combine")).collect(),
         }
-        Self { layouts, pipelines }
     }
 
     /// The index of `s`.

@@ -1,75 +1,20 @@
-//! Helpers every technique's compute passes share: bind-group layout entries, pipelines from
-//! one module with several entry points, and the receiver batch of an evaluation pass.
+//! Helpers every technique's compute passes share: bind groups in binding order, depth-array
+//! views, one-pass dispatches, and the receiver batch of an evaluation pass.
 
 use super::GpuContext;
-use super::resources::{compute_pipeline, pipeline_layout};
 use crate::error::{Result, ShadowError};
 use crate::receivers::Receivers;
 
 /// Receivers per workgroup of the evaluation shaders (`@workgroup_size(64)`).
 pub const EVAL_WORKGROUP: u32 = 64;
 
-/// A uniform buffer entry visible to compute.
-pub fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-/// A storage buffer entry visible to compute.
-pub fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-/// A depth texture array entry (`texture_depth_2d_array`) visible to compute.
-pub fn depth_array_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Depth,
-            view_dimension: wgpu::TextureViewDimension::D2Array,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-/// A view of every layer of a depth texture array, for [`depth_array_entry`].
+/// A view of every layer of a depth texture array, for a [`super::shader::DEPTH_ARRAY`] binding.
 pub fn depth_array_view(texture: &wgpu::Texture) -> wgpu::TextureView {
     texture.create_view(&wgpu::TextureViewDescriptor {
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         aspect: wgpu::TextureAspect::DepthOnly,
         ..Default::default()
     })
-}
-
-/// One compute pipeline per entry point of `module`, all with the bind group layout `layout`.
-pub fn compute_pipelines<const N: usize>(
-    ctx: &GpuContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    layout: &wgpu::BindGroupLayout,
-    entry_points: [&str; N],
-) -> [wgpu::ComputePipeline; N] {
-    let pl = pipeline_layout(ctx, label, &[layout]);
-    entry_points.map(|e| compute_pipeline(ctx, module, &pl, e))
 }
 
 /// A bind group of `buffers`/resources in binding order 0, 1, 2, ...

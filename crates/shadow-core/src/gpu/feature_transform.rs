@@ -2,8 +2,8 @@
 //! in the same integer arithmetic): every texel of a buffer of seeds gets its nearest seed.
 
 use super::GpuContext;
-use super::compute::{bind_group, compute_pipelines, storage_entry, uniform_entry};
-use super::resources::layout;
+use super::compute::bind_group;
+use super::shader::{Group, Program, SHADERS, storage, uniform};
 use bytemuck::{Pod, Zeroable};
 
 #[repr(C)]
@@ -24,38 +24,27 @@ pub struct GpuFeatureTransform {
     no_keys: wgpu::Buffer,
 }
 
-/// `feature_transform.wgsl`, for the resolver.
-const FEATURE_TRANSFORM_WGSL: &[(&str, &str)] = &[(
-    "feature_transform.wgsl",
-    include_str!("feature_transform.wgsl"),
-)];
+/// `feature_transform.wgsl`: parameters, the seeds and the scratch buffer (`u32`), the keys.
+pub(crate) static PROGRAM: Program = Program {
+    library: &SHADERS,
+    module: "soft_shadow_core::feature_transform",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<FtParams>(),
+        storage::<u32>(false),
+        storage::<u32>(false),
+        storage::<f32>(true),
+    ])],
+};
 
 impl GpuFeatureTransform {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
-        let source = super::wgsl::source("feature_transform.wgsl", FEATURE_TRANSFORM_WGSL);
-        let module = super::resources::wgsl_module(ctx, "feature transform", &[&source]);
-        let layout = layout(
-            ctx,
-            "feature transform",
-            &[
-                uniform_entry(0),
-                storage_entry(1, false),
-                storage_entry(2, false),
-                storage_entry(3, true),
-            ],
-        );
-        let [columns, rows] = compute_pipelines(
-            ctx,
-            "feature transform",
-            &module,
-            &layout,
-            ["ft_columns", "ft_rows"],
-        );
+        let p = ctx.program(&PROGRAM);
         Self {
-            layout,
-            columns,
-            rows,
+            layout: p.layouts[0].clone(),
+            columns: p.compute(ctx, "ft_columns"),
+            rows: p.compute(ctx, "ft_rows"),
             no_keys: ctx.storage_buffer("no keys", &[]),
         }
     }

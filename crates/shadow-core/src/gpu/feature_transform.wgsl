@@ -1,4 +1,6 @@
-// requires: seeds.wgsl
+#define_import_path soft_shadow_core::feature_transform
+#import soft_shadow_core::seeds::{NONE_SEED, seed_pack}
+
 // The exact nearest-seed map (feature transform) on the GPU. Mirrors
 // soft_shadow_core::feature_transform step by step, in the same integer arithmetic, so both backends
 // give the same seeds.
@@ -18,8 +20,8 @@
 struct FtParams {
     res: u32,
     keyed: u32,
-    _pad1: u32,
-    _pad2: u32,
+    _pad_b: u32,
+    _pad_c: u32,
 };
 
 @group(0) @binding(0) var<uniform> prm: FtParams;

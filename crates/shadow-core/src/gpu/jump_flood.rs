@@ -1,9 +1,9 @@
 //! Jump flooding on the GPU ([`crate::jump_flood`] on the CPU): floods a buffer of packed seeds
 //! so that every texel holds its nearest seed.
 
-use super::GpuContext;
-use super::compute::{bind_group, compute_pipelines, storage_entry, uniform_entry};
-use super::resources::layout;
+use super::compute::bind_group;
+use super::shader::{Group, Program, SHADERS, storage, uniform};
+use super::{GpuContext, Kernel};
 use bytemuck::{Pod, Zeroable};
 
 #[repr(C)]
@@ -16,29 +16,27 @@ struct FloodParams {
 
 /// The jump-flood pipeline; build once per context (`ctx.cached(GpuJumpFlood::new)`).
 pub struct GpuJumpFlood {
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+    kernel: Kernel,
 }
 
-/// `jump_flood.wgsl`, for the resolver.
-const JUMP_FLOOD_WGSL: &[(&str, &str)] = &[("jump_flood.wgsl", include_str!("jump_flood.wgsl"))];
+/// `jump_flood.wgsl`: parameters, the source seeds, the destination.
+pub(crate) static PROGRAM: Program = Program {
+    library: &SHADERS,
+    module: "soft_shadow_core::jump_flood",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<FloodParams>(),
+        storage::<u32>(true),
+        storage::<u32>(false),
+    ])],
+};
 
 impl GpuJumpFlood {
     /// Builds the pipeline.
     pub fn new(ctx: &GpuContext) -> Self {
-        let source = super::wgsl::source("jump_flood.wgsl", JUMP_FLOOD_WGSL);
-        let module = super::resources::wgsl_module(ctx, "jump flood", &[&source]);
-        let layout = layout(
-            ctx,
-            "jump flood",
-            &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                storage_entry(2, false),
-            ],
-        );
-        let [pipeline] = compute_pipelines(ctx, "jump flood", &module, &layout, ["jfa_step"]);
-        Self { layout, pipeline }
+        Self {
+            kernel: Kernel::new(ctx, &PROGRAM, "jfa_step"),
+        }
     }
 
     /// Records the flood of the seeds in `buffers[0]` (`resolution²` packed `u32`s, as
@@ -64,7 +62,7 @@ impl GpuJumpFlood {
             let bind = bind_group(
                 ctx,
                 "jump flood",
-                &self.layout,
+                &self.kernel.layout,
                 &[
                     ub.as_entire_binding(),
                     buffers[cur].as_entire_binding(),
@@ -72,7 +70,7 @@ impl GpuJumpFlood {
                 ],
             );
             let mut pass = ctx.begin_compute_pass(enc, "jump flood");
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(&self.kernel.pipeline);
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups(groups, groups, 1);
             cur = 1 - cur;

@@ -1,12 +1,14 @@
-// requires: seeds.wgsl
+#define_import_path soft_shadow_core::jump_flood
+#import soft_shadow_core::seeds::{NONE_SEED, seed_dist2}
+
 // Jump flooding on the GPU: one pass with step `k`. Mirrors soft_shadow_core::jump_flood::pass, in the
 // same neighbour order, so both backends keep the same nearest seed.
 
 struct FloodParams {
     res: u32,
     step: u32,
-    _pad0: u32,
-    _pad1: u32,
+    _pad_a: u32,
+    _pad_b: u32,
 };
 
 @group(0) @binding(0) var<uniform> prm: FloodParams;

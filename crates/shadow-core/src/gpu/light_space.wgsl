@@ -1,5 +1,7 @@
-// Light-space projection shared by every depth-map technique; mirrors soft_shadow_core::light_space.
-// Prepended to the shaders that use it (a file starting with `// requires: light_space.wgsl`).
+#define_import_path soft_shadow_core::light_space
+
+// Light-space projection shared by every depth-map technique; mirrors the crate's light_space
+// module. Imported by the shaders that use it (`#import soft_shadow_core::light_space::{...}`).
 
 struct MapView {
     view_proj: mat4x4<f32>,
@@ -11,7 +13,7 @@ struct MapView {
     ortho: u32,
     weight: f32,
     resolution: u32,
-    _pad0: f32,
+    _pad_a: f32,
     light: vec4<f32>,
 };
 

@@ -4,14 +4,24 @@
 //! test, no culling, row 0 at the top. Tests check both against the CPU rasterizer.
 
 use super::GpuContext;
-use super::compute::uniform_entry;
-use super::resources::{layout, pipeline_layout};
+use super::shader::{Group, Program, SHADERS, uniform};
 use super::timer::PassSlot;
 use crate::error::{Result, ShadowError};
 use crate::map2d::Map2D;
 use crate::raster::{DepthPass, DepthTest, Faces, GBufferTexel, facing_normal};
 use crate::view::View;
 use glam::{Mat4, Vec3};
+
+/// `raster.wgsl`: the view-projection matrix, read by the vertex stage.
+pub(crate) static PROGRAM: Program = Program {
+    library: &SHADERS,
+    module: "soft_shadow_core::raster",
+    defs: &[],
+    groups: &[Group {
+        stages: wgpu::ShaderStages::VERTEX,
+        bindings: &[uniform::<[f32; 16]>()],
+    }],
+};
 
 /// Depth format of every light-space map.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -93,11 +103,12 @@ impl GpuRasterizer {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
         let device = &ctx.device;
-        let module = device.create_shader_module(wgpu::include_wgsl!("raster.wgsl"));
-        let mut view = uniform_entry(0);
-        view.visibility = wgpu::ShaderStages::VERTEX;
-        let layout = layout(ctx, "view", &[view]);
-        let pl = pipeline_layout(ctx, "raster", &[&layout]);
+        let program = ctx.program(&PROGRAM);
+        let (module, layout, pl) = (
+            &program.module,
+            program.layouts[0].clone(),
+            &program.pipeline_layout,
+        );
         let depth_state = wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(true),
@@ -112,9 +123,9 @@ impl GpuRasterizer {
         let depth_pipeline = |pass: DepthPass| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("depth"),
-                layout: Some(&pl),
+                layout: Some(pl),
                 vertex: wgpu::VertexState {
-                    module: &module,
+                    module,
                     entry_point: Some("vs_depth"),
                     compilation_options: Default::default(),
                     buffers: &[Some(wgpu::VertexBufferLayout {
@@ -157,9 +168,9 @@ impl GpuRasterizer {
         });
         let gbuffer = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("gbuffer"),
-            layout: Some(&pl),
+            layout: Some(pl),
             vertex: wgpu::VertexState {
-                module: &module,
+                module,
                 entry_point: Some("vs_gbuffer"),
                 compilation_options: Default::default(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
@@ -172,7 +183,7 @@ impl GpuRasterizer {
             depth_stencil: Some(depth_state),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module: &module,
+                module,
                 entry_point: Some("fs_gbuffer"),
                 compilation_options: Default::default(),
                 targets: &[target.clone(), target],

@@ -1,3 +1,5 @@
+#define_import_path soft_shadow_core::raster
+
 // GPU rasterization shared by every technique: light-space depth maps (reversed Z, depth only)
 // and the camera G-buffer (world position + normal). Matches soft_shadow_core::raster on the CPU.
 

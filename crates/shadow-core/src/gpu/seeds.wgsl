@@ -1,3 +1,5 @@
+#define_import_path soft_shadow_core::seeds
+
 // Seeds, packed as soft_shadow_core::seeds::pack makes them: x in the low 16 bits, y
 // in the high 16, NONE_SEED for no seed. Shared by every shader that floods or reads a flood.
 

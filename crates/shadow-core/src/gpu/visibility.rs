@@ -1,41 +1,69 @@
 //! A technique's visibility as one WGSL function, for the caller's own shaders.
 //!
-//! Every technique's GPU evaluation is a module that defines
+//! Every technique's GPU evaluation is a module (its [`VisibilityShader`]) that defines
 //! `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` over bindings in
-//! `@group(0)` ([`crate::ShadowTechnique::visibility_wgsl`]), whose layout is
+//! `@group(#{MAPS_GROUP})` ([`super::shader::MAPS_GROUP`]), whose layout is
 //! [`VisibilityPipelines::maps_layout`] and whose bind group is
-//! [`crate::ShadowTechnique::maps_bind_group`]. Two shared entry points call it with the
-//! receivers in `@group(1)`: a batch of points ([`RECEIVERS_WGSL`], the blocking evaluation) and
-//! a G-buffer the caller owns ([`RECEIVER_TEXTURES_WGSL`],
-//! [`crate::ShadowTechnique::record_visibility`]). A renderer may instead include the module in
-//! its own fragment or compute shader ([`in_group`] moves its bindings to a free group).
+//! [`crate::ShadowTechnique::maps_bind_group`]. Two shared entry points import it (as
+//! `soft_shadow_core::technique`) with the receivers in `@group(1)`: a batch of points
+//! (`evaluate_receivers.wgsl`, the blocking evaluation) and a G-buffer the caller owns
+//! (`evaluate_texels.wgsl`, [`crate::ShadowTechnique::record_visibility`]). A renderer may
+//! instead call it from its own shader: flattened to WGSL
+//! ([`crate::ShadowTechnique::visibility_wgsl`]) or imported through its own naga_oil composer
+//! ([`super::shader::Library::add_to`]).
 
 use super::GpuContext;
-use super::compute::{ReceiverBuffers, bind_group, storage_entry};
-use super::resources::{
-    FLOAT, compute_pipeline, layout, pipeline_layout, storage_texture_entry, texture_entry,
-    wgsl_module,
+use super::compute::{ReceiverBuffers, bind_group};
+use super::program::{compose, layout, pipeline_layout, shader_module};
+use super::shader::{
+    self, Group, MAPS_GROUP, VisibilityShader, float_texture, storage, storage_texture,
 };
 use crate::error::Result;
 use crate::receivers::Receivers;
-use std::marker::PhantomData;
 use std::sync::Arc;
-
-/// The batch entry point `evaluate_receivers`: positions and normals (`array<vec4<f32>>`) in,
-/// `array<f32>` out, at `@group(1)` bindings 0, 1, 2.
-pub const RECEIVERS_WGSL: &str = include_str!("receivers.wgsl");
-
-/// The G-buffer entry point `evaluate_texels`: position (xyz, w > 0.5 where covered) and
-/// normal textures in, an `r32float` storage texture out, at `@group(1)` bindings 0, 1, 2.
-pub const RECEIVER_TEXTURES_WGSL: &str = include_str!("receiver_textures.wgsl");
 
 /// Workgroup side of `evaluate_texels` (`@workgroup_size(8, 8)`).
 pub const TEXEL_WORKGROUP: u32 = 8;
 
-/// `wgsl` (a technique's [`visibility_wgsl`](crate::ShadowTechnique::visibility_wgsl)) with
-/// its bindings moved from `@group(0)` to `@group(group)`, for a shader whose group 0 is taken.
-pub fn in_group(wgsl: &str, group: u32) -> String {
-    wgsl.replace("@group(0)", &format!("@group({group})"))
+/// The stages a technique's maps are visible to: compute (the evaluation entry points) and
+/// fragment (a renderer's own shading).
+pub const MAPS_STAGES: wgpu::ShaderStages =
+    wgpu::ShaderStages::COMPUTE.union(wgpu::ShaderStages::FRAGMENT);
+
+/// `@group(1)` of `evaluate_receivers`: positions and normals (`vec4<f32>` each), `V` out.
+const RECEIVER_BUFFERS: Group = Group::compute(&[
+    storage::<[f32; 4]>(true),
+    storage::<[f32; 4]>(true),
+    storage::<f32>(false),
+]);
+
+/// `@group(1)` of `evaluate_texels`: position and normal textures, the `R32Float` output.
+const RECEIVER_TEXTURES: Group = Group::compute(&[
+    float_texture(wgpu::TextureViewDimension::D2),
+    float_texture(wgpu::TextureViewDimension::D2),
+    storage_texture(
+        wgpu::TextureFormat::R32Float,
+        wgpu::TextureViewDimension::D2,
+    ),
+]);
+
+/// The two evaluation entry points of a technique, as the validation test composes them: the
+/// import path of each and its bind groups (the maps' first).
+pub fn entry_points(technique: &VisibilityShader) -> [(&'static str, [Group; 2]); 2] {
+    let maps = Group {
+        stages: MAPS_STAGES,
+        ..technique.maps
+    };
+    [
+        (
+            "soft_shadow_core::evaluate_receivers",
+            [maps, RECEIVER_BUFFERS],
+        ),
+        (
+            "soft_shadow_core::evaluate_texels",
+            [maps, RECEIVER_TEXTURES],
+        ),
+    ]
 }
 
 /// Where [`crate::ShadowTechnique::record_visibility`] reads receivers and writes `V`: views of
@@ -52,11 +80,10 @@ pub struct ReceiverTextures<'a> {
     pub size: (u32, u32),
 }
 
-/// One technique type's bind group layout and its two evaluation pipelines, built once per
-/// device.
+/// One technique's bind group layout and its two evaluation pipelines, built once per device.
 pub struct VisibilityPipelines {
-    /// Layout of the technique's own bindings (`@group(0)` of its module), visible to compute
-    /// and fragment shaders.
+    /// Layout of the technique's own bindings (its maps' group), visible to compute and
+    /// fragment shaders ([`MAPS_STAGES`]).
     pub maps_layout: wgpu::BindGroupLayout,
     buffers_layout: wgpu::BindGroupLayout,
     texels_layout: wgpu::BindGroupLayout,
@@ -64,66 +91,57 @@ pub struct VisibilityPipelines {
     texels: wgpu::ComputePipeline,
 }
 
-struct Cached<K>(Arc<VisibilityPipelines>, PhantomData<fn() -> K>);
-
-/// The pipelines of the technique type `K` on this device (built on first use from its
-/// visibility module `wgsl` and its maps' layout `entries`, then cached).
-pub fn pipelines<K: 'static>(
+/// The evaluation pipelines of `technique` on this device (built on first use, then cached).
+pub fn pipelines(
     ctx: &GpuContext,
-    name: &str,
-    wgsl: impl FnOnce() -> String,
-    entries: impl FnOnce() -> Vec<wgpu::BindGroupLayoutEntry>,
+    technique: &'static VisibilityShader,
 ) -> Arc<VisibilityPipelines> {
-    ctx.cached(|c| Cached::<K>(Arc::new(build(c, name, wgsl(), entries())), PhantomData))
+    #[derive(Default)]
+    struct Cache(std::sync::Mutex<std::collections::HashMap<usize, Arc<VisibilityPipelines>>>);
+    let cache = ctx.cached(|_| Cache::default());
+    let key = technique as *const VisibilityShader as usize;
+    if let Some(p) = cache.0.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return p.clone();
+    }
+    let built = Arc::new(build_pipelines(ctx, technique));
+    cache
         .0
-        .clone()
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key, built.clone());
+    built
 }
 
-fn build(
-    ctx: &GpuContext,
-    name: &str,
-    source: String,
-    entries: Vec<wgpu::BindGroupLayoutEntry>,
-) -> VisibilityPipelines {
-    let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = entries
-        .into_iter()
-        .map(|e| wgpu::BindGroupLayoutEntry {
-            visibility: stages,
-            ..e
-        })
-        .collect();
-    let maps_layout = layout(ctx, name, &entries);
-    let c = wgpu::ShaderStages::COMPUTE;
-    let buffers_layout = layout(
-        ctx,
-        "receivers",
-        &[
-            storage_entry(0, true),
-            storage_entry(1, true),
-            storage_entry(2, false),
-        ],
-    );
-    let texels_layout = layout(
-        ctx,
-        "receiver textures",
-        &[
-            texture_entry(0, c, FLOAT, wgpu::TextureViewDimension::D2),
-            texture_entry(1, c, FLOAT, wgpu::TextureViewDimension::D2),
-            storage_texture_entry(
-                2,
-                wgpu::TextureFormat::R32Float,
-                wgpu::TextureViewDimension::D2,
-            ),
-        ],
-    );
-    let pipeline = |tail: &str, entry: &str, receivers: &wgpu::BindGroupLayout| {
-        let module = wgsl_module(ctx, name, &[&source, tail]);
-        let pl = pipeline_layout(ctx, name, &[&maps_layout, receivers]);
-        compute_pipeline(ctx, &module, &pl, entry)
+fn build_pipelines(ctx: &GpuContext, technique: &'static VisibilityShader) -> VisibilityPipelines {
+    let label = technique.module;
+    let maps_layout = layout(ctx, label, &technique.maps, MAPS_STAGES);
+    // One entry point over the maps' layout (shared by both) and its receivers' group.
+    let entry = |path: &str, entry: &str, receivers: &Group| {
+        let module = compose(
+            ctx,
+            &shader::SHADERS,
+            path,
+            &[(MAPS_GROUP, 0)],
+            Some(technique),
+        );
+        let receivers_layout = layout(ctx, path, receivers, receivers.stages);
+        let pl = pipeline_layout(ctx, label, &[&maps_layout, &receivers_layout]);
+        let module = shader_module(ctx, label, module);
+        let pipeline = ctx
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        (receivers_layout, pipeline)
     };
-    let buffers = pipeline(RECEIVERS_WGSL, "evaluate_receivers", &buffers_layout);
-    let texels = pipeline(RECEIVER_TEXTURES_WGSL, "evaluate_texels", &texels_layout);
+    let [(receivers, [_, buffer_group]), (texels, [_, texel_group])] = entry_points(technique);
+    let (buffers_layout, buffers) = entry(receivers, "evaluate_receivers", &buffer_group);
+    let (texels_layout, texels) = entry(texels, "evaluate_texels", &texel_group);
     VisibilityPipelines {
         maps_layout,
         buffers_layout,

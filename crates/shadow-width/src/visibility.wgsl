@@ -1,4 +1,6 @@
-// requires: light_space.wgsl
+#define_import_path shadow_width::visibility
+#import soft_shadow_core::light_space::{Bias, MapView, NO_OCCLUDER, bilinear_taps, linear_from_ndc, shadow_coord}
+
 // Evaluation of Kirsch & Döllner's I(sd, sw) as `visibility(world_pos, normal)`. Mirrors
 // shadow_width::eval::shade.
 
@@ -15,10 +17,10 @@ struct EvalParams {
     depth_layer: u32,
 };
 
-@group(0) @binding(0) var<uniform> prm: EvalParams;
-@group(0) @binding(1) var depth: texture_depth_2d_array;
-@group(0) @binding(2) var<storage, read> width: array<f32>;
-@group(0) @binding(3) var<storage, read> table: array<f32>;
+@group(#{MAPS_GROUP}) @binding(0) var<uniform> prm: EvalParams;
+@group(#{MAPS_GROUP}) @binding(1) var depth: texture_depth_2d_array;
+@group(#{MAPS_GROUP}) @binding(2) var<storage, read> width: array<f32>;
+@group(#{MAPS_GROUP}) @binding(3) var<storage, read> table: array<f32>;
 
 const MAX_C_SCALE: f32 = 1.0e30;
 

@@ -1,5 +1,8 @@
-// tail: appended to a technique's visibility module (soft_shadow_core::gpu::visibility).
-// The caller's G-buffer in, V out, one texel per invocation: world position in xyz with w > 0.5
+#define_import_path soft_shadow_core::evaluate_texels
+#import soft_shadow_core::technique::visibility
+
+// The G-buffer pass: the caller's G-buffer in, V out from the technique being evaluated
+// (imported as soft_shadow_core::technique), one texel per invocation: world position in xyz with w > 0.5
 // where a surface covers the texel, the unit normal facing the camera in xyz. Uncovered texels
 // get V = 1.
 

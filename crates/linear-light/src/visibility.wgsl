@@ -1,18 +1,21 @@
-// requires: light_space.wgsl sample.wgsl
+#define_import_path linear_light::visibility
+#import soft_shadow_core::light_space::{Bias, bilinear_taps, linear_from_ndc, receiver_plane_depth, shadow_coord}
+#import linear_light::sample::{Sample}
+
 // The shade() loop of section 3 (eval.rs) as `visibility(world_pos, normal)`.
 
 struct EvalParams {
     bias: Bias,
     samples_n: u32,
-    _pad2: u32,
-    _pad0: u32,
-    _pad1: u32,
+    _pad_c: u32,
+    _pad_a: u32,
+    _pad_b: u32,
 };
 
-@group(0) @binding(0) var<uniform> ep: EvalParams;
-@group(0) @binding(1) var<storage, read> samples: array<Sample>;
-@group(0) @binding(2) var depth_maps: texture_depth_2d_array;
-@group(0) @binding(3) var channels: texture_2d_array<f32>;
+@group(#{MAPS_GROUP}) @binding(0) var<uniform> ep: EvalParams;
+@group(#{MAPS_GROUP}) @binding(1) var<storage, read> samples: array<Sample>;
+@group(#{MAPS_GROUP}) @binding(2) var depth_maps: texture_depth_2d_array;
+@group(#{MAPS_GROUP}) @binding(3) var channels: texture_2d_array<f32>;
 
 fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     var v = 0.0;

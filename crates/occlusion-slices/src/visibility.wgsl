@@ -1,4 +1,6 @@
-// requires: frame.wgsl
+#define_import_path occlusion_slices::visibility
+#import occlusion_slices::frame::{Frame, fade, kernel, light_coord, plane, texel_size}
+
 // Evaluation (sections 3.3-3.5) as `visibility(world_pos, normal)`: eval.rs, combine.rs and the
 // lookups of filters/*.rs, operation for operation.
 
@@ -6,11 +8,11 @@ struct EvalParams {
     filter_kind: u32,
     combination: u32,
     levels: u32,
-    _pad2: u32,
+    _pad_c: u32,
     normal_offset: f32,
     groups: u32,
-    _pad0: u32,
-    _pad1: u32,
+    _pad_a: u32,
+    _pad_b: u32,
 };
 
 const FILTER_MIPMAP: u32 = 0u;
@@ -20,10 +22,10 @@ const COMBINE_PRODUCT: u32 = 0u;
 const COMBINE_SUM: u32 = 1u;
 const COMBINE_MAX: u32 = 2u;
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<uniform> ep: EvalParams;
-@group(0) @binding(2) var sat: texture_2d_array<u32>;
-@group(0) @binding(3) var levels: texture_2d_array<f32>;
+@group(#{MAPS_GROUP}) @binding(0) var<uniform> frame: Frame;
+@group(#{MAPS_GROUP}) @binding(1) var<uniform> ep: EvalParams;
+@group(#{MAPS_GROUP}) @binding(2) var sat: texture_2d_array<u32>;
+@group(#{MAPS_GROUP}) @binding(3) var levels: texture_2d_array<f32>;
 
 // --- summed-area table (filters/sat.rs)
 

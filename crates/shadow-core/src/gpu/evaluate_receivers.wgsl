@@ -1,5 +1,8 @@
-// tail: appended to a technique's visibility module (soft_shadow_core::gpu::visibility).
-// A batch of receivers: positions and normals in, one V each out (the blocking evaluation).
+#define_import_path soft_shadow_core::evaluate_receivers
+#import soft_shadow_core::technique::visibility
+
+// The blocking evaluation: a batch of receivers, positions and normals in, one V each out,
+// from the technique being evaluated (imported as soft_shadow_core::technique).
 
 @group(1) @binding(0) var<storage, read> receiver_positions: array<vec4<f32>>;
 @group(1) @binding(1) var<storage, read> receiver_normals: array<vec4<f32>>;

@@ -1,4 +1,7 @@
-// requires: light_space.wgsl warp.wgsl
+#define_import_path penumbra_limit::visibility
+#import soft_shadow_core::light_space::{Bias, MapView, bilinear_taps, shadow_coord}
+#import penumbra_limit::warp::{DEPTH_SPAN, Warp, receiver_depth}
+
 // Evaluation as `visibility(world_pos, normal)`; mirrors penumbra_limit::eval: project the
 // receiver, bilinear (c, g, b, p_i),
 // equation 2, then the visibility-to-illumination table.
@@ -10,12 +13,12 @@ struct EvalParams {
     table_size: u32,
     _reserved: u32,
     tolerance: f32,
-    _pad0: f32,
+    _pad_a: f32,
 };
 
-@group(0) @binding(0) var<uniform> prm: EvalParams;
-@group(0) @binding(1) var map: texture_2d<f32>;
-@group(0) @binding(2) var<storage, read> table: array<f32>;
+@group(#{MAPS_GROUP}) @binding(0) var<uniform> prm: EvalParams;
+@group(#{MAPS_GROUP}) @binding(1) var map: texture_2d<f32>;
+@group(#{MAPS_GROUP}) @binding(2) var<storage, read> table: array<f32>;
 
 fn texel(x: i32, y: i32) -> vec4<f32> {
     let r = i32(prm.map.resolution) - 1;

@@ -1,6 +1,8 @@
-// requires: light_space.wgsl
+#define_import_path shadow_maps::visibility
+#import soft_shadow_core::light_space::{Bias, Coord, MapView, above_horizon, linear_from_ndc, receiver_plane_depth, shadow_coord}
+
 // Baseline shadow-map filters (hard, PCF, PCSS, accumulation) over reversed-Z depth maps.
-// Mirrors harness::baselines::filters line for line.
+// Mirrors filters.rs line for line.
 
 struct Params {
     map_count: u32,
@@ -10,13 +12,13 @@ struct Params {
     light_size: f32,
     search_max: f32,
     filter_max: f32,
-    _pad0: f32,
+    _pad_a: f32,
     bias: Bias,
 };
 
-@group(0) @binding(0) var<uniform> prm: Params;
-@group(0) @binding(1) var<storage, read> views: array<MapView>;
-@group(0) @binding(2) var depth_maps: texture_depth_2d_array;
+@group(#{MAPS_GROUP}) @binding(0) var<uniform> prm: Params;
+@group(#{MAPS_GROUP}) @binding(1) var<storage, read> views: array<MapView>;
+@group(#{MAPS_GROUP}) @binding(2) var depth_maps: texture_depth_2d_array;
 
 // The linear depth stored in layer `layer` at the texel under `st + d` (clamped to the edge),
 // and the receiver's own biased depth there: `c.z` moved along its plane to that texel's centre.
