@@ -18,11 +18,11 @@
 //!    below the occluder hides what is under it.
 
 use crate::combine::NO_EDGE;
+use crate::feature_transform::nearest;
 use crate::storage::MAX_P;
 use crate::warp::{NONE_DEPTH, Warp};
 use rayon::prelude::*;
 use soft_shadow_core::Map2D;
-use soft_shadow_core::feature_transform::nearest;
 use soft_shadow_core::pool::Pool;
 use soft_shadow_core::seeds::{NONE, dist2, pack};
 use std::sync::Arc;

@@ -39,6 +39,7 @@ pub mod combine;
 pub mod cpu;
 pub mod depth_image;
 pub mod eval;
+pub mod feature_transform;
 pub mod gpu;
 pub mod params;
 pub mod silhouette;

@@ -5,8 +5,7 @@
 //!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
 //! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers) and
 //!   [`raster::snapped`], which texels a triangle covers under the GPU's fill rule;
-//!   nearest-seed maps ([`seeds`]), exact ([`feature_transform`]) or by [`jump_flood`], CPU and
-//!   GPU; [`pool`]: reuse of large CPU buffers;
+//!   the packing of nearest-seed maps ([`seeds`]); [`pool`]: reuse of large CPU buffers;
 //!   [`rng`]: the deterministic generator of procedural scenes and of tests' random cases.
 //! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
 //!
@@ -18,10 +17,8 @@
 pub mod coverage;
 pub mod cpu;
 pub mod error;
-pub mod feature_transform;
 pub mod geometry;
 pub mod gpu;
-pub mod jump_flood;
 pub mod light;
 pub mod light_space;
 pub mod map2d;

@@ -1,5 +1,5 @@
-//! Seed maps, the vocabulary of the nearest-seed transforms ([`crate::jump_flood`],
-//! [`crate::feature_transform`]): one `u32` per texel, a seed texel's own coordinates packed
+//! Seed maps, the vocabulary of the nearest-seed transforms (penumbra-limit's exact feature
+//! transform, shadow-width's jump flooding): one `u32` per texel, a seed texel's own coordinates packed
 //! ([`pack`]), [`NONE`] elsewhere; a transform's result holds each texel's nearest seed the same
 //! way. `gpu/seeds.wgsl` is the GPU side.
 

@@ -4,6 +4,7 @@
 
 use crate::attenuation::{AttenuationTable, FalloffKind};
 use crate::eval::EvalParams;
+use crate::gpu_jump_flood::GpuJumpFlood;
 use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, WidthMethod};
 use crate::width::{cap, propagate};
 use bytemuck::{Pod, Zeroable};
@@ -12,7 +13,7 @@ use soft_shadow_core::gpu::resources::storage_buffer;
 use soft_shadow_core::gpu::shader::{
     DEPTH_ARRAY, Group, Library, Program, ShaderModule, VisibilityShader, storage, uniform,
 };
-use soft_shadow_core::gpu::{GpuJumpFlood, GpuRasterizer, GpuScene};
+use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
 use soft_shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
 
@@ -91,9 +92,13 @@ pub static SHADERS: Library = Library {
             path: "shadow_width::visibility",
             source: include_str!("visibility.wgsl"),
         },
+        ShaderModule {
+            path: "shadow_width::jump_flood",
+            source: include_str!("jump_flood.wgsl"),
+        },
     ],
     depends: &[&soft_shadow_core::gpu::shader::SHADERS],
-    programs: &[&WIDTH],
+    programs: &[&WIDTH, &crate::gpu_jump_flood::PROGRAM],
 };
 
 /// `width.wgsl`: parameters, the depth array, the float buffers (source, destination), the seed

@@ -36,6 +36,8 @@ pub mod attenuation;
 pub mod cpu;
 pub mod eval;
 pub mod gpu;
+pub mod gpu_jump_flood;
+pub mod jump_flood;
 pub mod occlusion;
 pub mod params;
 #[cfg(test)]

@@ -2,8 +2,8 @@
 //! (`feature_transform::nearest`), which a unit test holds to the brute-force nearest seed.
 
 use crate::common::gpu_for_test;
-use soft_shadow_core::feature_transform::nearest;
-use soft_shadow_core::gpu::GpuFeatureTransform;
+use penumbra_limit::feature_transform::nearest;
+use penumbra_limit::gpu::feature_transform::GpuFeatureTransform;
 use soft_shadow_core::rng::SplitMix;
 use soft_shadow_core::seeds::{NONE, pack};
 

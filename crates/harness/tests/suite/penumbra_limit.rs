@@ -143,8 +143,8 @@ fn receivers_beside_a_local_light_are_not_wrapped_into_umbra() {
 fn depth_image_limits_come_from_the_nearest_seeds() {
     use penumbra_limit::combine::NO_EDGE;
     use penumbra_limit::depth_image::{limits, ribbon_reach, seeds, texel_limits};
+    use penumbra_limit::feature_transform::nearest;
     use penumbra_limit::warp::Warp;
-    use soft_shadow_core::feature_transform::nearest;
     use soft_shadow_core::raster::{DepthPass, depth_map_pass_then};
     use soft_shadow_core::seeds::dist2;
     use soft_shadow_core::{Coverage, SampleView};

@@ -9,6 +9,7 @@
 //!
 //! Evaluation is `visibility()` in `evaluate.wgsl`.
 
+pub mod feature_transform;
 pub mod pipelines;
 
 use crate::eval::EvalParams;
@@ -18,6 +19,7 @@ use crate::storage::{Storage, Texel};
 use crate::table::IlluminationTable;
 use crate::warp::{NONE_DEPTH, Warp};
 use bytemuck::{Pod, Zeroable};
+use feature_transform::GpuFeatureTransform;
 use pipelines::{
     CombinePipelines, DepthImagePipelines, EDGE_FORMAT, LOWER_FORMAT, SilhouettePipelines,
 };
@@ -25,7 +27,7 @@ use soft_shadow_core::gpu::compute::{self, bind_group, depth_array_view};
 use soft_shadow_core::gpu::raster::{DEPTH_FORMAT, read_texture};
 use soft_shadow_core::gpu::resources::{storage_buffer, texture_2d};
 use soft_shadow_core::gpu::timer::PassSlot;
-use soft_shadow_core::gpu::{GpuFeatureTransform, GpuRasterizer, GpuScene};
+use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
 use soft_shadow_core::{
     GpuContext, Light, Map2D, MapParams, Result, SampleView, SceneGeometry, ShadowError,

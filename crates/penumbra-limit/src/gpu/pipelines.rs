@@ -41,6 +41,10 @@ pub static SHADERS: Library = Library {
             path: "penumbra_limit::visibility",
             source: include_str!("../visibility.wgsl"),
         },
+        ShaderModule {
+            path: "penumbra_limit::feature_transform",
+            source: include_str!("../feature_transform.wgsl"),
+        },
     ],
     depends: &[&soft_shadow_core::gpu::shader::SHADERS],
     programs: &[
@@ -49,6 +53,7 @@ pub static SHADERS: Library = Library {
         &COMBINE[0],
         &COMBINE[1],
         &COMBINE[2],
+        &super::feature_transform::PROGRAM,
     ],
 };
 

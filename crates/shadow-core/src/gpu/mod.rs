@@ -2,8 +2,6 @@
 
 pub mod compute;
 mod context;
-pub mod feature_transform;
-pub mod jump_flood;
 pub mod pool;
 pub mod program;
 pub mod raster;
@@ -14,8 +12,6 @@ pub mod timer;
 pub mod visibility;
 
 pub use context::GpuContext;
-pub use feature_transform::GpuFeatureTransform;
-pub use jump_flood::GpuJumpFlood;
 pub use program::{BuiltProgram, Kernel};
 pub use raster::{GpuGBuffer, GpuRasterizer, GpuTriangles};
 pub use scene::{GpuScene, GpuSurfaces};

@@ -550,7 +550,7 @@ pub fn check_bindings(module: &naga::Module, groups: &[Group]) -> Result<(), Str
 
 /// soft-shadow-core's modules: the light-space projection (`soft_shadow_core::light_space`:
 /// `MapView`, `Bias`, `shadow_coord`, ...), seed packing (`soft_shadow_core::seeds`), the
-/// rasterizer, the nearest-seed maps, and the two evaluation entry points.
+/// rasterizer and the two evaluation entry points.
 pub static SHADERS: Library = Library {
     name: "soft-shadow-core",
     modules: &[
@@ -567,14 +567,6 @@ pub static SHADERS: Library = Library {
             source: include_str!("raster.wgsl"),
         },
         ShaderModule {
-            path: "soft_shadow_core::feature_transform",
-            source: include_str!("feature_transform.wgsl"),
-        },
-        ShaderModule {
-            path: "soft_shadow_core::jump_flood",
-            source: include_str!("jump_flood.wgsl"),
-        },
-        ShaderModule {
             path: "soft_shadow_core::evaluate_receivers",
             source: include_str!("evaluate_receivers.wgsl"),
         },
@@ -584,9 +576,5 @@ pub static SHADERS: Library = Library {
         },
     ],
     depends: &[],
-    programs: &[
-        &super::raster::PROGRAM,
-        &super::feature_transform::PROGRAM,
-        &super::jump_flood::PROGRAM,
-    ],
+    programs: &[&super::raster::PROGRAM],
 };

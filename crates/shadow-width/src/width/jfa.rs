@@ -1,9 +1,9 @@
-//! The width map by jump flooding ([`soft_shadow_core::jump_flood`]): the seeds are the unblocked
+//! The width map by jump flooding ([`crate::jump_flood`]): the seeds are the unblocked
 //! texels, so every blocked texel learns its nearest unblocked one. `width.wgsl` seeds and
-//! resolves on the GPU, `soft_shadow_core`'s jump-flood kernel floods, in the same order as here.
+//! resolves on the GPU, the jump-flood kernel floods, in the same order as here.
 
+use crate::jump_flood::flood;
 use soft_shadow_core::Map2D;
-use soft_shadow_core::jump_flood::flood;
 use soft_shadow_core::pool::Pool;
 use soft_shadow_core::seeds::{NONE, dist2, pack};
 use std::sync::Arc;

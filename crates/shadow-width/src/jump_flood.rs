@@ -3,14 +3,14 @@
 //! Every texel keeps the nearest seed it has heard of; a pass with step `k` looks at the 3x3
 //! texels `k` apart, in a fixed order, and keeps a strictly nearer seed. Steps `2^m .. 1` then one
 //! more step of 1 (JFA+1). Approximate in rare configurations (a texel may end one seed off the
-//! nearest); the techniques that use it report the resulting error. [`crate::feature_transform`]
+//! nearest); the techniques that use it report the resulting error. the exact nearest-seed map ([`crate::width::edt`] for widths)
 //! gives the exact nearest seed in linear time.
 //!
-//! `gpu/jump_flood.wgsl` runs the same passes in the same order ([`crate::gpu::jump_flood`]), so
+//! `gpu/jump_flood.wgsl` runs the same passes in the same order ([`crate::gpu_jump_flood`]), so
 //! both backends give the same seeds.
 
-use crate::seeds::NONE;
 use rayon::prelude::*;
+use soft_shadow_core::seeds::NONE;
 
 /// The steps: half the next power of two of the side, halving down to 1, then 1 again.
 pub fn steps(resolution: u32) -> Vec<u32> {
@@ -25,10 +25,10 @@ pub fn steps(resolution: u32) -> Vec<u32> {
 }
 
 /// Offsets beyond this many texels count as this many in the `i32` distance: no two texels of
-/// a map up to [`crate::technique::MAX_CPU_RESOLUTION`] are farther apart, and [`NONE`] (texel
+/// a map up to [`soft_shadow_core::technique::MAX_CPU_RESOLUTION`] are farther apart, and [`NONE`] (texel
 /// 65535, 65535) always is, so it never wins against a seed and ties with itself.
 const CLAMP: i32 = 32767;
-const _: () = assert!(crate::technique::MAX_CPU_RESOLUTION <= 16384);
+const _: () = assert!(soft_shadow_core::technique::MAX_CPU_RESOLUTION <= 16384);
 
 /// The largest side whose squared texel distances (at most `2 (side - 1)²`) an `f32` holds
 /// exactly (below 2^24): up to it a pass compares distances in `f32`, which SSE2 multiplies four
@@ -174,12 +174,12 @@ fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
 
 /// Floods `seeds` (one value per texel of a `res`-wide square map: [`pack`]ed coordinates of the
 /// texel itself for a seed, [`NONE`] otherwise) and returns the nearest seed of every texel (up
-/// to jump flooding's rare misses; [`crate::feature_transform`] is exact). The scratch buffer
+/// to jump flooding's rare misses; the exact nearest-seed map ([`crate::width::edt`] for widths) is exact). The scratch buffer
 /// comes from `pool` and goes back there; so may the result, once read
-/// ([`crate::pool::Pool::give`]).
+/// ([`soft_shadow_core::pool::Pool::give`]).
 ///
-/// [`pack`]: crate::seeds::pack
-pub fn flood(pool: &crate::pool::Pool, seeds: Vec<u32>, res: u32) -> Vec<u32> {
+/// [`pack`]: soft_shadow_core::seeds::pack
+pub fn flood(pool: &soft_shadow_core::pool::Pool, seeds: Vec<u32>, res: u32) -> Vec<u32> {
     let mut a = seeds;
     // Each pass writes every texel of its destination: no clearing pass.
     let mut b = pool.overwrite(a.len(), NONE);
@@ -194,7 +194,7 @@ pub fn flood(pool: &crate::pool::Pool, seeds: Vec<u32>, res: u32) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::seeds::{dist2, pack};
+    use soft_shadow_core::seeds::{dist2, pack};
 
     /// The pass by its definition, texel by texel: own seed first, then rows `y - k, y, y + k`,
     /// each at columns `x - k, x, x + k` (inside the map), keeping a strictly nearer seed by the
@@ -241,7 +241,7 @@ mod tests {
             (1003, "i32", 1, false),
             (1003, "f32", 1, true),
         ] {
-            let mut rng = crate::rng::SplitMix(7);
+            let mut rng = soft_shadow_core::rng::SplitMix(7);
             let mut a: Vec<u32> = (0..n * n)
                 .map(|i| {
                     let s = rng.next_u64();

@@ -1,10 +1,11 @@
 //! The exact nearest-seed map on the GPU ([`crate::feature_transform`] on the CPU, step by step
 //! in the same integer arithmetic): every texel of a buffer of seeds gets its nearest seed.
 
-use super::GpuContext;
-use super::compute::bind_group;
-use super::shader::{Group, Program, SHADERS, storage, uniform};
+use super::pipelines::SHADERS;
 use bytemuck::{Pod, Zeroable};
+use soft_shadow_core::GpuContext;
+use soft_shadow_core::gpu::compute::bind_group;
+use soft_shadow_core::gpu::shader::{Group, Program, storage, uniform};
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -27,7 +28,7 @@ pub struct GpuFeatureTransform {
 /// `feature_transform.wgsl`: parameters, the seeds and the scratch buffer (`u32`), the keys.
 pub(crate) static PROGRAM: Program = Program {
     library: &SHADERS,
-    module: "soft_shadow_core::feature_transform",
+    module: "penumbra_limit::feature_transform",
     defs: &[],
     groups: &[Group::compute(&[
         uniform::<FtParams>(),
@@ -50,7 +51,7 @@ impl GpuFeatureTransform {
     }
 
     /// Records the transform of the seeds in `buffers[0]` (`resolution²` packed `u32`s, as
-    /// [`crate::seeds::pack`] makes them, [`crate::seeds::NONE`] for no seed), which then holds
+    /// [`soft_shadow_core::seeds::pack`] makes them, [`soft_shadow_core::seeds::NONE`] for no seed), which then holds
     /// every texel's nearest seed as [`crate::feature_transform::nearest`] gives it, ties to
     /// the least of `keys` (`resolution²` `f32`s) where given; `buffers[1]` (as large) is
     /// scratch. Two passes: one invocation per column, then one per row.

@@ -1,4 +1,4 @@
-#define_import_path soft_shadow_core::feature_transform
+#define_import_path penumbra_limit::feature_transform
 #import soft_shadow_core::seeds::{NONE_SEED, seed_pack}
 
 // The exact nearest-seed map (feature transform) on the GPU. Mirrors

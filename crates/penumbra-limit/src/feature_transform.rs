@@ -17,15 +17,14 @@
 //! envelope; a breakpoint moves one texel left where the two parabolas tie on a texel and the
 //! right one has the lesser key.
 //!
-//! Unlike jump flooding ([`crate::jump_flood`]), which takes `log2` of the side passes over
-//! every texel and may end a texel one seed off the nearest, this is two sweeps of each column
-//! and one pass along each row, whatever the seeds. `gpu/feature_transform.wgsl` runs the same
-//! two steps in the same integer arithmetic ([`crate::gpu::feature_transform`]), so both
-//! backends give the same seeds.
+//! Unlike jump flooding, which takes `log2` of the side passes over every texel and may end a
+//! texel one seed off the nearest, this is two sweeps of each column and one pass along each
+//! row, whatever the seeds. `feature_transform.wgsl` runs the same two steps in the same integer
+//! arithmetic ([`crate::gpu::feature_transform`]), so both backends give the same seeds.
 
-use crate::pool::Pool;
-use crate::seeds::{NONE, pack};
 use rayon::prelude::*;
+use soft_shadow_core::pool::Pool;
+use soft_shadow_core::seeds::{NONE, pack};
 
 /// Columns per strip of step 1: each sweep walks the strip's rows in order, so memory is read in
 /// cache lines.
@@ -241,13 +240,13 @@ pub fn nearest(pool: &Pool, seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::seeds::dist2;
+    use soft_shadow_core::seeds::dist2;
 
     /// Random seeds at several densities, with a lattice (many texels equidistant from two or
     /// four seeds) and a map without a seed; keys from a handful of values, so that many
     /// equally near seeds have equal keys and many do not.
     fn maps() -> Vec<(u32, Vec<u32>, Vec<f32>)> {
-        let mut rng = crate::rng::SplitMix(11);
+        let mut rng = soft_shadow_core::rng::SplitMix(11);
         let mut out = Vec::new();
         for (n, every) in [
             (1u32, 1u64),
@@ -288,7 +287,7 @@ mod tests {
                     }
                 };
                 let got = nearest(
-                    &crate::pool::Pool::new(1 << 30),
+                    &soft_shadow_core::pool::Pool::new(1 << 30),
                     seeds.clone(),
                     n,
                     keyed.then_some(&keys[..]),

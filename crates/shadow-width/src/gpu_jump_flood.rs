@@ -1,10 +1,12 @@
 //! Jump flooding on the GPU ([`crate::jump_flood`] on the CPU): floods a buffer of packed seeds
 //! so that every texel holds its nearest seed.
 
-use super::compute::bind_group;
-use super::shader::{Group, Program, SHADERS, storage, uniform};
-use super::{GpuContext, Kernel};
+use crate::gpu::SHADERS;
 use bytemuck::{Pod, Zeroable};
+use soft_shadow_core::GpuContext;
+use soft_shadow_core::gpu::Kernel;
+use soft_shadow_core::gpu::compute::bind_group;
+use soft_shadow_core::gpu::shader::{Group, Program, storage, uniform};
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -22,7 +24,7 @@ pub struct GpuJumpFlood {
 /// `jump_flood.wgsl`: parameters, the source seeds, the destination.
 pub(crate) static PROGRAM: Program = Program {
     library: &SHADERS,
-    module: "soft_shadow_core::jump_flood",
+    module: "shadow_width::jump_flood",
     defs: &[],
     groups: &[Group::compute(&[
         uniform::<FloodParams>(),
@@ -40,7 +42,7 @@ impl GpuJumpFlood {
     }
 
     /// Records the flood of the seeds in `buffers[0]` (`resolution²` packed `u32`s, as
-    /// [`crate::seeds::pack`] makes them, `u32::MAX` for no seed), ping-ponging with
+    /// [`soft_shadow_core::seeds::pack`] makes them, `u32::MAX` for no seed), ping-ponging with
     /// `buffers[1]`, with the steps [`crate::jump_flood::flood`] takes; returns the index of the
     /// buffer that holds every texel's nearest seed.
     pub fn encode(

@@ -1,7 +1,7 @@
-#define_import_path soft_shadow_core::jump_flood
+#define_import_path shadow_width::jump_flood
 #import soft_shadow_core::seeds::{NONE_SEED, seed_dist2}
 
-// Jump flooding on the GPU: one pass with step `k`. Mirrors soft_shadow_core::jump_flood::pass, in the
+// Jump flooding on the GPU: one pass with step `k`. Mirrors jump_flood.rs (`pass`), in the
 // same neighbour order, so both backends keep the same nearest seed.
 
 struct FloodParams {
