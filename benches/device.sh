@@ -74,7 +74,7 @@ EOF
 medians() {
     awk '
         function flush() { if (rec != "") print rec; rec = "" }
-        /^(generate|evaluate|write-once|width-map|frame)\// { flush(); name = $1 }
+        /^(generate|evaluate|write-once|frame)\// { flush(); name = $1 }
         # The first time and throughput after a name: a "change:" block repeats both in %.
         /time:/ && name != "" && rec == "" {
             s = $0; sub(/.*\[/, "", s); split(s, v, " "); rec = name "\t" v[3] " " v[4]

@@ -2,20 +2,16 @@
 //! the report, each on a scene whose light it models (`shadow_benches::bench_scene`): CPU, GPU
 //! wall time (record, submit and wait, from geometry already on the GPU) and GPU device time
 //! (timestamp queries on every pass, where the adapter has them); the hard map also from cold
-//! caches (`cpu-cold`). Plus shadow-width's width map alone, writing a map's texels once (the
-//! hard map's floor) and the frame pipeline with and without map caching.
+//! caches (`cpu-cold`). Plus writing a map's texels once (the hard map's floor) and the frame
+//! pipeline with and without map caching.
 //!
 //! `cargo bench -p shadow-benches --bench generation [-- <regex>]`; see `benches/README.md`.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::animated::{self, AnimatedScene};
 use harness::report::cost::{HARD, write_texels};
-use harness::scenes::catalogue::build;
 use shadow_benches::{EVICT_BYTES, RESOLUTIONS, configs, gpu, iter_cold, iter_device_time, timing};
 use shadow_frame::FrameSettings;
-use shadow_width::width::width_map;
-use shadow_width::{DepthLayer, ShadowWidth};
-use soft_shadow_core::ShadowTechnique;
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::{Context, CpuContext, GpuContext};
 
@@ -58,30 +54,6 @@ fn generation(c: &mut Criterion) {
                     })
                 });
             }
-        }
-        group.finish();
-    }
-}
-
-/// shadow-width on `torus`: the width map alone from the occlusion mask, the step its three
-/// width methods differ in (CPU builders).
-fn shadow_width_map(c: &mut Criterion) {
-    let spec = build("torus").expect("catalogue scene");
-    let geo = spec.to_scene().expect("scene").geometry();
-    for t in ShadowWidth::standard_set()
-        .into_iter()
-        .filter(|t| t.depth == DepthLayer::Front && t.table.is_none())
-    {
-        let mut group = c.benchmark_group(format!("width-map/torus/{}", t.label()));
-        timing(&mut group, 10);
-        let ctx = CpuContext::new();
-        for res in RESOLUTIONS {
-            let maps = t
-                .generate_cpu(&ctx, &geo, &spec.light, res)
-                .expect("cpu generation");
-            group.bench_with_input(BenchmarkId::new("cpu", res), &res, |b, _| {
-                b.iter(|| width_map(ctx.pool(), &maps.occlusion, t.method))
-            });
         }
         group.finish();
     }
@@ -132,7 +104,6 @@ fn frame_caching(c: &mut Criterion) {
 criterion_group!(
     benches,
     generation,
-    shadow_width_map,
     write_once,
     frame_caching
 );

@@ -87,7 +87,7 @@ fn main() {
             &args,
         ),
         "occlusion-slices" => run(
-            occlusion_slices::OcclusionSlices::new(8, occlusion_slices::Filter::NBuffer),
+            occlusion_slices::OcclusionSlices::new(8, occlusion_slices::Prefilter::NBuffer),
             &args,
         ),
         "linear-light" => run(linear_light::LinearLight::new(4), &args),

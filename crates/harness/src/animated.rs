@@ -66,7 +66,7 @@ impl AnimatedScene {
                 },
                 Arc::new(occlusion_slices::OcclusionSlices::new(
                     8,
-                    occlusion_slices::Filter::Sat,
+                    occlusion_slices::Prefilter::Sat,
                 )) as Arc<dyn DynTechnique>,
             ),
             (

@@ -10,3 +10,4 @@ pub mod profile;
 pub mod report;
 pub mod scenes;
 pub mod setup;
+pub mod testing;

@@ -16,13 +16,21 @@ use soft_shadow_core::{CpuContext, Map2D, MapParams, Receivers, SampleView, Scen
 #[derive(Clone, Debug)]
 pub struct CpuLinearMaps {
     /// One view per sample (`weight` is the lit share times the segment's weight).
-    pub views: Vec<SampleView>,
+    pub(crate) views: Vec<SampleView>,
     /// Their shader-side parameters.
-    pub params: Vec<MapParams>,
+    pub(crate) params: Vec<MapParams>,
     /// Linear depth per sample.
-    pub depth: Vec<Map2D<f32>>,
+    pub(crate) depth: Vec<Map2D<f32>>,
     /// Visibility channel per sample, scaled by its segment's weight.
-    pub channel: Vec<Map2D<f32>>,
+    pub(crate) channel: Vec<Map2D<f32>>,
+}
+
+impl CpuLinearMaps {
+    /// The visibility channel of every sample, scaled by its segment's weight (the GPU maps'
+    /// [`crate::GpuLinearMaps::read_channels`]).
+    pub fn channels(&self) -> &[Map2D<f32>] {
+        &self.channel
+    }
 }
 
 /// Builds the maps for `segments` (inputs already checked), their storage from `cpu`'s pool.

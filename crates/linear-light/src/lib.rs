@@ -26,18 +26,20 @@
 //! # Ok(()) }
 //! ```
 
-pub mod cpu;
-pub mod eval;
-pub mod gpu;
-pub mod params;
-pub mod samples;
-pub mod segments;
-pub mod skins;
+mod cpu;
+mod eval;
+mod gpu;
+mod params;
+mod samples;
+mod segments;
+mod skins;
 #[cfg(test)]
 mod tests;
-pub mod warp;
+mod warp;
 
-pub use gpu::pipelines::SHADERS;
+pub use cpu::CpuLinearMaps;
+pub use gpu::GpuLinearMaps;
+pub use gpu::pipelines::{SHADERS, VISIBILITY};
 pub use params::LinearLight;
 
 use segments::segments;

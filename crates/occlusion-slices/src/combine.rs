@@ -45,6 +45,7 @@ impl Accumulator {
 }
 
 /// `V` of a set of slice occlusions combined by `how`.
+#[cfg(test)]
 pub fn combine(how: Combination, occlusions: &[f32]) -> f32 {
     let mut a = Accumulator::new(how);
     for &i in occlusions {

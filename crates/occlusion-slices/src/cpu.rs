@@ -13,11 +13,11 @@ use soft_shadow_core::{CpuContext, Generation, Map2D, Receivers};
 #[derive(Clone, Debug)]
 pub struct CpuSliceMaps {
     /// The slicing frame.
-    pub frame: Frame,
+    pub(crate) frame: Frame,
     /// The binary slices packed per texel: bit `k` is slice `k` ([`crate::slicing::slice`]).
-    pub masks: Map2D<u32>,
+    pub(crate) masks: Map2D<u32>,
     /// The filtered form the evaluation reads.
-    pub filtered: Filtered,
+    pub(crate) filtered: Filtered,
 }
 
 /// Slices and prefilters (inputs already checked), the storage from `cpu`'s pool.

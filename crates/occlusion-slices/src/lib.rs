@@ -24,30 +24,31 @@
 //! (equation 5 and its alternatives), [`eval`] (shading one receiver), [`cpu`] and [`gpu`].
 //!
 //! ```no_run
-//! use occlusion_slices::{Filter, OcclusionSlices};
+//! use occlusion_slices::{Prefilter, OcclusionSlices};
 //! use soft_shadow_core::{Receivers, ShadowTechnique};
 //! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
 //! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
-//! let technique = OcclusionSlices::new(8, Filter::NBuffer);
+//! let technique = OcclusionSlices::new(8, Prefilter::NBuffer);
 //! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 256)?;
 //! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
 //! # Ok(()) }
 //! ```
 
-pub mod combine;
-pub mod cpu;
-pub mod eval;
-pub mod filters;
-pub mod frame;
-pub mod gpu;
-pub mod params;
-pub mod slicing;
+mod combine;
+mod cpu;
+mod eval;
+mod filters;
+mod frame;
+mod gpu;
+mod params;
+mod slicing;
 #[cfg(test)]
 mod tests;
 
-pub use frame::Frame;
-pub use gpu::pipelines::SHADERS;
-pub use params::{Combination, Filter, MAX_RESOLUTION, OcclusionSlices};
+pub use cpu::CpuSliceMaps;
+pub use gpu::GpuSliceMaps;
+pub use gpu::pipelines::{SHADERS, VISIBILITY};
+pub use params::{Combination, Prefilter, MAX_RESOLUTION, OcclusionSlices};
 
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::gpu::shader::VisibilityShader;

@@ -4,7 +4,7 @@ use soft_shadow_core::{Backend, Light, LightKind, Result, ShadowError, Technique
 
 /// How an occlusion texture is box-filtered (section 3.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Filter {
+pub enum Prefilter {
     /// A mipmap pyramid (dyadic 2x2 means), read trilinearly at the kernel's level.
     Mipmap,
     /// N-Buffers: level `l` holds the normalised `2^l x 2^l` box filter at full resolution; a
@@ -14,25 +14,25 @@ pub enum Filter {
     Sat,
 }
 
-impl Filter {
+impl Prefilter {
     /// Every filter.
-    pub const ALL: [Filter; 3] = [Filter::Mipmap, Filter::NBuffer, Filter::Sat];
+    pub const ALL: [Prefilter; 3] = [Prefilter::Mipmap, Prefilter::NBuffer, Prefilter::Sat];
 
     /// Short name used in variant labels.
     pub fn name(self) -> &'static str {
         match self {
-            Filter::Mipmap => "mipmap",
-            Filter::NBuffer => "nbuffer",
-            Filter::Sat => "sat",
+            Prefilter::Mipmap => "mipmap",
+            Prefilter::NBuffer => "nbuffer",
+            Prefilter::Sat => "sat",
         }
     }
 
     /// Index shared with the shaders (`FILTER_*` in `frame.wgsl`).
     pub fn index(self) -> u32 {
         match self {
-            Filter::Mipmap => 0,
-            Filter::NBuffer => 1,
-            Filter::Sat => 2,
+            Prefilter::Mipmap => 0,
+            Prefilter::NBuffer => 1,
+            Prefilter::Sat => 2,
         }
     }
 }
@@ -80,7 +80,7 @@ pub struct OcclusionSlices {
     /// Number of slices, in [`SLICE_RANGE`].
     pub slices: u32,
     /// Box filter of the occlusion textures.
-    pub filter: Filter,
+    pub filter: Prefilter,
     /// How the slices' occlusions combine.
     pub combination: Combination,
     /// Section 3.4's light-leak fix for thin occluders: a fragment also fills the next slice
@@ -93,7 +93,7 @@ pub struct OcclusionSlices {
 
 impl OcclusionSlices {
     /// `slices` slices with `filter`, the product combination and no thin-occluder fix.
-    pub fn new(slices: u32, filter: Filter) -> Self {
+    pub fn new(slices: u32, filter: Prefilter) -> Self {
         Self {
             slices,
             filter,
@@ -118,12 +118,12 @@ impl OcclusionSlices {
     /// The variants the report runs: every filter with 4, 8 and 16 slices (product), and the
     /// sum and max combinations with the exact filter (SAT) and 8 slices, for the Figure 3 comparison.
     pub fn standard_set() -> Vec<OcclusionSlices> {
-        let mut set: Vec<OcclusionSlices> = Filter::ALL
+        let mut set: Vec<OcclusionSlices> = Prefilter::ALL
             .iter()
             .flat_map(|&f| [4, 8, 16].map(|n| OcclusionSlices::new(n, f)))
             .collect();
         for c in [Combination::Sum, Combination::Max] {
-            set.push(OcclusionSlices::new(8, Filter::Sat).with_combination(c));
+            set.push(OcclusionSlices::new(8, Prefilter::Sat).with_combination(c));
         }
         set
     }
@@ -193,14 +193,14 @@ impl TechniqueInfo for OcclusionSlices {
     /// levels (one byte per level for N-Buffers, 4/3 for mipmaps).
     fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
         let levels = match self.filter {
-            Filter::NBuffer => crate::filters::level_count(resolution) as u64,
+            Prefilter::NBuffer => crate::filters::level_count(resolution) as u64,
             // The pyramid, 4/3 of level 0 rounded up to 2 bytes a texel, in a texture of the
             // next power of two on the GPU.
-            Filter::Mipmap => {
+            Prefilter::Mipmap => {
                 let pad = resolution.next_power_of_two() as f64 / resolution.max(1) as f64;
                 (2.0 * pad * pad).ceil() as u64
             }
-            Filter::Sat => 0,
+            Prefilter::Sat => 0,
         };
         soft_shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
     }

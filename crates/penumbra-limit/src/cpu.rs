@@ -14,16 +14,22 @@ use soft_shadow_core::{CpuContext, Generation, Map2D, MapParams, Receivers, Samp
 
 /// The penumbra limit map of one light, built on the CPU.
 pub struct CpuPenumbraMaps {
-    /// The light-centre view the map is rendered from.
-    pub view: SampleView,
     /// Its shader-side parameters.
-    pub params: MapParams,
+    pub(crate) params: MapParams,
     /// Depth warp and normalisation of the map.
-    pub warp: Warp,
+    pub(crate) warp: Warp,
     /// The four channels, quantised as the storage format keeps them.
-    pub map: Map2D<Texel>,
+    pub(crate) map: Map2D<Texel>,
     /// The visibility-to-illumination table for the light.
-    pub table: IlluminationTable,
+    pub(crate) table: IlluminationTable,
+}
+
+impl CpuPenumbraMaps {
+    /// The four channels as the storage format keeps them (the GPU maps'
+    /// [`crate::GpuPenumbraMaps::read_map`]).
+    pub fn map(&self) -> &Map2D<Texel> {
+        &self.map
+    }
 }
 
 /// The generators' layers before combination (inputs already checked), their storage from
@@ -66,7 +72,6 @@ pub fn generate(t: &PenumbraLimit, cpu: &CpuContext, input: &Generation) -> CpuP
     let warp = Warp::new(&params, light);
     let l = layers(t, cpu, &view, &warp, &geometry.casters, resolution);
     CpuPenumbraMaps {
-        view,
         params,
         warp,
         map: combine(cpu.pool(), &l, &warp, t.transition_gap, t.storage),

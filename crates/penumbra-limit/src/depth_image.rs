@@ -29,6 +29,7 @@ use std::sync::Arc;
 
 /// Whether `t = (x, y)` is on the near side of an edge towards neighbour `(x, y) + d`.
 #[inline(always)]
+#[cfg(test)]
 pub fn near_side(
     geom: &Map2D<f32>,
     warp: &Warp,

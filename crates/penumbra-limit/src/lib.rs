@@ -35,24 +35,27 @@
 //! # Ok(()) }
 //! ```
 
-pub mod combine;
-pub mod cpu;
-pub mod depth_image;
-pub mod eval;
-pub mod feature_transform;
-pub mod gpu;
-pub mod params;
-pub mod silhouette;
-pub mod storage;
-pub mod table;
+mod combine;
+mod cpu;
+mod depth_image;
+mod eval;
+mod feature_transform;
+mod gpu;
+mod params;
+mod silhouette;
+mod storage;
+mod table;
 #[cfg(test)]
 mod tests;
-pub mod visibility;
-pub mod warp;
+mod visibility;
+mod warp;
 
+pub use cpu::CpuPenumbraMaps;
+pub use gpu::GpuPenumbraMaps;
+pub use gpu::pipelines::VISIBILITY;
 pub use params::{Generator, PenumbraLimit};
 pub use storage::{Storage, Texel};
-pub use table::{IlluminationTable, Profile};
+pub use table::Profile;
 
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::gpu::shader::VisibilityShader;

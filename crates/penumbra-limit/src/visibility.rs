@@ -24,6 +24,7 @@ pub fn edge_visibility(z: f32, c: f32, p: f32) -> f32 {
 
 /// `l_g` as the paper writes it, case by case: 1 above the geometry, 0 between it and the edge,
 /// 0 below the lower limit, equation 1 otherwise.
+#[cfg(test)]
 pub fn clamped_visibility_piecewise(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
     if z < g {
         1.0

@@ -12,13 +12,13 @@ use soft_shadow_core::{GpuContext, Map2D, MapParams, Result, SampleView, ShadowE
 /// Depth maps kept on the GPU.
 pub struct GpuShadowMaps {
     /// `Depth32Float` array, one layer per light sample.
-    pub texture: wgpu::Texture,
+    pub(crate) texture: wgpu::Texture,
     /// The samples' views.
-    pub views: Vec<SampleView>,
+    pub(crate) views: Vec<SampleView>,
     /// Map side.
-    pub resolution: u32,
+    pub(crate) resolution: u32,
     /// [`soft_shadow_core::Light::size`] of the light.
-    pub light_size: f32,
+    pub(crate) light_size: f32,
 }
 
 impl GpuShadowMaps {

@@ -10,13 +10,13 @@
 //! CPU ([`filters`]) and in WGSL (`shadow_map_eval.wgsl`, [`gpu`]), so the two paths compute the
 //! same function.
 
-pub mod filters;
-pub mod gpu;
-pub mod maps;
+mod filters;
+mod gpu;
+mod maps;
 
-pub use gpu::SHADERS;
+pub use gpu::{GpuShadowMaps, SHADERS, VISIBILITY};
+pub use maps::CpuShadowMaps;
 
-use maps::CpuShadowMaps;
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::light_space::sample_views;

@@ -7,13 +7,13 @@ use soft_shadow_core::{CpuContext, Map2D, SampleView};
 /// Depth maps rendered on the CPU.
 pub struct CpuShadowMaps {
     /// One linear depth map per sample.
-    pub maps: Vec<Map2D<f32>>,
+    pub(crate) maps: Vec<Map2D<f32>>,
     /// The samples' views.
-    pub views: Vec<SampleView>,
+    pub(crate) views: Vec<SampleView>,
     /// Map side.
-    pub resolution: u32,
+    pub(crate) resolution: u32,
     /// [`soft_shadow_core::Light::size`] of the light.
-    pub light_size: f32,
+    pub(crate) light_size: f32,
 }
 
 impl CpuShadowMaps {

@@ -129,6 +129,7 @@ impl AttenuationTable {
     }
 
     /// `I(sd, sw)` through the table; the same special cases as [`attenuation`].
+    #[cfg(test)]
     pub fn attenuation(&self, sd: f32, sw: f32, c_scale: f32) -> f32 {
         if !(sd > 0.0 && sw > 0.0) {
             return 1.0;

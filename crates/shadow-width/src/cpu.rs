@@ -12,18 +12,21 @@ use soft_shadow_core::{CpuContext, Generation, Map2D, MapParams, Receivers, Samp
 
 /// The maps of one light, built on the CPU.
 pub struct CpuWidthMaps {
-    /// The light-centre view the maps are rendered from.
-    pub view: SampleView,
     /// Its shader-side parameters.
-    pub params: MapParams,
+    pub(crate) params: MapParams,
     /// Linear depth that `sd` is measured from (nearest surface, or farthest back face).
-    pub depth: Map2D<f32>,
-    /// Inverted occlusion map (`true` = blocked).
-    pub occlusion: Map2D<bool>,
+    pub(crate) depth: Map2D<f32>,
     /// Shadow width in texels.
-    pub width: Map2D<f32>,
+    pub(crate) width: Map2D<f32>,
     /// [`crate::params::softness_size`] of the light: its size over the fit factor.
-    pub light_size: f32,
+    pub(crate) light_size: f32,
+}
+
+impl CpuWidthMaps {
+    /// The shadow-width map in texels (the GPU maps' [`crate::GpuWidthMaps::read_width`]).
+    pub fn width(&self) -> &Map2D<f32> {
+        &self.width
+    }
 }
 
 /// Builds the depth, occlusion and width maps of the input's light at its resolution (inputs
@@ -44,10 +47,8 @@ pub fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) -> CpuWid
         }
     };
     CpuWidthMaps {
-        view,
         params,
         depth,
-        occlusion,
         width,
         light_size: crate::params::softness_size(light),
     }

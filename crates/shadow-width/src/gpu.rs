@@ -19,16 +19,14 @@ use soft_shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, 
 
 /// The maps of one light, kept on the GPU.
 pub struct GpuWidthMaps {
-    /// The light-centre view.
-    pub view: SampleView,
     /// Its shader-side parameters.
-    pub params: MapParams,
+    pub(crate) params: MapParams,
     /// `Depth32Float` array: nearest caster, and (back-face depth) farthest back face.
-    pub depth: wgpu::Texture,
+    pub(crate) depth: wgpu::Texture,
     /// Shadow width in texels, `array<f32>` of `resolution²`.
-    pub width: wgpu::Buffer,
+    pub(crate) width: wgpu::Buffer,
     /// [`crate::params::softness_size`] of the light: its size over the fit factor.
-    pub light_size: f32,
+    pub(crate) light_size: f32,
 }
 
 impl GpuWidthMaps {
@@ -334,7 +332,6 @@ pub fn generate(
         ctx.recycle_buffer(scratch);
     }
     Ok(GpuWidthMaps {
-        view,
         params,
         depth,
         width,

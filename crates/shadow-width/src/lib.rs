@@ -32,20 +32,21 @@
 //! # Ok(()) }
 //! ```
 
-pub mod attenuation;
-pub mod cpu;
-pub mod eval;
-pub mod gpu;
-pub mod gpu_jump_flood;
-pub mod jump_flood;
-pub mod occlusion;
-pub mod params;
+mod attenuation;
+mod cpu;
+mod eval;
+mod gpu;
+mod gpu_jump_flood;
+mod jump_flood;
+mod occlusion;
+mod params;
 #[cfg(test)]
 mod tests;
-pub mod width;
+mod width;
 
-pub use attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation};
-pub use gpu::SHADERS;
+pub use attenuation::{Falloff, FalloffKind};
+pub use cpu::CpuWidthMaps;
+pub use gpu::{GpuWidthMaps, SHADERS, VISIBILITY};
 pub use params::{DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
 
 use soft_shadow_core::gpu::GpuScene;

@@ -9,9 +9,9 @@ fn pool() -> Arc<Pool> {
     Arc::new(Pool::new(0))
 }
 
-use crate::attenuation::{AttenuationTable, linear_falloff};
+use crate::attenuation::{AttenuationTable, attenuation, linear_falloff};
 use crate::width::{cap, edt, jfa, propagate};
-use crate::{FalloffKind, Neighbours, ShadowWidth, WidthMethod, attenuation};
+use crate::{FalloffKind, Neighbours, ShadowWidth, WidthMethod};
 use glam::Vec3;
 use proptest::prelude::*;
 use soft_shadow_core::{

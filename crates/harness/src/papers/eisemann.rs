@@ -10,7 +10,7 @@ use super::{Claim, Experiment, Row, measure_run, prepare, scene};
 use crate::report::json::Run;
 use crate::scenes::shapes::{horizontal_rect, quad_grid};
 use glam::{Vec2, Vec3};
-use occlusion_slices::{Combination, Filter, OcclusionSlices};
+use occlusion_slices::{Combination, Prefilter, OcclusionSlices};
 use soft_shadow_core::{Light, Result};
 
 /// Scene name of Figures 2-3.
@@ -91,7 +91,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
     let p = prepare(spec_fig3(), size)?;
     let mut filter_rows = Vec::new();
     let mut rms = std::collections::BTreeMap::new();
-    for f in Filter::ALL {
+    for f in Prefilter::ALL {
         let t = OcclusionSlices::new(SLICES, f);
         let (r, _) = measure_run(ID_FIG3, &t, &p, RESOLUTION, None)?;
         rms.insert(f.name().to_string(), r.errors.rms_255);
@@ -105,7 +105,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
     let mut comb = Vec::new();
     let mut comb_rows = Vec::new();
     for c in Combination::ALL {
-        let t = OcclusionSlices::new(SLICES, Filter::Sat).with_combination(c);
+        let t = OcclusionSlices::new(SLICES, Prefilter::Sat).with_combination(c);
         let (r, _) = measure_run(ID_FIG3, &t, &p, RESOLUTION, None)?;
         comb.push(r.errors.rms_255);
         comb_rows.push(Row {
@@ -158,7 +158,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
     let mut fix_rows = Vec::new();
     let mut leaked = Vec::new();
     for thin in [false, true] {
-        let mut t = OcclusionSlices::new(SLICES, Filter::Sat);
+        let mut t = OcclusionSlices::new(SLICES, Prefilter::Sat);
         t.thin_fix = thin;
         let (r, v) = measure_run(ID_FIG6, &t, &p, RESOLUTION, None)?;
         let n = leaks(&v, &reference);

@@ -38,23 +38,7 @@ impl Receivers {
     }
 }
 
-/// A context for a GPU test, or `None` (after printing why) when no adapter exists outside CI.
-/// With `CI` set, a GPU test that cannot get an adapter fails: CI runs the GPU tests on
-/// lavapipe.
-pub fn gpu_for_test(test: &str) -> Option<soft_shadow_core::GpuContext> {
-    match soft_shadow_core::GpuContext::new() {
-        Ok(ctx) => Some(ctx),
-        Err(e) if std::env::var_os("CI").is_some() => {
-            panic!(
-                "{test}: GPU tests are required in CI (CI is set) but no adapter is available: {e}"
-            )
-        }
-        Err(e) => {
-            eprintln!("skipping GPU test {test}: {e}");
-            None
-        }
-    }
-}
+pub use harness::testing::gpu_for_test;
 
 /// One CPU context for the whole test binary (its pool shared by the tests running in it).
 pub fn cpu() -> &'static soft_shadow_core::CpuContext {

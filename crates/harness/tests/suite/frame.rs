@@ -68,7 +68,7 @@ fn lab(mover_x: f32) -> Lab {
     let cfg = |t: Arc<dyn DynTechnique>| ShadowConfig::explicit(t, 128).with_range(3.0);
     let os: Arc<dyn DynTechnique> = Arc::new(occlusion_slices::OcclusionSlices::new(
         8,
-        occlusion_slices::Filter::Sat,
+        occlusion_slices::Prefilter::Sat,
     ));
     let ll: Arc<dyn DynTechnique> = Arc::new(linear_light::LinearLight::new(2));
     let pcf: Arc<dyn DynTechnique> = Arc::new(shadow_maps::ShadowMapBaseline::new(
@@ -380,7 +380,7 @@ fn bad_frame_input_is_reported_not_panicked() {
     let mut l = lab(5.0);
     let os: Arc<dyn DynTechnique> = Arc::new(occlusion_slices::OcclusionSlices::new(
         8,
-        occlusion_slices::Filter::Sat,
+        occlusion_slices::Prefilter::Sat,
     ));
     l.scene
         .world

@@ -236,7 +236,7 @@ fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
                 let gm = t.generate_gpu(&ctx, &r.geometry, &light, res).unwrap();
                 let gc = gm.read_channels(&ctx).unwrap();
                 let diff: f64 = cm
-                    .channel
+                    .channels()
                     .iter()
                     .zip(&gc)
                     .flat_map(|(a, b)| a.data().iter().zip(b.data()))

@@ -4,7 +4,6 @@
 mod bad_input;
 mod dependencies;
 mod example_renderer;
-mod feature_transform;
 mod frame;
 mod fuzz;
 mod gpu_agreement;

@@ -39,7 +39,7 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
                 let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
                 let gw = gm.read_width(&ctx).unwrap();
                 let mean_diff: f64 = cm
-                    .width
+                    .width()
                     .data()
                     .iter()
                     .zip(gw.data())

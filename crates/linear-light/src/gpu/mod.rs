@@ -46,11 +46,11 @@ pub struct SampleGpu {
 /// The maps of one linear light, kept on the GPU.
 pub struct GpuLinearMaps {
     /// One entry per sample.
-    pub samples: Vec<SampleGpu>,
+    pub(crate) samples: Vec<SampleGpu>,
     /// The depth maps, one layer per sample.
-    pub depth: wgpu::Texture,
+    pub(crate) depth: wgpu::Texture,
     /// The visibility channels, one R32Float layer per sample.
-    pub channel: wgpu::Texture,
+    pub(crate) channel: wgpu::Texture,
 }
 
 impl GpuLinearMaps {

@@ -39,12 +39,14 @@ impl Drop for Mipmap {
 
 impl Mipmap {
     /// Every level down to 1x1 of a `res x res` binary slice (`occupied(x, y)`, row-major).
+    #[cfg(test)]
     pub fn new(pool: &Arc<Pool>, res: u32, occupied: &[bool]) -> Mipmap {
         Mipmap::build(pool, res, occupied, |&o| o as u32)
     }
 
     /// Every level of slice `k` of the slice masks (bit `k` of each texel,
     /// [`crate::slicing::slice`]).
+    #[cfg(test)]
     pub fn from_masks(pool: &Arc<Pool>, res: u32, masks: &[u32], k: u32) -> Mipmap {
         Mipmap::build(pool, res, masks, |&m| (m >> k) & 1)
     }
@@ -52,6 +54,7 @@ impl Mipmap {
     /// The pyramid of exact counts, each level the sums of 2x2 blocks of the one below (a
     /// missing row or column beyond an odd side counts as empty), each count stored as
     /// [`unorm8_pow2`] of its block's area: the same bits as counting each block directly.
+    #[cfg(test)]
     fn build<T: Sync>(
         pool: &Arc<Pool>,
         res: u32,

@@ -7,7 +7,7 @@ pub mod mipmap;
 pub mod nbuffer;
 pub mod sat;
 
-use crate::params::Filter;
+use crate::params::Prefilter;
 use glam::Vec2;
 pub use mipmap::Mipmap;
 pub use nbuffer::NBuffer;
@@ -24,6 +24,7 @@ pub fn level_count(res: u32) -> u32 {
 
 /// `count / area` rounded to the nearest 8-bit unorm (ties up), in integers: the same bits on
 /// every backend. `count * 255 + area / 2` fits `u32` for areas up to `2^24` (4096² texels).
+#[cfg(test)]
 pub fn unorm8(count: u32, area: u64) -> u8 {
     ((count as u64 * 255 + area / 2) / area) as u8
 }
@@ -95,21 +96,21 @@ impl Filtered {
     /// storage from `pool`.
     pub fn build(
         pool: &Arc<Pool>,
-        filter: Filter,
+        filter: Prefilter,
         res: u32,
         masks: &[u32],
         slices: u32,
     ) -> Filtered {
         let each = (0..slices).into_par_iter();
         match filter {
-            Filter::Sat => {
+            Prefilter::Sat => {
                 Filtered::Sat(each.map(|k| Sat::from_masks(pool, res, masks, k)).collect())
             }
-            Filter::NBuffer => Filtered::NBuffer(
+            Prefilter::NBuffer => Filtered::NBuffer(
                 each.map(|k| NBuffer::new(pool, &Sat::from_masks(pool, res, masks, k)))
                     .collect(),
             ),
-            Filter::Mipmap => {
+            Prefilter::Mipmap => {
                 // One group of slices per thread, each group's bases built together.
                 let group = slices.div_ceil(rayon::current_num_threads() as u32).max(1);
                 let groups: Vec<Vec<Mipmap>> = (0..slices.div_ceil(group))

@@ -36,6 +36,7 @@ impl Drop for Sat {
 
 impl Sat {
     /// The table of a `res x res` binary slice (`occupied(x, y)`, row-major).
+    #[cfg(test)]
     pub fn new(pool: &Arc<Pool>, res: u32, occupied: &[bool]) -> Sat {
         Sat::build(pool, res, occupied, |&o| o as u32)
     }

@@ -12,7 +12,7 @@ pub mod pipelines;
 use crate::filters::level_count;
 use crate::filters::mipmap::mip_size;
 use crate::frame::Frame;
-use crate::params::{Filter, OcclusionSlices};
+use crate::params::{Prefilter, OcclusionSlices};
 use bytemuck::{Pod, Zeroable};
 use pipelines::{LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT, SlicingPipelines};
 use soft_shadow_core::gpu::Kernel;
@@ -26,21 +26,21 @@ use soft_shadow_core::{GpuContext, Light, Result, ShadowError};
 /// The occlusion textures of one light, kept on the GPU.
 pub struct GpuSliceMaps {
     /// The slicing frame.
-    pub frame: Frame,
+    pub(crate) frame: Frame,
     /// The filter the maps were built for.
-    pub filter: Filter,
+    pub(crate) filter: Prefilter,
     /// Groups of four slices (RGBA texels).
-    pub groups: u32,
+    pub(crate) groups: u32,
     /// Mipmap or N-Buffer levels.
-    pub levels: u32,
+    pub(crate) levels: u32,
     /// The binary slices: `groups` RGBA8 layers.
-    pub occupancy: wgpu::Texture,
+    pub(crate) occupancy: wgpu::Texture,
     /// The summed-area table (`res + 1` a side, `groups` layers of RGBA32Uint); kept for
-    /// [`Filter::Sat`], a 1x1 placeholder otherwise.
-    pub sat: wgpu::Texture,
+    /// [`Prefilter::Sat`], a 1x1 placeholder otherwise.
+    pub(crate) sat: wgpu::Texture,
     /// N-Buffer levels (`levels * groups` layers) or the mip pyramid (`groups` layers, `levels`
-    /// mips); a 1x1 placeholder for [`Filter::Sat`].
-    pub filtered: wgpu::Texture,
+    /// mips); a 1x1 placeholder for [`Prefilter::Sat`].
+    pub(crate) filtered: wgpu::Texture,
 }
 
 impl GpuSliceMaps {
@@ -63,7 +63,7 @@ impl GpuSliceMaps {
     /// Reads the N-Buffer levels back (tests): per slice, per level, `res²` unorm8 texels; empty
     /// for the other filters.
     pub fn read_nbuffer(&self, ctx: &GpuContext) -> Result<Vec<Vec<Vec<u8>>>> {
-        if self.filter != Filter::NBuffer {
+        if self.filter != Prefilter::NBuffer {
             return Ok(Vec::new());
         }
         let slices = self.frame.slices as usize;
@@ -100,7 +100,7 @@ pub(crate) struct LevelParams {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct EvalParams {
-    /// [`Filter::index`].
+    /// [`Prefilter::index`].
     pub filter: u32,
     /// [`crate::params::Combination::index`].
     pub combination: u32,
@@ -201,14 +201,14 @@ fn encode_levels(
     uniform: &wgpu::Buffer,
     sat_view: &wgpu::TextureView,
     filtered: &wgpu::Texture,
-    filter: Filter,
+    filter: Prefilter,
     res: u32,
     groups: u32,
 ) {
     let whole = array_view(filtered, None);
     for l in 0..level_count(res) {
         let (kernel, size, out) = match filter {
-            Filter::NBuffer => (&pre.nbuffer_level, res, None),
+            Prefilter::NBuffer => (&pre.nbuffer_level, res, None),
             _ => (
                 &pre.mip_level,
                 mip_size(res, l),
@@ -292,8 +292,8 @@ pub fn generate(
     let rows = table("sat rows");
     let sat = table("summed-area table");
     let filtered = match t.filter {
-        Filter::Sat => texture_2d(ctx, "no levels", 1, (1, 1), LEVEL_FORMAT, storage_usage()),
-        Filter::NBuffer => texture_2d(
+        Prefilter::Sat => texture_2d(ctx, "no levels", 1, (1, 1), LEVEL_FORMAT, storage_usage()),
+        Prefilter::NBuffer => texture_2d(
             ctx,
             "n-buffers",
             res,
@@ -304,7 +304,7 @@ pub fn generate(
         // The next power of two: its mip chain has room for every level (level l holds
         // ceil(res / 2^l) texels a side, more than a `res`-wide texture's level l, and
         // `levels` levels, one more than its chain where `res` is no power of two).
-        Filter::Mipmap => texture_2d(
+        Prefilter::Mipmap => texture_2d(
             ctx,
             "mipmaps",
             res.next_power_of_two(),
@@ -351,13 +351,13 @@ pub fn generate(
         &b,
         (scan_groups, groups, 1),
     );
-    if t.filter != Filter::Sat {
+    if t.filter != Prefilter::Sat {
         encode_levels(
             ctx, enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,
         );
     }
     ctx.recycle_texture(rows);
-    let sat = if t.filter == Filter::Sat {
+    let sat = if t.filter == Prefilter::Sat {
         sat
     } else {
         ctx.recycle_texture(sat);

@@ -35,18 +35,16 @@ use soft_shadow_core::{
 
 /// The penumbra limit map of one light, kept on the GPU.
 pub struct GpuPenumbraMaps {
-    /// The light-centre view.
-    pub view: SampleView,
     /// Its shader-side parameters.
-    pub params: MapParams,
+    pub(crate) params: MapParams,
     /// Depth warp and normalisation.
-    pub warp: Warp,
+    pub(crate) warp: Warp,
     /// The map: raw channels `(c, g, b, p_i / 4 + 1/2)` in the storage format.
-    pub map: wgpu::Texture,
+    pub(crate) map: wgpu::Texture,
     /// The storage format of `map`.
-    pub storage: Storage,
+    pub(crate) storage: Storage,
     /// The visibility-to-illumination table for the light.
-    pub table: IlluminationTable,
+    pub(crate) table: IlluminationTable,
 }
 
 impl GpuPenumbraMaps {
@@ -378,7 +376,6 @@ pub fn generate(
         ctx.recycle_buffer(buffer);
     }
     Ok(GpuPenumbraMaps {
-        view,
         params,
         warp,
         map,

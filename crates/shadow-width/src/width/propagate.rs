@@ -86,6 +86,7 @@ fn all_zero(texels: &[f32]) -> bool {
 /// and takes one offset at a time over a chunk of the row (the source row shifted by `dx`,
 /// clipped to the map): the same minimum per texel as offset by offset per texel, in a loop that
 /// vectorizes; a chunk of 64 texels at 0 in `src` is 0 in `dst` too.
+#[cfg(test)]
 pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
     let chunks = (res as usize).div_ceil(CHUNK) * res as usize;
     let (mut src_zero, mut dst_zero) = (vec![false; chunks], vec![false; chunks]);

@@ -1,5 +1,8 @@
 //! penumbra-limit against the paper's equations and closed forms (no GPU needed).
 
+mod depth_image;
+mod feature_transform;
+
 use soft_shadow_core::CpuContext;
 use soft_shadow_core::pool::Pool;
 use std::sync::Arc;
@@ -12,7 +15,8 @@ fn pool() -> Arc<Pool> {
 use crate::silhouette::edges;
 use crate::storage::MAX_P;
 use crate::visibility::{clamped_visibility, clamped_visibility_piecewise};
-use crate::{Generator, IlluminationTable, PenumbraLimit, Profile, Storage, Texel};
+use crate::table::IlluminationTable;
+use crate::{Generator, PenumbraLimit, Profile, Storage, Texel};
 use glam::Vec3;
 use proptest::prelude::*;
 use soft_shadow_core::{

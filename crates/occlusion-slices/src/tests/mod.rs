@@ -1,6 +1,8 @@
 //! Properties from the paper: the probabilistic combination's bounds (section 3.3) and the box
 //! filters of section 3.2 against brute-force box sums.
 
+mod gpu;
+
 use soft_shadow_core::CpuContext;
 use soft_shadow_core::pool::Pool;
 use std::sync::Arc;
@@ -13,7 +15,7 @@ fn pool() -> Arc<Pool> {
 use crate::combine::combine;
 use crate::filters::mipmap::mip_size;
 use crate::filters::{Mipmap, NBuffer, Sat, unorm8};
-use crate::{Combination, Filter, OcclusionSlices};
+use crate::{Combination, Prefilter, OcclusionSlices};
 use glam::Vec2;
 use proptest::prelude::*;
 use soft_shadow_core::{Light, SceneGeometry, ShadowError, ShadowTechnique};
@@ -273,19 +275,19 @@ fn bad_input_gets_typed_errors() {
         v_half: glam::Vec3::Z,
     };
     for slices in [0, 3, 17] {
-        let t = OcclusionSlices::new(slices, Filter::Sat);
+        let t = OcclusionSlices::new(slices, Prefilter::Sat);
         match t.generate_cpu(&CpuContext::new(), &geometry, &rect, 64) {
             Err(ShadowError::InvalidParameter(m)) => assert!(m.contains("slices")),
             other => panic!("slices {slices}: {:?}", other.map(|_| ())),
         }
     }
-    let mut t = OcclusionSlices::new(8, Filter::Sat);
+    let mut t = OcclusionSlices::new(8, Prefilter::Sat);
     t.normal_offset = f32::NAN;
     assert!(matches!(
         t.generate_cpu(&CpuContext::new(), &geometry, &rect, 64),
         Err(ShadowError::InvalidParameter(_))
     ));
-    let t = OcclusionSlices::new(8, Filter::Sat);
+    let t = OcclusionSlices::new(8, Prefilter::Sat);
     let segment = Light::Linear {
         a: glam::Vec3::ZERO,
         b: glam::Vec3::X,

@@ -1,0 +1,48 @@
+//! The GPU's prefiltering against the CPU's.
+
+use crate::filters::{NBuffer, Sat};
+use crate::{Prefilter, OcclusionSlices};
+use harness::testing::gpu_for_test;
+use soft_shadow_core::ShadowTechnique;
+
+/// The GPU's N-Buffer levels are the CPU's bit for bit (`filters::NBuffer` from the table of
+/// the GPU's own slices: the slicing may differ by a fragment within rounding of a slice plane,
+/// the prefiltering may not), every level of every slice, at a power-of-two and an odd size.
+#[test]
+fn gpu_nbuffer_levels_equal_the_cpu() {
+    let Some(ctx) = gpu_for_test("gpu_nbuffer_levels_equal_the_cpu") else {
+        return;
+    };
+    let spec = harness::scenes::catalogue::build("overlap").unwrap();
+    let geometry = spec.to_scene().unwrap().geometry();
+    let t = OcclusionSlices::new(8, Prefilter::NBuffer);
+    for res in [96, 256] {
+        let gm = t.generate_gpu(&ctx, &geometry, &spec.light, res).unwrap();
+        let (slices, levels) = (
+            gm.read_slices(&ctx).unwrap(),
+            gm.read_nbuffer(&ctx).unwrap(),
+        );
+        assert_eq!(levels.len(), 8);
+        let occupied = slices.iter().filter(|s| s.iter().any(|&o| o)).count();
+        assert!(
+            occupied >= 3,
+            "overlap {res}: {occupied} slices hold a blocker"
+        );
+        for (k, (slice, gpu)) in slices.iter().zip(&levels).enumerate() {
+            let pool = std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0));
+            let cpu = NBuffer::new(&pool, &Sat::new(&pool, res, slice));
+            assert_eq!(
+                gpu.len(),
+                cpu.levels.len(),
+                "{res}: slice {k}'s level count"
+            );
+            for (l, (g, c)) in gpu.iter().zip(&cpu.levels).enumerate() {
+                let differ = g.iter().zip(c).filter(|(a, b)| a != b).count();
+                assert_eq!(
+                    differ, 0,
+                    "{res}: slice {k} level {l}: {differ} texels differ"
+                );
+            }
+        }
+    }
+}
