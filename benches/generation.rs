@@ -101,10 +101,5 @@ fn frame_caching(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(
-    benches,
-    generation,
-    write_once,
-    frame_caching
-);
+criterion_group!(benches, generation, write_once, frame_caching);
 criterion_main!(benches);

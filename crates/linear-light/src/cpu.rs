@@ -34,7 +34,7 @@ impl CpuLinearMaps {
 }
 
 /// Builds the maps for `segments` (inputs already checked), their storage from `cpu`'s pool.
-pub fn generate(
+pub(crate) fn generate(
     t: &LinearLight,
     cpu: &CpuContext,
     geometry: &SceneGeometry,
@@ -113,7 +113,7 @@ fn generate_segment(
 }
 
 /// `V` per receiver (inputs already checked).
-pub fn evaluate(t: &LinearLight, maps: &CpuLinearMaps, r: &Receivers) -> Vec<f32> {
+pub(crate) fn evaluate(t: &LinearLight, maps: &CpuLinearMaps, r: &Receivers) -> Vec<f32> {
     r.positions
         .par_iter()
         .zip(r.normals.par_iter())

@@ -13,7 +13,7 @@ use soft_shadow_core::{Bias, MapParams};
 
 /// `V` at `p` (unit normal `n`): `depth(k, x, y)` and `channel(k, x, y)` read sample `k`'s
 /// linear depth and visibility at clamped texel `(x, y)`.
-pub fn visibility(
+pub(crate) fn visibility(
     params: &[MapParams],
     bias: &Bias,
     p: Vec3,

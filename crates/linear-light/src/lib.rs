@@ -1,30 +1,4 @@
-//! Heidrich, Brabec & Seidel (2000), *Soft Shadow Maps for Linear Lights*, on the CPU and the GPU.
-//!
-//! `N >= 2` point samples along the segment each render an ordinary depth map ([`samples`]).
-//! Each map gets a second channel, its sample's share of the light as seen by the surface point
-//! of each texel (section 3.2): depth discontinuities of a neighbouring sample's map, triangulated
-//! into *skins* ([`skins`]) and warped into this sample's view ([`warp`]), cover exactly the
-//! points one sample sees and the other does not; Gouraud-shaded from 0 at the occluder to 1 at
-//! the receiver, they give the linear transition of section 3.1 across the penumbra. Points no
-//! skin covers keep the fully lit share, so a fully lit point sums to exactly 1 over the samples
-//! (section 3.3). Shading is the paper's `shade()` loop: per sample, the depth test and the
-//! channel, summed ([`eval`]).
-//!
-//! - Lights: segments, and triangles as three linear lights along their edges (section 4,
-//!   [`mod@segments`]). Other kinds are [`soft_shadow_core::ShadowError::UnsupportedLight`].
-//! - Modules, one concept each: [`params`], [`mod@segments`], [`samples`], [`skins`], [`warp`],
-//!   [`eval`], [`cpu`], [`gpu`].
-//!
-//! ```no_run
-//! use linear_light::LinearLight;
-//! use soft_shadow_core::{Receivers, ShadowTechnique};
-//! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
-//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
-//! let technique = LinearLight::new(3);
-//! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 512)?;
-//! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
-//! # Ok(()) }
-//! ```
+#![doc = include_str!("../README.md")]
 
 mod cpu;
 mod eval;
@@ -40,7 +14,7 @@ mod warp;
 pub use cpu::CpuLinearMaps;
 pub use gpu::GpuLinearMaps;
 pub use gpu::pipelines::{SHADERS, VISIBILITY};
-pub use params::LinearLight;
+pub use params::{LinearLight, SAMPLE_RANGE};
 
 use segments::segments;
 use soft_shadow_core::gpu::GpuScene;

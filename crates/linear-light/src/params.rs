@@ -13,18 +13,18 @@ pub struct LinearLight {
     /// Depth-discontinuity threshold: a texel is an edge where the Laplacian of inverse depth
     /// exceeds this fraction of its inverse depth, and a grid triangle is a skin where its
     /// farthest vertex lies beyond its nearest by more than this fraction. Maps smaller than
-    /// [`THRESHOLD_REFERENCE_SIDE`] use a larger one ([`LinearLight::edge_threshold_at`]).
+    /// 64 texels use a larger one ([`LinearLight::edge_threshold_at`]).
     pub edge_threshold: f32,
     /// Receiver biases against self-shadowing (texels), as the shadow-map baselines use.
     pub bias: Bias,
 }
 
 /// Map side from which [`LinearLight::edge_threshold`] applies as given.
-pub const THRESHOLD_REFERENCE_SIDE: u32 = 64;
+pub(crate) const THRESHOLD_REFERENCE_SIDE: u32 = 64;
 
 impl LinearLight {
     /// The edge threshold used for maps of side `resolution`: [`edge_threshold`](Self::edge_threshold)
-    /// scaled by `(64 / resolution)²` below [`THRESHOLD_REFERENCE_SIDE`].
+    /// scaled by `(64 / resolution)²` below 64 texels.
     ///
     /// The Laplacian of a smooth curved surface's inverse depth grows with the texel's area, while
     /// a true discontinuity's does not: on coarse maps curvature alone passes the base threshold

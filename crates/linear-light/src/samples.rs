@@ -9,18 +9,18 @@ use soft_shadow_core::Coverage;
 use soft_shadow_core::{LightPoint, SampleView};
 
 /// Share `s = 1 / (N - 1)` of one piece of the segment.
-pub fn piece_share(n: u32) -> f32 {
+pub(crate) fn piece_share(n: u32) -> f32 {
     1.0 / (n - 1) as f32
 }
 
 /// The fully lit share of sample `i` of `n`: `s / 2` at the ends, `s` inside.
-pub fn lit_share(i: u32, n: u32) -> f32 {
+pub(crate) fn lit_share(i: u32, n: u32) -> f32 {
     let s = piece_share(n);
     if i == 0 || i == n - 1 { 0.5 * s } else { s }
 }
 
 /// The neighbours of sample `i` of `n` along the segment.
-pub fn neighbours(i: u32, n: u32) -> impl Iterator<Item = u32> {
+pub(crate) fn neighbours(i: u32, n: u32) -> impl Iterator<Item = u32> {
     [i.checked_sub(1), (i + 1 < n).then_some(i + 1)]
         .into_iter()
         .flatten()
@@ -29,7 +29,7 @@ pub fn neighbours(i: u32, n: u32) -> impl Iterator<Item = u32> {
 /// One perspective view per sample, `a + (b - a) i / (N - 1)`, all looking along `axis` and
 /// covering `coverage`; the weight of a view is its lit share times `segment_weight` (the
 /// segment's share of the light, [`crate::segments::Segment::weight`]).
-pub fn sample_views(
+pub(crate) fn sample_views(
     a: Vec3,
     b: Vec3,
     n: u32,

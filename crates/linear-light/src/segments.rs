@@ -12,7 +12,7 @@ use soft_shadow_core::{Coverage, Light, SceneGeometry};
 
 /// One segment of a light and what it contributes.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Segment {
+pub(crate) struct Segment {
     /// One end.
     pub a: Vec3,
     /// The other end.
@@ -26,7 +26,7 @@ pub struct Segment {
 /// The segments of `light` (validated): one for a segment light, the three edges of a
 /// triangle; none for the other kinds, which the technique does not model (its checks refuse
 /// them before a kernel runs).
-pub fn segments(light: &Light, geometry: &SceneGeometry) -> Vec<Segment> {
+pub(crate) fn segments(light: &Light, geometry: &SceneGeometry) -> Vec<Segment> {
     let axis = light.axis(Coverage::new(geometry, light).center());
     match *light {
         Light::Linear { a, b } => vec![Segment {

@@ -29,13 +29,13 @@ use std::sync::Arc;
 /// 4.0). So skins and their warps read a second depth map per sample that also holds the
 /// receivers; the shading test keeps the casters-only map, so a receiver-only mesh still casts
 /// nothing.
-pub fn grid_geometry(geometry: &soft_shadow_core::SceneGeometry) -> Vec<[Vec3; 3]> {
+pub(crate) fn grid_geometry(geometry: &soft_shadow_core::SceneGeometry) -> Vec<[Vec3; 3]> {
     geometry.surfaces()
 }
 
 /// One skin triangle: world positions and the Gouraud values of its vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Skin {
+pub(crate) struct Skin {
     /// World-space vertices.
     pub vertices: [Vec3; 3],
     /// 0 on the occluder, 1 on the receiver.
@@ -43,12 +43,12 @@ pub struct Skin {
 }
 
 /// The grid triangles of a quad with top-left texel `(x, y)`: `(a, b, c)` and `(b, d, c)`.
-pub const QUAD_TRIANGLES: [[(u32, u32); 3]; 2] =
+pub(crate) const QUAD_TRIANGLES: [[(u32, u32); 3]; 2] =
     [[(0, 0), (1, 0), (0, 1)], [(1, 0), (1, 1), (0, 1)]];
 
 /// Unprojects texel centres of a map rendered through a view.
 #[derive(Clone, Copy, Debug)]
-pub struct Unproject {
+pub(crate) struct Unproject {
     /// View to world.
     pub inv_view: Mat4,
     /// `x_view = ndc_x * z / sx` (perspective) or `ndc_x / sx` (orthographic).
@@ -63,7 +63,7 @@ pub struct Unproject {
 
 impl Unproject {
     /// The unprojection of `view` for a `res`-wide map.
-    pub fn new(view: &View, res: u32) -> Self {
+    pub(crate) fn new(view: &View, res: u32) -> Self {
         let p = view.projection();
         Self {
             inv_view: view.view.inverse(),
@@ -75,7 +75,7 @@ impl Unproject {
     }
 
     /// The world point of texel `(x, y)`'s centre at linear depth `z`.
-    pub fn point(&self, x: u32, y: u32, z: f32) -> Vec3 {
+    pub(crate) fn point(&self, x: u32, y: u32, z: f32) -> Vec3 {
         let r = self.res as f32;
         let nx = (x as f32 + 0.5) / r * 2.0 - 1.0;
         let ny = 1.0 - (y as f32 + 0.5) / r * 2.0;
@@ -91,7 +91,7 @@ impl Unproject {
 /// Edge flags of a linear depth map: `|4 w - sum of the 4 neighbours' w| > t w` with `w = 1/z`
 /// (empty texels have `w = 0`). A neighbour beyond the border is extrapolated linearly from the
 /// other side (`2 w - w_opposite`), so a plane stays free of edges up to the border.
-pub fn edges(pool: &Arc<Pool>, depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
+pub(crate) fn edges(pool: &Arc<Pool>, depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
     let (w, h) = (depth.width() as usize, depth.height() as usize);
     let rows = w.max(1);
     // `w = 1/z` once per texel (its five readers share it).
@@ -146,7 +146,7 @@ pub fn edges(pool: &Arc<Pool>, depth: &Map2D<f32>, t: f32) -> Map2D<bool> {
 
 /// The Gouraud values of a grid triangle with linear depths `z`, or `None` when it spans no
 /// discontinuity: `(max - min) > t * min`, vertices beyond the midpoint are the receiver (1).
-pub fn skin_values(z: [f32; 3], t: f32) -> Option<[f32; 3]> {
+pub(crate) fn skin_values(z: [f32; 3], t: f32) -> Option<[f32; 3]> {
     let lo = z[0].min(z[1]).min(z[2]);
     let hi = z[0].max(z[1]).max(z[2]);
     if hi - lo <= t * lo {
@@ -157,7 +157,7 @@ pub fn skin_values(z: [f32; 3], t: f32) -> Option<[f32; 3]> {
 }
 
 /// Every skin of the map `depth` seen through `view`.
-pub fn skins(pool: &Arc<Pool>, view: &View, depth: &Map2D<f32>, t: f32) -> Vec<Skin> {
+pub(crate) fn skins(pool: &Arc<Pool>, view: &View, depth: &Map2D<f32>, t: f32) -> Vec<Skin> {
     let res = depth.width();
     if res < 2 {
         return Vec::new();

@@ -25,15 +25,15 @@ use soft_shadow_core::{Map2D, MapParams};
 use std::sync::Arc;
 
 /// Relative depth tolerance of a skin fragment against the destination's depth map.
-pub const SKIN_DEPTH_TOLERANCE: f32 = 1e-3;
+pub(crate) const SKIN_DEPTH_TOLERANCE: f32 = 1e-3;
 
 /// Where no skin covers a texel of [`warp`]'s output (changes lie in `[-1/2, 1/2]`).
-pub const NO_SKIN: f32 = -1.0;
+pub(crate) const NO_SKIN: f32 = -1.0;
 
 /// The fraction of the four bilinear taps around world point `p` in map `m` (linear depths
 /// `depth`) that it passes, with the relative depth tolerance `t`; 1 outside the map, as
 /// evaluation counts it. `skins.wgsl`'s `lit_fraction`.
-pub fn lit_fraction(m: &MapParams, depth: &Map2D<f32>, p: Vec3, t: f32) -> f32 {
+pub(crate) fn lit_fraction(m: &MapParams, depth: &Map2D<f32>, p: Vec3, t: f32) -> f32 {
     let clip = glam::Mat4::from_cols_array(&m.view_proj) * p.extend(1.0);
     if clip.w <= 0.0 {
         return 1.0;
@@ -55,7 +55,7 @@ pub fn lit_fraction(m: &MapParams, depth: &Map2D<f32>, p: Vec3, t: f32) -> f32 {
 }
 
 /// The map a skin came from: its parameters, linear depths and the discontinuity threshold.
-pub struct Source<'a> {
+pub(crate) struct Source<'a> {
     /// The source's map parameters.
     pub params: &'a MapParams,
     /// The source's linear depths.
@@ -70,7 +70,7 @@ pub struct Source<'a> {
 /// `(s v - s / 2) (1 - lit)` at each texel a skin covers; the others keep their value. (The GPU
 /// warps into a texture cleared to [`NO_SKIN`] and adds it where it holds a change, which is
 /// never `NO_SKIN`: the same sums.)
-pub fn warp(
+pub(crate) fn warp(
     pool: &Arc<Pool>,
     skins: &[Skin],
     view: &View,

@@ -10,14 +10,14 @@ use crate::params::Combination;
 
 /// A running combination of slice occlusions; [`Accumulator::visibility`] gives `V`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Accumulator {
+pub(crate) struct Accumulator {
     how: Combination,
     value: f32,
 }
 
 impl Accumulator {
     /// No occlusion yet.
-    pub fn new(how: Combination) -> Self {
+    pub(crate) fn new(how: Combination) -> Self {
         let value = match how {
             Combination::Product => 1.0,
             Combination::Sum | Combination::Max => 0.0,
@@ -26,7 +26,7 @@ impl Accumulator {
     }
 
     /// Adds a slice that hides the fraction `i` (clamped to [0, 1]) of the light.
-    pub fn add(&mut self, i: f32) {
+    pub(crate) fn add(&mut self, i: f32) {
         let i = i.clamp(0.0, 1.0);
         match self.how {
             Combination::Product => self.value *= 1.0 - i,
@@ -36,7 +36,7 @@ impl Accumulator {
     }
 
     /// The visible fraction of the light, in [0, 1].
-    pub fn visibility(&self) -> f32 {
+    pub(crate) fn visibility(&self) -> f32 {
         match self.how {
             Combination::Product => self.value.clamp(0.0, 1.0),
             Combination::Sum | Combination::Max => 1.0 - self.value.clamp(0.0, 1.0),

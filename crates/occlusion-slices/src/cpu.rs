@@ -21,7 +21,7 @@ pub struct CpuSliceMaps {
 }
 
 /// Slices and prefilters (inputs already checked), the storage from `cpu`'s pool.
-pub fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation) -> CpuSliceMaps {
+pub(crate) fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation) -> CpuSliceMaps {
     let (geometry, res) = (input.geometry, input.resolution);
     let frame = Frame::fit(input.light, geometry, t.slices, res, t.thin_fix);
     let masks = slice(cpu.pool(), &frame, geometry);
@@ -43,7 +43,7 @@ impl CpuSliceMaps {
 }
 
 /// `V` per receiver (inputs already checked).
-pub fn evaluate(t: &OcclusionSlices, maps: &CpuSliceMaps, r: &Receivers) -> Vec<f32> {
+pub(crate) fn evaluate(t: &OcclusionSlices, maps: &CpuSliceMaps, r: &Receivers) -> Vec<f32> {
     r.positions
         .par_iter()
         .zip(r.normals.par_iter())

@@ -11,7 +11,7 @@ use crate::params::OcclusionSlices;
 use glam::{Vec2, Vec3};
 
 /// `V` at `p` (unit normal `n`) with `mean(k, centre, size)` the filtered occlusion of slice `k`.
-pub fn visibility(
+pub(crate) fn visibility(
     t: &OcclusionSlices,
     frame: &Frame,
     p: Vec3,

@@ -19,7 +19,7 @@ use soft_shadow_core::{Light, SceneGeometry};
 
 /// Fraction of a slice's thickness beyond a plane that still counts as on it (rasterized
 /// depths carry rounding; a surface exactly on a plane must not flicker between two slices).
-pub const SLICE_TOLERANCE: f32 = 1e-3;
+pub(crate) const SLICE_TOLERANCE: f32 = 1e-3;
 
 /// Casters nearer the light's plane than this fraction of the farthest caster do not widen the
 /// frustum (a wall through the light's plane would otherwise ask for a 180-degree field of view).
@@ -28,7 +28,7 @@ const FIT_FLOOR: f32 = 0.02;
 /// The slicing frame, laid out as `Frame` in `frame.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
-pub struct Frame {
+pub(crate) struct Frame {
     /// World to clip of the COP's view (reversed Z), column-major.
     pub view_proj: [f32; 16],
     /// Light centre (xyz).
@@ -67,7 +67,7 @@ pub struct Frame {
 
 /// A receiver seen from the light: `x, y` along the image axes, `h` along the normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightCoord {
+pub(crate) struct LightCoord {
     /// Along `axis_x`.
     pub x: f32,
     /// Along `axis_y`.
@@ -79,7 +79,7 @@ pub struct LightCoord {
 /// The rectangle a light is sliced with: centre, normal and two half axes. A disk becomes the
 /// square of equal area, a sphere its silhouette disc facing the scene's centre, then that square,
 /// a triangle the square of equal area at its centroid in its plane.
-pub fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec3, Vec3)> {
+pub(crate) fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec3, Vec3)> {
     let square = |center: Vec3, normal: Vec3, radius: f32| {
         let (t, b) = orthonormal_basis(normal);
         let half = 0.5 * radius * std::f32::consts::PI.sqrt();
@@ -108,7 +108,7 @@ pub fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec3, Vec3
 
 impl Frame {
     /// Fits the frame to `geometry`'s casters for `light` (a rect, disk or sphere).
-    pub fn fit(
+    pub(crate) fn fit(
         light: &Light,
         geometry: &SceneGeometry,
         slices: u32,
@@ -206,7 +206,7 @@ impl Frame {
     }
 
     /// The COP's view, as the slicing pass rasterizes it.
-    pub fn view(&self) -> View {
+    pub(crate) fn view(&self) -> View {
         let normal = Vec3::from_slice(&self.normal[..3]);
         let cop = Vec3::from_slice(&self.center[..3]) - normal * self.d;
         View {
@@ -221,12 +221,12 @@ impl Frame {
     }
 
     /// Depth `p_k` of slice plane `k`.
-    pub fn plane(&self, k: u32) -> f32 {
+    pub(crate) fn plane(&self, k: u32) -> f32 {
         self.near + k as f32 * self.spacing
     }
 
     /// The slice of a fragment at COP view depth `z` (`z = d + h`).
-    pub fn slice_of(&self, z: f32) -> u32 {
+    pub(crate) fn slice_of(&self, z: f32) -> u32 {
         let h = z - self.d;
         let v = (h - self.near) / self.spacing - SLICE_TOLERANCE;
         // ceil(v) clamped to [0, slices - 1] (NaN: 0), without `f32::ceil`: SSE2 has no rounding
@@ -243,7 +243,7 @@ impl Frame {
     }
 
     /// A world point in light coordinates.
-    pub fn light_coord(&self, p: Vec3) -> LightCoord {
+    pub(crate) fn light_coord(&self, p: Vec3) -> LightCoord {
         let q = p - Vec3::from_slice(&self.center[..3]);
         LightCoord {
             x: q.dot(Vec3::from_slice(&self.axis_x[..3])),
@@ -253,14 +253,14 @@ impl Frame {
     }
 
     /// World size of a texel of the frustum at depth `h`.
-    pub fn texel_size(&self, h: f32) -> f32 {
+    pub(crate) fn texel_size(&self, h: f32) -> f32 {
         2.0 * self.half_x * (self.d + h) / (self.d * self.resolution as f32)
     }
 
     /// The kernel of section 3.1 for a receiver at `c` on plane depth `p < c.h`: the centre in
     /// continuous texel coordinates (texel `i` covers `[i, i + 1)`) and the side in texels of the
     /// intersection of the plane with the pyramid from the receiver to the light.
-    pub fn kernel(&self, c: LightCoord, p: f32) -> (Vec2, f32) {
+    pub(crate) fn kernel(&self, c: LightCoord, p: f32) -> (Vec2, f32) {
         let along = p / c.h;
         let z = self.d + p;
         let res = self.resolution as f32;
@@ -275,7 +275,7 @@ impl Frame {
 
     /// Weight of slice `k` for a receiver at depth `h`: 0 while the receiver lies above the
     /// slice's lower plane (in it or nearer the light), rising linearly to 1 one slice beyond it.
-    pub fn fade(&self, k: u32, h: f32) -> f32 {
+    pub(crate) fn fade(&self, k: u32, h: f32) -> f32 {
         ((h - self.plane(k)) / self.spacing).clamp(0.0, 1.0)
     }
 }

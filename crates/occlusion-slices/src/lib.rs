@@ -1,38 +1,4 @@
-//! Eisemann & Décoret (2006), *Plausible Image Based Soft Shadows Using Occlusion Textures*, on
-//! the CPU and the GPU.
-//!
-//! The scene is cut into 4 to 16 slices parallel to a rectangular light, each projected from a
-//! centre of projection behind the light onto a binary *occlusion texture* ([`frame`],
-//! [`slicing`]). A point `P` sees, through each slice between it and the light, the box of side
-//! `s(P) = d(P, slice) / d(P, light) * size(light)` (equation 4); its mean occupancy `I_k` is one
-//! prefiltered lookup ([`filters`]: mipmaps, N-Buffers or an exact summed-area table), and the
-//! slices combine by the probabilistic product `V = prod(1 - I_k)` (equation 5, [`combine`]).
-//! For a single planar occluder parallel to the light this is exact (section 3.1).
-//!
-//! - Lights: rectangles as in the paper. A disk or a triangle is modelled as the square of
-//!   equal area, a sphere as its silhouette disc facing the scene, then that square (documented
-//!   approximations). Point, segment and distant lights are
-//!   [`soft_shadow_core::ShadowError::UnsupportedLight`]: the frustum is fitted to the light's area.
-//! - Self-shadowing (section 3.4): the slice containing `P` is not used, and the slice above it
-//!   fades in linearly with `P`'s distance below that slice's lower plane ([`Frame::fade`]), so
-//!   `V` stays continuous where a surface crosses a plane and a receiver lying on a plane is not
-//!   shadowed by its own projection.
-//! - The thin-occluder fix (a fragment also fills the next slice) is an option.
-//!
-//! Modules, one concept each: [`params`], [`frame`] (COP, frustum, slice planes, kernels),
-//! [`slicing`] (CPU slicing pass), [`filters`] (the three box filters), [`combine`]
-//! (equation 5 and its alternatives), [`eval`] (shading one receiver), [`cpu`] and [`gpu`].
-//!
-//! ```no_run
-//! use occlusion_slices::{Prefilter, OcclusionSlices};
-//! use soft_shadow_core::{Receivers, ShadowTechnique};
-//! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
-//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
-//! let technique = OcclusionSlices::new(8, Prefilter::NBuffer);
-//! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 256)?;
-//! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
-//! # Ok(()) }
-//! ```
+#![doc = include_str!("../README.md")]
 
 mod combine;
 mod cpu;
@@ -48,7 +14,7 @@ mod tests;
 pub use cpu::CpuSliceMaps;
 pub use gpu::GpuSliceMaps;
 pub use gpu::pipelines::{SHADERS, VISIBILITY};
-pub use params::{Combination, Prefilter, MAX_RESOLUTION, OcclusionSlices};
+pub use params::{Combination, MAX_RESOLUTION, OcclusionSlices, Prefilter, SLICE_RANGE};
 
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::gpu::shader::VisibilityShader;

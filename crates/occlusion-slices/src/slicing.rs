@@ -23,7 +23,7 @@ const MAX_SLICES: usize = 16;
 /// The slice of a fragment from its NDC depth `z` (reversed Z), equal to
 /// `frame.slice_of(view.linear_depth_from_ndc(z))` for every `f32`.
 #[derive(Clone, Copy, Debug)]
-pub struct NdcSlicer {
+pub(crate) struct NdcSlicer {
     /// For `z > 0` the slice is at least `k` exactly where `z <= at[k - 1]`; unused entries are
     /// `-inf`, which no positive `z` is below.
     at: [f32; MAX_SLICES],
@@ -34,7 +34,7 @@ pub struct NdcSlicer {
 impl NdcSlicer {
     /// The slicer of `frame` through `view`, or `None` where the slice is not monotone in NDC
     /// depth (a view whose far plane is not beyond its near one, a spacing that is not positive).
-    pub fn new(frame: &Frame, view: &View) -> Option<Self> {
+    pub(crate) fn new(frame: &Frame, view: &View) -> Option<Self> {
         let monotone = view.near > 0.0
             && view.far > view.near
             && view.far.is_finite()
@@ -77,7 +77,7 @@ impl NdcSlicer {
 
     /// The slice of NDC depth `z` (NaN: slice 0, as [`Frame::slice_of`] gives NaN).
     #[inline(always)]
-    pub fn slice(&self, z: f32) -> u32 {
+    pub(crate) fn slice(&self, z: f32) -> u32 {
         // Both sides computed, one chosen: no branch in the rasterizer's span loop.
         let above: u32 = self.at.iter().map(|&t| (z <= t) as u32).sum();
         if z <= 0.0 { self.behind } else { above }
@@ -85,7 +85,7 @@ impl NdcSlicer {
 }
 
 /// The slice masks of `geometry`: `res²` texels, bit `k` set where slice `k` is occupied.
-pub fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -> Map2D<u32> {
+pub(crate) fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -> Map2D<u32> {
     let res = frame.resolution;
     let n = frame.slices;
     if frame.occupied == 0 {
@@ -135,7 +135,7 @@ pub fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -> Map2D
 }
 
 /// Slice `k` of `masks` as one flag per texel, row-major (tests and images).
-pub fn unpack(masks: &Map2D<u32>, k: u32) -> Vec<bool> {
+pub(crate) fn unpack(masks: &Map2D<u32>, k: u32) -> Vec<bool> {
     masks.data().iter().map(|m| m & (1 << k) != 0).collect()
 }
 

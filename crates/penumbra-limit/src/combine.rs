@@ -25,7 +25,7 @@ use rayon::prelude::*;
 use soft_shadow_core::Map2D;
 
 /// The generators' output, before storage.
-pub struct Layers {
+pub(crate) struct Layers {
     /// Normalised depth of the nearest geometry ([`NONE_DEPTH`] where empty).
     pub geom: Map2D<f32>,
     /// The winning edge: `[c, p_i]` normalised, `c =` [`NONE_DEPTH`] where no ribbon reaches.
@@ -35,10 +35,10 @@ pub struct Layers {
 }
 
 /// The edge value of a texel no ribbon reaches.
-pub const NO_EDGE: [f32; 2] = [NONE_DEPTH, MAX_P];
+pub(crate) const NO_EDGE: [f32; 2] = [NONE_DEPTH, MAX_P];
 
 /// Whether an edge value is real.
-pub fn has_edge(e: [f32; 2]) -> bool {
+pub(crate) fn has_edge(e: [f32; 2]) -> bool {
     e[0] < NONE_DEPTH
 }
 
@@ -88,7 +88,7 @@ fn texel(
 }
 
 /// The stored map: every texel combined, then quantised by `storage`.
-pub fn combine(
+pub(crate) fn combine(
     pool: &std::sync::Arc<soft_shadow_core::pool::Pool>,
     l: &Layers,
     warp: &Warp,

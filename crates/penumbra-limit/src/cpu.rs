@@ -34,7 +34,7 @@ impl CpuPenumbraMaps {
 
 /// The generators' layers before combination (inputs already checked), their storage from
 /// `cpu`'s pool.
-pub fn layers(
+pub(crate) fn layers(
     t: &PenumbraLimit,
     cpu: &CpuContext,
     view: &SampleView,
@@ -65,7 +65,7 @@ pub fn layers(
 }
 
 /// Builds the map of the input's light at its resolution (inputs already checked).
-pub fn generate(t: &PenumbraLimit, cpu: &CpuContext, input: &Generation) -> CpuPenumbraMaps {
+pub(crate) fn generate(t: &PenumbraLimit, cpu: &CpuContext, input: &Generation) -> CpuPenumbraMaps {
     let (geometry, light, resolution) = (input.geometry, input.light, input.resolution);
     let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
@@ -80,7 +80,7 @@ pub fn generate(t: &PenumbraLimit, cpu: &CpuContext, input: &Generation) -> CpuP
 }
 
 /// `V` for every receiver.
-pub fn evaluate(t: &PenumbraLimit, maps: &CpuPenumbraMaps, r: &Receivers) -> Vec<f32> {
+pub(crate) fn evaluate(t: &PenumbraLimit, maps: &CpuPenumbraMaps, r: &Receivers) -> Vec<f32> {
     let prm = EvalParams::new(
         maps.params,
         t.bias,

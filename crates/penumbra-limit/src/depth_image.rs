@@ -118,7 +118,12 @@ fn edge_masks(geom: &Map2D<f32>, warp: &Warp, layer_gap: f32, y: usize, out: &mu
 /// is a near-side seed when it is on the near side of an edge towards some 4-neighbour
 /// ([`near_side`]), a far-side seed when some 4-neighbour is on the near side towards it; both
 /// from one mask per texel of its [`near_side`] tests.
-pub fn seeds(pool: &Pool, geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Vec<u32>, Vec<u32>) {
+pub(crate) fn seeds(
+    pool: &Pool,
+    geom: &Map2D<f32>,
+    warp: &Warp,
+    layer_gap: f32,
+) -> (Vec<u32>, Vec<u32>) {
     let (w, h) = (geom.width() as usize, geom.height() as usize);
     let n = w * h;
     let mut masks: Vec<u8> = pool.overwrite(n, 0);
@@ -159,13 +164,13 @@ pub fn seeds(pool: &Pool, geom: &Map2D<f32>, warp: &Warp, layer_gap: f32) -> (Ve
 /// casters' texels, at or beyond the near plane), so a texel with a seed more than
 /// `ribbon_texels(0) + 1/2` away is in no ribbon. One more texel covers the rounding of depths
 /// at the near plane (`torus` at 2048²: 201 texels).
-pub fn ribbon_reach(warp: &Warp) -> u32 {
+pub(crate) fn ribbon_reach(warp: &Warp) -> u32 {
     // Saturating: a light too small for its ribbons to fit the map skips no texel.
     (warp.ribbon_texels(0.0) + 1.5).ceil() as u32
 }
 
 /// Steps 2 and 3 for one texel, from its nearest seeds: `([c, p_i], lower)`.
-pub fn texel_limits(
+pub(crate) fn texel_limits(
     geom: &Map2D<f32>,
     warp: &Warp,
     layer_gap: f32,
@@ -196,7 +201,7 @@ pub fn texel_limits(
 }
 
 /// The edge and lower-limit layers from the geometry map.
-pub fn limits(
+pub(crate) fn limits(
     pool: &Arc<Pool>,
     geom: &Map2D<f32>,
     warp: &Warp,

@@ -14,7 +14,7 @@ use soft_shadow_core::{Bias, Map2D, MapParams};
 /// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
-pub struct EvalParams {
+pub(crate) struct EvalParams {
     /// The light-space map.
     pub map: MapParams,
     /// Receiver biases.
@@ -33,7 +33,13 @@ pub struct EvalParams {
 
 impl EvalParams {
     /// Parameters for a map stored as `storage`.
-    pub fn new(map: MapParams, bias: Bias, warp: Warp, storage: Storage, table_size: u32) -> Self {
+    pub(crate) fn new(
+        map: MapParams,
+        bias: Bias,
+        warp: Warp,
+        storage: Storage,
+        table_size: u32,
+    ) -> Self {
         Self {
             map,
             bias,
@@ -47,7 +53,7 @@ impl EvalParams {
 }
 
 /// The four channels bilinearly interpolated at texel coordinate `st`.
-pub fn bilinear_texel(map: &Map2D<Texel>, st: Vec2) -> Texel {
+pub(crate) fn bilinear_texel(map: &Map2D<Texel>, st: Vec2) -> Texel {
     map.bilinear_taps(st)
         .iter()
         .fold(Texel::default(), |acc, (t, w)| Texel {
@@ -60,7 +66,7 @@ pub fn bilinear_texel(map: &Map2D<Texel>, st: Vec2) -> Texel {
 
 /// The fraction `l_g` of the light's diameter visible from receiver `p` (normal `n`), before
 /// the table; 1 outside the map.
-pub fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n: Vec3) -> f32 {
+pub(crate) fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n: Vec3) -> f32 {
     let Some(co) = shadow_coord(&prm.map, &prm.bias, p, n) else {
         return 1.0;
     };
@@ -70,7 +76,7 @@ pub fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n: Vec3) 
 }
 
 /// `V` of one receiver: the visible fraction through the illumination table.
-pub fn shade(
+pub(crate) fn shade(
     prm: &EvalParams,
     map: &Map2D<Texel>,
     table: &IlluminationTable,

@@ -217,7 +217,7 @@ impl Envelope {
 ///
 /// If `seeds` (or `keys`, where given) does not hold `res²` values, or `res` is 65536 or more
 /// (beyond what [`pack`] holds).
-pub fn nearest(pool: &Pool, seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> Vec<u32> {
+pub(crate) fn nearest(pool: &Pool, seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> Vec<u32> {
     let n = res as usize;
     assert!(res < 1 << 16 && seeds.len() == n * n && keys.is_none_or(|k| k.len() == n * n));
     let keys = Keys { keys, res: n };

@@ -1,39 +1,4 @@
-//! Lawlor (2006), *Interpolation-Friendly Soft Shadow Maps*: penumbra limit maps, on the CPU and
-//! the GPU.
-//!
-//! One map from the light's centre stores four channels per texel: the occluder edge depth `c`,
-//! the geometry upper limit `g`, the lower limit `b` and the signed penumbra limit `p_i`. A
-//! receiver at map depth `z` sees the fraction `l_g` of the light's diameter given by equation 2
-//! ([`visibility::clamped_visibility`]), and the visibility-to-illumination table of appendix A
-//! ([`table`]) turns that into the fraction of the light's power. Along a straight edge every
-//! channel is linear in the map plane, so the map survives bilinear interpolation: that is the
-//! paper's point, and why coarse maps stay smooth.
-//!
-//! - Two generators ([`Generator`]): silhouette extrusion in the paper's three steps
-//!   ([`silhouette`], GPU: `silhouette.wgsl`), and propagation from a depth image
-//!   ([`depth_image`], GPU: `depth_image.wgsl`).
-//! - Three storage formats ([`Storage`]): f32, f16 and the paper's RGBA8 packing.
-//! - Lights: distant lights as in the paper; disk, sphere and rect lights through the perspective
-//!   warp the conclusion proposes ([`warp`]; a sphere is its facing disc, a rect the disk of equal
-//!   area); a point light gives an antialiased hard shadow. A segment light is
-//!   [`soft_shadow_core::ShadowError::UnsupportedLight`]: its penumbra depends on the edge's direction,
-//!   which one scalar `p_i` per texel cannot hold.
-//!
-//! Modules, one concept each: [`visibility`] (equations 1 and 2), [`table`] (section A),
-//! [`storage`] (formats and packing), [`warp`] (map depths and local lights), [`params`],
-//! [`silhouette`] and [`depth_image`] (generators), [`combine`] (the stored texel), [`eval`]
-//! (per-receiver shading shared by both backends), [`cpu`] and [`gpu`].
-//!
-//! ```no_run
-//! use penumbra_limit::{Generator, PenumbraLimit};
-//! use soft_shadow_core::{Receivers, ShadowTechnique};
-//! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
-//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
-//! let technique = PenumbraLimit::new(Generator::Silhouette);
-//! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 256)?;
-//! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
-//! # Ok(()) }
-//! ```
+#![doc = include_str!("../README.md")]
 
 mod combine;
 mod cpu;
@@ -55,7 +20,7 @@ pub use gpu::GpuPenumbraMaps;
 pub use gpu::pipelines::VISIBILITY;
 pub use params::{Generator, PenumbraLimit};
 pub use storage::{Storage, Texel};
-pub use table::Profile;
+pub use table::{Profile, TABLE_SIZE_RANGE};
 
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::gpu::shader::VisibilityShader;

@@ -30,7 +30,7 @@ impl Generator {
 }
 
 /// Default table size (the paper's 512 entries).
-pub const DEFAULT_TABLE_SIZE: u32 = 512;
+pub(crate) const DEFAULT_TABLE_SIZE: u32 = 512;
 
 /// Penumbra limit maps (Lawlor 2006) with their parameters.
 #[derive(Clone, Debug, PartialEq)]

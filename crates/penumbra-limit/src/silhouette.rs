@@ -29,7 +29,7 @@ use std::sync::{Arc, Mutex};
 /// One mesh edge and the faces beside it, laid out as `Edge` in `silhouette.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
-pub struct Edge {
+pub(crate) struct Edge {
     /// One end (w = 1).
     pub a: [f32; 4],
     /// The other end (w = 1).
@@ -54,7 +54,7 @@ fn key(p: Vec3) -> VertexKey {
 /// The edges of a triangle soup: vertices welded where bit-identical; an edge with exactly two
 /// faces is one [`Edge`], an edge of one face or of three and more is a border of each face.
 /// Zero-area triangles have no orientation and are skipped.
-pub fn edges(tris: &[[Vec3; 3]]) -> Vec<Edge> {
+pub(crate) fn edges(tris: &[[Vec3; 3]]) -> Vec<Edge> {
     let mut by_edge: HashMap<(VertexKey, VertexKey), Vec<(usize, usize)>> = HashMap::new();
     let normal = |t: &[Vec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
     for (ti, t) in tris.iter().enumerate() {
@@ -123,7 +123,7 @@ type CachedSet = (Arc<[u32]>, Arc<Vec<Edge>>);
 /// (`CACHED_SETS`) within 64 MiB (`CACHED_BYTES`) are kept; looking one up compares the
 /// triangles' bits (a copy of them is kept with the edges).
 #[derive(Default)]
-pub struct EdgeCache {
+pub(crate) struct EdgeCache {
     sets: Mutex<Vec<CachedSet>>,
 }
 
@@ -134,7 +134,7 @@ fn cached_bytes((bits, edges): &CachedSet) -> usize {
 
 impl EdgeCache {
     /// [`edges`] of `tris`, built once per caster set (see the type).
-    pub fn edges(&self, tris: &[[Vec3; 3]]) -> Arc<Vec<Edge>> {
+    pub(crate) fn edges(&self, tris: &[[Vec3; 3]]) -> Arc<Vec<Edge>> {
         self.edges_within(tris, CACHED_SETS, CACHED_BYTES)
     }
 
@@ -180,7 +180,7 @@ fn cached_edges_within(
 
 /// An edge projected into the map, as the ribbon fragments need it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ribbon {
+pub(crate) struct Ribbon {
     /// Ends in texel coordinates.
     pub a: Vec2,
     /// See `a`.
@@ -209,11 +209,11 @@ fn faces_light(m: &MapParams, n: Vec3, p: Vec3) -> bool {
 }
 
 /// Distance (texels) from the edge's line within which a face counts as seen edge-on.
-pub const MIN_FACE_TEXELS: f32 = 1.0e-3;
+pub(crate) const MIN_FACE_TEXELS: f32 = 1.0e-3;
 
 /// The ribbon of `e` in map `m`, or `None` when it is not a silhouette edge, lies behind the
 /// light, or is seen end-on.
-pub fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
+pub(crate) fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
     let v = |a: [f32; 4]| Vec4::from(a).truncate();
     let (a, b) = (v(e.a), v(e.b));
     let border = e.o1[3] == 0.0;
@@ -261,7 +261,7 @@ pub fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
 
 impl Ribbon {
     /// The two quads (texel coordinates): the inner strip, then the outer strip with its caps.
-    pub fn quads(&self) -> [[Vec2; 4]; 2] {
+    pub(crate) fn quads(&self) -> [[Vec2; 4]; 2] {
         let t = (self.b - self.a).normalize_or_zero();
         let (a, b, o) = (self.a, self.b, self.out);
         [
@@ -278,7 +278,7 @@ impl Ribbon {
     /// A key no fragment of this ribbon goes below: [`Ribbon::fragment`]'s `c` lies between the
     /// ends' depths (up to the rounding of its interpolation, which the margin covers) and
     /// `|p_i| >= 0`. A texel whose key is already at or below it keeps its value.
-    pub fn key_floor(&self) -> f32 {
+    pub(crate) fn key_floor(&self) -> f32 {
         let lo = self.ca.min(self.cb);
         let margin = 4.0 * f32::EPSILON * (self.ca.abs().max(self.cb.abs()) + 1.0);
         let f = (lo - margin) * KEY_SCALE;
@@ -289,7 +289,7 @@ impl Ribbon {
     ///
     /// `sign` is the strip's: -1 for the inner strip, +1 for the outer one (a texel on the edge's
     /// line extension belongs to the strip that covers it, not to a rounding of its side).
-    pub fn fragment(&self, q: Vec2, ppt: f32, sign: f32) -> (f32, f32, f32) {
+    pub(crate) fn fragment(&self, q: Vec2, ppt: f32, sign: f32) -> (f32, f32, f32) {
         let d = self.b - self.a;
         let t = ((q - self.a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
         let dist = (q - (self.a + d * t)).length();
@@ -310,7 +310,7 @@ const BAND: u32 = 16;
 
 /// Scale of the depth-test key `c + |p_i|` (at most `1 + MAX_P`) into a depth in `[0, 1]`;
 /// 1 is "no ribbon" (the cleared depth), which a ribbon at `c = 1`, `|p_i| = MAX_P` never beats.
-pub const KEY_SCALE: f32 = 1.0 / (1.0 + crate::storage::MAX_P);
+pub(crate) const KEY_SCALE: f32 = 1.0 / (1.0 + crate::storage::MAX_P);
 
 /// One map row of a band while ribbons are rasterized: each texel's key and `[c, p_i]`.
 struct Row<'a> {
@@ -363,7 +363,7 @@ impl Row<'_> {
 }
 
 /// Step 2 on the CPU: the winning `[c, p_i]` per texel ([`NO_EDGE`] where no ribbon reaches).
-pub fn rasterize_ribbons(
+pub(crate) fn rasterize_ribbons(
     pool: &Arc<Pool>,
     ribbons: &[Ribbon],
     res: u32,
@@ -419,7 +419,7 @@ pub fn rasterize_ribbons(
 
 /// Step 3 on the CPU: normalised depth of the nearest back face deeper than the texel's edge
 /// depth by more than `layer_gap` texels ([`crate::warp::NONE_DEPTH`] where none).
-pub fn lower_limit(
+pub(crate) fn lower_limit(
     pool: &Arc<Pool>,
     view: &View,
     warp: &Warp,
@@ -446,7 +446,7 @@ pub fn lower_limit(
 }
 
 /// Whether linear depth `z` lies more than `layer_gap` texels below the edge at normalised `c`.
-pub fn deeper_than_edge(warp: &Warp, c: f32, z: f32, layer_gap: f32) -> bool {
+pub(crate) fn deeper_than_edge(warp: &Warp, c: f32, z: f32, layer_gap: f32) -> bool {
     let zc = warp.linear(c);
     warp.normalized(z) > c + warp.depth_gap(zc, layer_gap)
 }

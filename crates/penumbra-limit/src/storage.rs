@@ -8,7 +8,7 @@ use half::f16;
 
 /// Largest |p_i| stored (normalised depth units): the alpha packing covers `[-2, 2]`, and
 /// `|z - c| <= 1`, so clamping there changes no visibility.
-pub const MAX_P: f32 = 2.0;
+pub(crate) const MAX_P: f32 = 2.0;
 
 /// Texel format of a penumbra limit map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

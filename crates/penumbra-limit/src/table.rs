@@ -74,14 +74,14 @@ impl Profile {
 
 /// `f` sampled at `n` evenly spaced `l`, linearly interpolated.
 #[derive(Clone, Debug, PartialEq)]
-pub struct IlluminationTable {
+pub(crate) struct IlluminationTable {
     /// `f(i / (n - 1))`.
     pub values: Vec<f32>,
 }
 
 impl IlluminationTable {
     /// The table of `profile` with `n` entries (`n` in [`TABLE_SIZE_RANGE`], checked by the caller).
-    pub fn new(profile: Profile, n: u32) -> Self {
+    pub(crate) fn new(profile: Profile, n: u32) -> Self {
         let n = n.max(2) as usize;
         let mut values = vec![0.0f32; n];
         for i in 0..n.div_ceil(2) {
@@ -98,7 +98,7 @@ impl IlluminationTable {
     }
 
     /// `f(l)`, linear between entries; `l` is clamped to `[0, 1]`.
-    pub fn lookup(&self, l: f32) -> f32 {
+    pub(crate) fn lookup(&self, l: f32) -> f32 {
         let n = self.values.len();
         let s = l.clamp(0.0, 1.0) * (n - 1) as f32;
         let i = (s.floor() as usize).min(n - 2);

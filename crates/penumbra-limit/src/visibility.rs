@@ -6,10 +6,10 @@
 //! `p_i` (negative inside the silhouette, positive outside).
 
 /// Smallest `z - c` divided by; keeps `p / (z - c)` finite at `z = c` (a normal f32 on every GPU).
-pub const MIN_DEPTH_GAP: f32 = 1.0e-30;
+pub(crate) const MIN_DEPTH_GAP: f32 = 1.0e-30;
 
 /// `sat(x)`: clamp to `[0, 1]`.
-pub fn sat(x: f32) -> f32 {
+pub(crate) fn sat(x: f32) -> f32 {
     x.clamp(0.0, 1.0)
 }
 
@@ -18,7 +18,7 @@ pub fn sat(x: f32) -> f32 {
 ///
 /// Only meaningful for `z >= c`. At `z = c` it is the limit from below the edge: 1 outside
 /// (`p > 0`), 0 inside (`p < 0`) and 1/2 on the edge (`p = 0`).
-pub fn edge_visibility(z: f32, c: f32, p: f32) -> f32 {
+pub(crate) fn edge_visibility(z: f32, c: f32, p: f32) -> f32 {
     sat(0.5 + 0.5 * p / (z - c).max(MIN_DEPTH_GAP))
 }
 
@@ -41,7 +41,7 @@ pub fn clamped_visibility_piecewise(z: f32, c: f32, g: f32, b: f32, p: f32) -> f
 /// (it gives 0 where the cases give `l`); `(z <= b)` makes the two equal for every input.
 /// The step terms are summed first (an exact small integer `k`), so `sat(l + k)` is exactly
 /// `l`, 0 or 1 in floating point too: summed left to right, `l + 4` would round `l` away.
-pub fn clamped_visibility(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
+pub(crate) fn clamped_visibility(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
     let step = |t: bool| t as u32 as f32;
     let k = 4.0 * step(z < g) - 2.0 * step(z < c) + step(z <= b) - 1.0;
     sat(edge_visibility(z, c, p) + k)

@@ -21,20 +21,20 @@ use soft_shadow_core::view::NO_OCCLUDER;
 use soft_shadow_core::{Light, MapParams};
 
 /// Normalised depth of the far plane; 1 is kept for "none".
-pub const DEPTH_SPAN: f32 = 0.99;
+pub(crate) const DEPTH_SPAN: f32 = 0.99;
 /// Normalised "none": no geometry, edge or lower limit in a texel.
-pub const NONE_DEPTH: f32 = 1.0;
+pub(crate) const NONE_DEPTH: f32 = 1.0;
 /// Normalised depth of anything in front of the near plane, or at or behind a perspective
 /// map's eye plane (linear depth `z <= 0`, where `-1/z` would wrap to the far side): nearer than
 /// every occluder, so never shadowed by the map.
-pub const FRONT_DEPTH: f32 = -1.0;
+pub(crate) const FRONT_DEPTH: f32 = -1.0;
 /// Depth rate used for a light of size 0 (a hard, antialiased edge).
-pub const MAX_RATE: f32 = 1.0e30;
+pub(crate) const MAX_RATE: f32 = 1.0e30;
 
 /// The warp of one map, laid out as `Warp` in the shaders.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
-pub struct Warp {
+pub(crate) struct Warp {
     /// 1 for an orthographic map (distant light).
     pub ortho: u32,
     /// `zeta` of the near plane.
@@ -55,7 +55,7 @@ pub struct Warp {
 
 impl Warp {
     /// The warp of map `m` for `light`.
-    pub fn new(m: &MapParams, light: &Light) -> Self {
+    pub(crate) fn new(m: &MapParams, light: &Light) -> Self {
         let ortho = m.ortho;
         let zeta = |z: f32| if ortho == 1 { z } else { -1.0 / z };
         let zeta_near = zeta(m.near);
@@ -80,14 +80,14 @@ impl Warp {
     }
 
     /// `zeta` of a linear depth.
-    pub fn zeta(&self, z: f32) -> f32 {
+    pub(crate) fn zeta(&self, z: f32) -> f32 {
         if self.ortho == 1 { z } else { -1.0 / z }
     }
 
     /// Normalised depth of a linear depth, at most [`NONE_DEPTH`] (a linear depth of
     /// [`soft_shadow_core::view::NO_OCCLUDER`] gives it). For caster depths, which lie beyond the near
     /// plane; a receiver's depth goes through [`Warp::receiver_depth`].
-    pub fn normalized(&self, z: f32) -> f32 {
+    pub(crate) fn normalized(&self, z: f32) -> f32 {
         if z >= NO_OCCLUDER {
             return NONE_DEPTH;
         }
@@ -98,7 +98,7 @@ impl Warp {
     /// perspective map a depth at or behind the eye's plane (`z <= 0`: a receiver beside the
     /// light, or pushed there by a bias) is in front of everything: [`FRONT_DEPTH`], not the far
     /// plane that `-1/z` would wrap it to (a false umbra).
-    pub fn receiver_depth(&self, z: f32) -> f32 {
+    pub(crate) fn receiver_depth(&self, z: f32) -> f32 {
         if self.ortho == 0 && z <= 0.0 {
             return FRONT_DEPTH;
         }
@@ -106,14 +106,14 @@ impl Warp {
     }
 
     /// The linear depth of a normalised depth (inverse of [`Warp::normalized`] below 1).
-    pub fn linear(&self, n: f32) -> f32 {
+    pub(crate) fn linear(&self, n: f32) -> f32 {
         let zeta = n / self.zeta_scale + self.zeta_near;
         if self.ortho == 1 { zeta } else { -1.0 / zeta }
     }
 
     /// Normalised depth difference that `texels` texels of world size make at linear depth `z`
     /// (tolerances: "near the edge", "a jump in depth").
-    pub fn depth_gap(&self, z: f32, texels: f32) -> f32 {
+    pub(crate) fn depth_gap(&self, z: f32, texels: f32) -> f32 {
         if self.ortho == 1 {
             texels * self.unit * self.zeta_scale
         } else {
@@ -124,7 +124,7 @@ impl Warp {
 
     /// Half-width in texels of the ribbon of an edge at normalised depth `c`: the widest penumbra
     /// (at the far plane), plus two texels so bilinear neighbours of a penumbra texel carry it.
-    pub fn ribbon_texels(&self, c: f32) -> f32 {
+    pub(crate) fn ribbon_texels(&self, c: f32) -> f32 {
         let depth = (self.far_norm - c).max(0.0);
         (depth / self.p_per_texel.max(f32::MIN_POSITIVE)).min(1.0e6) + 2.0
     }

@@ -17,6 +17,19 @@ pub struct SceneGeometry {
 }
 
 impl SceneGeometry {
+    /// Geometry of `casters` and `receivers`, with their bounds.
+    pub fn new(casters: Vec<[Vec3; 3]>, receivers: Vec<[Vec3; 3]>) -> Self {
+        let mut bounds = Aabb::of_triangles(&casters);
+        for p in receivers.iter().flatten() {
+            bounds.grow(*p);
+        }
+        SceneGeometry {
+            casters,
+            receivers,
+            bounds,
+        }
+    }
+
     /// Checks that there is something to shadow: non-empty bounds, finite coordinates within
     /// [`MAX_COORDINATE`], and an extent f32 can resolve where the scene lies (at least a
     /// millionth of its distance from the origin).

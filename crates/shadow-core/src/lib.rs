@@ -1,18 +1,4 @@
-//! Shared foundation of the soft-shadow workspace.
-//!
-//! - [`geometry`]: plain world-space triangles ([`SceneGeometry`]), what technique kernels take.
-//! - [`light`]: the light kinds, their validation and sampling; [`view`]: camera and light frusta;
-//!   [`light_space`]: per-map parameters, light-sample views and receiver biases.
-//! - [`map2d`]: row-major maps; [`raster`]: the CPU rasterizer (depth maps and G-buffers) and
-//!   [`raster::snapped`], which texels a triangle covers under the GPU's fill rule;
-//!   the packing of nearest-seed maps ([`seeds`]); [`pool`]: reuse of large CPU buffers;
-//!   [`rng`]: the deterministic generator of procedural scenes and of tests' random cases.
-//! - [`technique`]: the [`ShadowTechnique`] trait; [`gpu`]: the wgpu context and GPU rasterization.
-//!
-//! The `bevy_ecs` scene, glTF import and the frame pipeline that schedules techniques are the
-//! `shadow-frame` crate.
-//!
-//! Conventions: right-handed, +Y up, metres; visibility `V` in `[0, 1]` (1 lit, 0 umbra).
+#![doc = include_str!("../README.md")]
 
 pub mod coverage;
 pub mod cpu;

@@ -1,26 +1,4 @@
-//! The frame pipeline: simulate only the effects a scene calls for.
-//!
-//! A `bevy_ecs` scene ([`scene`], [`Scene`]: meshes with transforms, casters, receivers, lights, a
-//! camera), glTF import ([`gltf`], feature `gltf`) and the per-frame schedule that runs the
-//! techniques of `soft-shadow-core` over it.
-//!
-//! Lights carry a [`ShadowConfig`] (an explicit technique, or `Auto` within a time budget);
-//! technique crates register one system set each ([`FramePipeline::add_technique`], called from
-//! their `add_to`), with a run condition: a technique no light uses, or a scene without casters,
-//! costs nothing. Every frame:
-//!
-//! 1. [`tracking::track_casters`]: old and new bounds of casters that moved, changed, appeared
-//!    or disappeared (`Changed`, `Added`, `RemovedComponents`); [`tracking::check_receivers`]:
-//!    the frame receivers validated once;
-//! 2. [`tracking::resolve_techniques`]: the technique of lights whose light or settings changed
-//!    (zero-size lights take the hard-shadow path; `Auto` picks from a [`TechniqueProfile`] and
-//!    says why in [`ResolvedTechnique::reason`]);
-//! 3. [`tracking::mark_stale`]: lights whose influence a changed caster reaches;
-//! 4. per technique, [`technique_system::run_technique`]: regenerate stale lights' maps, reuse the
-//!    others, evaluate the receivers within each light's influence.
-//!
-//! [`FrameStats`] says what was done: maps generated and reused, receivers evaluated, time per
-//! system.
+#![doc = include_str!("../README.md")]
 
 pub mod components;
 #[cfg(feature = "gltf")]

@@ -10,18 +10,18 @@ use soft_shadow_core::light_space::{above_horizon, shadow_coord};
 use soft_shadow_core::{Bias, Map2D, MapParams, Receivers, ShadowCoord};
 
 /// Filter modes as the shader numbers them.
-pub const MODE_HARD: u32 = 0;
+pub(crate) const MODE_HARD: u32 = 0;
 /// PCF.
-pub const MODE_PCF: u32 = 1;
+pub(crate) const MODE_PCF: u32 = 1;
 /// PCSS.
-pub const MODE_PCSS: u32 = 2;
+pub(crate) const MODE_PCSS: u32 = 2;
 /// Accumulation.
-pub const MODE_ACCUMULATE: u32 = 3;
+pub(crate) const MODE_ACCUMULATE: u32 = 3;
 
 /// Evaluation parameters, laid out as `Params` in `shadow_map_eval.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
-pub struct EvalParams {
+pub(crate) struct EvalParams {
     /// Number of maps.
     pub map_count: u32,
     /// One of the `MODE_*` constants.
@@ -44,7 +44,7 @@ pub struct EvalParams {
 
 impl EvalParams {
     /// Parameters of `b` for `map_count` maps and a light of `light_size`.
-    pub fn new(b: &ShadowMapBaseline, map_count: u32, light_size: f32) -> Self {
+    pub(crate) fn new(b: &ShadowMapBaseline, map_count: u32, light_size: f32) -> Self {
         let (mode, radius) = match b.filter {
             Filter::Hard => (MODE_HARD, 0),
             Filter::Pcf { radius } => (MODE_PCF, radius as i32),
@@ -172,7 +172,7 @@ fn pcss(map: &Map2D<f32>, m: &MapParams, prm: &EvalParams, c: &ShadowCoord) -> f
 }
 
 /// Visibility of every receiver from CPU maps.
-pub fn evaluate_cpu(prm: &EvalParams, maps: &CpuShadowMaps, r: &Receivers) -> Vec<f32> {
+pub(crate) fn evaluate_cpu(prm: &EvalParams, maps: &CpuShadowMaps, r: &Receivers) -> Vec<f32> {
     let params: Vec<MapParams> = maps
         .views
         .iter()

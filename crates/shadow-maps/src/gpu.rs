@@ -78,7 +78,7 @@ pub static VISIBILITY: VisibilityShader = VisibilityShader {
 };
 
 /// The bind group of `maps` filtered as `prm` says.
-pub fn bind_maps(
+pub(crate) fn bind_maps(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     prm: &EvalParams,

@@ -1,14 +1,4 @@
-//! What engines ship today, as [`ShadowTechnique`]s on CPU and GPU: the baselines every soft
-//! shadow technique is measured against, and the hard-shadow path of the frame pipeline.
-//!
-//! - hard shadow map (one nearest depth test),
-//! - PCF (Reeves, Salesin & Cook 1987) with a fixed square kernel,
-//! - PCSS (Fernando 2005): blocker search, penumbra estimate, variable-size PCF,
-//! - N-sample accumulation: one hard shadow map per stratified light sample, averaged.
-//!
-//! All share one set of light-space depth maps ([`maps`]), one filter definition evaluated on the
-//! CPU ([`filters`]) and in WGSL (`shadow_map_eval.wgsl`, [`gpu`]), so the two paths compute the
-//! same function.
+#![doc = include_str!("../README.md")]
 
 mod filters;
 mod gpu;

@@ -13,7 +13,7 @@ use std::sync::Arc;
 /// The falloff `f(x)` of the general form `I = f(c_scale * sw / sd)`.
 pub trait Falloff: Send + Sync {
     /// `f(x)` for `x >= 0` (`x` may be `+∞`). Must be continuous, non-increasing, with `f(0) = 1`;
-    /// results are clamped to `[0, 1]` by [`attenuation`].
+    /// results are clamped to `[0, 1]` where the falloff is evaluated.
     fn falloff(&self, x: f32) -> f32;
 }
 
@@ -60,7 +60,7 @@ impl Falloff for FalloffKind {
 }
 
 /// The paper's linear falloff `1 + c_bias - x`, clamped to `[0, 1]` (`x = +∞` gives 0).
-pub fn linear_falloff(c_bias: f32, x: f32) -> f32 {
+pub(crate) fn linear_falloff(c_bias: f32, x: f32) -> f32 {
     (1.0 + c_bias - x).clamp(0.0, 1.0)
 }
 
@@ -69,7 +69,7 @@ pub fn linear_falloff(c_bias: f32, x: f32) -> f32 {
 /// `sd <= 0`, `sw <= 0` or a NaN argument give 1 (lit: the depth test says so, the paper's
 /// property 1). `c_scale = +∞` gives the hard shadow (0 wherever `sd, sw > 0`). Finite for every
 /// input, subnormals and `sd -> 0+` included.
-pub fn attenuation(sd: f32, sw: f32, c_scale: f32, f: &dyn Falloff) -> f32 {
+pub(crate) fn attenuation(sd: f32, sw: f32, c_scale: f32, f: &dyn Falloff) -> f32 {
     if !(sd > 0.0 && sw > 0.0) {
         return 1.0;
     }
@@ -82,7 +82,7 @@ pub fn attenuation(sd: f32, sw: f32, c_scale: f32, f: &dyn Falloff) -> f32 {
 
 /// `t = x / (1 + x)` in `[0, 1]`, the table coordinate of `x = c_scale * sw / sd` (`+∞` gives 1),
 /// computed as `num / (num + sd)` so that it never overflows.
-pub fn table_coordinate(num: f32, sd: f32) -> f32 {
+pub(crate) fn table_coordinate(num: f32, sd: f32) -> f32 {
     if num.is_infinite() {
         return 1.0;
     }
@@ -92,7 +92,7 @@ pub fn table_coordinate(num: f32, sd: f32) -> f32 {
 
 /// The dependent lookup table: `f` sampled at `t_i = i / (n - 1)`, linearly interpolated.
 #[derive(Clone, Debug, PartialEq)]
-pub struct AttenuationTable {
+pub(crate) struct AttenuationTable {
     /// `f(x(t_i))`, clamped to `[0, 1]`.
     pub values: Vec<f32>,
 }
@@ -102,7 +102,7 @@ pub const TABLE_SIZE_RANGE: std::ops::RangeInclusive<u32> = 2..=65536;
 
 impl AttenuationTable {
     /// Samples `f` at `size` points of `t` (`size` is clamped to [`TABLE_SIZE_RANGE`]).
-    pub fn new(f: &dyn Falloff, size: u32) -> Self {
+    pub(crate) fn new(f: &dyn Falloff, size: u32) -> Self {
         let n = size.clamp(*TABLE_SIZE_RANGE.start(), *TABLE_SIZE_RANGE.end());
         let values = (0..n)
             .map(|i| {
@@ -120,7 +120,7 @@ impl AttenuationTable {
     }
 
     /// The table at `t` in `[0, 1]`, linearly interpolated.
-    pub fn lookup(&self, t: f32) -> f32 {
+    pub(crate) fn lookup(&self, t: f32) -> f32 {
         let n = self.values.len();
         let s = t.clamp(0.0, 1.0) * (n - 1) as f32;
         let i = (s.floor() as usize).min(n - 2);

@@ -31,7 +31,7 @@ impl CpuWidthMaps {
 
 /// Builds the depth, occlusion and width maps of the input's light at its resolution (inputs
 /// already checked), their storage from `cpu`'s pool.
-pub fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) -> CpuWidthMaps {
+pub(crate) fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) -> CpuWidthMaps {
     let (geometry, light, resolution) = (input.geometry, input.light, input.resolution);
     let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
     let params = view.params(resolution);
@@ -55,7 +55,7 @@ pub fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) -> CpuWid
 }
 
 /// `V` for every receiver.
-pub fn evaluate(t: &ShadowWidth, maps: &CpuWidthMaps, r: &Receivers) -> Vec<f32> {
+pub(crate) fn evaluate(t: &ShadowWidth, maps: &CpuWidthMaps, r: &Receivers) -> Vec<f32> {
     let table = t.table.map(|n| AttenuationTable::new(&t.falloff, n));
     let prm = EvalParams::new(
         t,

@@ -9,12 +9,12 @@ use soft_shadow_core::light_space::shadow_coord;
 use soft_shadow_core::{Bias, Map2D, MapParams};
 
 /// Largest `c_scale` used (beyond it `I` is a hard shadow to f32 precision; keeps products finite).
-pub const MAX_C_SCALE: f32 = 1.0e30;
+pub(crate) const MAX_C_SCALE: f32 = 1.0e30;
 
 /// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
-pub struct EvalParams {
+pub(crate) struct EvalParams {
     /// The light-space map.
     pub map: MapParams,
     /// Receiver biases.
@@ -39,7 +39,7 @@ pub struct EvalParams {
 
 impl EvalParams {
     /// Parameters of `t` for a map `map` and a light of `light_size`.
-    pub fn new(t: &ShadowWidth, map: MapParams, light_size: f32, table_size: u32) -> Self {
+    pub(crate) fn new(t: &ShadowWidth, map: MapParams, light_size: f32, table_size: u32) -> Self {
         let (from_light, c_scale) = match t.softness {
             Softness::FromLight => (1, 0.0),
             Softness::Constant(c) => (0, c),
@@ -67,7 +67,7 @@ impl EvalParams {
 
     /// `c_scale` for a blocker at depth `z_b` and a receiver at `z_r`; `None` for a hard shadow
     /// (a light of size 0 with physical softness).
-    pub fn c_scale_at(&self, z_b: f32, z_r: f32) -> Option<f32> {
+    pub(crate) fn c_scale_at(&self, z_b: f32, z_r: f32) -> Option<f32> {
         if self.from_light == 0 {
             return Some(self.c_scale.min(MAX_C_SCALE));
         }
@@ -83,7 +83,7 @@ impl EvalParams {
     }
 
     /// World (distant light) or angular (local light) size of one texel of the width map.
-    pub fn width_unit(&self) -> f32 {
+    pub(crate) fn width_unit(&self) -> f32 {
         if self.map.ortho == 1 {
             self.map.texel_b
         } else {
@@ -93,7 +93,7 @@ impl EvalParams {
 }
 
 /// Bilinear sample of a square map at texel coordinates `st` (centres at +0.5), clamped to the edge.
-pub fn bilinear(map: &Map2D<f32>, st: Vec2) -> f32 {
+pub(crate) fn bilinear(map: &Map2D<f32>, st: Vec2) -> f32 {
     let u = st - Vec2::splat(0.5);
     let i = u.floor();
     let a = u - i;
@@ -105,7 +105,7 @@ pub fn bilinear(map: &Map2D<f32>, st: Vec2) -> f32 {
 }
 
 /// How `I` is computed on the CPU.
-pub enum Shader<'a> {
+pub(crate) enum Shader<'a> {
     /// `f` called directly.
     Direct(&'a dyn Falloff),
     /// Through the lookup table.
@@ -113,7 +113,7 @@ pub enum Shader<'a> {
 }
 
 /// `V` of one receiver: project, shadow depth against `depth`, shadow width from `width`, `I`.
-pub fn shade(
+pub(crate) fn shade(
     prm: &EvalParams,
     shader: &Shader,
     depth: &Map2D<f32>,

@@ -181,7 +181,7 @@ impl Kernels<'_> {
 }
 
 /// Records the depth layers and the width map into `enc` (inputs already checked).
-pub fn generate(
+pub(crate) fn generate(
     ctx: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
     t: &ShadowWidth,
@@ -340,7 +340,7 @@ pub fn generate(
 }
 
 /// The bind group of `maps` read with `t`'s falloff and biases.
-pub fn bind_maps(
+pub(crate) fn bind_maps(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     t: &ShadowWidth,

@@ -17,7 +17,7 @@ struct FloodParams {
 }
 
 /// The jump-flood pipeline; build once per context (`ctx.cached(GpuJumpFlood::new)`).
-pub struct GpuJumpFlood {
+pub(crate) struct GpuJumpFlood {
     kernel: Kernel,
 }
 
@@ -35,7 +35,7 @@ pub(crate) static PROGRAM: Program = Program {
 
 impl GpuJumpFlood {
     /// Builds the pipeline.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         Self {
             kernel: Kernel::new(ctx, &PROGRAM, "jfa_step"),
         }
@@ -45,7 +45,7 @@ impl GpuJumpFlood {
     /// [`soft_shadow_core::seeds::pack`] makes them, `u32::MAX` for no seed), ping-ponging with
     /// `buffers[1]`, with the steps [`crate::jump_flood::flood`] takes; returns the index of the
     /// buffer that holds every texel's nearest seed.
-    pub fn encode(
+    pub(crate) fn encode(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use soft_shadow_core::seeds::NONE;
 
 /// The steps: half the next power of two of the side, halving down to 1, then 1 again.
-pub fn steps(resolution: u32) -> Vec<u32> {
+pub(crate) fn steps(resolution: u32) -> Vec<u32> {
     let mut v = Vec::new();
     let mut k = resolution.next_power_of_two() / 2;
     while k >= 1 {
@@ -33,7 +33,7 @@ const _: () = assert!(soft_shadow_core::technique::MAX_CPU_RESOLUTION <= 16384);
 /// The largest side whose squared texel distances (at most `2 (side - 1)²`) an `f32` holds
 /// exactly (below 2^24): up to it a pass compares distances in `f32`, which SSE2 multiplies four
 /// at a time; it has no 32-bit integer multiply.
-pub const F32_EXACT_SIDE: u32 = 2896;
+pub(crate) const F32_EXACT_SIDE: u32 = 2896;
 const _: () = assert!(2 * (F32_EXACT_SIDE as u64 - 1).pow(2) < 1 << 24);
 
 /// A squared distance a pass compares: the same order on every pair of seeds of the map, so
@@ -145,7 +145,7 @@ fn block<const L: usize, D: Dist2>(
 /// in blocks of 8 whose candidates are compared in registers, branch-free over seeds.
 /// Distances are compared in `f32` up to [`F32_EXACT_SIDE`], in `i32` beyond: the same seeds
 /// either way.
-pub fn pass(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
+pub(crate) fn pass(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
     if res <= F32_EXACT_SIDE {
         pass_in::<f32>(src, dst, res, k)
     } else {
@@ -179,7 +179,7 @@ fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
 /// ([`soft_shadow_core::pool::Pool::give`]).
 ///
 /// [`pack`]: soft_shadow_core::seeds::pack
-pub fn flood(pool: &soft_shadow_core::pool::Pool, seeds: Vec<u32>, res: u32) -> Vec<u32> {
+pub(crate) fn flood(pool: &soft_shadow_core::pool::Pool, seeds: Vec<u32>, res: u32) -> Vec<u32> {
     let mut a = seeds;
     // Each pass writes every texel of its destination: no clearing pass.
     let mut b = pool.overwrite(a.len(), NONE);

@@ -1,36 +1,4 @@
-//! Kirsch & Döllner (2003), *Real-Time Soft Shadows Using a Single Light Sample*, on the CPU and
-//! the GPU.
-//!
-//! From the light's centre the technique renders a depth map and an *inverted occlusion map*,
-//! turns the latter into a *shadow-width map* `w` (distance from each blocked texel to the
-//! nearest unblocked one), and shades a receiver at light-space `(x', y', z')` with
-//!
-//! - shadow depth `sd = z' - z(x', y')` (world units along the light axis),
-//! - shadow width `sw = w(x', y')`: **world units** on the map plane for a distant light
-//!   (orthographic map), an **angle in radians** at the light for local lights (perspective map:
-//!   the texel distance times the texel's angular size on the map's tangent plane, exact to first
-//!   order near the axis),
-//! - `V = I(sd, sw) = f(c_scale * sw / sd)` ([`mod@attenuation`]).
-//!
-//! The technique only darkens inside the geometric (hard) shadow: the outer half of a penumbra
-//! stays lit, as the paper says. Every light kind is modelled through its centre; the softness
-//! follows the light's size ([`Softness::FromLight`]) or a constant.
-//!
-//! Modules, one concept each: [`params`] (configuration), [`mod@attenuation`] (`I`, falloffs,
-//! lookup table), [`occlusion`] (which texels block), [`width`] (three width-map builders),
-//! [`eval`] (per-receiver shading shared by both backends), [`cpu`] and [`gpu`] (the two
-//! paths; `width.wgsl` and `evaluate.wgsl` beside them).
-//!
-//! ```no_run
-//! use shadow_width::{ShadowWidth, WidthMethod};
-//! use soft_shadow_core::{ShadowTechnique, Receivers};
-//! # fn demo(geometry: &soft_shadow_core::SceneGeometry, light: &soft_shadow_core::Light,
-//! #         positions: &[glam::Vec3], normals: &[glam::Vec3]) -> soft_shadow_core::Result<()> {
-//! let technique = ShadowWidth::new(WidthMethod::Exact);
-//! let maps = technique.generate_cpu(&soft_shadow_core::CpuContext::new(), geometry, light, 512)?;
-//! let v = technique.evaluate_cpu(&maps, &Receivers { positions, normals })?;
-//! # Ok(()) }
-//! ```
+#![doc = include_str!("../README.md")]
 
 mod attenuation;
 mod cpu;
@@ -44,10 +12,10 @@ mod params;
 mod tests;
 mod width;
 
-pub use attenuation::{Falloff, FalloffKind};
+pub use attenuation::{Falloff, FalloffKind, TABLE_SIZE_RANGE};
 pub use cpu::CpuWidthMaps;
 pub use gpu::{GpuWidthMaps, SHADERS, VISIBILITY};
-pub use params::{DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
+pub use params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
 
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::gpu::shader::VisibilityShader;

@@ -9,12 +9,12 @@ use soft_shadow_core::Map2D;
 use soft_shadow_core::view::NO_OCCLUDER;
 
 /// Whether a texel whose nearest caster lies at linear depth `near` is blocked.
-pub fn is_blocked(near: f32) -> bool {
+pub(crate) fn is_blocked(near: f32) -> bool {
     near != NO_OCCLUDER
 }
 
 /// The inverted occlusion map (`true` = blocked) from the nearest depth map (storage from its
 /// pool).
-pub fn occlusion_mask(near: &Map2D<f32>) -> Map2D<bool> {
+pub(crate) fn occlusion_mask(near: &Map2D<f32>) -> Map2D<bool> {
     near.map(|&d| is_blocked(d))
 }

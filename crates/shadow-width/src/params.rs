@@ -74,7 +74,7 @@ pub enum Softness {
     ///   `z_b` the blocker's and `z_r` the receiver's depth along the light axis (the inner half
     ///   penumbra on the receiver is `L sd / (2 z_b)` wide, i.e. `L sd / (2 z_b z_r)` as an angle).
     ///
-    /// Both are multiplied by [`fit_factor`]: `I` starts at 1 on the hard edge where the truth is
+    /// Both are multiplied by a fit factor (2 for segment, rectangle and triangle lights, 2.5 for round ones): `I` starts at 1 on the hard edge where the truth is
     /// 1/2, so reaching 0 exactly at the umbra gives the same squared error as the hard shadow;
     /// the least-squares fit of the linear `I` to the straight-edge penumbra inside the hard
     /// shadow halves it. `L = 0` (point light) gives `c_scale = ∞`: the hard shadow.
@@ -86,7 +86,7 @@ pub enum Softness {
 /// (in half-penumbra units) inside the hard shadow: 2.0 for a linear ramp (segment and rectangle
 /// lights; triangles take it too), 2.5 for the circular-segment profile of round lights (disk,
 /// sphere, distant).
-pub fn fit_factor(kind: LightKind) -> f32 {
+pub(crate) fn fit_factor(kind: LightKind) -> f32 {
     match kind {
         LightKind::Disk | LightKind::Sphere | LightKind::Distant => 2.5,
         _ => 2.0,
@@ -94,7 +94,7 @@ pub fn fit_factor(kind: LightKind) -> f32 {
 }
 
 /// The light size the evaluation divides by: [`soft_shadow_core::Light::size`] over [`fit_factor`].
-pub fn softness_size(light: &Light) -> f32 {
+pub(crate) fn softness_size(light: &Light) -> f32 {
     light.size() / fit_factor(light.kind())
 }
 

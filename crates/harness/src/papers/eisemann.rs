@@ -10,7 +10,7 @@ use super::{Claim, Experiment, Row, measure_run, prepare, scene};
 use crate::report::json::Run;
 use crate::scenes::shapes::{horizontal_rect, quad_grid};
 use glam::{Vec2, Vec3};
-use occlusion_slices::{Combination, Prefilter, OcclusionSlices};
+use occlusion_slices::{Combination, OcclusionSlices, Prefilter};
 use soft_shadow_core::{Light, Result};
 
 /// Scene name of Figures 2-3.

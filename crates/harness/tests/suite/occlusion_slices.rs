@@ -6,7 +6,7 @@ use crate::common::gpu_for_test;
 use glam::Vec3;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
-use occlusion_slices::{Prefilter, OcclusionSlices};
+use occlusion_slices::{OcclusionSlices, Prefilter};
 use soft_shadow_core::{
     Backend, DynTechnique, Light, Receivers as Recv, ShadowTechnique, TechniqueInfo,
 };
@@ -130,4 +130,3 @@ fn occlusion_slices_agree_between_cpu_and_gpu_on_every_scene() {
         }
     }
 }
-

@@ -131,4 +131,3 @@ fn receivers_beside_a_local_light_are_not_wrapped_into_umbra() {
         }
     }
 }
-

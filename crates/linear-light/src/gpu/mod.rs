@@ -8,7 +8,7 @@
 //!
 //! Evaluation is `visibility()` in `evaluate.wgsl`.
 
-pub mod pipelines;
+pub(crate) mod pipelines;
 
 use crate::params::LinearLight;
 use crate::samples::{lit_share, piece_share, sample_views};
@@ -28,7 +28,7 @@ use soft_shadow_core::{Bias, GpuContext, Map2D, MapParams, Result, ShadowError};
 /// One sample as the shaders read it (`Sample` in `sample.wgsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct SampleGpu {
+pub(crate) struct SampleGpu {
     /// The sample's map.
     pub map: MapParams,
     /// View to world.
@@ -91,7 +91,7 @@ pub(crate) struct CombineParams {
 /// `evaluate.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct EvalParams {
+pub(crate) struct EvalParams {
     /// Receiver biases.
     pub bias: Bias,
     /// Number of samples (map layers).
@@ -224,7 +224,7 @@ fn encode_find_skins(
 
 /// Records the maps of `segments` into `enc` (inputs already checked).
 /// Layer `s N + i` holds sample `i` of segment `s`.
-pub fn generate(
+pub(crate) fn generate(
     ctx: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
     t: &LinearLight,
@@ -371,7 +371,7 @@ pub fn generate(
 }
 
 /// The bind group of `maps` read with `t`'s biases.
-pub fn bind_maps(
+pub(crate) fn bind_maps(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     t: &LinearLight,

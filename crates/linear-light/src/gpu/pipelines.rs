@@ -12,7 +12,7 @@ use soft_shadow_core::gpu::shader::{
 };
 
 /// Format of the warped skin values and of the visibility channels.
-pub const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+pub(crate) const VALUE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// The crate's WGSL: the sample views, the skin grid, the skin search and warp, the channel
 /// combine kernel and the visibility module.
@@ -103,7 +103,7 @@ pub static VISIBILITY: VisibilityShader = VisibilityShader {
 };
 
 /// Skins of one sample warped into a neighbour's view.
-pub struct SkinPipeline {
+pub(crate) struct SkinPipeline {
     /// Pair uniform, samples, depth maps.
     pub layout: wgpu::BindGroupLayout,
     /// The render pipeline (R32Float value, reversed-Z depth).
@@ -112,7 +112,7 @@ pub struct SkinPipeline {
 
 impl SkinPipeline {
     /// Builds the pipeline.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         let program = ctx.program(&SKINS);
         let (m, pl) = (&program.module, &program.pipeline_layout);
         let layout = program.layouts[0].clone();
@@ -157,21 +157,21 @@ impl SkinPipeline {
 }
 
 /// The kernel that lists a source map's skin quads for the indirect skin draw.
-pub struct FindSkinsKernel(pub Kernel);
+pub(crate) struct FindSkinsKernel(pub Kernel);
 
 impl FindSkinsKernel {
     /// Builds the kernel.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         Self(Kernel::new(ctx, &FIND_SKINS, "find_skins"))
     }
 }
 
 /// The channel combine kernel.
-pub struct CombineKernel(pub Kernel);
+pub(crate) struct CombineKernel(pub Kernel);
 
 impl CombineKernel {
     /// Builds the kernel.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         Self(Kernel::new(ctx, &COMBINE, "combine"))
     }
 }

@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 /// The pyramid of one slice.
 #[derive(Clone, Debug)]
-pub struct Mipmap {
+pub(crate) struct Mipmap {
     /// Side of level 0.
     pub res: u32,
     /// Level `l` at index `l`, `mip_size(res, l)²` bytes.
@@ -26,7 +26,7 @@ impl PartialEq for Mipmap {
 }
 
 /// Side of mip level `l` of a `res`-wide slice.
-pub fn mip_size(res: u32, l: u32) -> u32 {
+pub(crate) fn mip_size(res: u32, l: u32) -> u32 {
     res.div_ceil(1 << l)
 }
 
@@ -75,7 +75,7 @@ impl Mipmap {
     /// down the rows reads each pair of rows of masks once for all of them, where
     /// [`Mipmap::from_masks`] per slice reads the whole mask map (16 MiB at 2048²) per slice.
     /// Equal to `from_masks` of each.
-    pub fn from_masks_together(
+    pub(crate) fn from_masks_together(
         pool: &Arc<Pool>,
         res: u32,
         masks: &[u32],
@@ -139,7 +139,7 @@ impl Mipmap {
     }
 
     /// Texel `(x, y)` of level `l` in [0, 1]; 0 outside.
-    pub fn texel(&self, l: u32, x: i64, y: i64) -> f32 {
+    pub(crate) fn texel(&self, l: u32, x: i64, y: i64) -> f32 {
         let n = mip_size(self.res, l) as i64;
         if x < 0 || y < 0 || x >= n || y >= n {
             return 0.0;
@@ -148,7 +148,7 @@ impl Mipmap {
     }
 
     /// Trilinear read for a kernel of side `size` texels at `c`: [`mip_mean`].
-    pub fn mean(&self, c: Vec2, size: f32) -> f32 {
+    pub(crate) fn mean(&self, c: Vec2, size: f32) -> f32 {
         mip_mean(c, size, self.levels.len() as u32, |l, x, y| {
             self.texel(l, x, y)
         })
@@ -165,7 +165,12 @@ fn level_bilinear(c: Vec2, l: u32, texel: &impl Fn(u32, i64, i64) -> f32) -> f32
 /// Trilinear mipmapping (`WGSL: mip_mean`): level of detail `log2(size)`, bilinear in the two
 /// nearest levels, linear between them. The kernel is square in texels, so the isotropic
 /// pyramid needs no anisotropic taps.
-pub fn mip_mean(c: Vec2, size: f32, levels: u32, texel: impl Fn(u32, i64, i64) -> f32) -> f32 {
+pub(crate) fn mip_mean(
+    c: Vec2,
+    size: f32,
+    levels: u32,
+    texel: impl Fn(u32, i64, i64) -> f32,
+) -> f32 {
     let k = size.max(1.0);
     let l = floor_log2(k);
     if l + 1 >= levels {

@@ -3,22 +3,22 @@
 //! summed-area table, the mipmap sums them level by level) and answers the mean occupancy over
 //! a square kernel; `evaluate.wgsl` holds the same lookups.
 
-pub mod mipmap;
-pub mod nbuffer;
-pub mod sat;
+pub(crate) mod mipmap;
+pub(crate) mod nbuffer;
+pub(crate) mod sat;
 
 use crate::params::Prefilter;
 use glam::Vec2;
-pub use mipmap::Mipmap;
-pub use nbuffer::NBuffer;
+pub(crate) use mipmap::Mipmap;
+pub(crate) use nbuffer::NBuffer;
 use rayon::prelude::*;
-pub use sat::Sat;
+pub(crate) use sat::Sat;
 use soft_shadow_core::pool::Pool;
 use std::sync::Arc;
 
 /// Number of levels (mipmap or N-Buffer) of a `res`-wide slice: up to the first box of side
 /// `>= res`.
-pub fn level_count(res: u32) -> u32 {
+pub(crate) fn level_count(res: u32) -> u32 {
     32 - res.max(1).saturating_sub(1).leading_zeros() + 1
 }
 
@@ -32,7 +32,7 @@ pub fn unorm8(count: u32, area: u64) -> u8 {
 /// [`unorm8`] for an area of `1 << shift` texels, as a shift (the same value; the level
 /// builders' inner loop).
 #[inline]
-pub fn unorm8_pow2(count: u32, shift: u32) -> u8 {
+pub(crate) fn unorm8_pow2(count: u32, shift: u32) -> u8 {
     ((count as u64 * 255 + ((1u64 << shift) >> 1)) >> shift) as u8
 }
 
@@ -70,7 +70,7 @@ mod tests {
 /// Bilinear interpolation of `texel(x, y)` (0 outside, the caller's choice) at the continuous
 /// index position `p`: `texel(floor(p))` has weight 1 at `p = floor(p)`. The N-Buffer reads at
 /// box starts, the mipmap at `c / 2^l - 1/2` (texel centres).
-pub fn bilinear(p: Vec2, texel: impl Fn(i64, i64) -> f32) -> f32 {
+pub(crate) fn bilinear(p: Vec2, texel: impl Fn(i64, i64) -> f32) -> f32 {
     let f = p.floor();
     let (x, y) = (f.x as i64, f.y as i64);
     let t = p - f;
@@ -81,7 +81,7 @@ pub fn bilinear(p: Vec2, texel: impl Fn(i64, i64) -> f32) -> f32 {
 
 /// The prefiltered slices of one light, in the form the filter reads.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Filtered {
+pub(crate) enum Filtered {
     /// One pyramid per slice.
     Mipmap(Vec<Mipmap>),
     /// One set of levels per slice.
@@ -94,7 +94,7 @@ impl Filtered {
     /// Prefilters the `slices` binary slices packed in `masks` (`res²` texels, bit `k` for
     /// slice `k`: [`crate::slicing::slice`]) with `filter`, the slices in parallel, their
     /// storage from `pool`.
-    pub fn build(
+    pub(crate) fn build(
         pool: &Arc<Pool>,
         filter: Prefilter,
         res: u32,
@@ -126,7 +126,7 @@ impl Filtered {
     }
 
     /// Mean occupancy of slice `k` over the square of side `size` texels centred at `c`.
-    pub fn mean(&self, k: usize, c: Vec2, size: f32) -> f32 {
+    pub(crate) fn mean(&self, k: usize, c: Vec2, size: f32) -> f32 {
         match self {
             Filtered::Mipmap(m) => m[k].mean(c, size),
             Filtered::NBuffer(n) => n[k].mean(c, size),

@@ -17,7 +17,7 @@ const BAND_ROWS: usize = 16;
 
 /// Every level of one slice, `res²` bytes each.
 #[derive(Clone, Debug)]
-pub struct NBuffer {
+pub(crate) struct NBuffer {
     /// Side in texels.
     pub res: u32,
     /// Level `l` at index `l`.
@@ -46,7 +46,7 @@ impl NBuffer {
     /// level reads is read once for all of them, and the rows `y + 2^l` below it are read
     /// while neighbouring output rows still have them in cache (a pass per level re-read the
     /// whole 16 MiB table at 2048² for each of the 12 levels).
-    pub fn new(pool: &Arc<Pool>, sat: &Sat) -> NBuffer {
+    pub(crate) fn new(pool: &Arc<Pool>, sat: &Sat) -> NBuffer {
         let res = sat.res;
         let n = res as usize;
         let w = n + 1;
@@ -112,7 +112,7 @@ impl NBuffer {
     }
 
     /// Texel `(x, y)` of level `l` as a value in [0, 1]; 0 outside.
-    pub fn texel(&self, l: u32, x: i64, y: i64) -> f32 {
+    pub(crate) fn texel(&self, l: u32, x: i64, y: i64) -> f32 {
         let r = self.res as i64;
         if x < 0 || y < 0 || x >= r || y >= r {
             return 0.0;
@@ -122,7 +122,7 @@ impl NBuffer {
 
     /// The mean occupancy over the square of side `size` texels centred at `c`:
     /// [`nbuffer_mean`] over these levels.
-    pub fn mean(&self, c: Vec2, size: f32) -> f32 {
+    pub(crate) fn mean(&self, c: Vec2, size: f32) -> f32 {
         nbuffer_mean(c, size, self.levels.len() as u32, |l, x, y| {
             self.texel(l, x, y)
         })
@@ -136,13 +136,18 @@ fn sample(b: Vec2, l: u32, texel: &impl Fn(u32, i64, i64) -> f32) -> f32 {
 }
 
 /// `floor(log2(x))` for `x >= 1`, exact (read from the exponent bits, as the shader does).
-pub fn floor_log2(x: f32) -> u32 {
+pub(crate) fn floor_log2(x: f32) -> u32 {
     ((x.to_bits() >> 23) & 0xff).saturating_sub(127)
 }
 
 /// The N-Buffer lookup of section 3.2 (`WGSL: nbuffer_mean`): the two levels whose box sizes
 /// bracket `size`, each read at the box's start, interpolated linearly in the size.
-pub fn nbuffer_mean(c: Vec2, size: f32, levels: u32, texel: impl Fn(u32, i64, i64) -> f32) -> f32 {
+pub(crate) fn nbuffer_mean(
+    c: Vec2,
+    size: f32,
+    levels: u32,
+    texel: impl Fn(u32, i64, i64) -> f32,
+) -> f32 {
     let k = size.max(1.0);
     let l = floor_log2(k).min(levels - 1);
     let s = (1u32 << l) as f32;

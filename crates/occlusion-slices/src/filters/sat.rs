@@ -13,7 +13,7 @@ use std::sync::Arc;
 
 /// The table of one slice: `(res + 1)²` counts, row-major, `S(i, j)` at `j * (res + 1) + i`.
 #[derive(Clone, Debug)]
-pub struct Sat {
+pub(crate) struct Sat {
     /// Side of the slice in texels.
     pub res: u32,
     /// The counts.
@@ -43,7 +43,7 @@ impl Sat {
 
     /// The table of slice `k` of the slice masks (bit `k` of each texel,
     /// [`crate::slicing::slice`]).
-    pub fn from_masks(pool: &Arc<Pool>, res: u32, masks: &[u32], k: u32) -> Sat {
+    pub(crate) fn from_masks(pool: &Arc<Pool>, res: u32, masks: &[u32], k: u32) -> Sat {
         Sat::build(pool, res, masks, |&m| (m >> k) & 1)
     }
 
@@ -73,14 +73,14 @@ impl Sat {
     }
 
     /// `S(i, j)` with indices clamped to `[0, res]`.
-    pub fn get(&self, i: i64, j: i64) -> u32 {
+    pub(crate) fn get(&self, i: i64, j: i64) -> u32 {
         let r = self.res as i64;
         let w = (self.res + 1) as usize;
         self.data[j.clamp(0, r) as usize * w + i.clamp(0, r) as usize]
     }
 
     /// Occupied texels in `[x0, x1) x [y0, y1)` (signed: reversed ranges count negatively).
-    pub fn count(&self, x0: i64, y0: i64, x1: i64, y1: i64) -> i32 {
+    pub(crate) fn count(&self, x0: i64, y0: i64, x1: i64, y1: i64) -> i32 {
         self.get(x1, y1)
             .wrapping_sub(self.get(x0, y1))
             .wrapping_sub(self.get(x1, y0))
@@ -89,7 +89,7 @@ impl Sat {
 
     /// The mean occupancy over the square of side `size` texels centred at `c` (outside the
     /// slice counts as empty). See [`box_mean`].
-    pub fn mean(&self, c: Vec2, size: f32) -> f32 {
+    pub(crate) fn mean(&self, c: Vec2, size: f32) -> f32 {
         box_mean(c, size, |x0, y0, x1, y1| self.count(x0, y0, x1, y1))
     }
 }
@@ -98,7 +98,7 @@ impl Sat {
 /// `count(x0, y0, x1, y1)` over `[x0, x1) x [y0, y1)`: `WGSL: sat_mean` in `evaluate.wgsl`.
 ///
 /// A box too small to have an area in f32 reads the texel under its centre.
-pub fn box_mean(c: Vec2, size: f32, count: impl Fn(i64, i64, i64, i64) -> i32) -> f32 {
+pub(crate) fn box_mean(c: Vec2, size: f32, count: impl Fn(i64, i64, i64, i64) -> i32) -> f32 {
     let half = 0.5 * size;
     let lo = c - Vec2::splat(half);
     let hi = c + Vec2::splat(half);

@@ -7,12 +7,12 @@
 //!
 //! Evaluation is `visibility()` in `evaluate.wgsl`.
 
-pub mod pipelines;
+pub(crate) mod pipelines;
 
 use crate::filters::level_count;
 use crate::filters::mipmap::mip_size;
 use crate::frame::Frame;
-use crate::params::{Prefilter, OcclusionSlices};
+use crate::params::{OcclusionSlices, Prefilter};
 use bytemuck::{Pod, Zeroable};
 use pipelines::{LEVEL_FORMAT, OCCUPANCY_FORMAT, PrefilterPipelines, SAT_FORMAT, SlicingPipelines};
 use soft_shadow_core::gpu::Kernel;
@@ -99,7 +99,7 @@ pub(crate) struct LevelParams {
 /// `evaluate.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct EvalParams {
+pub(crate) struct EvalParams {
     /// [`Prefilter::index`].
     pub filter: u32,
     /// [`crate::params::Combination::index`].
@@ -239,7 +239,7 @@ fn encode_levels(
 }
 
 /// Records the occlusion textures into `enc` (inputs already checked).
-pub fn generate(
+pub(crate) fn generate(
     ctx: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
     t: &OcclusionSlices,
@@ -376,7 +376,7 @@ pub fn generate(
 
 /// The bind group of `maps` read with `t`'s filter and combination; maps built with another
 /// filter or slice count are [`ShadowError::MapsMismatch`].
-pub fn bind_maps(
+pub(crate) fn bind_maps(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     t: &OcclusionSlices,

@@ -13,11 +13,11 @@ use soft_shadow_core::gpu::shader::{
 };
 
 /// Format of the occlusion textures: four slices per RGBA8 texel.
-pub const OCCUPANCY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+pub(crate) const OCCUPANCY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// Format of the summed-area tables: four slices of `u32` counts per texel.
-pub const SAT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+pub(crate) const SAT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// Format of N-Buffer and mipmap levels (the paper's RGBA8).
-pub const LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+pub(crate) const LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 const ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2Array;
 
@@ -116,7 +116,7 @@ pub static VISIBILITY: VisibilityShader = VisibilityShader {
 };
 
 /// The slicing pass: `pipelines[g - 1]` draws into `g` targets.
-pub struct SlicingPipelines {
+pub(crate) struct SlicingPipelines {
     /// Bind group layout: the frame uniform.
     pub layout: wgpu::BindGroupLayout,
     /// One pipeline per target count 1..=4.
@@ -125,7 +125,7 @@ pub struct SlicingPipelines {
 
 impl SlicingPipelines {
     /// Builds the pipelines.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         let program = ctx.program(&SLICING);
         let (m, pl) = (&program.module, &program.pipeline_layout);
         let layout = program.layouts[0].clone();
@@ -182,7 +182,7 @@ impl SlicingPipelines {
 }
 
 /// The prefiltering kernels.
-pub struct PrefilterPipelines {
+pub(crate) struct PrefilterPipelines {
     /// Occupancy to row prefix sums.
     pub sat_rows: Kernel,
     /// Row prefix sums to the summed-area table.
@@ -195,7 +195,7 @@ pub struct PrefilterPipelines {
 
 impl PrefilterPipelines {
     /// Builds the kernels.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         Self {
             sat_rows: Kernel::new(ctx, &SAT_ROWS, "sat_rows"),
             sat_cols: Kernel::new(ctx, &SAT_COLS, "sat_cols"),

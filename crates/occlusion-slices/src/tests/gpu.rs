@@ -1,7 +1,7 @@
 //! The GPU's prefiltering against the CPU's.
 
 use crate::filters::{NBuffer, Sat};
-use crate::{Prefilter, OcclusionSlices};
+use crate::{OcclusionSlices, Prefilter};
 use harness::testing::gpu_for_test;
 use soft_shadow_core::ShadowTechnique;
 

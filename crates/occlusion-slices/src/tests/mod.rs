@@ -15,7 +15,7 @@ fn pool() -> Arc<Pool> {
 use crate::combine::combine;
 use crate::filters::mipmap::mip_size;
 use crate::filters::{Mipmap, NBuffer, Sat, unorm8};
-use crate::{Combination, Prefilter, OcclusionSlices};
+use crate::{Combination, OcclusionSlices, Prefilter};
 use glam::Vec2;
 use proptest::prelude::*;
 use soft_shadow_core::{Light, SceneGeometry, ShadowError, ShadowTechnique};

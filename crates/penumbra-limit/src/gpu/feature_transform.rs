@@ -17,7 +17,7 @@ struct FtParams {
 
 /// The feature-transform pipelines; build once per context
 /// (`ctx.cached(GpuFeatureTransform::new)`).
-pub struct GpuFeatureTransform {
+pub(crate) struct GpuFeatureTransform {
     layout: wgpu::BindGroupLayout,
     columns: wgpu::ComputePipeline,
     rows: wgpu::ComputePipeline,
@@ -40,7 +40,7 @@ pub(crate) static PROGRAM: Program = Program {
 
 impl GpuFeatureTransform {
     /// Builds the pipelines.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         let p = ctx.program(&PROGRAM);
         Self {
             layout: p.layouts[0].clone(),
@@ -55,7 +55,7 @@ impl GpuFeatureTransform {
     /// every texel's nearest seed as [`crate::feature_transform::nearest`] gives it, ties to
     /// the least of `keys` (`resolution²` `f32`s) where given; `buffers[1]` (as large) is
     /// scratch. Two passes: one invocation per column, then one per row.
-    pub fn encode(
+    pub(crate) fn encode(
         &self,
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,

@@ -9,8 +9,8 @@
 //!
 //! Evaluation is `visibility()` in `evaluate.wgsl`.
 
-pub mod feature_transform;
-pub mod pipelines;
+pub(crate) mod feature_transform;
+pub(crate) mod pipelines;
 
 use crate::eval::EvalParams;
 use crate::params::{Generator, PenumbraLimit};
@@ -250,7 +250,7 @@ fn encode_silhouette(
 }
 
 /// Records the map into `enc` (inputs already checked).
-pub fn generate(
+pub(crate) fn generate(
     ctx: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
     t: &PenumbraLimit,
@@ -385,7 +385,7 @@ pub fn generate(
 }
 
 /// The bind group of `maps` read with `t`'s biases.
-pub fn bind_maps(
+pub(crate) fn bind_maps(
     ctx: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     t: &PenumbraLimit,

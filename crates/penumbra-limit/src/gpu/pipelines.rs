@@ -140,12 +140,12 @@ pub static VISIBILITY: VisibilityShader = VisibilityShader {
 };
 
 /// Format of the edge layer `[c, p_i]`.
-pub const EDGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+pub(crate) const EDGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// Format of the lower-limit layer.
-pub const LOWER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+pub(crate) const LOWER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 /// Silhouette extrusion, steps 2 and 3.
-pub struct SilhouettePipelines {
+pub(crate) struct SilhouettePipelines {
     /// Parameters, edges, edge texture.
     pub layout: wgpu::BindGroupLayout,
     /// Ribbons into the edge layer, depth = penumbra limit.
@@ -156,7 +156,7 @@ pub struct SilhouettePipelines {
 
 impl SilhouettePipelines {
     /// Builds the pipelines.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         let program = ctx.program(&SILHOUETTE);
         let (m, pl) = (&program.module, &program.pipeline_layout);
         let layout = program.layouts[0].clone();
@@ -229,7 +229,7 @@ impl SilhouettePipelines {
 }
 
 /// The geometry layer and the depth-image generator.
-pub struct DepthImagePipelines {
+pub(crate) struct DepthImagePipelines {
     /// Parameters, depth map, geometry, seeds, edge and lower outputs.
     pub layout: wgpu::BindGroupLayout,
     /// Normalised nearest depth.
@@ -242,7 +242,7 @@ pub struct DepthImagePipelines {
 
 impl DepthImagePipelines {
     /// Builds the pipelines.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         let p = ctx.program(&DEPTH_IMAGE);
         Self {
             layout: p.layouts[0].clone(),
@@ -254,7 +254,7 @@ impl DepthImagePipelines {
 }
 
 /// One combine kernel per storage format.
-pub struct CombinePipelines {
+pub(crate) struct CombinePipelines {
     /// Parameters, geometry, edge and lower textures, the map; indexed like [`Storage::ALL`].
     pub layouts: Vec<wgpu::BindGroupLayout>,
     /// Indexed like [`Storage::ALL`].
@@ -263,7 +263,7 @@ pub struct CombinePipelines {
 
 impl CombinePipelines {
     /// Builds the pipelines.
-    pub fn new(ctx: &GpuContext) -> Self {
+    pub(crate) fn new(ctx: &GpuContext) -> Self {
         let built: Vec<_> = COMBINE.iter().map(|p| ctx.program(p)).collect();
         Self {
             layouts: built.iter().map(|p| p.layouts[0].clone()).collect(),
@@ -272,7 +272,7 @@ impl CombinePipelines {
     }
 
     /// The index of `s`.
-    pub fn index(s: Storage) -> usize {
+    pub(crate) fn index(s: Storage) -> usize {
         Storage::ALL.iter().position(|&x| x == s).unwrap_or(0)
     }
 }

@@ -1,9 +1,9 @@
 //! The exact nearest-seed map: the GPU's (`GpuFeatureTransform`) equals the CPU's
 //! (`feature_transform::nearest`), which a unit test holds to the brute-force nearest seed.
 
-use harness::testing::gpu_for_test;
 use crate::feature_transform::nearest;
 use crate::gpu::feature_transform::GpuFeatureTransform;
+use harness::testing::gpu_for_test;
 use soft_shadow_core::rng::SplitMix;
 use soft_shadow_core::seeds::{NONE, pack};
 

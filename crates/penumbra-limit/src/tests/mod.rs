@@ -14,8 +14,8 @@ fn pool() -> Arc<Pool> {
 
 use crate::silhouette::edges;
 use crate::storage::MAX_P;
-use crate::visibility::{clamped_visibility, clamped_visibility_piecewise};
 use crate::table::IlluminationTable;
+use crate::visibility::{clamped_visibility, clamped_visibility_piecewise};
 use crate::{Generator, PenumbraLimit, Profile, Storage, Texel};
 use glam::Vec3;
 use proptest::prelude::*;

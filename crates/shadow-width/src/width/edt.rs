@@ -161,7 +161,7 @@ impl Envelope {
 }
 
 /// The exact width map of `mask`, capped at [`super::cap`].
-pub fn width(pool: &Arc<Pool>, mask: &Map2D<bool>) -> Map2D<f32> {
+pub(crate) fn width(pool: &Arc<Pool>, mask: &Map2D<bool>) -> Map2D<f32> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
     let strips = columns(pool, mask);
     let cap = super::cap(mask.width());

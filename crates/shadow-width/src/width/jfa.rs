@@ -9,7 +9,7 @@ use soft_shadow_core::seeds::{NONE, dist2, pack};
 use std::sync::Arc;
 
 /// The jump-flooded width map of `mask`, capped at [`super::cap`].
-pub fn width(pool: &Arc<Pool>, mask: &Map2D<bool>) -> Map2D<f32> {
+pub(crate) fn width(pool: &Arc<Pool>, mask: &Map2D<bool>) -> Map2D<f32> {
     let res = mask.width();
     let mut seeds = pool.take(mask.data().len());
     seeds.extend(mask.data().iter().enumerate().map(|(i, &b)| {

@@ -5,9 +5,9 @@
 //! propagation ([`propagate`]), the exact linear-time Euclidean distance transform ([`edt`]) and
 //! jump flooding ([`jfa`]). Every one is mirrored in `width.wgsl`, so CPU and GPU build the same map.
 
-pub mod edt;
-pub mod jfa;
-pub mod propagate;
+pub(crate) mod edt;
+pub(crate) mod jfa;
+pub(crate) mod propagate;
 
 use crate::params::WidthMethod;
 use soft_shadow_core::Map2D;
@@ -16,13 +16,13 @@ use std::sync::Arc;
 
 /// Width given to texels with no reachable unblocked texel: twice the map side (beyond any
 /// distance inside the map).
-pub fn cap(resolution: u32) -> f32 {
+pub(crate) fn cap(resolution: u32) -> f32 {
     2.0 * resolution as f32
 }
 
 /// The shadow-width map of `mask` (`true` = blocked; square) by `method`, in texels, capped at
 /// [`cap`], its storage and scratch from `pool`.
-pub fn width_map(pool: &Arc<Pool>, mask: &Map2D<bool>, method: WidthMethod) -> Map2D<f32> {
+pub(crate) fn width_map(pool: &Arc<Pool>, mask: &Map2D<bool>, method: WidthMethod) -> Map2D<f32> {
     match method {
         WidthMethod::Propagate { neighbours } => propagate::width(pool, mask, neighbours),
         WidthMethod::Exact => edt::width(pool, mask),

@@ -12,12 +12,12 @@ use rayon::prelude::*;
 use soft_shadow_core::Map2D;
 
 /// Value of a blocked texel before propagation reaches it.
-pub const UNREACHED: f32 = 1.0e9;
+pub(crate) const UNREACHED: f32 = 1.0e9;
 /// √2, the diagonal offset length.
-pub const SQRT_2: f32 = std::f32::consts::SQRT_2;
+pub(crate) const SQRT_2: f32 = std::f32::consts::SQRT_2;
 
 /// Offsets `(dx, dy)` in texels of the pass with step `step`, and the distance each adds.
-pub fn offsets(n: Neighbours, step: u32) -> Vec<(i32, i32, f32)> {
+pub(crate) fn offsets(n: Neighbours, step: u32) -> Vec<(i32, i32, f32)> {
     const GRID: [(i32, i32, f32); 8] = [
         (1, 0, 1.0),
         (-1, 0, 1.0),
@@ -49,7 +49,7 @@ pub fn offsets(n: Neighbours, step: u32) -> Vec<(i32, i32, f32)> {
 }
 
 /// The steps of the passes: 1, 2, 4, ... below the map side.
-pub fn steps(resolution: u32) -> Vec<u32> {
+pub(crate) fn steps(resolution: u32) -> Vec<u32> {
     let mut v = Vec::new();
     let mut s = 1u32;
     while s < resolution {
@@ -151,7 +151,7 @@ fn pass_chunks(
 }
 
 /// The propagated width map of `mask`, capped at [`super::cap`].
-pub fn width(
+pub(crate) fn width(
     pool: &std::sync::Arc<soft_shadow_core::pool::Pool>,
     mask: &Map2D<bool>,
     n: Neighbours,
