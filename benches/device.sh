@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# The GPU checks of a session that is lent a device machine, prepared to fit its minutes.
+# The GPU checks for a machine with a real GPU and little time, prepared to fit its minutes.
 #
 #   bash benches/device.sh stage   # here, on the developer's machine (no GPU needed)
-#   bash benches/device.sh run     # there, through the device tool's `run`, as `stage` prints
+#   bash benches/device.sh run     # there, with what `stage` built carried over
 #
 # `stage` builds the bench and GPU test executables into target/device/ and downloads the
-# Vulkan and GL loaders into .gl/ (both ignored by git; `run` carries them), so the lent machine
+# Vulkan and GL loaders into .gl/ (both ignored by git; `run` needs them), so the GPU machine
 # compiles nothing. `run` unpacks the loaders, then, on the real GPU and against its driver:
 #   1. the tests that hold GPU output to the CPU's (every technique's agreement on every
 #      catalogue scene, the rasterizer, the feature transform, device timing, own-device use);
@@ -13,7 +13,7 @@
 #   3. the evaluation benches (512² receivers, 1024² maps), GPU wall and device time;
 # each bench measured for SHADOW_BENCH_SECONDS (default 0.5) instead of the usual 2 s, and
 # writes into $OUT: gpu.txt, tests.txt, generation.txt, evaluation.txt and summary.md (every
-# median, and the issue's goals: 2048² generation under 1 ms, 1080p evaluation under 0.5 ms).
+# median, and the goals: 2048² generation under 1 ms, 1080p evaluation under 0.5 ms).
 # GEN_FILTER and EVAL_FILTER (criterion regexes) narrow the benches, e.g. to rehearse `run`
 # here on lavapipe.
 set -uo pipefail
@@ -33,7 +33,7 @@ stage() {
             libglx0 libgles2)
     fi
     # The executables cargo reports for each build, copied under their target's name: the
-    # benches, and the two test binaries with GPU tests (built as the README's test command
+    # benches, and the test binaries with GPU tests (built as the README's test command
     # builds them, so its artifacts serve).
     executables() {
         cargo "$@" --message-format=json | python3 -c '
@@ -48,24 +48,22 @@ for line in sys.stdin:
     while read -r name path; do
         case $name in
         # Stripped: what travels to the device is at most 64 MiB, the tree included.
-        generation | evaluation | suite | core) cp "$path" "$dir/$name" && strip "$dir/$name" ;;
+        generation | evaluation | suite | penumbra_limit | occlusion_slices) cp "$path" "$dir/$name" && strip "$dir/$name" ;;
         esac
     done < <(
         executables bench -p shadow-benches --no-run
         executables test --workspace --release --no-run
     )
-    for name in generation evaluation suite core; do
+    for name in generation evaluation suite penumbra_limit occlusion_slices; do
         [ -x "$dir/$name" ] || { echo "stage: no $name executable was built" >&2; exit 1; }
     done
     ls -l "$dir"
     cat <<'EOF'
 
-Staged. On a session whose task is lent a device (`status`: can_start_another true), call the
-device tool's run with:
-  command:   bash benches/device.sh run
-  carry:     [".gl", "target/device"]
-  timeout_s: 540
-then give_back, and put summary.md's tables in the closing note and benches/README.md.
+Staged. On the GPU machine, from the repository root with .gl/ and target/device/ copied over
+(OUT names the folder it writes):
+  OUT=/tmp/out bash benches/device.sh run     # about 9 minutes
+summary.md holds every median.
 EOF
 }
 
@@ -144,7 +142,7 @@ summary() {
 }
 
 run() {
-    local out=${OUT:?run writes into the folder OUT names (the device tool sets it)}
+    local out=${OUT:?run writes into the folder OUT names}
     # The loaders, where the machine lacks them (unpacked over / as the device notes say).
     if ! ldconfig -p | grep -q 'libvulkan\.so\.1'; then
         for f in .gl/*.deb; do dpkg -x "$f" /; done
@@ -162,7 +160,9 @@ run() {
     {
         timeout 120 "$dir/suite" agree gpu_ device recycled --test-threads 4
         echo "exit status $?"
-        timeout 60 "$dir/core" gpu --test-threads 4
+        timeout 60 "$dir/penumbra_limit" gpu_ --test-threads 4
+        echo "exit status $?"
+        timeout 60 "$dir/occlusion_slices" gpu_ --test-threads 4
         echo "exit status $?"
     } >"$out/tests.txt" 2>&1
     timeout 170 "$dir/generation" --noplot --bench "${GEN_FILTER:-/gpu-(device|wall)/2048\$}" \

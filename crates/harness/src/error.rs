@@ -19,6 +19,10 @@ pub enum HarnessError {
         #[source]
         source: std::io::Error,
     },
+    /// A request the command cannot serve (a scene some technique does not model, a file that
+    /// is not a report), with what to do instead.
+    #[error("{0}")]
+    Usage(String),
     /// Every configuration a run asked for was skipped: nothing was measured.
     #[error("nothing ran: {0}")]
     NothingRan(String),

@@ -3,6 +3,7 @@
 
 pub mod animated;
 pub mod error;
+pub mod figure;
 pub mod ground_truth;
 pub mod metrics;
 pub mod papers;

@@ -70,6 +70,41 @@ enum Command {
         #[arg(long, default_value_t = harness::papers::DEFAULT_SIZE)]
         size: u32,
     },
+    /// Draw one scene's reference beside the best variant of each of the four techniques and
+    /// the four baselines, labelled with their image errors (the README's picture; CPU).
+    Figure {
+        /// A built-in scene whose light every technique models.
+        #[arg(long, default_value = "triangle-light")]
+        scene: String,
+        /// The PNG to write.
+        #[arg(long, default_value = "docs/techniques.png")]
+        out: PathBuf,
+        /// Map resolution, texels per side.
+        #[arg(long, default_value_t = 512)]
+        resolution: u32,
+        /// G-buffer side in pixels.
+        #[arg(long, default_value_t = 256)]
+        size: u32,
+    },
+    /// Print the "which technique" table (Markdown) from a report: per light kind and budget,
+    /// the technique with the lowest image error that fits, and the best baseline beside it.
+    Choose {
+        /// The report.json to read.
+        #[arg(long, default_value = "report/report.json")]
+        report: PathBuf,
+        /// The backend whose runs count.
+        #[arg(long, value_enum, default_value = "cpu")]
+        backend: ChooseBackend,
+        /// Budgets per light and frame, milliseconds (comma separated).
+        #[arg(long, value_delimiter = ',', default_value = "4,16,64")]
+        budgets: Vec<f64>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ChooseBackend {
+    Cpu,
+    Gpu,
 }
 
 /// Says once, before the GPU starts, that Mesa's Vulkan drivers print
@@ -165,6 +200,41 @@ fn main() -> ExitCode {
                 )
             })
         }
+        Command::Figure {
+            scene,
+            out,
+            resolution,
+            size,
+        } => {
+            let opts = harness::figure::FigureOptions {
+                scene,
+                out: out.clone(),
+                resolution,
+                size,
+            };
+            harness::figure::run(&opts).map(|columns| {
+                let mut s = String::new();
+                for c in columns {
+                    s.push_str(&format!(
+                        "{} {}: image error {:.2}/255, V error {:.2}/255\n",
+                        c.technique, c.variant, c.image_rms_255, c.rms_255
+                    ));
+                }
+                s + &format!("wrote {}", out.display())
+            })
+        }
+        Command::Choose {
+            report,
+            backend,
+            budgets,
+        } => harness::report::summary::choices_from_file(
+            &report,
+            match backend {
+                ChooseBackend::Cpu => "cpu",
+                ChooseBackend::Gpu => "gpu",
+            },
+            &budgets,
+        ),
     };
     match result {
         Ok(line) => {

@@ -1,6 +1,6 @@
 //! Error metrics on the 0-255 scale, as the report contract defines them.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Lower bound of the penumbra band of the reference (exclusive).
 pub const PENUMBRA_LO: f32 = 0.02;
@@ -57,7 +57,7 @@ impl Shading {
 }
 
 /// Errors of one class of receivers.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ClassErrors {
     /// Receivers of the class.
     pub pixels: u64,
@@ -68,7 +68,7 @@ pub struct ClassErrors {
 }
 
 /// The errors split by where the receiver lies.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Classes {
     /// Receivers on geometry that only receives (grounds, walls).
     pub ground: ClassErrors,
@@ -79,7 +79,7 @@ pub struct Classes {
 }
 
 /// Errors of one run against the reference.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Errors {
     /// RMS of `(V - V_ref) * 255` over all receivers with finite `V`.
     pub rms_255: f64,

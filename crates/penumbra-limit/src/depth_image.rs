@@ -1,4 +1,4 @@
-//! Generation from a depth image (the second generator), CPU side; `depth_image.wgsl`
+//! Generation from a depth image (`Generator::DepthImage`), CPU side; `depth_image.wgsl`
 //! is the GPU side. For scenes whose silhouettes are not worth enumerating (foliage).
 //!
 //! 1. **Edges.** In the nearest-geometry map `D` (normalised), texel `t` is on the *near side* of

@@ -1,4 +1,4 @@
-//! What a light's maps must cover (the guide: "maps cover what casts"): the casters that can
+//! What a light's maps must cover ("maps cover what casts"): the casters that can
 //! shadow a receiver, and the receivers their shadows and penumbrae can reach, never geometry
 //! that only receives light where nothing can shadow it.
 //!

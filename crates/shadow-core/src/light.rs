@@ -1,4 +1,4 @@
-//! The light kinds of the guide, their validation and their sampling.
+//! The light kinds, their validation and their sampling.
 //!
 //! Visibility `V` is the fraction of the light's extent a point sees, weighted by the emission
 //! profile: length for a segment, area for a rectangle or a disk, the visible disc for a sphere and
@@ -369,8 +369,8 @@ impl Light {
         self.front().is_none_or(|(q, n)| (p - q).dot(n) > 0.0)
     }
 
-    /// Whether the light point `q` *reaches* the receiver `p` with normal `n` (visibility v2 of
-    /// the guide): `q` lies strictly above `p`'s tangent plane (`n . (q - p) > 0`, or
+    /// Whether the light point `q` *reaches* the receiver `p` with normal `n` (the library's
+    /// visibility definition): `q` lies strictly above `p`'s tangent plane (`n . (q - p) > 0`, or
     /// `n . d > 0` for a direction) and `p` is on the light's emitting side. Points that do not
     /// reach are the unshadowed lighting term's business (horizon clipping), not the shadow's.
     pub fn reaches(&self, q: LightPoint, p: Vec3, n: Vec3) -> bool {
@@ -503,7 +503,7 @@ impl Light {
     }
 
     /// Maps `u` in the unit square to a point of the light seen from `receiver`, with its weight
-    /// under the emission profile. Uniform in the measure of the guide's visibility definition, so
+    /// under the emission profile. Uniform in the measure of the visibility definition, so
     /// an average of `weight * visible` over stratified `u` divided by the average weight is `V`.
     ///
     /// For a sphere the sample lies on the silhouette disc seen from `receiver`; a receiver inside

@@ -314,7 +314,7 @@ proptest! {
 
 /// The approximations' error against the exact transform on blob-shaped masks (discs and
 /// rectangles, like shadow footprints) at 256²: printed, and bounded by what each method can
-/// reach. Measured: see the closing note of the issue.
+/// reach.
 #[test]
 fn approximation_error_is_bounded_and_reported() {
     let res = 256u32;
@@ -403,7 +403,7 @@ fn quad(c: Vec3, half: f32) -> [[Vec3; 3]; 2] {
 fn geometry(h: f32) -> SceneGeometry {
     let ground = quad(Vec3::ZERO, 2.0);
     let blocker = quad(Vec3::new(-1.0, h, 0.0), 1.0);
-    // The ground only receives (the guide: maps cover what casts).
+    // The ground only receives (maps cover what casts).
     let casters: Vec<[Vec3; 3]> = blocker.to_vec();
     let everything: Vec<[Vec3; 3]> = ground.iter().chain(&blocker).copied().collect();
     SceneGeometry {

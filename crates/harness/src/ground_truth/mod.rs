@@ -1,4 +1,4 @@
-//! Ray-traced ground truth (visibility v2 of the guide): per receiver, the emission-weighted
+//! Ray-traced ground truth (the library's visibility): per receiver, the emission-weighted
 //! fraction of the light points that *reach* it ([`Light::reaches`]: above its tangent plane, on
 //! the light's emitting side) which it sees unoccluded, by stratified Monte Carlo shadow rays
 //! against the real triangles through `obvhs`'s BVHs. A receiver that no light point reaches is

@@ -182,7 +182,7 @@ fn cell(v: Option<f64>) -> String {
 pub fn markdown(papers: &Papers) -> String {
     let mut s = String::from(
         "# The papers' own experiments\n\nEach paper's experiment rebuilt as it describes it, \
-         measured against the ray-traced reference (visibility v2) on the CPU backend. Cells \
+         measured against the ray-traced reference (`docs/ground-truth.md`) on the CPU backend, written by `cargo run --release --bin harness -- papers --out docs`. Cells \
          read `published / ours`; a dash is a number the paper does not publish or a \
          technique we do not implement.\n",
     );

@@ -1,5 +1,5 @@
 //! What each configuration costs against the hard shadow map, in the same run: generation at
-//! the largest map resolution measured (the issue's 2048²) and evaluation per million
+//! the largest map resolution measured (2048² in a full run) and evaluation per million
 //! receivers, as ratios to the hard map's on the same scene and backend, with the measured cause
 //! of every generation above [`GENERATION_LIMIT`]. The report times the hard map just before
 //! each configuration at that resolution ([`super::measure::measure`]), and a ratio
@@ -147,7 +147,7 @@ pub fn cost_rows(report: &Report) -> (u32, Vec<CostRow>) {
 
 /// Why a configuration's generation costs more than [`GENERATION_LIMIT`] hard maps: the work
 /// its algorithm does per map, against the hard map's one depth pass (measured on `torus` at
-/// 2048² on 2 cores, in the closing note of the issue that added this table).
+/// 2048² on 2 cores).
 pub fn generation_cause(configuration: &str) -> &'static str {
     let mut words = configuration.split(' ');
     let technique = words.next().unwrap_or("");

@@ -62,18 +62,17 @@ fn unlit(x: u32, y: u32) -> Rgb<u8> {
 /// Rows of a strip: `V`, the shaded image, its signed error.
 pub const STRIP_ROWS: u32 = 3;
 
-/// Writes the strip, one column for the reference then one per run, [`STRIP_ROWS`] rows: `V`;
+/// The strip, one column for the reference then one per run, [`STRIP_ROWS`] rows: `V`;
 /// the shaded image `weight * V` (what a white Lambertian scene lit by the light shows, `weight`
 /// = `E0 / E0_max` per pixel); and below each run its signed image error `(V - V_ref) * weight`.
 /// `unlit_pixels` (receivers no light point reaches) are hatched in every cell.
-pub fn write_strip(
-    path: &Path,
+pub fn strip_image(
     size: u32,
     reference: &[Option<f32>],
     weight: &[Option<f32>],
     runs: &[Vec<Option<f32>>],
     unlit_pixels: &[usize],
-) -> Result<()> {
+) -> RgbImage {
     let cols = 1 + runs.len() as u32;
     let mut img = RgbImage::from_pixel(cols * size, STRIP_ROWS * size, Rgb([20, 20, 20]));
     let mut is_unlit = vec![false; (size * size) as usize];
@@ -100,7 +99,21 @@ pub fn write_strip(
             signed(shaded(run[i], i), shaded(reference[i], i))
         });
     }
-    img.save(path).map_err(|e| io_err(path, e))
+    img
+}
+
+/// Writes [`strip_image`] to `path` as PNG.
+pub fn write_strip(
+    path: &Path,
+    size: u32,
+    reference: &[Option<f32>],
+    weight: &[Option<f32>],
+    runs: &[Vec<Option<f32>>],
+    unlit_pixels: &[usize],
+) -> Result<()> {
+    strip_image(size, reference, weight, runs, unlit_pixels)
+        .save(path)
+        .map_err(|e| io_err(path, e))
 }
 
 /// Writes named 32-bit float channels of a `size²` image as OpenEXR: one layer, ZIP

@@ -1,10 +1,10 @@
-//! `report.json`: field names are the contract of the guide.
+//! `report.json`: field names are a stable contract (`docs/report.md`).
 
 use crate::metrics::Errors;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The whole report.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Report {
     /// Format version (1).
     pub version: u32,
@@ -15,15 +15,17 @@ pub struct Report {
     /// One entry per technique x variant x backend x resolution x scene.
     pub runs: Vec<Run>,
     /// What each column of each scene's PNG strip shows.
+    #[serde(default)]
     pub strips: Vec<Strip>,
     /// Configurations that did not run, each with the reason (a light kind the technique does
     /// not model, a resolution above the backend's limit, a memory need over the budget).
+    #[serde(default)]
     pub skipped: Vec<String>,
 }
 
 /// The columns of one scene's PNG strip (rows: `V`; the shaded image `E0 V / E0_max`; its
 /// signed error, red = too dark, blue = too bright).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Strip {
     /// Scene name.
     pub scene: String,
@@ -38,7 +40,7 @@ pub struct Strip {
 }
 
 /// The run one strip column shows.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct StripTile {
     /// Technique name.
     pub technique: String,
@@ -55,7 +57,7 @@ pub struct StripTile {
 }
 
 /// The machine the report ran on.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Machine {
     /// CPU model.
     pub cpu: String,
@@ -70,7 +72,7 @@ pub struct Machine {
 }
 
 /// The reference of one scene.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct ReferenceInfo {
     /// Scene name.
     pub scene: String,
@@ -78,7 +80,7 @@ pub struct ReferenceInfo {
     pub light: String,
     /// For a hard case recast under another light (`acne@rect`): the scene it comes from. Only
     /// the techniques that do not model the original light run on it.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub relit_from: Option<String>,
     /// `"monte-carlo"`.
     pub method: String,
@@ -101,7 +103,7 @@ pub struct ReferenceInfo {
 }
 
 /// One measured configuration.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Run {
     /// Scene name.
     pub scene: String,
@@ -121,10 +123,10 @@ pub struct Run {
     /// resolution, timed just before this configuration (each run after run, after its own
     /// unmeasured frame): the denominator of the cost table's generation ratio. At the cost
     /// table's resolution only (and not on the hard map's own run).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hard_generate_ms: Option<f64>,
     /// Likewise the hard shadow map's median evaluation time.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hard_evaluate_ms: Option<f64>,
     /// Errors against the reference.
     #[serde(flatten)]
@@ -132,7 +134,7 @@ pub struct Run {
     /// Mean excess frame-to-frame change of `V` over the reference's, times 255, with the light
     /// moving by small steps (see [`super::flicker`]); on `torus` and `overlap` at the flicker
     /// resolution only.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flicker_255: Option<f64>,
 }
 

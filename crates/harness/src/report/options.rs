@@ -42,7 +42,7 @@ pub struct MemoryBudgets {
     pub gpu: Option<u64>,
 }
 
-/// Options of `report`, as the CLI flags of the guide.
+/// Options of `report`, one field per CLI flag.
 #[derive(Clone, Debug)]
 pub struct ReportOptions {
     /// `--quick`: [`QUICK_SIZE`]² G-buffer, [`QUICK_RESOLUTIONS`], fewer variants; under 2

@@ -21,7 +21,7 @@ const LEGEND_TOP: u32 = 60;
 const LEGEND_LINE: u32 = 16;
 const DEJAVU: &[u8] = include_bytes!("../../../../assets/DejaVuSans.ttf");
 
-fn register_font() {
+pub(crate) fn register_font() {
     FONT.call_once(|| {
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, DEJAVU);
     });

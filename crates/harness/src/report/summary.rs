@@ -18,6 +18,8 @@ pub struct Config {
     pub label: String,
     /// Technique name.
     pub technique: String,
+    /// `"cpu"` or `"gpu"`.
+    pub backend: String,
     /// Mean `generate_ms + evaluate_ms` over the scenes.
     pub time_ms: f64,
     /// Mean `image_rms_255` over the scenes: what the summary ranks by.
@@ -49,8 +51,8 @@ pub fn configs(report: &Report) -> BTreeMap<String, Vec<Config>> {
         .filter(|r| r.relit_from.is_none())
         .map(|r| (r.scene.as_str(), r.light.as_str()))
         .collect();
-    // (light, label) -> (technique, time, image error, V error, runs), summed.
-    type Sums = (String, f64, f64, f64, u32);
+    // (light, label) -> (technique, backend, time, image error, V error, runs), summed.
+    type Sums = (String, String, f64, f64, f64, u32);
     let mut groups: BTreeMap<(String, String), Sums> = BTreeMap::new();
     for r in &report.runs {
         let Some(&light) = kind.get(r.scene.as_str()) else {
@@ -62,17 +64,18 @@ pub fn configs(report: &Report) -> BTreeMap<String, Vec<Config>> {
         );
         let g = groups
             .entry((light.to_string(), label))
-            .or_insert_with(|| (r.technique.clone(), 0.0, 0.0, 0.0, 0));
-        g.1 += r.generate_ms + r.evaluate_ms;
-        g.2 += r.errors.image_rms_255;
-        g.3 += r.errors.rms_255;
-        g.4 += 1;
+            .or_insert_with(|| (r.technique.clone(), r.backend.clone(), 0.0, 0.0, 0.0, 0));
+        g.2 += r.generate_ms + r.evaluate_ms;
+        g.3 += r.errors.image_rms_255;
+        g.4 += r.errors.rms_255;
+        g.5 += 1;
     }
     let mut out: BTreeMap<String, Vec<Config>> = BTreeMap::new();
-    for ((light, label), (technique, t, image, v, n)) in groups {
+    for ((light, label), (technique, backend, t, image, v, n)) in groups {
         out.entry(light).or_default().push(Config {
             label,
             technique,
+            backend,
             time_ms: t / n as f64,
             image_rms_255: image / n as f64,
             rms_255: v / n as f64,
@@ -109,6 +112,102 @@ pub fn lines(report: &Report) -> Vec<Line> {
         }
     }
     out
+}
+
+/// The "which technique" table for users, in Markdown: per light kind and budget, the
+/// lowest-image-error configuration of the four techniques (baselines excluded) measured on
+/// `backend` whose mean time fits the budget, and beside it the lowest-error baseline within the
+/// same budget. A light kind no technique ran on is left out.
+pub fn choices(report: &Report, backend: &str, budgets: &[f64]) -> String {
+    let cell = |c: &Option<Config>| match c {
+        Some(c) => {
+            let mut words = c.label.split(' ');
+            let (t, v) = (words.next().unwrap_or(""), words.next().unwrap_or(""));
+            let res = words.nth(1).unwrap_or("");
+            format!(
+                "{t} {v} at {res}² | {:.2} | {:.1}",
+                c.image_rms_255, c.time_ms
+            )
+        }
+        None => "nothing fits | | ".to_string(),
+    };
+    let mut out = String::from(
+        "| light | budget | technique | image error | ms | best baseline | image error | ms |\n\
+         |---|---:|---|---:|---:|---|---:|---:|\n",
+    );
+    for (light, cs) in configs(report) {
+        let on: Vec<&Config> = cs.iter().filter(|c| c.backend == backend).collect();
+        if !on
+            .iter()
+            .any(|c| !BASELINES.contains(&c.technique.as_str()))
+        {
+            continue;
+        }
+        for &budget in budgets {
+            let technique = best(
+                on.iter()
+                    .copied()
+                    .filter(|c| !BASELINES.contains(&c.technique.as_str())),
+                budget,
+            );
+            let baseline = best(
+                on.iter()
+                    .copied()
+                    .filter(|c| BASELINES.contains(&c.technique.as_str())),
+                budget,
+            );
+            out.push_str(&format!(
+                "| {light} | {budget} ms | {} | {} |\n",
+                cell(&technique),
+                cell(&baseline)
+            ));
+        }
+    }
+    out
+}
+
+/// [`choices`] of the `report.json` at `path`, after a line saying what it was measured on.
+pub fn choices_from_file(
+    path: &std::path::Path,
+    backend: &str,
+    budgets: &[f64],
+) -> crate::error::Result<String> {
+    use crate::error::HarnessError;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        HarnessError::Usage(format!(
+            "cannot read {}: {e} (run `harness report` first)",
+            path.display()
+        ))
+    })?;
+    let report: Report = serde_json::from_str(&text).map_err(|e| {
+        HarnessError::Usage(format!("{} is not a report.json: {e}", path.display()))
+    })?;
+    let m = &report.machine;
+    let mut resolutions: Vec<u32> = report
+        .runs
+        .iter()
+        .filter(|r| r.backend == backend)
+        .map(|r| r.resolution)
+        .collect();
+    resolutions.sort_unstable();
+    resolutions.dedup();
+    let device = if backend == "gpu" {
+        format!("GPU: {}", m.gpu_adapter)
+    } else {
+        format!("CPU: {}, {} threads", m.cpu, m.threads)
+    };
+    let receivers = report
+        .references
+        .iter()
+        .map(|r| r.receivers)
+        .max()
+        .unwrap_or(0);
+    Ok(format!(
+        "Measured on the {device}; map resolutions {resolutions:?}; time = generation + \
+         evaluation of up to {receivers} receivers, image error in 1/255, both the mean over \
+         the catalogue scenes of each light kind.\n\n{}",
+        choices(&report, backend, budgets)
+    ))
 }
 
 /// Least-squares slope of `log(generate_ms)` against `log(texels)` per technique/variant/backend

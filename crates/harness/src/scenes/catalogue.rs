@@ -1,4 +1,4 @@
-//! The built-in scenes of the guide's catalogue.
+//! The built-in scenes of the catalogue.
 
 use super::shapes::*;
 use super::{MeshInstance, SceneSpec};
@@ -31,7 +31,7 @@ pub const SCENE_NAMES: [&str; 16] = [
 ];
 
 /// Names of the catalogue's grounds: receivers only, since nothing lies below them to shadow
-/// (the guide: light-space maps cover what casts, not what only receives).
+/// (light-space maps cover what casts, not what only receives).
 pub const GROUNDS: [&str; 2] = ["ground", "graded-strip"];
 
 fn inst(mesh: TriangleMesh) -> MeshInstance {

@@ -1,4 +1,4 @@
-//! The scene catalogue of the guide: built-in, deterministic scenes, plus user scenes from TOML.
+//! The scene catalogue: built-in, deterministic scenes, plus user scenes from TOML.
 
 pub mod catalogue;
 pub mod relight;

@@ -165,24 +165,19 @@ fn a_static_scenes_second_frame_maps_uploads_and_allocates_nothing() {
     assert_eq!(counts(&r.gpu), after_first, "{test}: second frame");
 }
 
-/// The README's integration snippet is this crate's code: every line of it, in order, is a line
-/// of `src/lib.rs` (so it compiles and runs in the tests above).
-#[test]
-fn the_readme_snippet_is_the_renderers_code() {
+/// Every line of the README's snippet under `heading`, in order, is a line of the file at
+/// `path` (from the repository root), which the tests compile and run.
+fn assert_readme_snippet_is(heading: &str, path: &str) {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
-    let lib =
-        std::fs::read_to_string(format!("{root}/crates/example-renderer/src/lib.rs")).unwrap();
-    let section = readme
-        .split("### In your own wgpu renderer")
-        .nth(1)
-        .expect("README section");
+    let code = std::fs::read_to_string(format!("{root}/{path}")).unwrap();
+    let section = readme.split(heading).nth(1).expect("README section");
     let snippet = section
         .split("```rust\n")
         .nth(1)
         .and_then(|s| s.split("```").next())
         .expect("README snippet");
-    let mut lines = lib.lines().map(str::trim);
+    let mut lines = code.lines().map(str::trim);
     let mut checked = 0;
     for want in snippet.lines().map(str::trim) {
         if want.is_empty() || want.starts_with("//") {
@@ -190,9 +185,25 @@ fn the_readme_snippet_is_the_renderers_code() {
         }
         assert!(
             lines.any(|l| l == want),
-            "README line {want:?} is not (in order) in src/lib.rs"
+            "README line {want:?} is not (in order) in {path}"
         );
         checked += 1;
     }
     assert!(checked >= 10, "{checked} lines checked");
+}
+
+/// The README's integration snippet is the example renderer's code (so it compiles and runs in
+/// the tests above).
+#[test]
+fn the_readme_snippet_is_the_renderers_code() {
+    assert_readme_snippet_is(
+        "### In your own wgpu renderer",
+        "crates/example-renderer/src/lib.rs",
+    );
+}
+
+/// The README's standalone snippet is the `standalone` example's code (built by the tests).
+#[test]
+fn the_readme_standalone_snippet_is_the_examples_code() {
+    assert_readme_snippet_is("### Standalone", "crates/harness/examples/standalone.rs");
 }

@@ -17,6 +17,7 @@ mod penumbra_limit;
 mod pool;
 mod report;
 mod shadow_width;
+mod shipped_text;
 mod wgsl;
 
 #[path = "../common/mod.rs"]

@@ -4,7 +4,7 @@
 //! is exact (four reads, wrapping `u32` arithmetic). A box with fractional corners splits, per
 //! axis, into the whole texels strictly inside and the two partial texels at its ends, so the
 //! integral of the piecewise-constant slice is a weighted sum of nine integer box counts: the
-//! weights carry the fractions, the counts stay exact. That is the "exact SAT" of the issue: its
+//! weights carry the fractions, the counts stay exact. That is what makes this table exact: its
 //! precision does not decay with resolution, unlike the paper's f32 table.
 
 use glam::Vec2;
