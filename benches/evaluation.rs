@@ -21,10 +21,7 @@ fn evaluation(c: &mut Criterion) {
     let cpu = CpuContext::new();
     for cfg in configs() {
         let (_, positions, normals) = scene_receivers(&cfg.spec, SIZE).expect("receivers");
-        let recv = Receivers {
-            positions: &positions,
-            normals: &normals,
-        };
+        let recv = Receivers::new(&positions, &normals);
         let (t, geo, light) = (&cfg.technique, &cfg.geometry, &cfg.spec.light);
         let mut group = c.benchmark_group(format!("evaluate/{}/{}", cfg.spec.name, cfg.label()));
         timing(&mut group, 10);

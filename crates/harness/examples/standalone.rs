@@ -23,10 +23,7 @@ fn main() -> soft_shadow_core::Result<()> {
         .map(|i| Vec3::new(0.2 + 0.1 * i as f32, 0.0, 0.0))
         .collect();
     let normals = vec![Vec3::Y; points.len()];
-    let receivers = Receivers {
-        positions: &points,
-        normals: &normals,
-    };
+    let receivers = Receivers::new(&points, &normals);
 
     let geometry = SceneGeometry::new(casters, Vec::new());
     let light = Light::Rect {

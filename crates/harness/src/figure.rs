@@ -70,10 +70,7 @@ pub fn run(opts: &FigureOptions) -> Result<Vec<Column>> {
     let reference = p.reference_v();
     let cpu = CpuContext::new();
     let light = p.spec.light;
-    let receivers = Receivers {
-        positions: &p.positions,
-        normals: &p.normals,
-    };
+    let receivers = Receivers::new(&p.positions, &p.normals);
     let measure = |t: &dyn DynTechnique| -> Result<(Column, Vec<f32>)> {
         let maps = t.generate(Context::Cpu(&cpu), &p.geometry, &light, opts.resolution)?;
         let v = maps.evaluate(None, &receivers)?;

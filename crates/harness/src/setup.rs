@@ -182,10 +182,7 @@ impl PreparedScene {
 
     /// The receivers as the techniques take them.
     pub fn receivers(&self) -> Receivers<'_> {
-        Receivers {
-            positions: &self.positions,
-            normals: &self.normals,
-        }
+        Receivers::new(&self.positions, &self.normals)
     }
 
     /// Reference visibilities of the same receivers under another light (same sampling

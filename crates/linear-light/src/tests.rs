@@ -219,13 +219,7 @@ fn triangle_light_is_lit_outside_and_dark_under_the_occluder() {
     let positions = [Vec3::new(2.5, 0.0, 2.5), Vec3::new(0.0, 0.0, 0.0)];
     let normals = [Vec3::Y; 2];
     let v = t
-        .evaluate_cpu(
-            &maps,
-            &Receivers {
-                positions: &positions,
-                normals: &normals,
-            },
-        )
+        .evaluate_cpu(&maps, &Receivers::new(&positions, &normals))
         .unwrap();
     assert!((v[0] - 1.0).abs() < 1e-5, "lit point {}", v[0]);
     assert_eq!(v[1], 0.0, "umbra point");

@@ -12,7 +12,12 @@ pub struct Receivers<'a> {
     pub normals: &'a [Vec3],
 }
 
-impl Receivers<'_> {
+impl<'a> Receivers<'a> {
+    /// The receivers at `positions` with `normals`.
+    pub fn new(positions: &'a [Vec3], normals: &'a [Vec3]) -> Self {
+        Receivers { positions, normals }
+    }
+
     /// Checks equal lengths and finite values.
     pub fn validate(&self) -> Result<()> {
         if self.positions.len() != self.normals.len() {

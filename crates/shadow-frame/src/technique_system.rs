@@ -134,10 +134,7 @@ pub fn run_technique(
         let Some(maps) = state.maps.as_ref() else {
             continue;
         };
-        let recv = Receivers {
-            positions: &positions,
-            normals: &normals,
-        };
+        let recv = Receivers::new(&positions, &normals);
         match maps.evaluate(gpu, &recv) {
             Ok(v) => {
                 for (&i, x) in inside.iter().zip(v) {

@@ -55,13 +55,10 @@ pub fn track_casters(
 /// Validates the frame receivers once per frame (equal lengths, finite values): bad receivers
 /// become every light's error, and a NaN point never passes as "out of range".
 pub fn check_receivers(frame: Res<FrameReceivers>, mut error: ResMut<ReceiversError>) {
-    let e = soft_shadow_core::Receivers {
-        positions: &frame.positions,
-        normals: &frame.normals,
-    }
-    .validate()
-    .err()
-    .map(|e| format!("FrameReceivers: {e}"));
+    let e = soft_shadow_core::Receivers::new(&frame.positions, &frame.normals)
+        .validate()
+        .err()
+        .map(|e| format!("FrameReceivers: {e}"));
     if error.0 != e {
         error.0 = e;
     }

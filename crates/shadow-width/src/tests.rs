@@ -443,13 +443,7 @@ fn width_units_follow_the_closed_form() {
         let positions: Vec<Vec3> = xs.iter().map(|&x| Vec3::new(x, 0.0, 0.1)).collect();
         let normals = vec![Vec3::Y; positions.len()];
         let v = t
-            .evaluate_cpu(
-                &maps,
-                &Receivers {
-                    positions: &positions,
-                    normals: &normals,
-                },
-            )
+            .evaluate_cpu(&maps, &Receivers::new(&positions, &normals))
             .unwrap();
         let l = light.size() / crate::params::fit_factor(light.kind());
         let (slope, texel) = match light {
@@ -516,13 +510,7 @@ fn bad_input_gets_typed_errors() {
     let p = [Vec3::ZERO, Vec3::ONE];
     let n = [Vec3::Y];
     assert!(matches!(
-        t.evaluate_cpu(
-            &maps,
-            &Receivers {
-                positions: &p,
-                normals: &n
-            }
-        ),
+        t.evaluate_cpu(&maps, &Receivers::new(&p, &n)),
         Err(ShadowError::InvalidReceivers(_))
     ));
 }

@@ -31,10 +31,7 @@ pub fn receivers(spec: &SceneSpec, size: u32) -> Receivers {
 impl Receivers {
     /// Borrowed as [`soft_shadow_core::Receivers`].
     pub fn as_receivers(&self) -> soft_shadow_core::Receivers<'_> {
-        soft_shadow_core::Receivers {
-            positions: &self.positions,
-            normals: &self.normals,
-        }
+        soft_shadow_core::Receivers::new(&self.positions, &self.normals)
     }
 }
 

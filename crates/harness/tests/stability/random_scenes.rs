@@ -107,7 +107,7 @@ proptest! {
             bounds: Aabb::of_triangles(&all),
         };
         let (positions, normals) = receivers(&all, &uv);
-        let recv = Receivers { positions: &positions, normals: &normals };
+        let recv = Receivers::new(&positions, &normals);
         let light = light(kind, s, size, Vec3::new(dir.0, dir.1, dir.2).normalize());
         for t in techniques() {
             let l = relight(&light, &geometry.bounds, |k| t.models(k))

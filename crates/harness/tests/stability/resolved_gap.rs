@@ -117,10 +117,7 @@ fn no_bias_pushes_a_receiver_through_a_resolved_gap() {
                     })
                     .collect();
                 let normals = vec![Vec3::Y; positions.len()];
-                let receivers = soft_shadow_core::Receivers {
-                    positions: &positions,
-                    normals: &normals,
-                };
+                let receivers = soft_shadow_core::Receivers::new(&positions, &normals);
                 for be in backends() {
                     let what = label(t.as_ref(), &scene.name, res, be);
                     let gpu = super::gpu();

@@ -71,13 +71,7 @@ fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
         .generate_cpu(crate::common::cpu(), &geometry, &light, RESOLUTION)
         .unwrap();
     let v = t
-        .evaluate_cpu(
-            &maps,
-            &Receivers {
-                positions: &positions,
-                normals: &normals,
-            },
-        )
+        .evaluate_cpu(&maps, &Receivers::new(&positions, &normals))
         .unwrap();
     let shade = ShadeUniform::new(&light).unwrap();
     // Squared error and count: all, ground (y = 0, facing up), model; penumbra (0 < V < 1).

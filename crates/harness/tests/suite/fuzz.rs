@@ -143,10 +143,7 @@ fn load_and_render(dir: &Path, what: &str) -> Outcome {
         outcome = Outcome::Rendered;
         let hard = ShadowMapBaseline::new(Filter::Hard);
         if let Ok(maps) = hard.generate_cpu(crate::common::cpu(), &geometry, &spec.light, 64) {
-            let r = soft_shadow_core::Receivers {
-                positions: &positions,
-                normals: &normals,
-            };
+            let r = soft_shadow_core::Receivers::new(&positions, &normals);
             let v = hard.evaluate_cpu(&maps, &r).unwrap_or_default();
             assert!(v.iter().all(|x| x.is_finite()), "{what}: non-finite V");
         }

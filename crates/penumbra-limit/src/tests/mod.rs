@@ -253,10 +253,7 @@ fn plate_edge(
     let xs: Vec<f32> = (-40..=40).map(|i| edge + i as f32 * 0.005).collect();
     let positions: Vec<Vec3> = xs.iter().map(|&x| Vec3::new(x, LIFT, 0.13)).collect();
     let normals = vec![Vec3::Y; positions.len()];
-    let receivers = Receivers {
-        positions: &positions,
-        normals: &normals,
-    };
+    let receivers = Receivers::new(&positions, &normals);
     let v = t.evaluate_cpu(&maps, &receivers).unwrap();
     xs.iter()
         .zip(v)
@@ -435,13 +432,7 @@ fn lit_and_umbra_for_every_variant() {
     for t in PenumbraLimit::standard_set() {
         let maps = t.generate_cpu(&CpuContext::new(), &g, &light, 64).unwrap();
         let v = t
-            .evaluate_cpu(
-                &maps,
-                &Receivers {
-                    positions: &positions,
-                    normals: &normals,
-                },
-            )
+            .evaluate_cpu(&maps, &Receivers::new(&positions, &normals))
             .unwrap();
         assert_eq!(v, vec![1.0, 0.0, 1.0], "{}", t.label());
     }
@@ -506,10 +497,7 @@ fn bad_input_gets_typed_errors() {
         Err(ShadowError::UnsupportedLight { .. })
     ));
     let maps = t.generate_cpu(&CpuContext::new(), &g, &sun, 16).unwrap();
-    let bad = Receivers {
-        positions: &[Vec3::NAN],
-        normals: &[Vec3::Y],
-    };
+    let bad = Receivers::new(&[Vec3::NAN], &[Vec3::Y]);
     assert!(matches!(
         t.evaluate_cpu(&maps, &bad),
         Err(ShadowError::InvalidReceivers(_))
