@@ -28,6 +28,12 @@ pub(crate) const NONE_DEPTH: f32 = 1.0;
 /// map's eye plane (linear depth `z <= 0`, where `-1/z` would wrap to the far side): nearer than
 /// every occluder, so never shadowed by the map.
 pub(crate) const FRONT_DEPTH: f32 = -1.0;
+/// Largest ratio of a perspective map's far plane to the near plane its warp starts at. A caster
+/// reaching the light's plane pulls the frustum's near plane towards 0, and `-1/z` then spends
+/// almost all of the stored range on the first centimetres: every receiver's depth rounds to
+/// the same f16 or 8-bit value and the map casts nothing. Depths nearer than `far /
+/// MAX_DEPTH_RATIO` store below 0 (f32, f16) or at 0 (RGBA8): nearer than every receiver.
+pub(crate) const MAX_DEPTH_RATIO: f32 = 16.0;
 /// Depth rate used for a light of size 0 (a hard, antialiased edge).
 pub(crate) const MAX_RATE: f32 = 1.0e30;
 
@@ -58,7 +64,12 @@ impl Warp {
     pub(crate) fn new(m: &MapParams, light: &Light) -> Self {
         let ortho = m.ortho;
         let zeta = |z: f32| if ortho == 1 { z } else { -1.0 / z };
-        let zeta_near = zeta(m.near);
+        let near = if ortho == 1 {
+            m.near
+        } else {
+            m.near.max(m.far / MAX_DEPTH_RATIO)
+        };
+        let zeta_near = zeta(near);
         let zeta_scale = DEPTH_SPAN / (zeta(m.far) - zeta_near).max(f32::MIN_POSITIVE);
         let unit = if ortho == 1 { m.texel_b } else { m.texel_a };
         let size = light.size();

@@ -8,6 +8,7 @@ use crate::params::{DepthLayer, ShadowWidth};
 use crate::width::width_map;
 use rayon::prelude::*;
 use soft_shadow_core::raster::{DepthPass, depth_map_pass};
+use soft_shadow_core::view::NO_OCCLUDER;
 use soft_shadow_core::{CpuContext, Generation, Map2D, MapParams, Receivers, SampleView};
 
 /// The maps of one light, built on the CPU.
@@ -43,7 +44,15 @@ pub(crate) fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) ->
     let depth = match t.depth {
         DepthLayer::Front => near,
         DepthLayer::BackFaces => {
-            depth_map_pass(pool, &view.view, resolution, tris, DepthPass::FARTHEST_BACK)
+            let mut back =
+                depth_map_pass(pool, &view.view, resolution, tris, DepthPass::FARTHEST_BACK);
+            // An open or single-sided caster has no back face: its front face stands in.
+            for (b, f) in back.data_mut().iter_mut().zip(near.data()) {
+                if *b == NO_OCCLUDER {
+                    *b = *f;
+                }
+            }
+            back
         }
     };
     CpuWidthMaps {

@@ -56,8 +56,9 @@ pub enum DepthLayer {
     #[default]
     Front,
     /// The farthest back face of the shadow casters, rendered with a "z-greater" test (section 5):
-    /// fewer self-shadowing artifacts and harder edges where blockers overlap. Open sheets whose
-    /// front faces the light cast no shadow in this mode.
+    /// fewer self-shadowing artifacts and harder edges where blockers overlap. The paper assumes
+    /// closed casters; where a texel has no back face (an open or single-sided caster) the
+    /// nearest surface stands in.
     BackFaces,
 }
 

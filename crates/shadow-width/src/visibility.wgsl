@@ -1,5 +1,5 @@
 #define_import_path shadow_width::visibility
-#import soft_shadow_core::light_space::{Bias, MapView, NO_OCCLUDER, bilinear_taps, linear_from_ndc, shadow_coord}
+#import soft_shadow_core::light_space::{Bias, MapView, bilinear_taps, linear_from_ndc, shadow_coord}
 
 // Evaluation of Kirsch & Döllner's I(sd, sw) as `visibility(world_pos, normal)`. Mirrors
 // shadow_width::eval::shade.
@@ -56,11 +56,12 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     }
     let last = i32(prm.map.resolution) - 1;
     let xy = clamp(vec2<i32>(floor(c.st)), vec2<i32>(0), vec2<i32>(last));
-    let z_ndc = textureLoad(depth, xy, prm.depth_layer, 0);
-    var z_b = linear_from_ndc(prm.map, z_ndc);
+    var z_ndc = textureLoad(depth, xy, prm.depth_layer, 0);
     if prm.depth_layer != 0u && z_ndc >= 1.0 {
-        z_b = NO_OCCLUDER;
+        // An open or single-sided caster has no back face: its front face stands in.
+        z_ndc = textureLoad(depth, xy, 0, 0);
     }
+    let z_b = linear_from_ndc(prm.map, z_ndc);
     let sd = c.z - z_b;
     if !(sd > 0.0) {
         return 1.0;

@@ -13,7 +13,9 @@
 //!   the ratio of their pooled sums; its error is the jackknife standard error over replicates.
 //!   Where every ray agreed (umbra, or lit without proof) the spread is 0 but a feature smaller
 //!   than the sample spacing may be missed: the stated error is then the 99% upper bound on the
-//!   missed fraction, `-ln(0.01) / rays` (0.29/255 at the default 4096 rays).
+//!   missed fraction, [`agree_bound`] (0.29/255 at the default 4096 rays). A receiver that fewer
+//!   than [`MIN_REACHING`] samples reach (a sliver of the light above its horizon) is sampled
+//!   again with more strata, and no stated error exceeds [`MAX_STD_ERROR`].
 //!
 //! A receiver's rays share its origin, so they are traced together ([`packet`]): the casters near
 //! the hull of the origin and the light are found once and binned by direction, and each ray
@@ -76,8 +78,20 @@ pub struct Reference {
     pub std_error: f32,
 }
 
-/// Confidence of the bound stated where every ray agreed: `-ln(1 - 0.99)`.
-const AGREE_BOUND_LN: f64 = 4.605_170_185_988_091;
+/// The 99% upper bound on the fraction of the light a receiver's `rays` all missed when every
+/// one of them agreed: the `p` with `(1 - p)^rays = 0.01` (binomial; about `4.6 / rays`).
+pub fn agree_bound(rays: u64) -> f64 {
+    1.0 - 0.01f64.powf(1.0 / rays.max(1) as f64)
+}
+
+/// Reaching samples below which a receiver is sampled again with more strata.
+pub const MIN_REACHING: u64 = 256;
+
+/// Most strata per side, as a multiple of `strata_side`, for a receiver few samples reach.
+const MAX_STRATA_FACTOR: u32 = 16;
+
+/// The largest standard error a visibility in `[0, 1]` can have (a fair coin's).
+pub const MAX_STD_ERROR: f64 = 0.5;
 
 /// A BVH over the scene's shadow casters.
 pub struct RayTracer {
@@ -355,22 +369,34 @@ impl RayTracer {
             Some(rays) => rays.sees(q),
             None => self.sees_with(p, n, q, offset),
         };
-        let reps: Vec<(f64, f64, u64)> = (0..k)
-            .map(|r| {
-                let seed = hash(seed.wrapping_mul(31).wrapping_add(r as u64 + 1));
-                Self::estimate(light, p, n, side, seed, sees)
-            })
-            .collect();
-        let (sv, sw, count) = reps
-            .iter()
-            .fold((0.0, 0.0, 0u64), |a, r| (a.0 + r.0, a.1 + r.1, a.2 + r.2));
+        let run = |side: u32| -> Vec<(f64, f64, u64)> {
+            (0..k)
+                .map(|r| {
+                    let seed = hash(seed.wrapping_mul(31).wrapping_add(r as u64 + 1));
+                    Self::estimate(light, p, n, side, seed, sees)
+                })
+                .collect()
+        };
+        let pooled = |reps: &[(f64, f64, u64)]| {
+            reps.iter()
+                .fold((0.0, 0.0, 0u64), |a, r| (a.0 + r.0, a.1 + r.1, a.2 + r.2))
+        };
+        let mut reps = run(side);
+        let (_, _, first) = pooled(&reps);
+        // Few reaching samples (a sliver of the light above the horizon): more strata, so the
+        // stated error stays a statement about this receiver rather than about the sampler.
+        if first > 0 && first < MIN_REACHING {
+            let more = ((side as f64) * (MIN_REACHING as f64 / first as f64).sqrt()).ceil() as u32;
+            reps = run(more.min(MAX_STRATA_FACTOR * settings.strata_side));
+        }
+        let (sv, sw, count) = pooled(&reps);
         if sw <= 0.0 || count == 0 {
             // Only a sliver of the light reaches, missed by every stratum: counted unlit.
             return None;
         }
         let mean = sv / sw;
         let std_error = if sv <= 0.0 || sv >= sw {
-            AGREE_BOUND_LN / count as f64
+            agree_bound(count)
         } else {
             // Jackknife over replicates of the ratio estimator.
             let loo: Vec<f64> = reps
@@ -378,17 +404,25 @@ impl RayTracer {
                 .filter(|r| sw - r.1 > 0.0)
                 .map(|r| (sv - r.0) / (sw - r.1))
                 .collect();
-            if loo.len() < 2 {
-                0.5
+            let jackknife = if loo.len() < 2 {
+                MAX_STD_ERROR
             } else {
                 let m = loo.len() as f64;
                 let avg = loo.iter().sum::<f64>() / m;
                 ((m - 1.0) / m * loo.iter().map(|x| (x - avg).powi(2)).sum::<f64>()).sqrt()
+            };
+            // Still few samples after resampling: four replicates say little about their own
+            // spread, so the binomial error of that many independent draws bounds it from below.
+            if count < MIN_REACHING {
+                jackknife.max((mean * (1.0 - mean) / count as f64).sqrt())
+            } else {
+                jackknife
             }
         };
         Some(Reference {
             visibility: mean.clamp(0.0, 1.0) as f32,
-            std_error: std_error as f32,
+            // No estimate of a V in [0, 1] is more uncertain than a fair coin.
+            std_error: std_error.min(MAX_STD_ERROR) as f32,
         })
     }
 

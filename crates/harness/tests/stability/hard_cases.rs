@@ -72,14 +72,6 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
       hard map's 27.75 at 2048",
     ),
     (
-        "*",
-        "shadow-width",
-        "edt-back",
-        0,
-        "back-face depth of zero-thickness blockers (sheets, the degenerate and tiny-light plates) \
-      equals the front depth, so sd collapses: 58.6 on degenerate, 68.0 on tiny-light",
-    ),
-    (
         "grazing",
         "occlusion-slices",
         "*",
@@ -127,14 +119,6 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
         0,
         "the wall crosses the light's plane: slicing from a COP behind the light drops casters \
       above the plane and the wall's slices shadow the wall (40-46 vs the hard map's 25-30)",
-    ),
-    (
-        "light-plane",
-        "penumbra-limit",
-        "*",
-        0,
-        "the wall reaches the light's plane, where the -1/z warp exceeds f16 and 8-bit precision \
-      (65.2 at 256 and 2048; f32 passes)",
     ),
     (
         "thin",

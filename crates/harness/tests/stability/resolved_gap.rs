@@ -15,13 +15,11 @@
 //! Named exceptions:
 //! - penumbra-limit's 16-bit and 8-bit storages ([`QUANTIZED`]): their depth step is coarser
 //!   than a 1.5-texel gap (mean V 1.0 at 256-2048).
-//! - shadow-width's `edt-back` (see `tiny_light`): the open sheet has no back face.
 //! - occlusion-slices at oblique light: its depth resolution is a slice, not a texel. Tilted
 //!   60 degrees the occluder spans 1.7 m of depth across the slices, and a receiver within one
 //!   slice spacing below a slice fades it out (`Frame::fade`): mean V 0.19-0.47 at 16² and
 //!   0.95-1.0 at 256-2048. Straight overhead it passes.
 
-use super::tiny_light::BLIND_TO_OPEN_SHEETS;
 use super::{backends, label, scene_for, techniques};
 use glam::{Vec2, Vec3};
 use harness::scenes::shapes::{ground, horizontal_rect};
@@ -88,9 +86,7 @@ fn texel(spec: &SceneSpec, res: u32) -> f32 {
 fn no_bias_pushes_a_receiver_through_a_resolved_gap() {
     let mut failures = Vec::new();
     for t in techniques() {
-        if QUANTIZED.iter().any(|q| t.variant().ends_with(q))
-            || BLIND_TO_OPEN_SHEETS.contains(&t.variant().as_str())
-        {
+        if QUANTIZED.iter().any(|q| t.variant().ends_with(q)) {
             continue;
         }
         for deg in ANGLES {

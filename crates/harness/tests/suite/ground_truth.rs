@@ -237,6 +237,56 @@ fn the_horizon_and_the_back_of_a_light_are_not_shadow() {
     );
 }
 
+/// A receiver that only a sliver of a disk light reaches (the rest lies below its horizon):
+/// every stated error is one a `V` in [0, 1] allows (at most 0.5), and it still bounds the
+/// error. Unoccluded, `V` is 1; with everything at `x < 0` occluded, 1/2 by symmetry.
+#[test]
+fn a_sliver_of_light_above_the_horizon_gets_an_honest_error() {
+    let wall = vec![
+        [
+            Vec3::new(-5.0, -1.0, 1.0),
+            Vec3::new(0.0, -1.0, 1.0),
+            Vec3::new(0.0, 1.0, 1.0),
+        ],
+        [
+            Vec3::new(-5.0, -1.0, 1.0),
+            Vec3::new(0.0, 1.0, 1.0),
+            Vec3::new(-5.0, 1.0, 1.0),
+        ],
+    ];
+    let far_away = quad(50.0, 51.0, 50.0, 51.0, 50.0);
+    let settings = GroundTruthSettings::default();
+    let mut seen = 0;
+    for (casters, exact) in [(far_away, 1.0f32), (wall, 0.5)] {
+        let tracer = RayTracer::new(&casters);
+        for k in 0..16 {
+            // Sliver heights from 1e-4 to 1e-2 of the light's radius 0.5.
+            let h = 1e-4 * 100f32.powf(k as f32 / 15.0);
+            let light = Light::Disk {
+                center: Vec3::new(0.0, h - 0.5, 2.0),
+                normal: Vec3::NEG_Z,
+                radius: 0.5,
+            };
+            let Some(r) = tracer.reference(&light, Vec3::ZERO, Vec3::Y, &settings, k) else {
+                continue;
+            };
+            seen += 1;
+            assert!(
+                r.std_error <= 0.5,
+                "sliver {h:e}: stated error {} is more than a V in [0, 1] allows",
+                r.std_error
+            );
+            assert!(
+                (r.visibility - exact).abs() <= 4.0 * r.std_error + 1.0 / 255.0,
+                "sliver {h:e}: V {} against {exact}, stated error {}",
+                r.visibility,
+                r.std_error
+            );
+        }
+    }
+    assert!(seen >= 20, "only {seen} slivers were sampled");
+}
+
 /// A sample of `scene`'s receivers (a 32² G-buffer), the reference at the default settings and
 /// an independent recomputation: other seeds, 16 replicates of 48² strata (36,864 rays per
 /// receiver, 9x the reference) and no proof of lit receivers.
