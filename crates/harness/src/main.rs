@@ -99,6 +99,20 @@ enum Command {
         #[arg(long, value_delimiter = ',', default_value = "4,16,64")]
         budgets: Vec<f64>,
     },
+    /// Fit the frame pipeline's `Auto` profile (cost and error models per configuration) from a
+    /// report of this machine, and write it for `TechniqueProfile::parse`.
+    Profile {
+        /// The report.json to fit (a full run: two or more map sides).
+        #[arg(long, default_value = "report/report.json")]
+        report: PathBuf,
+        /// The profile file to write.
+        #[arg(long, default_value = "report/profile.txt")]
+        out: PathBuf,
+        /// A report.json of scenes the fit has not seen (`report --scene-file`): how the fitted
+        /// profile predicts them is printed too.
+        #[arg(long)]
+        held_out: Option<PathBuf>,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -223,6 +237,37 @@ fn main() -> ExitCode {
                 s + &format!("wrote {}", out.display())
             })
         }
+        Command::Profile {
+            report,
+            out,
+            held_out,
+        } => harness::profile::write(&report, &out).and_then(|(p, v)| {
+            let share = |what: &str, v: &harness::profile::Validation| {
+                format!(
+                    "; {what}, {:.1}% of predicted times within 1.5x, {:.1}% of Auto's picks \
+                     within budget, mean regret {:.2}/255",
+                    100.0 * v.time_share(),
+                    100.0 * v.within_budget_share(),
+                    v.mean_regret()
+                )
+            };
+            let mut line = format!(
+                "wrote {} configurations to {}",
+                p.entries.len(),
+                out.display()
+            );
+            if let Some(v) = v {
+                line += &share("on scenes left out of the fit", &v);
+            }
+            if let Some(path) = held_out {
+                let other = harness::profile::read_report(&path)?;
+                line += &share(
+                    &format!("on the scenes of {}", path.display()),
+                    &harness::profile::held_out(&p, &other),
+                );
+            }
+            Ok(line)
+        }),
         Command::Choose {
             report,
             backend,

@@ -58,6 +58,7 @@ impl Shading {
 
 /// Errors of one class of receivers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct ClassErrors {
     /// Receivers of the class.
     pub pixels: u64,
@@ -69,6 +70,7 @@ pub struct ClassErrors {
 
 /// The errors split by where the receiver lies.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct Classes {
     /// Receivers on geometry that only receives (grounds, walls).
     pub ground: ClassErrors,
@@ -80,6 +82,7 @@ pub struct Classes {
 
 /// Errors of one run against the reference.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct Errors {
     /// RMS of `(V - V_ref) * 255` over all receivers with finite `V`.
     pub rms_255: f64,

@@ -68,31 +68,10 @@ impl ShadowTechnique for LinearLight {
     }
 }
 
-/// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
-/// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
-#[cfg(feature = "frame")]
-pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
-    (
-        "linear-light",
-        "n5",
-        soft_shadow_core::LightKind::Linear,
-        16.5,
-        2.5,
-    ),
-    (
-        "linear-light",
-        "n5",
-        soft_shadow_core::LightKind::Triangle,
-        43.3,
-        7.8,
-    ),
-];
-
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
-    frame.add_profile_defaults(PROFILE_DEFAULTS);
     frame.add_technique(
         "linear-light",
         LinearLight::standard_set()

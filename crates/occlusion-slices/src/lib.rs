@@ -66,45 +66,10 @@ impl ShadowTechnique for OcclusionSlices {
     }
 }
 
-/// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
-/// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
-#[cfg(feature = "frame")]
-pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
-    (
-        "occlusion-slices",
-        "sat-8",
-        soft_shadow_core::LightKind::Rect,
-        3.5,
-        13.6,
-    ),
-    (
-        "occlusion-slices",
-        "nbuffer-8",
-        soft_shadow_core::LightKind::Rect,
-        7.3,
-        14.3,
-    ),
-    (
-        "occlusion-slices",
-        "sat-16",
-        soft_shadow_core::LightKind::Sphere,
-        7.9,
-        9.3,
-    ),
-    (
-        "occlusion-slices",
-        "sat-8",
-        soft_shadow_core::LightKind::Triangle,
-        3.9,
-        4.4,
-    ),
-];
-
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
-    frame.add_profile_defaults(PROFILE_DEFAULTS);
     frame.add_technique(
         "occlusion-slices",
         OcclusionSlices::standard_set()

@@ -204,4 +204,12 @@ impl TechniqueInfo for OcclusionSlices {
         };
         soft_shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
     }
+
+    /// N-Buffers write one full-resolution level per doubling of the box.
+    fn cost_form(&self) -> soft_shadow_core::CostForm {
+        match self.filter {
+            Prefilter::NBuffer => soft_shadow_core::CostForm::TexelPasses,
+            Prefilter::Mipmap | Prefilter::Sat => soft_shadow_core::CostForm::Texels,
+        }
+    }
 }

@@ -73,38 +73,10 @@ impl ShadowTechnique for PenumbraLimit {
     }
 }
 
-/// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
-/// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
-#[cfg(feature = "frame")]
-pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
-    (
-        "penumbra-limit",
-        "silhouette-f32",
-        soft_shadow_core::LightKind::Disk,
-        105.6,
-        20.5,
-    ),
-    (
-        "penumbra-limit",
-        "silhouette-f32",
-        soft_shadow_core::LightKind::Distant,
-        2.2,
-        4.4,
-    ),
-    (
-        "penumbra-limit",
-        "silhouette-f32",
-        soft_shadow_core::LightKind::Triangle,
-        3.8,
-        11.6,
-    ),
-];
-
 /// Registers this technique with a frame pipeline: its system set (which runs only while a
 /// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
 #[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
-    frame.add_profile_defaults(PROFILE_DEFAULTS);
     frame.add_technique(
         "penumbra-limit",
         PenumbraLimit::standard_set()

@@ -162,4 +162,12 @@ impl TechniqueInfo for PenumbraLimit {
         };
         soft_shadow_core::memory::maps(1, resolution, stored + 40)
     }
+
+    /// Silhouette extrusion rasterizes a ribbon as wide as the penumbra per silhouette edge.
+    fn cost_form(&self) -> soft_shadow_core::CostForm {
+        match self.generator {
+            Generator::Silhouette => soft_shadow_core::CostForm::Ribbons,
+            Generator::DepthImage => soft_shadow_core::CostForm::Texels,
+        }
+    }
 }

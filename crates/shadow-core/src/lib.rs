@@ -29,6 +29,7 @@ pub use map2d::Map2D;
 pub use mesh::{Aabb, TriangleMesh};
 pub use receivers::Receivers;
 pub use technique::{
-    AnyMaps, Backend, Checked, Context, DynTechnique, Generation, ShadowTechnique, TechniqueInfo,
+    AnyMaps, Backend, Checked, Context, CostForm, DynTechnique, Generation, ShadowTechnique,
+    TechniqueInfo,
 };
 pub use view::{Camera, View};

@@ -89,6 +89,55 @@ pub struct Generation<'a> {
     pub resolution: u32,
 }
 
+/// How a configuration's generation time grows, in the terms a cost model fits it in
+/// (`shadow-frame`'s `Auto`): time = `a + b·t1 + c·t2 + d·t3` with the terms of
+/// [`CostForm::terms`]: the triangles, a texel term, and a term for work per triangle that grows
+/// with the map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum CostForm {
+    /// A fixed number of passes over the map (`side²`), and rasterization whose per-triangle
+    /// work grows with the rows each triangle spans (`triangles·side`).
+    Texels,
+    /// One pass over the map per doubling of a step or a level (jump flooding, doubling
+    /// propagation, N-Buffers): `side²·log2(side)`, and `triangles·side`.
+    TexelPasses,
+    /// A ribbon of texels per silhouette edge, as wide as the penumbra (silhouette extrusion):
+    /// `side²`, and `triangles·side²`.
+    Ribbons,
+}
+
+impl CostForm {
+    /// Every form.
+    pub const ALL: [CostForm; 3] = [CostForm::Texels, CostForm::TexelPasses, CostForm::Ribbons];
+
+    /// The terms after the constant for a scene of `triangles` casters at map side `side`:
+    /// triangles / 10³, the texel term / 10⁶, the per-triangle map term / 10⁹ (`triangles·side`)
+    /// or / 10¹² (`triangles·side²`).
+    pub fn terms(self, triangles: usize, side: u32) -> [f64; 3] {
+        let (t, s) = (triangles as f64, side.max(2) as f64);
+        let texels = s * s;
+        match self {
+            CostForm::Texels => [t / 1e3, texels / 1e6, t * s / 1e9],
+            CostForm::TexelPasses => [t / 1e3, texels * s.log2() / 1e6, t * s / 1e9],
+            CostForm::Ribbons => [t / 1e3, texels / 1e6, t * texels / 1e12],
+        }
+    }
+
+    /// Short name (`"texels"`, `"texel-passes"`, `"ribbons"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            CostForm::Texels => "texels",
+            CostForm::TexelPasses => "texel-passes",
+            CostForm::Ribbons => "ribbons",
+        }
+    }
+
+    /// The form named `name` ([`CostForm::name`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|f| f.name() == name)
+    }
+}
+
 /// What a technique is, object-safe: its names, the lights it models and its limits.
 pub trait TechniqueInfo: Send + Sync {
     /// Technique name as in reports (`"pcf"`, `"occlusion-slices"`, ...).
@@ -114,6 +163,11 @@ pub trait TechniqueInfo: Send + Sync {
     /// allocated. The default counts one `f32` map.
     fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
         crate::memory::maps(1, resolution, 4)
+    }
+    /// How this configuration's generation time grows with the map side; the default is a fixed
+    /// number of passes ([`CostForm::Texels`]).
+    fn cost_form(&self) -> CostForm {
+        CostForm::Texels
     }
 }
 

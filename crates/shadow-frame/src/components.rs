@@ -14,8 +14,10 @@ use std::sync::Arc;
 pub enum TechniqueChoice {
     /// This technique, with these parameters.
     Explicit(Arc<dyn DynTechnique>),
-    /// The configuration with the lowest measured error whose measured time (generation +
-    /// evaluation) fits `budget_ms`, from the pipeline's [`crate::TechniqueProfile`].
+    /// The configuration and map side with the lowest predicted image error whose predicted time
+    /// (generation + evaluation, for this scene's casters and receivers) fits `budget_ms`, from
+    /// the pipeline's [`crate::TechniqueProfile`]; once frames are measured, a choice that runs
+    /// over the budget for [`crate::tracking::STEP_DOWN_FRAMES`] frames steps down.
     Auto {
         /// Time budget per light and frame, milliseconds.
         budget_ms: f64,
@@ -69,6 +71,23 @@ pub struct ResolvedTechnique {
     pub resolution: u32,
     /// One line saying why (explicit, zero-size light, or the profile entry and its numbers).
     pub reason: String,
+    /// For an `Auto` choice: its budget and what the profile predicted (time, image error).
+    pub auto: Option<AutoPrediction>,
+}
+
+/// What `Auto` predicted for its choice, and what the frames since measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AutoPrediction {
+    /// The budget, milliseconds per frame (generation + evaluation).
+    pub budget_ms: f64,
+    /// Predicted generation + evaluation milliseconds for this scene.
+    pub time_ms: f64,
+    /// Predicted image error, 1/255.
+    pub error_255: f64,
+    /// The latest measured generation + evaluation, which replaces the prediction once known.
+    pub measured_ms: Option<f64>,
+    /// Consecutive measured frames over the budget.
+    pub frames_over: u32,
 }
 
 /// A light's cached maps and its latest visibilities.
@@ -84,6 +103,9 @@ pub struct LightState {
     pub evaluated: usize,
     /// Why this light casts no shadows, when it does not (e.g. no technique fits the budget).
     pub error: Option<String>,
+    /// Milliseconds of the last frame that generated this light's maps (generation and
+    /// evaluation), until the budget check reads it.
+    pub generated_ms: Option<f64>,
 }
 
 /// The points the frame shades (e.g. the camera G-buffer), with unit normals.

@@ -12,7 +12,7 @@ mod tests;
 pub mod tracking;
 
 pub use components::*;
-pub use profile::{ProfileEntry, TechniqueProfile};
+pub use profile::{Pick, ProfileEntry, SceneSize, TechniqueProfile};
 pub use scene::Scene;
 pub use stats::{FrameStats, TechniqueStats};
 
@@ -69,7 +69,7 @@ impl FramePipeline {
             registry: TechniqueRegistry::default(),
             hard: HardShadowPath::default(),
             techniques: Vec::new(),
-            defaults: TechniqueProfile::default(),
+            defaults: TechniqueProfile::builtin(),
         }
     }
 
@@ -90,13 +90,8 @@ impl FramePipeline {
         self.hard = HardShadowPath(Some(t));
     }
 
-    /// Adds a technique crate's rows to the built-in profile `Auto` picks from when the world
-    /// holds no [`TechniqueProfile`] (each crate's `add_to` registers its `PROFILE_DEFAULTS`).
-    pub fn add_profile_defaults(&mut self, rows: &[profile::DefaultCost]) {
-        self.defaults.extend_defaults(rows);
-    }
-
-    /// The built-in profile the registered crates gave.
+    /// The profile `Auto` picks from when the world holds no [`TechniqueProfile`]: the built-in
+    /// one ([`TechniqueProfile::builtin`]).
     pub fn profile_defaults(&self) -> &TechniqueProfile {
         &self.defaults
     }
@@ -143,7 +138,9 @@ fn core_schedule() -> Schedule {
     schedule.configure_sets((CoreSet::Track, CoreSet::Resolve, CoreSet::Stale).chain());
     schedule.add_systems((
         (tracking::track_casters, tracking::check_receivers).in_set(CoreSet::Track),
-        tracking::resolve_techniques.in_set(CoreSet::Resolve),
+        (tracking::keep_budgets, tracking::resolve_techniques)
+            .chain()
+            .in_set(CoreSet::Resolve),
         tracking::mark_stale.in_set(CoreSet::Stale),
     ));
     schedule

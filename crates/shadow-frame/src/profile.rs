@@ -1,27 +1,131 @@
-//! Measured profiles for [`crate::TechniqueChoice::Auto`]: per light kind and backend,
-//! each configuration's time (generation + evaluation) and error, from a `report.json` of this
-//! machine (the harness loads it) or the built-in defaults.
+//! Measured profiles for [`crate::TechniqueChoice::Auto`]: per configuration (technique, variant,
+//! backend) a cost model and an error model, fitted from measurements (`harness profile` fits
+//! them from a `report.json`), so `Auto` can predict what a configuration costs on a scene it
+//! has never seen and how accurate it is at each map resolution.
+//!
+//! - **Cost**: generation `g0 + g1·t1 + g2·t2 + g3·t3` milliseconds over the terms of the form
+//!   the technique states ([`CostForm::terms`]: triangles, a texel term, and per-triangle work
+//!   that grows with the map); evaluation `e0 + e1·(covered receivers / 10⁶) + e2·(other
+//!   receivers / 10⁶)`, the covered ones those inside the light's map ([`SceneSize::of`]). `Auto` multiplies the
+//!   prediction by the entry's margin, the 95th percentile of measured over predicted time in
+//!   the fit, so that its picks fit the budget.
+//! - **Error**: the image error (1/255) as `a + b·log2(side)` per light kind, clamped to the
+//!   resolutions it was fitted over. Maps cover what casts, so the side is the resolution
+//!   relative to the casters' extent.
+//!
+//! The built-in profile ([`TechniqueProfile::builtin`]) was fitted from a full CPU report on a
+//! 2-core machine; its GPU rows are CPU stand-ins, which `Auto`'s reason says.
 
+use glam::Vec3;
 use soft_shadow_core::light::LightKind;
-use soft_shadow_core::technique::Backend;
+use soft_shadow_core::technique::{Backend, CostForm};
+use soft_shadow_core::{Coverage, Light, SampleView, SceneGeometry};
 
-/// One measured configuration.
+/// One configuration's fitted models.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProfileEntry {
     /// Technique name, as [`soft_shadow_core::TechniqueInfo::name`].
     pub technique: String,
     /// Variant label, as [`soft_shadow_core::TechniqueInfo::variant`].
     pub variant: String,
-    /// Light kind the measurement is for.
-    pub light: LightKind,
-    /// Backend it ran on.
+    /// Backend the configuration runs on.
     pub backend: Backend,
-    /// Map resolution.
+    /// How its generation grows with the map side.
+    pub form: CostForm,
+    /// Generation milliseconds: `g0 + g1·t1 + g2·t2 + g3·t3` ([`CostForm::terms`]).
+    pub generate: [f64; 4],
+    /// Evaluation milliseconds: `e0 + e1·(covered receivers / 10⁶) + e2·(other receivers /
+    /// 10⁶)`.
+    pub evaluate: [f64; 3],
+    /// Per light kind, the image error `a + b·log2(side)`, in 1/255.
+    pub error: Vec<(LightKind, [f64; 2])>,
+    /// The smallest and largest map side the models were fitted over.
+    pub sides: (u32, u32),
+    /// Measured over predicted time at the 95th percentile of the fit's runs (at least 1):
+    /// what `Auto` multiplies a prediction by before holding it to a budget.
+    pub margin: f64,
+}
+
+/// The size of the scene a prediction is for.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SceneSize {
+    /// Caster triangles.
+    pub triangles: usize,
+    /// Receivers evaluated per frame.
+    pub receivers: usize,
+    /// Of those, the receivers inside the light's central map (the others return at once).
+    pub covered: usize,
+}
+
+impl SceneSize {
+    /// The size of `geometry` lit by `light` with `receivers`: its caster triangles, and how many
+    /// receivers fall inside the map a light's centre would render of what casts.
+    pub fn of(geometry: &SceneGeometry, light: &Light, receivers: &[Vec3]) -> Self {
+        let covered = if geometry.casters.is_empty() {
+            0
+        } else {
+            let view = SampleView::center(light, &Coverage::new(geometry, light));
+            let map = view.params(1);
+            receivers
+                .iter()
+                .filter(|p| {
+                    map.project(**p)
+                        .is_some_and(|q| (0.0..=1.0).contains(&q.x) && (0.0..=1.0).contains(&q.y))
+                })
+                .count()
+        };
+        Self {
+            triangles: geometry.casters.len(),
+            receivers: receivers.len(),
+            covered,
+        }
+    }
+}
+
+impl ProfileEntry {
+    /// Predicted generation + evaluation milliseconds at map side `side` for a scene of `size`.
+    pub fn predict_ms(&self, size: SceneSize, side: u32) -> f64 {
+        let [g0, g1, g2, g3] = self.generate;
+        let [t1, t2, t3] = self.form.terms(size.triangles, side);
+        let [e0, e1, e2] = self.evaluate;
+        let outside = size.receivers.saturating_sub(size.covered);
+        g0 + g1 * t1
+            + g2 * t2
+            + g3 * t3
+            + e0
+            + e1 * size.covered as f64 / 1e6
+            + e2 * outside as f64 / 1e6
+    }
+
+    /// Predicted image error (1/255) under a light of `kind` at map side `side` (clamped to
+    /// [`ProfileEntry::sides`]). A kind the configuration was never measured under takes the
+    /// mean of the kinds it was; `None` when it was measured under none.
+    pub fn predict_error(&self, kind: LightKind, side: u32) -> Option<f64> {
+        let s = (side.clamp(self.sides.0, self.sides.1).max(1) as f64).log2();
+        let line = |[a, b]: [f64; 2]| (a + b * s).max(0.0);
+        match self.error.iter().find(|(k, _)| *k == kind) {
+            Some((_, l)) => Some(line(*l)),
+            None if self.error.is_empty() => None,
+            None => Some(
+                self.error.iter().map(|(_, l)| line(*l)).sum::<f64>() / self.error.len() as f64,
+            ),
+        }
+    }
+}
+
+/// `Auto`'s choice: a configuration, a map side, and what it predicts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pick<'a> {
+    /// The configuration.
+    pub entry: &'a ProfileEntry,
+    /// Map side.
     pub resolution: u32,
-    /// Generation + evaluation, milliseconds (median over the profile's scenes of this kind).
+    /// Predicted generation + evaluation milliseconds (before the margin).
     pub time_ms: f64,
-    /// RMS of `V * 255` against the reference (mean over those scenes).
-    pub rms_255: f64,
+    /// Predicted image error, 1/255.
+    pub error_255: f64,
+    /// The timing is a CPU row standing in for a GPU one (no GPU measurement in the profile).
+    pub stand_in: bool,
 }
 
 /// A profile: every measured configuration.
@@ -31,49 +135,181 @@ pub struct TechniqueProfile {
     pub entries: Vec<ProfileEntry>,
 }
 
-/// One built-in default row: technique name, variant label, light kind, time (ms) and RMS of
-/// `V * 255`, measured by `report --quick` on a 2-core CPU at map resolution 256 (CPU time
-/// medians and mean rms over the built-in scenes of that light kind, as
-/// `harness::profile::from_report_json` reads them). Each technique crate lists its own
-/// (`PROFILE_DEFAULTS`) and registers them with
-/// [`crate::FramePipeline::add_profile_defaults`].
-pub type DefaultCost = (&'static str, &'static str, LightKind, f64, f64);
+/// The map sides `Auto` chooses among.
+pub const SIDES: [u32; 5] = [128, 256, 512, 1024, 2048];
+
+/// The built-in profile's text ([`TechniqueProfile::to_text`]).
+const BUILTIN: &str = include_str!("builtin_profile.txt");
 
 impl TechniqueProfile {
-    /// Adds built-in default rows, for both backends.
-    pub fn extend_defaults(&mut self, rows: &[DefaultCost]) {
-        let entries = rows.iter().flat_map(|&(t, v, light, time_ms, rms_255)| {
-            [Backend::Cpu, Backend::Gpu].map(|backend| ProfileEntry {
-                technique: t.into(),
-                variant: v.into(),
-                light,
-                backend,
-                resolution: 256,
-                time_ms,
-                rms_255,
-            })
-        });
-        self.entries.extend(entries);
+    /// The built-in profile: fitted from `harness report --backend cpu` (map sides 16 to 2048,
+    /// every catalogue scene) on a 2-core CPU by `harness profile`.
+    pub fn builtin() -> Self {
+        Self::parse(BUILTIN).unwrap_or_default()
     }
 
-    /// The entry with the lowest error among those for `light` on `backend` whose time fits
-    /// `budget_ms` and that `available(technique, variant)` accepts (ties: the faster one, then
-    /// the first); `None` when nothing fits.
+    /// The candidates for a light of `kind` on `backend`: its rows, and for a configuration with
+    /// none on the GPU, its CPU row as a stand-in.
+    fn candidates(&self, backend: Backend) -> impl Iterator<Item = (&ProfileEntry, bool)> {
+        self.entries.iter().filter_map(move |e| {
+            if e.backend == backend {
+                Some((e, false))
+            } else if backend == Backend::Gpu
+                && e.backend == Backend::Cpu
+                && !self.entries.iter().any(|o| {
+                    o.backend == Backend::Gpu
+                        && o.technique == e.technique
+                        && o.variant == e.variant
+                })
+            {
+                Some((e, true))
+            } else {
+                None
+            }
+        })
+    }
+
+    /// The configuration and map side with the lowest predicted image error under a light of
+    /// `kind` whose predicted time for a scene of `size` fits `budget_ms`, among those
+    /// `max_side(technique, variant)` accepts (its largest side, `None`: not available); ties
+    /// go to the faster. `None` when nothing is predicted to fit.
     pub fn pick(
         &self,
-        light: LightKind,
+        kind: LightKind,
         backend: Backend,
         budget_ms: f64,
-        available: impl Fn(&str, &str) -> bool,
-    ) -> Option<&ProfileEntry> {
-        self.entries
-            .iter()
-            .filter(|e| e.light == light && e.backend == backend && e.time_ms <= budget_ms)
-            .filter(|e| available(&e.technique, &e.variant))
-            .min_by(|a, b| {
-                a.rms_255
-                    .total_cmp(&b.rms_255)
-                    .then(a.time_ms.total_cmp(&b.time_ms))
-            })
+        size: SceneSize,
+        max_side: impl Fn(&str, &str) -> Option<u32>,
+    ) -> Option<Pick<'_>> {
+        let mut best: Option<Pick> = None;
+        for (e, stand_in) in self.candidates(backend) {
+            let Some(max) = max_side(&e.technique, &e.variant) else {
+                continue;
+            };
+            for side in SIDES
+                .into_iter()
+                .filter(|&s| s <= max && s >= e.sides.0 && s <= e.sides.1)
+            {
+                let Some(error_255) = e.predict_error(kind, side) else {
+                    continue;
+                };
+                let time_ms = e.predict_ms(size, side);
+                if time_ms * e.margin.max(1.0) > budget_ms {
+                    continue;
+                }
+                let better = best.as_ref().is_none_or(|b| {
+                    error_255
+                        .total_cmp(&b.error_255)
+                        .then(time_ms.total_cmp(&b.time_ms))
+                        .is_lt()
+                });
+                if better {
+                    best = Some(Pick {
+                        entry: e,
+                        resolution: side,
+                        time_ms,
+                        error_255,
+                        stand_in,
+                    });
+                }
+            }
+        }
+        best
+    }
+
+    /// The profile as text, one configuration a line:
+    /// `technique variant backend form sides margin g0 g1 g2 g3 e0 e1 e2 kind:a:b ...`, `sides` as
+    /// `min-max`.
+    pub fn to_text(&self) -> String {
+        let mut s = String::from(
+            "# technique variant backend form sides margin g0 g1 g2 g3 e0 e1 e2 light:a:b...\n\
+             # generate ms = g0 + g1 t1 + g2 t2 + g3 t3 (CostForm::terms); evaluate ms = e0 + e1 \
+             covered/1e6 + e2 other receivers/1e6; image error = a + b log2(side)\n",
+        );
+        for e in &self.entries {
+            let num = |x: f64| format!("{x:.6e}");
+            let errors: Vec<String> = e
+                .error
+                .iter()
+                .map(|(k, [a, b])| format!("{}:{}:{}", k.name(), num(*a), num(*b)))
+                .collect();
+            s.push_str(&format!(
+                "{} {} {} {} {}-{} {:.3} {} {} {} {} {} {} {} {}\n",
+                e.technique,
+                e.variant,
+                e.backend.name(),
+                e.form.name(),
+                e.sides.0,
+                e.sides.1,
+                e.margin,
+                num(e.generate[0]),
+                num(e.generate[1]),
+                num(e.generate[2]),
+                num(e.generate[3]),
+                num(e.evaluate[0]),
+                num(e.evaluate[1]),
+                num(e.evaluate[2]),
+                errors.join(" ")
+            ));
+        }
+        s
+    }
+
+    /// Reads [`TechniqueProfile::to_text`]'s format; the error names the line and what is wrong.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let mut entries = Vec::new();
+        for (i, line) in text.lines().enumerate() {
+            let line = line.trim();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let bad = |what: &str| format!("profile line {}: {what}: {line}", i + 1);
+            let w: Vec<&str> = line.split_whitespace().collect();
+            if w.len() < 13 {
+                return Err(bad("fewer than 13 fields"));
+            }
+            let num = |s: &str| -> Result<f64, String> {
+                s.parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| bad(&format!("{s:?} is not a finite number")))
+            };
+            let backend = match w[2] {
+                "cpu" => Backend::Cpu,
+                "gpu" => Backend::Gpu,
+                b => return Err(bad(&format!("unknown backend {b:?}"))),
+            };
+            let form = CostForm::from_name(w[3])
+                .ok_or_else(|| bad(&format!("unknown form {:?}", w[3])))?;
+            let sides = w[4]
+                .split_once('-')
+                .and_then(|(a, b)| Some((a.parse().ok()?, b.parse().ok()?)))
+                .filter(|(a, b): &(u32, u32)| *a >= 1 && a <= b)
+                .ok_or_else(|| bad(&format!("sides {:?} is not min-max", w[4])))?;
+            let mut error = Vec::new();
+            for f in &w[13..] {
+                let p: Vec<&str> = f.split(':').collect();
+                let kind = LightKind::ALL
+                    .into_iter()
+                    .find(|k| p.first() == Some(&k.name()))
+                    .ok_or_else(|| bad(&format!("unknown light kind in {f:?}")))?;
+                if p.len() != 3 {
+                    return Err(bad(&format!("{f:?} is not light:a:b")));
+                }
+                error.push((kind, [num(p[1])?, num(p[2])?]));
+            }
+            entries.push(ProfileEntry {
+                technique: w[0].into(),
+                variant: w[1].into(),
+                backend,
+                form,
+                margin: num(w[5])?.max(1.0),
+                generate: [num(w[6])?, num(w[7])?, num(w[8])?, num(w[9])?],
+                evaluate: [num(w[10])?, num(w[11])?, num(w[12])?],
+                error,
+                sides,
+            });
+        }
+        Ok(Self { entries })
     }
 }

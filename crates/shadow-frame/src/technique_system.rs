@@ -105,6 +105,7 @@ pub fn run_technique(
         state.visibility = vec![1.0; frame.positions.len()];
         state.evaluated = 0;
         let generated = state.stale || state.maps.is_none();
+        let light_start = Instant::now();
         if generated {
             let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
             state.maps = None;
@@ -143,6 +144,9 @@ pub fn run_technique(
                 state.evaluated = inside.len();
             }
             Err(e) => state.error = Some(e.to_string()),
+        }
+        if generated {
+            state.generated_ms = Some(light_start.elapsed().as_secs_f64() * 1e3);
         }
         let evaluated = state.evaluated;
         stats.record(name, generated, evaluated);

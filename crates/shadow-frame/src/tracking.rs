@@ -3,7 +3,7 @@
 
 use crate::TechniqueRegistry;
 use crate::components::*;
-use crate::profile::TechniqueProfile;
+use crate::profile::{SceneSize, TechniqueProfile};
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, Transform};
 use bevy_ecs::prelude::*;
 use soft_shadow_core::mesh::Aabb;
@@ -64,8 +64,87 @@ pub fn check_receivers(frame: Res<FrameReceivers>, mut error: ResMut<ReceiversEr
     }
 }
 
+/// Measured frames over the budget after which an `Auto` choice steps down.
+pub const STEP_DOWN_FRAMES: u32 = 3;
+
+/// Share of the budget a step-down aims for, below the budget itself so that a choice measured
+/// just under it does not flip back and forth (hysteresis).
+pub const STEP_DOWN_MARGIN: f64 = 0.8;
+
+/// The casters of the scene, flattened to world space (what `Auto` sizes a scene by).
+type CasterMeshes<'w, 's> =
+    Query<'w, 's, (&'static MeshHandle, &'static Transform), With<ShadowCaster>>;
+
+/// The scene `light` sees, as predictions size it: the casters' triangles, the frame's
+/// receivers, and those inside the light's map ([`SceneSize::of`]).
+fn scene_size(
+    casters: &CasterMeshes,
+    frame: &FrameReceivers,
+    light: &soft_shadow_core::Light,
+) -> SceneSize {
+    let tris: Vec<[glam::Vec3; 3]> = casters
+        .iter()
+        .flat_map(|(m, t)| m.0.world_triangles(t.0).collect::<Vec<_>>())
+        .collect();
+    let geometry = soft_shadow_core::SceneGeometry::new(tris, Vec::new());
+    SceneSize::of(&geometry, light, &frame.positions)
+}
+
+/// `Auto`'s pick for `kind` within `budget_ms`, as a resolved technique whose reason names the
+/// predicted time and error (`None`: nothing is predicted to fit).
+fn auto_pick(
+    kind: soft_shadow_core::LightKind,
+    budget_ms: f64,
+    registry: &TechniqueRegistry,
+    profile: &TechniqueProfile,
+    backend: &FrameBackend,
+    size: SceneSize,
+) -> Option<ResolvedTechnique> {
+    let find = |name: &str, variant: &str| {
+        registry
+            .0
+            .iter()
+            .find(|t| t.name() == name && t.variant() == variant && t.models(kind))
+            .cloned()
+    };
+    let device_max = backend.gpu.as_ref().map_or(0, |g| g.max_texture_size());
+    let p = profile.pick(kind, backend.backend, budget_ms, size, |n, v| {
+        find(n, v).map(|t| t.max_resolution(backend.backend, device_max))
+    })?;
+    let e = p.entry;
+    let stand_in = if p.stand_in {
+        " (GPU time: a CPU measurement standing in, the profile has no GPU row)"
+    } else {
+        ""
+    };
+    Some(ResolvedTechnique {
+        technique: find(&e.technique, &e.variant)?,
+        resolution: p.resolution,
+        reason: format!(
+            "auto: {} {} at {}² predicts image error {:.2}/255 in {:.2} ms{stand_in} <= {budget_ms} \
+             ms ({} triangles, {} receivers, {} in the light's map), the lowest predicted error \
+             that fits",
+            e.technique,
+            e.variant,
+            p.resolution,
+            p.error_255,
+            p.time_ms,
+            size.triangles,
+            size.receivers,
+            size.covered
+        ),
+        auto: Some(AutoPrediction {
+            budget_ms,
+            time_ms: p.time_ms,
+            error_255: p.error_255,
+            measured_ms: None,
+            frames_over: 0,
+        }),
+    })
+}
+
 /// The technique of a light: the hard path for a zero-size light, the explicit one, or the
-/// profile's pick within the budget.
+/// profile's pick within the budget for a scene of `size`.
 fn resolve_one(
     light: &soft_shadow_core::Light,
     config: &ShadowConfig,
@@ -73,6 +152,7 @@ fn resolve_one(
     profile: &TechniqueProfile,
     hard: &HardShadowPath,
     backend: &FrameBackend,
+    size: SceneSize,
 ) -> Result<ResolvedTechnique, String> {
     let kind = light.kind();
     if light.size() == 0.0 {
@@ -84,6 +164,7 @@ fn resolve_one(
             technique: t,
             resolution: config.resolution.max(1),
             reason: format!("{} light of zero size: hard shadow map", kind.name()),
+            auto: None,
         });
     }
     match &config.choice {
@@ -100,65 +181,45 @@ fn resolve_one(
                 technique: Arc::clone(t),
                 resolution: config.resolution,
                 reason: "explicit".into(),
+                auto: None,
             })
         }
         TechniqueChoice::Auto { budget_ms } => {
-            let find = |name: &str, variant: &str| {
-                registry
-                    .0
-                    .iter()
-                    .find(|t| t.name() == name && t.variant() == variant && t.models(kind))
-                    .cloned()
-            };
-            let e = profile
-                .pick(kind, backend.backend, *budget_ms, |n, v| {
-                    find(n, v).is_some()
-                })
-                .ok_or_else(|| {
-                    format!(
-                        "no measured configuration for {} lights on {} fits {budget_ms} ms",
-                        kind.name(),
-                        backend.backend.name()
-                    )
-                })?;
-            let candidates = profile
-                .entries
-                .iter()
-                .filter(|c| c.light == kind && c.backend == backend.backend)
-                .count();
-            Ok(ResolvedTechnique {
-                technique: find(&e.technique, &e.variant).ok_or("registry changed")?,
-                resolution: e.resolution,
-                reason: format!(
-                    "auto: {} {} at {} has the lowest measured rms ({:.2}/255) of {candidates} \
-                     {} configurations, in {:.2} ms <= {budget_ms} ms",
-                    e.technique,
-                    e.variant,
-                    e.resolution,
-                    e.rms_255,
+            auto_pick(kind, *budget_ms, registry, profile, backend, size).ok_or_else(|| {
+                format!(
+                    "no configuration for {} lights on {} is predicted to fit {budget_ms} ms \
+                     ({} triangles, {} receivers)",
                     kind.name(),
-                    e.time_ms
-                ),
+                    backend.backend.name(),
+                    size.triangles,
+                    size.receivers
+                )
             })
         }
     }
 }
 
 /// (Re)chooses the technique of every light whose light or settings changed, and marks it stale.
-#[allow(clippy::type_complexity)]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
 pub fn resolve_techniques(
     mut commands: Commands,
     mut lights: Query<
         (Entity, &LightSource, &ShadowConfig, Option<&mut LightState>),
         Or<(Changed<LightSource>, Changed<ShadowConfig>)>,
     >,
+    casters: CasterMeshes,
+    frame: Res<FrameReceivers>,
     registry: Res<TechniqueRegistry>,
     profile: Res<TechniqueProfile>,
     hard: Res<HardShadowPath>,
     backend: Res<FrameBackend>,
 ) {
     for (e, light, config, state) in &mut lights {
-        let resolved = resolve_one(&light.0, config, &registry, &profile, &hard, &backend);
+        let size = match config.choice {
+            TechniqueChoice::Auto { .. } => scene_size(&casters, &frame, &light.0),
+            TechniqueChoice::Explicit(_) => SceneSize::default(),
+        };
+        let resolved = resolve_one(&light.0, config, &registry, &profile, &hard, &backend, size);
         let error = resolved.as_ref().err().cloned();
         let mut ec = commands.entity(e);
         match resolved {
@@ -174,6 +235,7 @@ pub fn resolve_techniques(
                 s.stale = true;
                 s.maps = None;
                 s.error = error;
+                s.generated_ms = None;
             }
             None => {
                 ec.insert(LightState {
@@ -181,6 +243,75 @@ pub fn resolve_techniques(
                     error,
                     ..Default::default()
                 });
+            }
+        }
+    }
+}
+
+/// Holds `Auto` choices to their budgets with what the frames measured: the measured time
+/// replaces the prediction, and a choice measured over the budget for [`STEP_DOWN_FRAMES`]
+/// generating frames in a row steps down to the best configuration predicted to fit, its
+/// predictions scaled by how far the measurement was off, aiming at [`STEP_DOWN_MARGIN`] of the
+/// budget. It never steps up by itself (a changed light or config chooses afresh), so a choice
+/// does not flip from frame to frame.
+#[allow(clippy::type_complexity)]
+pub fn keep_budgets(
+    mut lights: Query<(&LightSource, &mut ResolvedTechnique, &mut LightState)>,
+    casters: CasterMeshes,
+    frame: Res<FrameReceivers>,
+    registry: Res<TechniqueRegistry>,
+    profile: Res<TechniqueProfile>,
+    backend: Res<FrameBackend>,
+) {
+    for (light, mut resolved, mut state) in &mut lights {
+        let Some(measured) = state.generated_ms.take() else {
+            continue;
+        };
+        let Some(mut auto) = resolved.auto else {
+            continue;
+        };
+        auto.measured_ms = Some(measured);
+        auto.frames_over = if measured > auto.budget_ms {
+            auto.frames_over + 1
+        } else {
+            0
+        };
+        if auto.frames_over < STEP_DOWN_FRAMES {
+            resolved.auto = Some(auto);
+            continue;
+        }
+        let scale = (measured / auto.time_ms.max(1e-6)).max(1.0);
+        let target = auto.budget_ms * STEP_DOWN_MARGIN / scale;
+        let size = scene_size(&casters, &frame, &light.0);
+        let kind = light.0.kind();
+        match auto_pick(kind, target, &registry, &profile, &backend, size) {
+            Some(mut next) => {
+                let from = format!(
+                    "{} {} at {}²",
+                    resolved.technique.name(),
+                    resolved.technique.variant(),
+                    resolved.resolution
+                );
+                next.reason = format!(
+                    "auto: stepped down from {from}, measured {measured:.2} ms over the {} ms \
+                     budget for {STEP_DOWN_FRAMES} frames (predictions scaled by {scale:.2}); {}",
+                    auto.budget_ms,
+                    next.reason.trim_start_matches("auto: ")
+                );
+                if let Some(a) = next.auto.as_mut() {
+                    a.budget_ms = auto.budget_ms;
+                }
+                *resolved = next;
+                state.stale = true;
+            }
+            None => {
+                auto.frames_over = 0;
+                resolved.auto = Some(auto);
+                resolved.reason = format!(
+                    "{}; measured {measured:.2} ms over the budget, and nothing cheaper is \
+                     predicted to fit",
+                    resolved.reason
+                );
             }
         }
     }

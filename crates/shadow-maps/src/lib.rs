@@ -184,39 +184,14 @@ impl ShadowTechnique for ShadowMapBaseline {
     }
 }
 
-/// This crate's rows of the frame pipeline's built-in profile (what `Auto` picks from without
-/// a `report.json`), registered by [`add_to`]: `report --quick`, 2 cores, map resolution 256.
-#[cfg(feature = "frame")]
-pub const PROFILE_DEFAULTS: &[shadow_frame::profile::DefaultCost] = &[
-    ("hard-shadow-map", "nearest", LightKind::Rect, 1.0, 30.9),
-    ("pcf", "r2", LightKind::Rect, 1.2, 21.7),
-    ("pcss", "7x7-9x9", LightKind::Rect, 1.8, 10.8),
-    ("accumulation", "n16", LightKind::Rect, 13.8, 9.0),
-    ("hard-shadow-map", "nearest", LightKind::Linear, 1.0, 38.0),
-    ("pcss", "7x7-9x9", LightKind::Linear, 3.2, 12.0),
-    ("accumulation", "n16", LightKind::Linear, 11.1, 2.4),
-    ("hard-shadow-map", "nearest", LightKind::Disk, 28.3, 22.5),
-    ("pcss", "7x7-9x9", LightKind::Disk, 17.7, 18.6),
-    ("accumulation", "n16", LightKind::Disk, 232.4, 16.1),
-    ("hard-shadow-map", "nearest", LightKind::Sphere, 1.4, 27.6),
-    ("pcss", "7x7-9x9", LightKind::Sphere, 3.7, 9.3),
-    ("accumulation", "n16", LightKind::Sphere, 20.2, 5.4),
-    ("hard-shadow-map", "nearest", LightKind::Distant, 0.7, 6.4),
-    ("pcf", "r2", LightKind::Distant, 1.1, 5.3),
-    ("accumulation", "n16", LightKind::Distant, 9.3, 4.5),
-    ("hard-shadow-map", "nearest", LightKind::Triangle, 0.7, 17.5),
-    ("pcss", "7x7-9x9", LightKind::Triangle, 1.5, 6.9),
-    ("accumulation", "n16", LightKind::Triangle, 11.1, 2.8),
-];
-
 /// Registers the baselines with a frame pipeline: the hard shadow map as the zero-size-light
-/// path, PCF, PCSS and 16-sample accumulation, each its own technique set (feature `frame`).
+/// path, PCF, PCSS and accumulation of 4, 16 and 64 samples, each its own technique set
+/// (feature `frame`).
 #[cfg(feature = "frame")]
 pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
-    frame.add_profile_defaults(PROFILE_DEFAULTS);
     use std::sync::Arc;
     frame.set_hard_path(Arc::new(ShadowMapBaseline::new(Filter::Hard)));
-    for b in ShadowMapBaseline::standard_set(&[16]) {
+    for b in ShadowMapBaseline::standard_set(&[4, 16, 64]) {
         let name = TechniqueInfo::name(&b);
         frame.add_technique(
             name,

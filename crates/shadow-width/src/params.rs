@@ -232,4 +232,14 @@ impl TechniqueInfo for ShadowWidth {
         };
         soft_shadow_core::memory::maps(1, resolution, depth + 20)
     }
+
+    /// Jump flooding and the paper's propagation take one pass per doubling of the step.
+    fn cost_form(&self) -> soft_shadow_core::CostForm {
+        match self.method {
+            WidthMethod::Exact => soft_shadow_core::CostForm::Texels,
+            WidthMethod::JumpFlood | WidthMethod::Propagate { .. } => {
+                soft_shadow_core::CostForm::TexelPasses
+            }
+        }
+    }
 }

@@ -94,6 +94,12 @@ pub struct ReferenceInfo {
     pub max_std_error_255: f64,
     /// Receivers (covered G-buffer pixels the light reaches: those every metric uses).
     pub receivers: usize,
+    /// Triangles that cast shadows (what the cost model's triangle term counts).
+    #[serde(default)]
+    pub caster_triangles: usize,
+    /// Receivers inside the map of the light's centre (the others are evaluated at once).
+    #[serde(default)]
+    pub covered_receivers: usize,
     /// Covered G-buffer pixels no light point reaches (visibility v2: unlit, in no metric).
     pub unlit_receivers: usize,
     /// Receivers whose reference is in the penumbra band.

@@ -13,7 +13,7 @@ pub fn render(report: &Report, papers_written: bool) -> String {
     let _ = writeln!(s, "# Soft-shadow report\n");
     let _ = writeln!(
         s,
-        "Machine: {} ({} threads); GPU: {}.\n\nErrors are against a ray-traced reference (visibility v2: the fraction of the light points above a receiver's tangent plane, on the light's emitting side, that it sees; receivers no light point reaches are *unlit*, counted per scene, hatched in the strips and in no error). **Image error** (`image`), what everything here ranks by, is the rms of `(V - V_ref) * E0 / E0_max * 255`, with `E0` the light's unshadowed irradiance at the receiver and `E0_max` the scene's brightest: the error a white Lambertian scene lit by the light shows. `V` rms is the error of the visibility alone, which the papers' ground-plane tables use. Times are medians in ms.\n",
+        "Machine: {} ({} threads); GPU: {}.\n\nErrors are against a ray-traced reference (`V`: the fraction of the light points above a receiver's tangent plane, on the light's emitting side, that it sees; receivers no light point reaches are *unlit*, counted per scene, hatched in the strips and in no error). **Image error** (`image`), what everything here ranks by, is the rms of `(V - V_ref) * E0 / E0_max * 255`, with `E0` the light's unshadowed irradiance at the receiver and `E0_max` the scene's brightest: the error a white Lambertian scene lit by the light shows. `V` rms is the error of the visibility alone, which the papers' ground-plane tables use. Times are medians in ms.\n",
         report.machine.cpu, report.machine.threads, report.machine.gpu_adapter
     );
     if papers_written {
@@ -28,6 +28,10 @@ pub fn render(report: &Report, papers_written: bool) -> String {
         );
     }
     summary(&mut s, report);
+    s.push_str(&crate::profile::markdown(
+        crate::profile::validate(report).as_ref(),
+    ));
+    s.push('\n');
     let _ = writeln!(
         s,
         "## References\n\n`scene@kind` is a hard case recast under a light of that kind, for the techniques that do not model its own light (see `harness::scenes::relight`).\n\nA receiver is proven lit (error 0) when no caster crosses the hull of it and the light; every other one gets the stated samples, and its error is the replicates' standard error, or where every ray agreed the 99% bound on a feature the rays could miss: \"max error\" is the reference's true worst error.\n\n| scene | light | samples/px (not proven lit) | std error (255, penumbra RMS) | max error (255) | receivers | unlit | penumbra | time ms |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"

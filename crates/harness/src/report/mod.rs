@@ -212,6 +212,13 @@ impl Runner<'_> {
             std_error_255: p.std_error_255(),
             max_std_error_255: p.max_std_error_255(),
             receivers: p.positions.len(),
+            caster_triangles: p.geometry.casters.len(),
+            covered_receivers: shadow_frame::SceneSize::of(
+                &p.geometry,
+                &p.spec.light,
+                &p.positions,
+            )
+            .covered,
             unlit_receivers: p.unlit_pixels.len(),
             penumbra_receivers: penumbra,
             time_ms: p.reference_ms,
