@@ -45,17 +45,7 @@ fn nonnegative_least_squares(rows: &[(Vec<f64>, f64, f64)], n: usize) -> Vec<f64
         if m == 0 {
             return c;
         }
-        // Normal equations over the active columns.
-        let mut a = vec![vec![0.0f64; m + 1]; m];
-        for (x, y, w) in rows {
-            for (r, &i) in idx.iter().enumerate() {
-                for (k, &j) in idx.iter().enumerate() {
-                    a[r][k] += w * x[i] * x[j];
-                }
-                a[r][m] += w * x[i] * y;
-            }
-        }
-        let sol = match solve(a) {
+        let sol = match solve(normal_equations(rows, &idx)) {
             Ok(sol) => sol,
             // A column the earlier ones already span (a feature that never varies, or varies
             // with another): drop it.
@@ -72,6 +62,22 @@ fn nonnegative_least_squares(rows: &[(Vec<f64>, f64, f64)], n: usize) -> Vec<f64
             None => return c,
         }
     }
+}
+
+/// The normal equations of weighted least squares over the columns `idx` of `rows` (`(x, y,
+/// weight)`), as an augmented matrix for [`solve`].
+fn normal_equations(rows: &[(Vec<f64>, f64, f64)], idx: &[usize]) -> Vec<Vec<f64>> {
+    let m = idx.len();
+    let mut a = vec![vec![0.0f64; m + 1]; m];
+    for (x, y, w) in rows {
+        for (r, &i) in idx.iter().enumerate() {
+            for (k, &j) in idx.iter().enumerate() {
+                a[r][k] += w * x[i] * x[j];
+            }
+            a[r][m] += w * x[i] * y;
+        }
+    }
+    a
 }
 
 /// Gaussian elimination with partial pivoting on an augmented `m x (m + 1)` normal-equation
@@ -217,27 +223,14 @@ fn fit_entry(
         if rows.is_empty() {
             continue;
         }
-        let line = if lo == hi {
-            let mean = rows.iter().map(|r| r.1).sum::<f64>() / rows.len() as f64;
-            [mean, 0.0]
-        } else {
-            // Unconstrained in sign: an error may grow or fall with the side.
-            let mut a = vec![vec![0.0; 3]; 2];
-            for (x, y, _) in &rows {
-                for i in 0..2 {
-                    for j in 0..2 {
-                        a[i][j] += x[i] * x[j];
-                    }
-                    a[i][2] += x[i] * y;
-                }
-            }
-            match solve(a) {
-                Ok(c) => [c[0], c[1]],
-                Err(_) => [
-                    rows.iter().map(|r| r.1).sum::<f64>() / rows.len() as f64,
-                    0.0,
-                ],
-            }
+        // Unconstrained in sign: an error may grow or fall with the side. With one side
+        // measured the log2 column is constant, and the line is the mean.
+        let line = match solve(normal_equations(&rows, &[0, 1])) {
+            Ok(c) => [c[0], c[1]],
+            Err(_) => [
+                rows.iter().map(|r| r.1).sum::<f64>() / rows.len() as f64,
+                0.0,
+            ],
         };
         error.push((kind, line));
     }

@@ -19,7 +19,7 @@
 use glam::Vec3;
 use soft_shadow_core::light::LightKind;
 use soft_shadow_core::technique::{Backend, CostForm};
-use soft_shadow_core::{Coverage, Light, SampleView, SceneGeometry};
+use soft_shadow_core::{Coverage, Light, SampleView, SceneGeometry, ShadowError};
 
 /// One configuration's fitted models.
 #[derive(Clone, Debug, PartialEq)]
@@ -255,8 +255,13 @@ impl TechniqueProfile {
         s
     }
 
-    /// Reads [`TechniqueProfile::to_text`]'s format; the error names the line and what is wrong.
-    pub fn parse(text: &str) -> Result<Self, String> {
+    /// Reads [`TechniqueProfile::to_text`]'s format; a malformed line is
+    /// [`ShadowError::InvalidParameter`] naming the line and what is wrong.
+    pub fn parse(text: &str) -> soft_shadow_core::Result<Self> {
+        Self::parse_lines(text).map_err(ShadowError::InvalidParameter)
+    }
+
+    fn parse_lines(text: &str) -> Result<Self, String> {
         let mut entries = Vec::new();
         for (i, line) in text.lines().enumerate() {
             let line = line.trim();

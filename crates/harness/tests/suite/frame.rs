@@ -448,6 +448,14 @@ fn a_report_json_becomes_a_profile() {
     );
     assert!(harness::profile::from_report_json("{\"runs\": 3}").is_err());
     assert!(harness::profile::from_report_json("not json").is_err());
+    // A malformed profile line is a typed error naming the line.
+    let bad = TechniqueProfile::parse("# header\npcf r2 cpu texels 128-2048 1.0 x 0 0 0 0 0 0\n");
+    match bad {
+        Err(soft_shadow_core::ShadowError::InvalidParameter(m)) => {
+            assert!(m.contains("line 2") && m.contains("\"x\""), "{m}")
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 /// On every catalogue scene left out of the fit, `Auto`'s picks from a full CPU report fit
