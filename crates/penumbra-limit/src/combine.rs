@@ -15,7 +15,11 @@
 //!   of a ribbon and such a texel interpolates towards umbra, not towards "outside"), `c` =
 //!   "none" and `p_i = MAX_P` where there is none.
 //! - Occluder transitions (Figure 7 C): where `c` jumps between 4-neighbours by more than the
-//!   transition gap, `b = g`, which clamps the soft shadow away there (hard shadow below `g`).
+//!   transition gap, `b` is the geometry depth, which clamps the soft shadow away there (hard
+//!   shadow below the geometry). Not the raised `g` of an outer texel: where no geometry is,
+//!   there is no hard shadow, and `b = c + p_i` made every receiver below the outer limit
+//!   umbra, streaks of false umbra where ribbons of neighbouring edges meet (the bunny under a
+//!   disk light at 1024²).
 //!
 //! `combine.wgsl` is the same per-texel code.
 
@@ -82,7 +86,7 @@ fn texel(
     Texel {
         c,
         g,
-        b: if transition { g } else { lower },
+        b: if transition { geom } else { lower },
         p,
     }
 }

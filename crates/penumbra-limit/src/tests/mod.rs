@@ -1,5 +1,6 @@
 //! penumbra-limit against the paper's equations and closed forms (no GPU needed).
 
+mod bunny;
 mod depth_image;
 mod feature_transform;
 
