@@ -1,4 +1,4 @@
-#define_import_path example_renderer::gbuffer
+#define_import_path viewer::gbuffer
 
 // The renderer's own G-buffer pass: world position (w = 1 where covered) and the flat normal
 // turned towards the camera, the layout `ReceiverTextures` reads.

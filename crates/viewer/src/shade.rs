@@ -1,11 +1,12 @@
 //! The renderer's shading, in WGSL (`shade.wgsl`) and here in Rust for the CPU comparison:
-//! Lambert, one rectangular or triangular area light sampled at 64 stratified points (the
-//! centres of an 8x8 grid, warped onto the triangle), each sample's term clipped to the
-//! receiver's horizon and to the light's front, times the technique's `V`.
+//! Lambert, one light sampled at up to 64 points (rectangles and triangles at the centres of an
+//! 8x8 grid warped onto them, disks on a polar grid, segments along their length; points and
+//! spheres at their centre; a distant light as one direction), each sample's term clipped to
+//! the receiver's horizon and to the light's front, times the technique's `V`.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use soft_shadow_core::{Light, Result, ShadowError};
+use soft_shadow_core::{Light, Result};
 
 /// Light samples per side of the grid.
 pub const GRID: u32 = 8;
@@ -17,70 +18,114 @@ pub const AMBIENT: f32 = 0.08;
 pub const ALBEDO: f32 = 0.9;
 /// Value of pixels no surface covers.
 pub const BACKGROUND: f32 = 0.15;
-
-/// A point of the light from a point of the unit square.
-type SquareToLight = Box<dyn Fn(f32, f32) -> Vec3>;
+/// Irradiance of a distant light on a surface facing it (before albedo).
+pub const DISTANT_IRRADIANCE: f32 = 0.9;
+/// Emitting area a point light and a segment's unit length stand for, m² (a point light is
+/// as bright as a 0.6 m square).
+pub const POINT_AREA: f32 = 0.36;
 
 /// The shading pass's uniform, laid out as `Shade` in `shade.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct ShadeUniform {
-    /// Light sample positions (xyz).
+    /// Light sample positions (xyz, w = 1), or for a distant light the unit direction towards
+    /// it (w = 0).
     pub samples: [[f32; 4]; 64],
-    /// Emission normal (xyz), sample count (w).
+    /// Emission normal (xyz; zero where the light emits the same way in every direction),
+    /// sample count (w).
     pub light_normal: [f32; 4],
     /// Radiance times area over count, ambient, albedo, background.
     pub terms: [f32; 4],
 }
 
-impl ShadeUniform {
-    /// The uniform of a rectangular or triangular light; other kinds are
-    /// [`ShadowError::UnsupportedLight`] (the renderer's shading, not the technique, samples the
-    /// light).
-    pub fn new(light: &Light) -> Result<Self> {
-        light.validate()?;
-        // A point of the light from a point of the unit square, its area, its front.
-        let (point, area, front): (SquareToLight, f32, Vec3) = match *light {
-            Light::Rect {
-                center,
-                u_half,
-                v_half,
-            } => (
-                Box::new(move |s, t| center + (2.0 * s - 1.0) * u_half + (2.0 * t - 1.0) * v_half),
-                4.0 * u_half.cross(v_half).length(),
-                u_half.cross(v_half),
-            ),
-            Light::Triangle { a, b, c } => (
-                Box::new(move |s, t| {
-                    let r = s.sqrt();
-                    a * (1.0 - r) + b * (r * (1.0 - t)) + c * (r * t)
-                }),
-                0.5 * (b - a).cross(c - a).length(),
-                (b - a).cross(c - a),
-            ),
-            _ => {
-                return Err(ShadowError::UnsupportedLight {
-                    technique: "example-renderer shading".into(),
-                    light: light.kind().name(),
-                });
-            }
-        };
-        let mut samples = [[0.0; 4]; 64];
-        for j in 0..GRID {
-            for i in 0..GRID {
+/// Sample points of `light` (xyz, w = 1 for a position, 0 for a direction), its emitting area
+/// (or what stands for it) and its emission normal (zero: every direction).
+fn light_samples(light: &Light) -> (Vec<[f32; 4]>, f32, Vec3) {
+    let grid = |f: &dyn Fn(f32, f32) -> Vec3| -> Vec<[f32; 4]> {
+        (0..GRID * GRID)
+            .map(|k| {
+                let (i, j) = (k % GRID, k / GRID);
                 let (s, t) = (
                     (i as f32 + 0.5) / GRID as f32,
                     (j as f32 + 0.5) / GRID as f32,
                 );
-                samples[(j * GRID + i) as usize] = point(s, t).extend(1.0).to_array();
-            }
+                f(s, t).extend(1.0).to_array()
+            })
+            .collect()
+    };
+    match *light {
+        Light::Rect {
+            center,
+            u_half,
+            v_half,
+        } => (
+            grid(&|s, t| center + (2.0 * s - 1.0) * u_half + (2.0 * t - 1.0) * v_half),
+            4.0 * u_half.cross(v_half).length(),
+            u_half.cross(v_half).normalize(),
+        ),
+        Light::Triangle { a, b, c } => (
+            grid(&|s, t| {
+                let r = s.sqrt();
+                a * (1.0 - r) + b * (r * (1.0 - t)) + c * (r * t)
+            }),
+            0.5 * (b - a).cross(c - a).length(),
+            (b - a).cross(c - a).normalize(),
+        ),
+        Light::Disk {
+            center,
+            normal,
+            radius,
+        } => {
+            let (u, v) = normal.any_orthonormal_pair();
+            (
+                grid(&|s, t| {
+                    let (r, a) = (radius * s.sqrt(), std::f32::consts::TAU * t);
+                    center + r * (a.cos() * u + a.sin() * v)
+                }),
+                std::f32::consts::PI * radius * radius,
+                normal,
+            )
         }
-        let count = GRID * GRID;
-        let normal = front.normalize();
+        Light::Linear { a, b } => (
+            (0..GRID * GRID)
+                .map(|k| {
+                    let s = (k as f32 + 0.5) / (GRID * GRID) as f32;
+                    a.lerp(b, s).extend(1.0).to_array()
+                })
+                .collect(),
+            POINT_AREA * (b - a).length(),
+            Vec3::ZERO,
+        ),
+        Light::Point { position } => (
+            vec![position.extend(1.0).to_array()],
+            POINT_AREA,
+            Vec3::ZERO,
+        ),
+        Light::Sphere { center, radius } => (
+            vec![center.extend(1.0).to_array()],
+            std::f32::consts::PI * radius * radius,
+            Vec3::ZERO,
+        ),
+        Light::Distant { direction, .. } => (
+            vec![direction.normalize().extend(0.0).to_array()],
+            DISTANT_IRRADIANCE / RADIANCE,
+            Vec3::ZERO,
+        ),
+    }
+}
+
+impl ShadeUniform {
+    /// The uniform of `light` (an invalid light is the light's own error).
+    pub fn new(light: &Light) -> Result<Self> {
+        light.validate()?;
+        let (points, area, normal) = light_samples(light);
+        let mut samples = [[0.0; 4]; 64];
+        samples[..points.len()].copy_from_slice(&points);
+        let count = points.len() as f32;
         Ok(Self {
             samples,
-            light_normal: normal.extend(count as f32).to_array(),
-            terms: [RADIANCE * area / count as f32, AMBIENT, ALBEDO, BACKGROUND],
+            light_normal: normal.extend(count).to_array(),
+            terms: [RADIANCE * area / count, AMBIENT, ALBEDO, BACKGROUND],
         })
     }
 
@@ -92,10 +137,18 @@ impl ShadeUniform {
         self.samples[..count]
             .iter()
             .map(|s| {
+                if s[3] == 0.0 {
+                    return n.dot(Vec3::from_slice(&s[..3])).max(0.0);
+                }
                 let d = Vec3::from_slice(&s[..3]) - p;
                 let r2 = d.length_squared().max(1e-8);
                 let l = d / r2.sqrt();
-                n.dot(l).max(0.0) * (-ln.dot(l)).max(0.0) / r2
+                let front = if ln == Vec3::ZERO {
+                    1.0
+                } else {
+                    (-ln.dot(l)).max(0.0)
+                };
+                n.dot(l).max(0.0) * front / r2
             })
             .sum()
     }

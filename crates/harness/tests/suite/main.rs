@@ -3,7 +3,6 @@
 
 mod bad_input;
 mod dependencies;
-mod example_renderer;
 mod frame;
 mod fuzz;
 mod gpu_agreement;
@@ -15,6 +14,7 @@ mod own_device;
 mod papers;
 mod penumbra_limit;
 mod pool;
+mod renderer;
 mod report;
 mod shadow_width;
 mod shipped_text;

@@ -1,12 +1,12 @@
-//! The example renderer against the CPU path, and what a static scene's frame costs in
+//! The viewer's renderer against the CPU path, and what a static scene's frame costs in
 //! transfers. Both run on lavapipe in CI (`crate::common::gpu_for_test`).
 
 use crate::common::gpu_for_test;
-use example_renderer::shade::ShadeUniform;
-use example_renderer::{FrameSettings, Renderer, model_on_ground, moving_light};
 use glam::Vec3;
 use soft_shadow_core::gpu::raster::read_texture;
 use soft_shadow_core::{Receivers, SceneGeometry, ShadowTechnique};
+use viewer::shade::ShadeUniform;
+use viewer::{Frame, FrameSettings, Renderer, Shadow, ViewMode, model_on_ground, moving_light};
 
 const SIZE: u32 = 96;
 const RESOLUTION: u32 = 512;
@@ -20,35 +20,40 @@ fn scene() -> (SceneGeometry, soft_shadow_core::Camera) {
     model_on_ground(&model)
 }
 
-fn renderer<T: ShadowTechnique>(test: &str, t: T) -> Option<(Renderer<T>, SceneGeometry)> {
+fn renderer(test: &str) -> Option<(Renderer, SceneGeometry)> {
     let ctx = gpu_for_test(test)?;
     let (geometry, camera) = scene();
     let settings = FrameSettings {
         width: SIZE,
         height: SIZE,
-        resolution: RESOLUTION,
         camera,
     };
-    let r = Renderer::new(
-        ctx.device.clone(),
-        ctx.queue.clone(),
-        t,
-        &geometry,
-        settings,
-    )
-    .unwrap();
+    let r = Renderer::new(ctx.device.clone(), ctx.queue.clone(), &geometry, settings).unwrap();
     Some((r, geometry))
+}
+
+/// The shaded frame of `t` under `light`.
+fn frame<'a>(t: &'a dyn viewer::FrameTechnique, light: &'a soft_shadow_core::Light) -> Frame<'a> {
+    Frame {
+        light,
+        shadow: Shadow {
+            technique: t,
+            resolution: RESOLUTION,
+        },
+        compare: None,
+        mode: ViewMode::Shaded,
+    }
 }
 
 /// A frame drawn by the renderer's own passes with the technique's `visibility()` over its
 /// G-buffer equals, within 1/255 rms, the same shading of the same pixels with `V` from the
 /// technique's CPU path.
 fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
-    let Some((r, geometry)) = renderer(test, t) else {
+    let Some((r, geometry)) = renderer(test) else {
         return;
     };
     let light = moving_light(1, 8);
-    r.render(&light).unwrap();
+    r.render(&frame(&t, &light)).unwrap();
     let image = r.read_color().unwrap();
     let (pt, nt) = r.gbuffer();
     let p: Vec<[f32; 4]> = read_texture(&r.gpu, pt, 0, wgpu::TextureAspect::All, 16).unwrap();
@@ -66,7 +71,6 @@ fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
         .iter()
         .map(|&i| Vec3::from_slice(&n[i][..3]))
         .collect();
-    let t = r.technique();
     let maps = t
         .generate_cpu(crate::common::cpu(), &geometry, &light, RESOLUTION)
         .unwrap();
@@ -105,7 +109,7 @@ fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
     );
     assert!(rms <= 1.0, "{test}: rms {rms:.3}/255 against the CPU path");
     for i in (0..p.len()).filter(|&i| p[i][3] <= 0.5) {
-        let want = (example_renderer::shade::BACKGROUND * 255.0).round() as u8;
+        let want = (viewer::shade::BACKGROUND * 255.0).round() as u8;
         assert_eq!(image.as_raw()[i * 4], want, "{test}: background pixel {i}");
     }
 }
@@ -131,14 +135,12 @@ fn pcss_frame_matches_the_cpu_path() {
 #[test]
 fn a_static_scenes_second_frame_maps_uploads_and_allocates_nothing() {
     let test = "a_static_scenes_second_frame_maps_uploads_and_allocates_nothing";
-    let Some((r, _)) = renderer(
-        test,
-        penumbra_limit::PenumbraLimit::new(penumbra_limit::Generator::Silhouette),
-    ) else {
+    let Some((r, _)) = renderer(test) else {
         return;
     };
+    let t = penumbra_limit::PenumbraLimit::new(penumbra_limit::Generator::Silhouette);
     let uploads = r.gpu.geometry_uploads();
-    r.render(&moving_light(0, 8)).unwrap();
+    r.render(&frame(&t, &moving_light(0, 8))).unwrap();
     r.gpu.wait().unwrap();
     let counts = |g: &soft_shadow_core::GpuContext| {
         (
@@ -152,7 +154,7 @@ fn a_static_scenes_second_frame_maps_uploads_and_allocates_nothing() {
     // The silhouette edges are derived from the casters on first use.
     assert_eq!(after_first.0, uploads + 1, "{test}: first frame");
     assert_eq!(after_first.1, 0, "{test}: the first frame maps no buffer");
-    r.render(&moving_light(1, 8)).unwrap();
+    r.render(&frame(&t, &moving_light(1, 8))).unwrap();
     r.gpu.wait().unwrap();
     // The first frame's maps and scratch were recycled: the second reuses every one.
     assert!(after_first.2 > 0, "{test}: the first frame makes its maps");
@@ -192,7 +194,7 @@ fn assert_readme_snippet_is(heading: &str, path: &str) {
 fn the_readme_snippet_is_the_renderers_code() {
     assert_readme_snippet_is(
         "### In your own wgpu renderer",
-        "crates/example-renderer/src/lib.rs",
+        "crates/viewer/src/renderer.rs",
     );
 }
 

@@ -19,7 +19,7 @@ fn libraries() -> [&'static Library; 7] {
         &penumbra_limit::SHADERS,
         &occlusion_slices::SHADERS,
         &linear_light::SHADERS,
-        &example_renderer::SHADERS,
+        &viewer::SHADERS,
     ]
 }
 

@@ -1,0 +1,322 @@
+//! The viewer: its view state (camera, light edits, technique and light-kind rules), and the
+//! real window under Xvfb on lavapipe: a screenshot of two techniques split equals the offscreen
+//! renderer's frame, and a malformed model on the command line exits cleanly with a message.
+
+use glam::Vec3;
+use soft_shadow_core::{Camera, Light, LightKind};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use viewer::state::{Choice, LightEdit, OrbitCamera, SIZE_RANGE, ViewState};
+use viewer::techniques::registry;
+
+fn camera() -> Camera {
+    Camera {
+        eye: Vec3::new(0.0, 2.6, 4.2),
+        target: Vec3::new(0.0, 0.6, 0.0),
+        fov_y: 0.9,
+        near: 0.1,
+        far: 20.0,
+    }
+}
+
+fn close(a: Vec3, b: Vec3) -> bool {
+    (a - b).length() < 1e-4
+}
+
+/// The orbit reproduces the camera it starts from; orbiting keeps the distance to the target,
+/// the pitch stops short of the pole, zoom stays within its range, and a pan moves eye and
+/// target together.
+#[test]
+fn the_orbit_camera_keeps_its_target_and_distance() {
+    let c = camera();
+    let mut o = OrbitCamera::from_camera(&c);
+    assert!(close(o.camera().eye, c.eye), "{:?}", o.camera().eye);
+    let d = o.distance;
+    o.orbit(120.0, 400.0);
+    assert!(((o.camera().eye - o.target).length() - d).abs() < 1e-4);
+    assert_eq!(o.pitch, OrbitCamera::MAX_PITCH);
+    for _ in 0..200 {
+        o.zoom(1.0, d);
+    }
+    assert!((o.distance - d * OrbitCamera::ZOOM_RANGE.0).abs() < 1e-5);
+    let before = o.camera();
+    o.pan(10.0, -5.0, 100.0);
+    let after = o.camera();
+    assert!(close(after.eye - before.eye, after.target - before.target));
+    assert!((after.target - before.target).length() > 0.0);
+}
+
+/// Every light kind built from an edit is valid, faces its target, keeps the edit's centre,
+/// and changing the kind keeps the centre and size; a size outside its range is clamped and
+/// a light on its target is an error.
+#[test]
+fn light_edits_give_valid_lights_facing_the_target() {
+    let target = Vec3::new(0.0, 0.5, 0.0);
+    let mut e = LightEdit {
+        kind: LightKind::Rect,
+        center: Vec3::new(1.0, 3.0, 0.5),
+        target,
+        size: 0.6,
+    };
+    for kind in LightKind::ALL {
+        e.kind = kind;
+        let light = e.light().unwrap_or_else(|err| panic!("{kind:?}: {err}"));
+        assert_eq!(light.kind(), kind);
+        if kind != LightKind::Distant {
+            let back = LightEdit::from_light(&light, target);
+            assert!(close(back.center, e.center), "{kind:?}: {:?}", back.center);
+            if kind != LightKind::Point {
+                assert!(
+                    (back.size - 0.6).abs() < 1e-3,
+                    "{kind:?}: size {}",
+                    back.size
+                );
+            }
+        }
+        // Facing the target: the target receives light from the front.
+        if let Light::Rect { u_half, v_half, .. } = light {
+            assert!(u_half.cross(v_half).dot(target - e.center) > 0.0);
+        }
+        if let Light::Triangle { a, b, c } = light {
+            assert!((b - a).cross(c - a).dot(target - e.center) > 0.0);
+        }
+    }
+    e.kind = LightKind::Disk;
+    e.size = 100.0;
+    let Light::Disk { radius, .. } = e.light().unwrap() else {
+        unreachable!()
+    };
+    assert!((2.0 * radius - SIZE_RANGE.1 * e.distance()).abs() < 1e-4);
+    let mut d = e;
+    d.set_distance(2.0);
+    assert!((d.distance() - 2.0).abs() < 1e-5);
+    let on_target = LightEdit {
+        center: target,
+        ..e
+    };
+    assert!(on_target.light().is_err());
+    // The animation turns the light around the vertical through the target.
+    let turned = e.animated(1.0);
+    assert!((turned.distance() - e.distance()).abs() < 1e-4);
+    assert!((turned.center.y - e.center.y).abs() < 1e-5);
+    assert!(!close(turned.center, e.center));
+}
+
+/// A technique is offered only for the light kinds it models, and the refusal says which it
+/// models; switching the light to a kind the chosen technique does not model replaces it and
+/// says so.
+#[test]
+fn techniques_are_offered_only_for_the_lights_they_model() {
+    let reg = registry();
+    let light = Light::Rect {
+        center: Vec3::new(0.0, 3.0, 0.0),
+        u_half: Vec3::X * 0.3,
+        v_half: Vec3::Z * 0.3,
+    };
+    let choice = Choice::new(&reg, "occlusion-slices", 512).unwrap();
+    let mut s = ViewState::new(&camera(), &light, choice);
+    // The scene's own light until the light is edited.
+    assert_eq!(s.frame_light().unwrap(), light);
+    let why = s.choose(false, "linear-light", &reg).unwrap_err();
+    assert!(
+        why.contains("linear, triangle") && why.contains("not rect"),
+        "{why}"
+    );
+    assert_eq!(s.shadow.technique, "occlusion-slices");
+    s.choose(true, "pcss", &reg).unwrap();
+    let said = s.set_light_kind(LightKind::Linear, &reg);
+    assert_eq!(s.frame_light().unwrap().kind(), LightKind::Linear);
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(said[0].contains("occlusion-slices models"), "{said:?}");
+    let shown = viewer::techniques::find(&reg, s.shadow.technique).unwrap();
+    assert!(shown.availability(LightKind::Linear).is_ok());
+    assert_eq!(s.shadow.resolution, 512);
+    assert_eq!(s.compare.as_ref().unwrap().technique, "pcss");
+    assert!(viewer::techniques::find(&reg, "no-such").is_err());
+    for e in &reg {
+        assert!(
+            LightKind::ALL.iter().any(|&k| e.availability(k).is_ok()),
+            "{}",
+            e.name
+        );
+    }
+    assert_eq!(s.split_column(200), Some(100));
+}
+
+/// How to run the viewer in a window: directly where a display is set, under `xvfb-run`
+/// otherwise; `None` (the test is skipped, or fails under CI) where neither is.
+fn windowed(args: &[&str]) -> Option<Output> {
+    let exe = env!("CARGO_BIN_EXE_viewer");
+    let xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
+    let mut cmd = if xvfb {
+        let mut c = Command::new("xvfb-run");
+        c.args(["-a", "-s", "-screen 0 1280x1024x24", exe]);
+        c
+    } else if std::env::var_os("DISPLAY").is_some() {
+        Command::new(exe)
+    } else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI needs xvfb-run (apt-get install xvfb) for the window test"
+        );
+        eprintln!("skipped: no display and no xvfb-run");
+        return None;
+    };
+    cmd.args(args);
+    Some(cmd.output().expect("run the viewer"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A real window (Xvfb, lavapipe) showing penumbra-limit left and PCSS right of the split:
+/// the screenshot's view pixels equal the offscreen renderer's frame of the same scene, camera,
+/// light and techniques within 1/255 rms, both halves show a shadow, and the window reports
+/// its pass times.
+#[test]
+fn a_window_screenshot_of_two_techniques_matches_the_offscreen_frame() {
+    let shot = scratch("window").join("shot.png");
+    let (w, h, resolution) = (192u32, 128u32, 256u32);
+    let size = format!("{w}x{h}");
+    let res = resolution.to_string();
+    let Some(out) = windowed(&[
+        "--scene",
+        "bunny",
+        "--technique",
+        "penumbra-limit",
+        "--compare",
+        "pcss",
+        "--resolution",
+        &res,
+        "--size",
+        &size,
+        "--frames",
+        "3",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]) else {
+        return;
+    };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "viewer failed:\n{stdout}\n{stderr}");
+    // "view WxH at X,Y in the window"
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("view "))
+        .expect("the view's place");
+    let nums: Vec<u32> = line
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    let (x0, y0) = (nums[2], nums[3]);
+    assert!(stdout.contains("CPU recording, ms"), "{stdout}");
+    let image = image::open(&shot).unwrap().to_rgba8();
+    assert!(image.width() >= x0 + w && image.height() >= y0 + h);
+
+    // The same frame offscreen.
+    let Ok((device, queue)) = viewer::own_device() else {
+        assert!(std::env::var_os("CI").is_none(), "CI needs an adapter");
+        return;
+    };
+    let reg = registry();
+    let scene =
+        viewer::scene::load(&viewer::scene::SceneSource::Catalogue("bunny".into())).unwrap();
+    let mut state = ViewState::new(
+        &scene.camera,
+        &scene.light,
+        Choice::new(&reg, "penumbra-limit", resolution).unwrap(),
+    );
+    state.choose(true, "pcss", &reg).unwrap();
+    let cam = state.camera.camera();
+    let r = viewer::Renderer::new(
+        device,
+        queue,
+        &scene.geometry,
+        viewer::FrameSettings {
+            width: w,
+            height: h,
+            camera: cam,
+        },
+    )
+    .unwrap();
+    let light = state.frame_light().unwrap();
+    let a = reg[4].default_variant().clone();
+    let pcss = viewer::techniques::find(&reg, "pcss")
+        .unwrap()
+        .default_variant()
+        .clone();
+    assert_eq!(a.name(), "penumbra-limit");
+    let split = state.split_column(w).unwrap();
+    let frame = |mode| viewer::Frame {
+        light: &light,
+        shadow: viewer::Shadow {
+            technique: a.as_ref(),
+            resolution,
+        },
+        compare: Some((
+            viewer::Shadow {
+                technique: pcss.as_ref(),
+                resolution,
+            },
+            split,
+        )),
+        mode,
+    };
+    r.render(&frame(viewer::ViewMode::Shaded)).unwrap();
+    let want = r.read_color().unwrap();
+    let positions: Vec<[f32; 4]> = soft_shadow_core::gpu::raster::read_texture(
+        &r.gpu,
+        r.gbuffer().0,
+        0,
+        wgpu::TextureAspect::All,
+        16,
+    )
+    .unwrap();
+    // The same frame's V, for where each half is in shadow.
+    r.render(&frame(viewer::ViewMode::Visibility)).unwrap();
+    let v = r.read_color().unwrap();
+    let (mut sum, mut n) = (0.0f64, 0usize);
+    // Covered pixels with V < 0.5 per half: each technique casts its shadow.
+    let mut dark = [0usize; 2];
+    for y in 0..h {
+        for x in 0..w {
+            let g = image.get_pixel(x0 + x, y0 + y).0;
+            let o = want.get_pixel(x, y).0;
+            for c in 0..3 {
+                sum += (g[c] as f64 - o[c] as f64).powi(2);
+                n += 1;
+            }
+            let covered = positions[(y * w + x) as usize][3] > 0.5;
+            if covered && (x + 1 < split || x > split) && v.get_pixel(x, y).0[0] < 128 {
+                dark[(x >= split) as usize] += 1;
+            }
+        }
+    }
+    let rms = (sum / n as f64).sqrt();
+    println!("window against offscreen: rms {rms:.3}/255 over {w}x{h}; dark pixels {dark:?}");
+    assert!(rms <= 1.0, "rms {rms:.3}/255");
+    assert!(
+        dark[0] > 50 && dark[1] > 50,
+        "both halves show a shadow: {dark:?}"
+    );
+}
+
+/// A malformed GLB on the command line: a message naming the file, exit code 1, no panic
+/// and no window left behind.
+#[test]
+fn a_malformed_glb_exits_cleanly_with_a_message() {
+    let bad = scratch("bad-glb").join("broken.glb");
+    std::fs::write(&bad, b"glTF\x02\x00\x00\x00not really a model").unwrap();
+    let Some(out) = windowed(&["--open", bad.to_str().unwrap(), "--frames", "1"]) else {
+        return;
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("cannot open the scene"), "{stderr}");
+    assert!(stderr.contains("broken.glb"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
