@@ -120,6 +120,7 @@ pub fn run(options: Options) -> Result<(), String> {
         status: Ok(()),
         screenshot: None,
         exiting: false,
+        reference_shown: None,
     };
     event_loop
         .run_app(&mut app)
@@ -257,6 +258,8 @@ struct App {
     status: Result<(), String>,
     screenshot: Option<Screenshot>,
     exiting: bool,
+    /// The reference pass the renderer holds ([`References::current_pass`]).
+    reference_shown: Option<(u64, usize)>,
 }
 
 impl ApplicationHandler for App {
@@ -703,10 +706,15 @@ impl App {
                 });
             }
             self.references.poll();
-            let r = self.references.current();
-            let upload = r.map(|r| (r.width, r.height, r.data.as_slice()));
-            if let Err(e) = gfx.renderer.set_reference(upload) {
-                self.model.say(format!("reference: {e}"));
+            // Uploaded only when the pass shown changes (a new key, or a finer pass).
+            let shown = self.references.current_pass();
+            if shown != self.reference_shown {
+                self.reference_shown = shown;
+                let r = self.references.current();
+                let upload = r.map(|r| (r.width, r.height, r.data.as_slice()));
+                if let Err(e) = gfx.renderer.set_reference(upload) {
+                    self.model.say(format!("reference: {e}"));
+                }
             }
             self.model.reference_status = self.references.status();
         }

@@ -27,6 +27,8 @@ pub struct ReferenceImage {
     pub level: usize,
     /// Row-major `V`.
     pub data: Vec<f32>,
+    /// The number of the request it answers (distinct per key and request).
+    pub serial: u64,
 }
 
 /// What one reference is of: scene, light, camera, view size.
@@ -135,6 +137,13 @@ impl References {
         self.current.as_ref().and_then(|id| self.cache.get(id))
     }
 
+    /// Which pass of which reference [`References::current`] is: the request's number and the
+    /// level (`None` before the first pass).
+    pub fn current_pass(&self) -> Option<(u64, usize)> {
+        let id = self.current.as_ref()?;
+        self.cache.get(id).map(|r| (r.serial, r.level))
+    }
+
     /// One line for the panel: how far the current reference is refined.
     pub fn status(&self) -> String {
         match self.current() {
@@ -214,6 +223,7 @@ fn worker(
                 height: h,
                 level,
                 data,
+                serial: n,
             };
             if outbox.send((key.id(), image)).is_err() {
                 return;

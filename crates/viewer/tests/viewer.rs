@@ -320,3 +320,89 @@ fn a_malformed_glb_exits_cleanly_with_a_message() {
     assert!(stderr.contains("broken.glb"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// The reference worker answers off the calling thread, in passes of growing size, and its last
+/// pass equals the harness's tracer run directly on the same pixels; a reference asked for
+/// again is served from the cache at once.
+#[test]
+fn the_reference_refines_off_thread_and_is_cached() {
+    use harness::ground_truth::{GroundTruthSettings, RayTracer};
+    use viewer::reference::{LEVELS, ReferenceKey, References};
+    let scene =
+        viewer::scene::load(&viewer::scene::SceneSource::Catalogue("bunny".into())).unwrap();
+    let (w, h) = (96u32, 64u32);
+    let key = |light: Light| ReferenceKey {
+        scene: 7,
+        light,
+        camera: scene.camera,
+        width: w,
+        height: h,
+    };
+    let mut refs = References::new();
+    refs.set_scene(7, scene.geometry.clone());
+    let asked = std::time::Instant::now();
+    refs.request(key(scene.light));
+    assert!(refs.current().is_none(), "nothing before the first pass");
+    assert!(asked.elapsed().as_millis() < 50, "request does not wait");
+    let mut levels = Vec::new();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while levels.last() != Some(&(LEVELS.len() - 1)) {
+        assert!(std::time::Instant::now() < deadline, "passes {levels:?}");
+        if refs.poll() {
+            let r = refs.current().unwrap();
+            let (div, _, _) = LEVELS[r.level];
+            assert_eq!((r.width, r.height), (w / div, h / div));
+            levels.push(r.level);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    assert!(levels.windows(2).all(|p| p[0] < p[1]), "{levels:?}");
+    // The last pass against the tracer on the same pixels.
+    let r = refs.current().unwrap().clone();
+    let (_, strata_side, replicates) = LEVELS[r.level];
+    let cpu = soft_shadow_core::CpuContext::new();
+    let g = soft_shadow_core::raster::gbuffer(
+        cpu.pool(),
+        &scene.camera.view(r.width, r.height),
+        scene.camera.eye,
+        r.width,
+        r.height,
+        &scene.geometry.receivers,
+    );
+    let covered: Vec<usize> = (0..g.data().len())
+        .filter(|&i| g.data()[i].covered)
+        .collect();
+    let ps: Vec<Vec3> = covered.iter().map(|&i| g.data()[i].position).collect();
+    let ns: Vec<Vec3> = covered.iter().map(|&i| g.data()[i].normal).collect();
+    let direct = RayTracer::new(&scene.geometry.casters).references(
+        &scene.light,
+        &ps,
+        &ns,
+        &GroundTruthSettings {
+            strata_side,
+            replicates,
+            ..Default::default()
+        },
+    );
+    let shadowed = direct
+        .iter()
+        .flatten()
+        .filter(|d| d.visibility < 0.5)
+        .count();
+    assert!(shadowed > 20, "the view holds a shadow: {shadowed}");
+    for (&i, d) in covered.iter().zip(&direct) {
+        assert_eq!(r.data[i], d.map_or(-1.0, |d| d.visibility), "pixel {i}");
+    }
+    // Another light, then the first again: served from the cache without waiting.
+    let moved = Light::Point {
+        position: Vec3::new(0.0, 3.0, 0.0),
+    };
+    refs.request(key(moved));
+    refs.request(key(scene.light));
+    assert_eq!(refs.current().map(|r| r.level), Some(LEVELS.len() - 1));
+    assert!(
+        refs.status().starts_with("reference: current"),
+        "{}",
+        refs.status()
+    );
+}
