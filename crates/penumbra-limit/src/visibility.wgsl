@@ -39,11 +39,23 @@ fn sat(x: f32) -> f32 {
     return clamp(x, 0.0, 1.0);
 }
 
-// Equation 2 with (z <= b); see penumbra_limit::visibility.
+// Below the lower limit: the lower layer's inner penumbra inside the silhouette, the hard
+// shadow outside it; see penumbra_limit::visibility::lower_visibility.
+fn lower_visibility(z: f32, b: f32, p: f32) -> f32 {
+    if z <= b {
+        return 1.0;
+    }
+    if p < 0.0 {
+        return sat(0.5 + 0.5 * p / max(z - b, 1.0e-30));
+    }
+    return 0.0;
+}
+
+// Equation 2 with the lower limit's visibility; see penumbra_limit::visibility.
 fn clamped_visibility(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
     let l = sat(0.5 + 0.5 * p / max(z - c, 1.0e-30));
-    let k = 4.0 * f32(z < g) - 2.0 * f32(z < c) + f32(z <= b) - 1.0;
-    return sat(l + k);
+    let k = 4.0 * f32(z < g) - 2.0 * f32(z < c);
+    return sat(min(l, lower_visibility(z, b, p)) + k);
 }
 
 fn lookup(l: f32) -> f32 {
