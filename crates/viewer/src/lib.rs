@@ -14,7 +14,7 @@
 //! - [`state`]: the camera, the light and the choices, as plain data.
 //! - [`scene`]: opening catalogue scenes, scene files and glTF models.
 //! - [`reference`](mod@reference): the ray-traced reference on a worker thread.
-//! - [`app`]: the window.
+//! - [`app`]: the window; its panel and view input are `ui.rs`.
 
 pub mod app;
 pub mod reference;
@@ -23,6 +23,7 @@ pub mod scene;
 pub mod shade;
 pub mod state;
 pub mod techniques;
+mod ui;
 
 pub use renderer::{
     Frame, FrameSettings, FrameTechnique, PassTimes, Renderer, SHADERS, Shadow, ViewMode,

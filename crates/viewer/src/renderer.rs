@@ -530,7 +530,7 @@ impl Renderer {
         frame: &Frame,
         timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<PassTimes> {
-        let FrameSettings { width, height, .. } = self.settings;
+        let width = self.settings.width;
         let stamp = |enc: &mut wgpu::CommandEncoder, i| {
             if let Some(q) = timestamps {
                 enc.write_timestamp(q, i);
@@ -567,14 +567,7 @@ impl Renderer {
         let shadows = [Some(frame.shadow), frame.compare.map(|c| c.0)];
         for (k, s) in shadows.iter().enumerate() {
             if let Some(s) = s {
-                s.technique.record(
-                    &self.gpu,
-                    enc,
-                    &self.scene,
-                    frame.light,
-                    s.resolution,
-                    &self.visibility_targets(k),
-                )?;
+                self.encode_shadow(enc, frame.light, s, k)?;
             }
             stamp(enc, 2 + k as u32);
             if k == 0 {
@@ -583,12 +576,7 @@ impl Renderer {
                 lap(&mut times.compare);
             }
         }
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.shade_pipeline);
-            pass.set_bind_group(0, &self.shade_bind, &[]);
-            pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
-        }
+        self.encode_shade(enc);
         stamp(enc, 4);
         lap(&mut times.shade);
         Ok(times)
@@ -621,18 +609,8 @@ impl Renderer {
             self.gpu.wait()?;
             Ok(start.elapsed().as_secs_f64() * 1e3)
         };
-        let technique = |s: Shadow, k: usize| {
-            timed(&|enc| {
-                s.technique.record(
-                    &self.gpu,
-                    enc,
-                    &self.scene,
-                    frame.light,
-                    s.resolution,
-                    &self.visibility_targets(k),
-                )
-            })
-        };
+        let technique =
+            |s: Shadow, k: usize| timed(&|enc| self.encode_shadow(enc, frame.light, &s, k));
         Ok(PassTimes {
             gbuffer: timed(&|enc| {
                 self.encode_gbuffer(enc);
@@ -644,14 +622,37 @@ impl Renderer {
                 None => 0.0,
             },
             shade: timed(&|enc| {
-                let (w, h) = (self.settings.width, self.settings.height);
-                let mut pass = enc.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.shade_pipeline);
-                pass.set_bind_group(0, &self.shade_bind, &[]);
-                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+                self.encode_shade(enc);
                 Ok(())
             })?,
         })
+    }
+
+    /// Technique `shadow`'s maps and `V` into visibility target `k`.
+    fn encode_shadow(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        light: &Light,
+        shadow: &Shadow,
+        k: usize,
+    ) -> Result<()> {
+        shadow.technique.record(
+            &self.gpu,
+            enc,
+            &self.scene,
+            light,
+            shadow.resolution,
+            &self.visibility_targets(k),
+        )
+    }
+
+    /// The shading and display pass over the whole frame.
+    fn encode_shade(&self, enc: &mut wgpu::CommandEncoder) {
+        let (w, h) = (self.settings.width, self.settings.height);
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&self.shade_pipeline);
+        pass.set_bind_group(0, &self.shade_bind, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     }
 
     fn encode_gbuffer(&self, enc: &mut wgpu::CommandEncoder) {
