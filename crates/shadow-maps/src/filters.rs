@@ -32,9 +32,9 @@ pub(crate) struct EvalParams {
     pub pcf_radius: i32,
     /// [`soft_shadow_core::Light::size`].
     pub light_size: f32,
-    /// Largest blocker-search radius (texels).
+    /// Largest blocker-search radius (texels): [`PCSS_SEARCH_MAX`] of the map side.
     pub search_max: f32,
-    /// Largest PCSS filter radius (texels).
+    /// Largest PCSS filter radius (texels): [`PCSS_FILTER_MAX`] of the map side.
     pub filter_max: f32,
     /// Padding.
     pub _pad: f32,
@@ -43,8 +43,14 @@ pub(crate) struct EvalParams {
 }
 
 impl EvalParams {
-    /// Parameters of `b` for `map_count` maps and a light of `light_size`.
-    pub(crate) fn new(b: &ShadowMapBaseline, map_count: u32, light_size: f32) -> Self {
+    /// Parameters of `b` for `map_count` maps of side `resolution` and a light of `light_size`.
+    pub(crate) fn new(
+        b: &ShadowMapBaseline,
+        map_count: u32,
+        resolution: u32,
+        light_size: f32,
+    ) -> Self {
+        let side = resolution as f32;
         let (mode, radius) = match b.filter {
             Filter::Hard => (MODE_HARD, 0),
             Filter::Pcf { radius } => (MODE_PCF, radius as i32),
@@ -57,8 +63,8 @@ impl EvalParams {
             _reserved: 0,
             pcf_radius: radius,
             light_size,
-            search_max: PCSS_SEARCH_MAX,
-            filter_max: PCSS_FILTER_MAX,
+            search_max: (PCSS_SEARCH_MAX * side).max(16.0),
+            filter_max: (PCSS_FILTER_MAX * side).max(32.0),
             _pad: 0.0,
             bias: b.bias,
         }

@@ -7,6 +7,8 @@
 //!   technique, resolution and backend (checked by `hard_cases` on the maps it builds there).
 //! - `low_resolution`: at 16² every technique draws a shadow on `plane-occluder` and
 //!   `skewed-triangle` (maps cover the casters, not the ground).
+//! - `convergence`: from 64² up, a finer map never raises a technique's image error by more than
+//!   1/255 (every technique but PCF, on `torus`, `bunny`, `contact`, `overlap`).
 //! - `tiny_light`: as the light shrinks to 0.2 mm every technique converges to the hard shadow.
 //! - `random_scenes`: proptest scenes of random triangles and lights at scales 1e-3..1e4, with
 //!   the assertions of `hard_cases`.
@@ -23,6 +25,7 @@
 mod common;
 
 mod acne;
+mod convergence;
 mod hard_cases;
 mod low_resolution;
 mod random_scenes;
