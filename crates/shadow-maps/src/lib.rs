@@ -149,7 +149,12 @@ impl ShadowTechnique for ShadowMapBaseline {
         maps: &CpuShadowMaps,
         receivers: Checked<Receivers<'_>>,
     ) -> Result<Vec<f32>> {
-        let params = filters::EvalParams::new(self, maps.views.len() as u32, maps.resolution, maps.light_size);
+        let params = filters::EvalParams::new(
+            self,
+            maps.views.len() as u32,
+            maps.resolution,
+            maps.light_size,
+        );
         Ok(filters::evaluate_cpu(&params, maps, &receivers))
     }
 
@@ -183,7 +188,12 @@ impl ShadowTechnique for ShadowMapBaseline {
         layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuShadowMaps,
     ) -> Result<wgpu::BindGroup> {
-        let params = filters::EvalParams::new(self, maps.views.len() as u32, maps.resolution, maps.light_size);
+        let params = filters::EvalParams::new(
+            self,
+            maps.views.len() as u32,
+            maps.resolution,
+            maps.light_size,
+        );
         Ok(gpu::bind_maps(gpu, layout, &params, maps))
     }
 }

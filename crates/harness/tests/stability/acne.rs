@@ -9,7 +9,7 @@
 //! (171 of the 64² receivers, rms 6.0; 98 of the 48² the suite now uses). That is the kernel's reach, not self-shadowing; before filters used a
 //! signed receiver-plane bias the unsigned `tan * |d|` term hid it by pushing every tap through.
 //!
-//! `hard_cases` checks it on the maps it builds for `acne` (one generation per configuration for
+//! `catalogue` checks it on the maps it builds for `acne` (one generation per configuration for
 //! both properties), on its 48² G-buffer.
 
 use harness::metrics::{Shading, errors};
@@ -17,7 +17,7 @@ use harness::metrics::{Shading, errors};
 /// `(technique, resolution)` whose kernel reaches a real shadow (module docs).
 pub const KERNEL_REACH: (&str, u32) = ("pcf", 16);
 
-/// The scene this property is checked on (by `hard_cases`, which generates its maps once for
+/// The scene this property is checked on (by `catalogue`, which generates its maps once for
 /// both properties).
 pub const SCENE: &str = "acne";
 

@@ -77,7 +77,10 @@ fn converges(name: &str) {
             failures.push(line);
         }
     }
-    assert!(checked >= 20, "{name}: only {checked} techniques model its light");
+    assert!(
+        checked >= 20,
+        "{name}: only {checked} techniques model its light"
+    );
     assert!(
         failures.is_empty(),
         "image error grows with the map's side by more than {TOLERANCE}:\n{}",
