@@ -324,14 +324,10 @@ fn check(name: &str) {
                 assert_stable(&v, bench.receivers.positions.len(), &what);
                 runs += 1;
                 let e = errors(&v, &bench.reference, &bench.scene.shading);
-                let h = bench
-                    .hard
-                    .entry((res, be))
-                    .or_insert_with(|| {
-                        let hv = visibility(hard.as_ref(), be, &bench.receivers, light, res, &what);
-                        errors(&hv, &bench.reference, &bench.scene.shading)
-                    })
-                    .clone();
+                let h = *bench.hard.entry((res, be)).or_insert_with(|| {
+                    let hv = visibility(hard.as_ref(), be, &bench.receivers, light, res, &what);
+                    errors(&hv, &bench.reference, &bench.scene.shading)
+                });
                 if name == acne::SCENE {
                     failures.extend(acne::false_shadow(
                         t.name(),
