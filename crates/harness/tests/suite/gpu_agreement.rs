@@ -154,3 +154,33 @@ fn baselines_agree_between_cpu_and_gpu_on_every_scene() {
         }
     }
 }
+
+/// PCSS at 2048², where its search and filter caps are fractions of the map side (64 and 128
+/// texels, above the 16 and 32 of the agreement resolutions): both backends read the caps from
+/// the same uniform and agree, RMS of `V * 255` below 1.0, on `contact` and `overlap`.
+#[test]
+fn pcss_caps_agree_between_cpu_and_gpu_at_2048() {
+    let Some(ctx) = gpu_for_test("pcss_caps_agree_between_cpu_and_gpu_at_2048") else {
+        return;
+    };
+    let pcss = ShadowMapBaseline::new(shadow_maps::Filter::Pcss);
+    for name in ["contact", "overlap"] {
+        let spec = build(name).unwrap();
+        let r = receivers(&spec, 96);
+        let recv = Recv {
+            positions: &r.positions,
+            normals: &r.normals,
+        };
+        let cm = pcss
+            .generate_cpu(crate::common::cpu(), &r.geometry, &spec.light, 2048)
+            .unwrap();
+        let gm = pcss
+            .generate_gpu(&ctx, &r.geometry, &spec.light, 2048)
+            .unwrap();
+        let cv = pcss.evaluate_cpu(&cm, &recv).unwrap();
+        let gv = pcss.evaluate_gpu(&ctx, &gm, &recv).unwrap();
+        let rms = rms_255(&cv, &gv);
+        println!("{name} pcss 2048: CPU/GPU rms {rms:.4}");
+        assert!(rms < 1.0, "{name} pcss 2048: CPU/GPU rms {rms:.3}");
+    }
+}
