@@ -278,13 +278,26 @@ pub fn measure_run(
     res: u32,
     reference: Option<&[f32]>,
 ) -> Result<(Run, Vec<f32>)> {
+    measure_run_reps(id, t, p, res, reference, 1)
+}
+
+/// [`measure_run`] with the median times of `reps` timed frames (fewer where
+/// [`crate::report::measure::REP_BUDGET_S`] runs out), for the experiments that compare times.
+pub fn measure_run_reps(
+    id: &str,
+    t: &dyn DynTechnique,
+    p: &PreparedScene,
+    res: u32,
+    reference: Option<&[f32]>,
+    reps: usize,
+) -> Result<(Run, Vec<f32>)> {
     let cpu = soft_shadow_core::CpuContext::new();
     let m = measure(
         t,
         soft_shadow_core::Context::Cpu(&cpu),
         p,
         res,
-        1,
+        reps,
         false,
         None,
     )?;
