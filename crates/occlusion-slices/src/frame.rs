@@ -61,8 +61,8 @@ pub(crate) struct Frame {
     pub clip_far: f32,
     /// 1 with the thin-occluder fix: a fragment also fills the next slice.
     pub thin_fix: u32,
-    /// Padding to 16 bytes.
-    pub _pad: u32,
+    /// [`crate::OcclusionSlices::fade_texels`].
+    pub fade_texels: f32,
 }
 
 /// A receiver seen from the light: `x, y` along the image axes, `h` along the normal.
@@ -107,14 +107,15 @@ pub(crate) fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec
 }
 
 impl Frame {
-    /// Fits the frame to `geometry`'s casters for `light` (a rect, disk or sphere).
+    /// Fits the frame of `t` (its slices, fix and fade) to `geometry`'s casters for `light` (a
+    /// rect, disk or sphere) at texture side `resolution`.
     pub(crate) fn fit(
         light: &Light,
         geometry: &SceneGeometry,
-        slices: u32,
+        t: &crate::OcclusionSlices,
         resolution: u32,
-        thin_fix: bool,
     ) -> Frame {
+        let slices = t.slices;
         let (center, u_half, v_half) = light_rect(
             light,
             soft_shadow_core::Coverage::new(geometry, light).center(),
@@ -195,8 +196,8 @@ impl Frame {
             occupied: occupied as u32,
             clip_near: 0.0,
             clip_far: 0.0,
-            thin_fix: thin_fix as u32,
-            _pad: 0,
+            thin_fix: t.thin_fix as u32,
+            fade_texels: t.fade_texels,
         };
         let first = (near - spacing).max(0.0);
         frame.clip_near = (frame.d + first) * 0.999;
@@ -274,15 +275,68 @@ impl Frame {
     }
 
     /// Weight of slice `k` for a receiver at depth `h`: 0 while the receiver lies above the
-    /// slice's lower plane (in it or nearer the light), rising linearly to 1 one slice beyond it.
+    /// slice's lower plane (in it or nearer the light), rising linearly to 1 at
+    /// [`Frame::fade_length`] beyond it.
     pub(crate) fn fade(&self, k: u32, h: f32) -> f32 {
-        ((h - self.plane(k)) / self.spacing).clamp(0.0, 1.0)
+        let beyond = h - self.plane(k);
+        let len = self.fade_length(h);
+        if len > 0.0 {
+            (beyond / len).clamp(0.0, 1.0)
+        } else if beyond > 0.0 {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
+    /// The depth over which a slice fades in for a receiver at depth `h`: `fade_texels` texels
+    /// of the frustum there, at most one slice.
+    pub(crate) fn fade_length(&self, h: f32) -> f32 {
+        self.spacing
+            .min(self.fade_texels * self.texel_size(h.max(0.0)))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A slice fades in linearly from its lower plane over `fade_texels` texels of the frustum
+    /// at the receiver's depth, at most one slice; `fade_texels = 0` is a step at the plane.
+    #[test]
+    fn fade_rises_over_the_fade_length_beyond_the_plane() {
+        let mut frame = Frame {
+            d: 2.0,
+            near: 0.25,
+            spacing: 0.1,
+            slices: 8,
+            half_x: 0.5,
+            resolution: 256,
+            fade_texels: 4.0,
+            ..Frame::zeroed()
+        };
+        let p = frame.plane(3);
+        let texel = frame.texel_size(p);
+        // 4 texels of about 0.0045 m: shorter than the slice.
+        let len = frame.fade_length(p);
+        assert!(
+            (len - 4.0 * texel).abs() < 1e-3 * len && len < frame.spacing,
+            "{len}"
+        );
+        assert_eq!(frame.fade(3, p - 0.01), 0.0);
+        assert_eq!(frame.fade(3, p), 0.0);
+        let half = frame.fade(3, p + 0.5 * len);
+        assert!((half - 0.5).abs() < 0.01, "{half}");
+        assert_eq!(frame.fade(3, p + 1.01 * len), 1.0);
+        // Never longer than a slice.
+        frame.fade_texels = 1e6;
+        assert_eq!(frame.fade_length(p), frame.spacing);
+        assert!((frame.fade(3, p + 0.5 * frame.spacing) - 0.5).abs() < 1e-4);
+        // A step.
+        frame.fade_texels = 0.0;
+        assert_eq!(frame.fade(3, p), 0.0);
+        assert_eq!(frame.fade(3, p + 1e-6), 1.0);
+    }
 
     /// `slice_of` is `ceil((h - near) / spacing - tolerance)` clamped to the slices (the
     /// definition `frame.wgsl` also follows), exactly: on every slice plane, a step either

@@ -20,7 +20,7 @@ struct Frame {
     clip_near: f32,
     clip_far: f32,
     thin_fix: u32,
-    _pad: u32,
+    fade_texels: f32,
 };
 
 const SLICE_TOLERANCE: f32 = 1e-3;
@@ -39,7 +39,17 @@ fn plane(f: Frame, k: u32) -> f32 {
 
 // Frame::fade.
 fn fade(f: Frame, k: u32, h: f32) -> f32 {
-    return clamp((h - plane(f, k)) / f.spacing, 0.0, 1.0);
+    let beyond = h - plane(f, k);
+    let len = fade_length(f, h);
+    if len > 0.0 {
+        return clamp(beyond / len, 0.0, 1.0);
+    }
+    return select(0.0, 1.0, beyond > 0.0);
+}
+
+// Frame::fade_length.
+fn fade_length(f: Frame, h: f32) -> f32 {
+    return min(f.spacing, f.fade_texels * texel_size(f, max(h, 0.0)));
 }
 
 // Frame::texel_size.

@@ -14,7 +14,9 @@ mod tests;
 pub use cpu::CpuSliceMaps;
 pub use gpu::GpuSliceMaps;
 pub use gpu::pipelines::{SHADERS, VISIBILITY};
-pub use params::{Combination, MAX_RESOLUTION, OcclusionSlices, Prefilter, SLICE_RANGE};
+pub use params::{
+    Combination, DEFAULT_FADE_TEXELS, MAX_RESOLUTION, OcclusionSlices, Prefilter, SLICE_RANGE,
+};
 
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::gpu::shader::VisibilityShader;

@@ -89,7 +89,18 @@ pub struct OcclusionSlices {
     /// Receiver offset along its normal, in texels of the slice frustum at the receiver's depth,
     /// against self-occlusion on curved surfaces.
     pub normal_offset: f32,
+    /// How far beyond a slice's lower plane its contribution fades in (section 3.5: "we linearly
+    /// fade out the contribution of a slice depending on the distance of the shaded point to
+    /// the slice's lower clipping plane"; the paper gives no distance), in texels of the slice
+    /// frustum at the receiver's depth, and never more than one slice. The fade keeps a surface
+    /// that crosses a plane from a step in its shadow; over a whole slice it also dropped the
+    /// occluders within a slice of a receiver, a light ring under a body resting on the ground.
+    /// 0 is a step at the plane.
+    pub fade_texels: f32,
 }
+
+/// [`OcclusionSlices::fade_texels`] of [`OcclusionSlices::new`].
+pub const DEFAULT_FADE_TEXELS: f32 = 4.0;
 
 impl OcclusionSlices {
     /// `slices` slices with `filter`, the product combination and no thin-occluder fix.
@@ -100,6 +111,7 @@ impl OcclusionSlices {
             combination: Combination::Product,
             thin_fix: false,
             normal_offset: 1.0,
+            fade_texels: DEFAULT_FADE_TEXELS,
         }
     }
 
@@ -128,7 +140,8 @@ impl OcclusionSlices {
         set
     }
 
-    /// Variant label: filter and slice count, plus the combination and the fix when not default.
+    /// Variant label: filter and slice count, plus the combination, the fix and the fade when not
+    /// default.
     pub fn label(&self) -> String {
         let mut s = format!("{}-{}", self.filter.name(), self.slices);
         if self.combination != Combination::Product {
@@ -137,6 +150,9 @@ impl OcclusionSlices {
         }
         if self.thin_fix {
             s.push_str("-thin");
+        }
+        if self.fade_texels != DEFAULT_FADE_TEXELS {
+            s.push_str(&format!("-fade{}", self.fade_texels));
         }
         s
     }
@@ -175,6 +191,12 @@ impl TechniqueInfo for OcclusionSlices {
             return Err(ShadowError::InvalidParameter(format!(
                 "normal_offset must be finite and >= 0, got {}",
                 self.normal_offset
+            )));
+        }
+        if !(self.fade_texels.is_finite() && self.fade_texels >= 0.0) {
+            return Err(ShadowError::InvalidParameter(format!(
+                "fade_texels must be finite and >= 0, got {}",
+                self.fade_texels
             )));
         }
         Ok(())

@@ -183,7 +183,9 @@ mod tests {
             receivers: Vec::new(),
         };
         for (slices, thin_fix) in [(4, false), (8, true), (16, false), (16, true)] {
-            let frame = Frame::fit(&light, &geometry, slices, 256, thin_fix);
+            let t =
+                crate::OcclusionSlices::new(slices, crate::Prefilter::Sat).with_thin_fix(thin_fix);
+            let frame = Frame::fit(&light, &geometry, &t, 256);
             let view = frame.view();
             assert!(NdcSlicer::new(&frame, &view).is_some());
             let pool = Arc::new(Pool::new(1 << 30));

@@ -264,7 +264,7 @@ pub(crate) fn generate(
             limits.max_texture_array_layers
         )));
     }
-    let frame = Frame::fit(light, geometry, t.slices, res, t.thin_fix);
+    let frame = Frame::fit(light, geometry, t, res);
     let uniform = ctx.uniform_buffer("slicing frame", bytemuck::bytes_of(&frame));
     let pre = ctx.cached(PrefilterPipelines::new);
     let occupancy = texture_2d(

@@ -2,6 +2,7 @@
 //! filters of section 3.2 against brute-force box sums.
 
 mod gpu;
+mod halo;
 
 use soft_shadow_core::CpuContext;
 use soft_shadow_core::pool::Pool;
@@ -287,6 +288,14 @@ fn bad_input_gets_typed_errors() {
         t.generate_cpu(&CpuContext::new(), &geometry, &rect, 64),
         Err(ShadowError::InvalidParameter(_))
     ));
+    for fade in [f32::NAN, -1.0, f32::INFINITY] {
+        let mut t = OcclusionSlices::new(8, Prefilter::Sat);
+        t.fade_texels = fade;
+        match t.generate_cpu(&CpuContext::new(), &geometry, &rect, 64) {
+            Err(ShadowError::InvalidParameter(m)) => assert!(m.contains("fade_texels"), "{m}"),
+            other => panic!("fade_texels {fade}: {:?}", other.map(|_| ())),
+        }
+    }
     let t = OcclusionSlices::new(8, Prefilter::Sat);
     let segment = Light::Linear {
         a: glam::Vec3::ZERO,
