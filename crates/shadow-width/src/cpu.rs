@@ -15,7 +15,7 @@ use soft_shadow_core::{CpuContext, Generation, Map2D, MapParams, Receivers, Samp
 pub struct CpuWidthMaps {
     /// Its shader-side parameters.
     pub(crate) params: MapParams,
-    /// Linear depth that `sd` is measured from (nearest surface, or farthest back face).
+    /// Linear depth that `sd` is measured from (nearest surface, or nearest back face).
     pub(crate) depth: Map2D<f32>,
     /// Shadow width in texels.
     pub(crate) width: Map2D<f32>,
@@ -45,7 +45,7 @@ pub(crate) fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) ->
         DepthLayer::Front => near,
         DepthLayer::BackFaces => {
             let mut back =
-                depth_map_pass(pool, &view.view, resolution, tris, DepthPass::FARTHEST_BACK);
+                depth_map_pass(pool, &view.view, resolution, tris, DepthPass::NEAREST_BACK);
             // An open or single-sided caster has no back face: its front face stands in.
             for (b, f) in back.data_mut().iter_mut().zip(near.data()) {
                 if *b == NO_OCCLUDER {

@@ -1,4 +1,4 @@
-//! The GPU path: depth passes into one depth array (layer 0 nearest caster, 1 farthest back
+//! The GPU path: depth passes into one depth array (layer 0 nearest caster, 1 nearest back
 //! face when asked for), the width map by the compute kernels of `width.wgsl`, and evaluation by
 //! `evaluate.wgsl`. Nothing is read back between generation steps.
 
@@ -21,7 +21,7 @@ use soft_shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, 
 pub struct GpuWidthMaps {
     /// Its shader-side parameters.
     pub(crate) params: MapParams,
-    /// `Depth32Float` array: nearest caster, and (back-face depth) farthest back face.
+    /// `Depth32Float` array: nearest caster, and (back-face depth) nearest back face.
     pub(crate) depth: wgpu::Texture,
     /// Shadow width in texels, `array<f32>` of `resolution²`.
     pub(crate) width: wgpu::Buffer,
@@ -205,7 +205,7 @@ pub(crate) fn generate(
     let tris = scene.casters();
     let mut passes = vec![DepthPass::NEAREST];
     if t.depth == DepthLayer::BackFaces {
-        passes.push(DepthPass::FARTHEST_BACK);
+        passes.push(DepthPass::NEAREST_BACK);
     }
     let depth = GpuRasterizer::depth_array(ctx, resolution, passes.len() as u32)?;
     for (layer, pass) in passes.iter().enumerate() {

@@ -55,10 +55,13 @@ pub enum DepthLayer {
     /// The nearest surface (the ordinary shadow map).
     #[default]
     Front,
-    /// The farthest back face of the shadow casters, rendered with a "z-greater" test (section 5):
-    /// fewer self-shadowing artifacts and harder edges where blockers overlap. The paper assumes
-    /// closed casters; where a texel has no back face (an open or single-sided caster) the
-    /// nearest surface stands in.
+    /// The back faces of the shadow casters (section 5): fewer self-shadowing artifacts. The
+    /// paper renders the farthest back face ("z-greater"), assuming "shapes that are not both
+    /// blocker and receiver"; on a caster that shadows itself (the bunny's ears and head on its
+    /// body) the farthest back face lies beyond the shadowed surface, which then reads lit. The
+    /// nearest back face is used instead: the far side of the first closed caster along the ray
+    /// (the same depth for one convex blocker). The paper also assumes closed casters; where a
+    /// texel has no back face (an open or single-sided caster) the nearest surface stands in.
     BackFaces,
 }
 

@@ -57,8 +57,9 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let last = i32(prm.map.resolution) - 1;
     let xy = clamp(vec2<i32>(floor(c.st)), vec2<i32>(0), vec2<i32>(last));
     var z_ndc = textureLoad(depth, xy, prm.depth_layer, 0);
-    if prm.depth_layer != 0u && z_ndc >= 1.0 {
-        // An open or single-sided caster has no back face: its front face stands in.
+    if prm.depth_layer != 0u && z_ndc <= 0.0 {
+        // An open or single-sided caster has no back face (the nearest-back-face pass clears to
+        // the far plane, 0 in reversed Z): its front face stands in.
         z_ndc = textureLoad(depth, xy, 0, 0);
     }
     let z_b = linear_from_ndc(prm.map, z_ndc);

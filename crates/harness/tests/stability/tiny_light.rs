@@ -9,7 +9,7 @@
 //! edge (0.02 m) can sit closer in RMS to the exact edge than an aliased hard one.
 //!
 //! The square occluder is one open sheet: shadow-width's back-face variant (`edt-back`), whose
-//! depth layer is the casters' farthest back faces, has none here and measures from the sheet's
+//! depth layer is the casters' nearest back faces, has none here and measures from the sheet's
 //! front face instead, so it converges like the others. PCF's
 //! kernel is fixed in texels, not tied to the light, but since maps cover the casters and the
 //! penumbra the light can throw (`soft_shadow_core::Coverage`), its texels shrink with the light and

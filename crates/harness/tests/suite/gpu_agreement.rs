@@ -15,7 +15,7 @@ use soft_shadow_core::{Receivers as Recv, ShadowTechnique, TechniqueInfo, View};
 /// may be at most this fraction of the map.
 const MAX_COVERAGE_MISMATCH: f64 = 1e-3;
 
-/// Every depth pass (nearest, farthest, farthest back face) on every catalogue scene: CPU and GPU
+/// Every depth pass (nearest, farthest, nearest and farthest back face) on every catalogue scene: CPU and GPU
 /// agree on coverage (culling included) and depth.
 #[test]
 fn gpu_depth_maps_match_the_cpu_rasterizer() {
@@ -26,6 +26,7 @@ fn gpu_depth_maps_match_the_cpu_rasterizer() {
     let passes = [
         DepthPass::NEAREST,
         DepthPass::FARTHEST,
+        DepthPass::NEAREST_BACK,
         DepthPass::FARTHEST_BACK,
     ];
     for name in SCENE_NAMES {

@@ -153,10 +153,7 @@ impl GpuRasterizer {
         };
         let depth = [
             DepthPass::NEAREST,
-            DepthPass {
-                test: DepthTest::Nearest,
-                faces: Faces::Back,
-            },
+            DepthPass::NEAREST_BACK,
             DepthPass::FARTHEST,
             DepthPass::FARTHEST_BACK,
         ]

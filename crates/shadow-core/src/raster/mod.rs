@@ -111,7 +111,13 @@ impl DepthPass {
         test: DepthTest::Farthest,
         faces: Faces::All,
     };
-    /// The farthest back face (second-depth style maps).
+    /// The nearest back face: the far side of the first closed caster along the ray
+    /// (second-depth shadow maps).
+    pub const NEAREST_BACK: DepthPass = DepthPass {
+        test: DepthTest::Nearest,
+        faces: Faces::Back,
+    };
+    /// The farthest back face.
     pub const FARTHEST_BACK: DepthPass = DepthPass {
         test: DepthTest::Farthest,
         faces: Faces::Back,
