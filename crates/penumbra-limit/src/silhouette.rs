@@ -23,7 +23,7 @@ use soft_shadow_core::pool::Pool;
 use soft_shadow_core::raster::snapped::{SUB, SnappedTri};
 use soft_shadow_core::raster::{DepthPass, DepthTest, Faces, depth_map_filtered};
 use soft_shadow_core::{Map2D, MapParams, View};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Mutex};
 
 /// One mesh edge and the faces beside it, laid out as `Edge` in `silhouette.wgsl`.
@@ -53,12 +53,22 @@ fn key(p: Vec3) -> VertexKey {
 
 /// The edges of a triangle soup: vertices welded where bit-identical; an edge with exactly two
 /// faces is one [`Edge`], an edge of one face or of three and more is a border of each face.
-/// Zero-area triangles have no orientation and are skipped.
+/// Zero-area triangles have no orientation and are skipped, and a triangle repeated with the
+/// same winding (a duplicated mesh, coincident blockers) counts once: twice, the outline of a
+/// blocker had two faces of the same facing on every edge, so it was no silhouette at all, and
+/// its inner edges had four, so they were borders.
 pub(crate) fn edges(tris: &[[Vec3; 3]]) -> Vec<Edge> {
     let mut by_edge: HashMap<(VertexKey, VertexKey), Vec<(usize, usize)>> = HashMap::new();
+    let mut seen: HashSet<[VertexKey; 3]> = HashSet::new();
     let normal = |t: &[Vec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
     for (ti, t) in tris.iter().enumerate() {
         if normal(t) == Vec3::ZERO {
+            continue;
+        }
+        // The vertex keys in winding order, starting from the smallest.
+        let ks = t.map(key);
+        let first = (0..3).min_by_key(|&i| ks[i]).unwrap_or(0);
+        if !seen.insert([ks[first], ks[(first + 1) % 3], ks[(first + 2) % 3]]) {
             continue;
         }
         for k in 0..3 {

@@ -192,14 +192,6 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
       map's nearest lookup (about 12) is already right",
     ),
     (
-        "degenerate",
-        "penumbra-limit",
-        "*",
-        0,
-        "duplicated and coincident blockers extrude the same silhouette edges twice: 32.9 vs the \
-      hard map's 27.75 at 2048",
-    ),
-    (
         "grazing",
         "occlusion-slices",
         "*",

@@ -457,6 +457,18 @@ fn edges_of_closed_and_open_meshes() {
     assert!(e.iter().all(|e| e.o1[3] == 0.0));
     // Zero-area faces are skipped.
     assert!(edges(&[[p[0], p[0], p[1]]]).is_empty());
+    // A mesh given twice (coincident blockers) has the edges of one copy, whatever vertex each
+    // copy's triangles start from; the same triangle wound the other way is its back side.
+    let twice: Vec<[Vec3; 3]> = tet
+        .iter()
+        .copied()
+        .chain(tet.iter().map(|t| [t[1], t[2], t[0]]))
+        .collect();
+    assert_eq!(edges(&twice), edges(&tet));
+    let sheet = [[p[0], p[1], p[2]], [p[0], p[1], p[2]], [p[2], p[1], p[0]]];
+    let e = edges(&sheet);
+    assert_eq!(e.len(), 3, "one edge per side of the two-sided sheet");
+    assert!(e.iter().all(|e| e.o1[3] == 1.0 && e.n0 != e.n1));
 }
 
 /// Bad parameters and inputs get typed errors naming the problem, never a panic.
