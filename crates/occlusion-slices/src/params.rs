@@ -89,7 +89,7 @@ pub struct OcclusionSlices {
     /// Receiver offset along its normal, in texels of the slice frustum at the receiver's depth,
     /// against self-occlusion on curved surfaces.
     pub normal_offset: f32,
-    /// How far beyond a slice's lower plane its contribution fades in (section 3.5: "we linearly
+    /// How far beyond a slice's lower plane its contribution fades in (section 3.4: "we linearly
     /// fade out the contribution of a slice depending on the distance of the shaded point to
     /// the slice's lower clipping plane"; the paper gives no distance), in texels of the slice
     /// frustum at the receiver's depth, and never more than one slice. The fade keeps a surface

@@ -2,69 +2,32 @@
 //! against the ray-traced reference: no false umbra where the reference is lit.
 
 use crate::{Generator, PenumbraLimit};
-use glam::Vec3;
-use harness::ground_truth::{GroundTruthSettings, RayTracer};
-use soft_shadow_core::{Aabb, CpuContext, Light, Receivers, SceneGeometry, ShadowTechnique};
+use harness::testing::ViewerBunnyGround;
+use soft_shadow_core::{CpuContext, Receivers, ShadowTechnique};
 
 /// Ground receivers (a grid of `n` x `n` points around the bunny's shadow, facing up) that the
 /// reference sees lit (`V_ref > 0.9`) and `t` puts in umbra (`V < 0.25`), at map side `res`;
 /// how many the reference sees lit; and how many of any reference value `t` reads darker by
 /// more than 1/2.
 fn false_umbra(t: &PenumbraLimit, res: u32, n: u32) -> (usize, usize, usize) {
-    let spec = harness::scenes::catalogue::build("bunny").unwrap();
-    let tris = |keep: fn(&harness::scenes::MeshInstance) -> bool| -> Vec<[Vec3; 3]> {
-        spec.meshes
-            .iter()
-            .filter(|m| keep(m))
-            .flat_map(|m| m.mesh.world_triangles(m.transform).collect::<Vec<_>>())
-            .collect()
-    };
-    let (casters, receivers) = (tris(|m| m.caster), tris(|m| m.receiver));
-    let mut all = casters.clone();
-    all.extend(receivers.iter().copied());
-    let geometry = SceneGeometry {
-        bounds: Aabb::of_triangles(&all),
-        casters,
-        receivers,
-    };
-    // The catalogue's disk, turned to face the camera's target as the viewer aims it.
-    let light = Light::Disk {
-        center: Vec3::new(0.5, 3.5, 0.5),
-        normal: Vec3::new(-0.162_221_42, -0.973_328_5, -0.162_221_42),
-        radius: 0.4,
-    };
-    let (lo, hi) = (-2.0f32, 1.0f32);
-    let ps: Vec<Vec3> = (0..n * n)
-        .map(|i| {
-            let (x, z) = ((i % n) as f32 + 0.5, (i / n) as f32 + 0.5);
-            Vec3::new(
-                lo + (hi - lo) * x / n as f32,
-                0.0,
-                lo + (hi - lo) * z / n as f32,
-            )
-        })
-        .collect();
-    let ns = vec![Vec3::Y; ps.len()];
-    let refs = RayTracer::new(&geometry.casters).references(
-        &light,
-        &ps,
-        &ns,
-        &GroundTruthSettings {
-            strata_side: 8,
-            replicates: 2,
-            ..Default::default()
-        },
+    let f = ViewerBunnyGround::new(n);
+    let (geometry, light, ps, ns, refs) = (
+        &f.geometry,
+        &f.light,
+        &f.positions,
+        &f.normals,
+        &f.references,
     );
     let cpu = CpuContext::new();
-    let maps = t.generate_cpu(&cpu, &geometry, &light, res).unwrap();
-    let v = t.evaluate_cpu(&maps, &Receivers::new(&ps, &ns)).unwrap();
+    let maps = t.generate_cpu(&cpu, geometry, light, res).unwrap();
+    let v = t.evaluate_cpu(&maps, &Receivers::new(ps, ns)).unwrap();
     let lit: Vec<usize> = (0..ps.len())
-        .filter(|&i| refs[i].is_some_and(|r| r.visibility > 0.9))
+        .filter(|&i| refs[i].is_some_and(|r| r > 0.9))
         .collect();
     let umbra = lit.iter().filter(|&&i| v[i] < 0.25).count();
     // Receivers of every reference value read darker than it by more than 1/2.
     let darker = (0..ps.len())
-        .filter(|&i| refs[i].is_some_and(|r| v[i] < r.visibility - 0.5))
+        .filter(|&i| refs[i].is_some_and(|r| v[i] < r - 0.5))
         .count();
     (umbra, lit.len(), darker)
 }
