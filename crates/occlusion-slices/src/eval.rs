@@ -25,8 +25,9 @@ pub(crate) fn visibility(
     let offset = t.normal_offset * frame.texel_size(h.max(0.0));
     let c = frame.light_coord(p + n * offset);
     let mut acc = Accumulator::new(t.combination);
+    let fade_length = frame.fade_length(c.h);
     for k in 0..frame.slices {
-        let w = frame.fade(k, c.h);
+        let w = frame.fade(k, c.h, fade_length);
         if w <= 0.0 {
             break;
         }

@@ -275,11 +275,11 @@ impl Frame {
     }
 
     /// Weight of slice `k` for a receiver at depth `h`: 0 while the receiver lies above the
-    /// slice's lower plane (in it or nearer the light), rising linearly to 1 at
-    /// [`Frame::fade_length`] beyond it.
-    pub(crate) fn fade(&self, k: u32, h: f32) -> f32 {
+    /// slice's lower plane (in it or nearer the light), rising linearly to 1 at `len` beyond it,
+    /// with `len` the receiver's [`Frame::fade_length`] (computed once per receiver, not per
+    /// slice).
+    pub(crate) fn fade(&self, k: u32, h: f32, len: f32) -> f32 {
         let beyond = h - self.plane(k);
-        let len = self.fade_length(h);
         if len > 0.0 {
             (beyond / len).clamp(0.0, 1.0)
         } else if beyond > 0.0 {
@@ -315,6 +315,7 @@ mod tests {
             fade_texels: 4.0,
             ..Frame::zeroed()
         };
+        let fade = |f: &Frame, h: f32| f.fade(3, h, f.fade_length(h));
         let p = frame.plane(3);
         let texel = frame.texel_size(p);
         // 4 texels of about 0.0045 m: shorter than the slice.
@@ -323,19 +324,19 @@ mod tests {
             (len - 4.0 * texel).abs() < 1e-3 * len && len < frame.spacing,
             "{len}"
         );
-        assert_eq!(frame.fade(3, p - 0.01), 0.0);
-        assert_eq!(frame.fade(3, p), 0.0);
-        let half = frame.fade(3, p + 0.5 * len);
+        assert_eq!(fade(&frame, p - 0.01), 0.0);
+        assert_eq!(fade(&frame, p), 0.0);
+        let half = fade(&frame, p + 0.5 * len);
         assert!((half - 0.5).abs() < 0.01, "{half}");
-        assert_eq!(frame.fade(3, p + 1.01 * len), 1.0);
+        assert_eq!(fade(&frame, p + 1.01 * len), 1.0);
         // Never longer than a slice.
         frame.fade_texels = 1e6;
         assert_eq!(frame.fade_length(p), frame.spacing);
-        assert!((frame.fade(3, p + 0.5 * frame.spacing) - 0.5).abs() < 1e-4);
+        assert!((fade(&frame, p + 0.5 * frame.spacing) - 0.5).abs() < 1e-4);
         // A step.
         frame.fade_texels = 0.0;
-        assert_eq!(frame.fade(3, p), 0.0);
-        assert_eq!(frame.fade(3, p + 1e-6), 1.0);
+        assert_eq!(fade(&frame, p), 0.0);
+        assert_eq!(fade(&frame, p + 1e-6), 1.0);
     }
 
     /// `slice_of` is `ceil((h - near) / spacing - tolerance)` clamped to the slices (the

@@ -37,10 +37,9 @@ fn plane(f: Frame, k: u32) -> f32 {
     return f.near + f32(k) * f.spacing;
 }
 
-// Frame::fade.
-fn fade(f: Frame, k: u32, h: f32) -> f32 {
+// Frame::fade, with len = fade_length(f, h).
+fn fade(f: Frame, k: u32, h: f32, len: f32) -> f32 {
     let beyond = h - plane(f, k);
-    let len = fade_length(f, h);
     if len > 0.0 {
         return clamp(beyond / len, 0.0, 1.0);
     }

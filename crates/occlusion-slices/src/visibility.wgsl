@@ -1,5 +1,5 @@
 #define_import_path occlusion_slices::visibility
-#import occlusion_slices::frame::{Frame, fade, kernel, light_coord, plane, texel_size}
+#import occlusion_slices::frame::{Frame, fade, fade_length, kernel, light_coord, plane, texel_size}
 
 // Evaluation (sections 3.3-3.5) as `visibility(world_pos, normal)`: eval.rs, combine.rs and the
 // lookups of filters/*.rs, operation for operation.
@@ -177,8 +177,9 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let offset = ep.normal_offset * texel_size(frame, max(h, 0.0));
     let c = light_coord(frame, p + n * offset);
     var acc = select(0.0, 1.0, ep.combination == COMBINE_PRODUCT);
+    let len = fade_length(frame, c.z);
     for (var k = 0u; k < frame.slices; k++) {
-        let w = fade(frame, k, c.z);
+        let w = fade(frame, k, c.z, len);
         if w <= 0.0 {
             break;
         }

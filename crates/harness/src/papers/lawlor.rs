@@ -173,6 +173,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
         t.bias = Bias::NONE;
         t
     };
+    let hard_map = unbiased(ShadowMapBaseline::new(Filter::Hard));
     let mut kd = ShadowWidth::new(WidthMethod::Exact);
     kd.bias = Bias::NONE;
     let kd_inner = measure_on(
@@ -195,7 +196,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
         &p,
         "Hard Shadow Map, inner penumbra".into(),
         vec![None; 4],
-        &unbiased(ShadowMapBaseline::new(Filter::Hard)),
+        &hard_map,
         Some(&inner),
     )?;
     let kd_wide = measure_on(
@@ -215,7 +216,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
             WIDE_ANGULAR_DIAMETER.to_degrees()
         ),
         vec![None; 4],
-        &unbiased(ShadowMapBaseline::new(Filter::Hard)),
+        &hard_map,
         Some(&wide_inner),
     )?;
     let reeves = measure_on(
@@ -229,7 +230,7 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
         &p,
         "Hard Shadow Map".into(),
         published("Hard Shadow Map"),
-        &unbiased(ShadowMapBaseline::new(Filter::Hard)),
+        &hard_map,
         None,
     )?;
     measure_on(
