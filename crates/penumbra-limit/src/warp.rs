@@ -15,6 +15,8 @@
 //! Both share `r = 2 / size` with [`Light::size`] (`2 tan(a)` or `2 R`). Stored depths are
 //! normalised: `n = (zeta - zeta(near)) / (zeta(far) - zeta(near)) * DEPTH_SPAN`, so every depth
 //! inside the frustum lies in `[0, DEPTH_SPAN]` and 1 means "nothing" (no occluder, no limit).
+//! The near plane is the frustum's (a distant light's starts just before the casters), moved
+//! nearer where the frustum is shallower than [`MAX_P_PER_TEXEL`] allows.
 
 use bytemuck::{Pod, Zeroable};
 use soft_shadow_core::view::NO_OCCLUDER;
@@ -34,6 +36,17 @@ pub(crate) const FRONT_DEPTH: f32 = -1.0;
 /// the same f16 or 8-bit value and the map casts nothing. Depths nearer than `far /
 /// MAX_DEPTH_RATIO` store below 0 (f32, f16) or at 0 (RGBA8): nearer than every receiver.
 pub(crate) const MAX_DEPTH_RATIO: f32 = 16.0;
+/// Largest change of the normalised `p_i` from one texel to the next. `p_i` is stored clamped to
+/// `[-MAX_P, MAX_P]`, and bilinear interpolation of clamped values moves an edge's zero crossing
+/// by up to half a texel: the texels around an edge (up to a diagonal texel away) must keep their
+/// `p_i` unclamped. A map whose depth range is shallower than the depth over which the penumbra
+/// grows by a texel (a plate 5 cm over the ground under 25 cm texels) therefore normalises over
+/// a deeper range, ending at the same far plane.
+pub(crate) const MAX_P_PER_TEXEL: f32 = std::f32::consts::SQRT_2;
+/// Most that [`MAX_P_PER_TEXEL`] deepens a map's stored range: a light so small that its
+/// penumbra stays under a texel (a hard edge) would otherwise spend every stored step on depths
+/// nothing occupies.
+pub(crate) const MAX_RANGE_GROWTH: f32 = 16.0;
 /// Depth rate used for a light of size 0 (a hard, antialiased edge).
 pub(crate) const MAX_RATE: f32 = 1.0e30;
 
@@ -69,8 +82,6 @@ impl Warp {
         } else {
             m.near.max(m.far / MAX_DEPTH_RATIO)
         };
-        let zeta_near = zeta(near);
-        let zeta_scale = DEPTH_SPAN / (zeta(m.far) - zeta_near).max(f32::MIN_POSITIVE);
         let unit = if ortho == 1 { m.texel_b } else { m.texel_a };
         let size = light.size();
         let rate = if size > 2.0 / MAX_RATE {
@@ -78,6 +89,17 @@ impl Warp {
         } else {
             MAX_RATE
         };
+        let zeta_far = zeta(m.far);
+        let fit = DEPTH_SPAN / (zeta_far - zeta(near)).max(f32::MIN_POSITIVE);
+        // A map shallower than a texel's penumbra growth stores a deeper range (see
+        // `MAX_P_PER_TEXEL`), at most `MAX_RANGE_GROWTH` times its own.
+        let zeta_scale = if rate < MAX_RATE {
+            fit.min(MAX_P_PER_TEXEL / (unit * rate).max(f32::MIN_POSITIVE))
+                .max(fit / MAX_RANGE_GROWTH)
+        } else {
+            fit
+        };
+        let zeta_near = zeta_far - DEPTH_SPAN / zeta_scale;
         Self {
             ortho,
             zeta_near,

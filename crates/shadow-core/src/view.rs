@@ -271,14 +271,18 @@ impl View {
                     + inv.transform_vector3(Vec3::X) * mid.x
                     + inv.transform_vector3(Vec3::Y) * mid.y;
                 let view = look_to(eye, -dir);
-                let near = (0.05 * radius).max(1e-6);
+                let clip = (0.05 * radius).max(1e-6);
+                let far = all_hi.z * 1.01 + clip;
+                // The depth range starts just before the nearest caster: nothing in front of it
+                // casts, and an 8-bit or 16-bit map spends its steps on what does.
+                let near = (cast_lo.z - 0.01 * (far - cast_lo.z)).max(clip);
                 View {
                     view,
                     kind: ProjectionKind::Orthographic {
                         half_extent: half * (1.0 + MARGIN) * 1.01 + 1e-6 * diag,
                     },
                     near,
-                    far: all_hi.z * 1.01 + near,
+                    far,
                     aspect: 1.0,
                 }
             }

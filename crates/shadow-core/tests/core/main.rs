@@ -3,6 +3,7 @@
 mod bias;
 mod light_sampling;
 mod rasterizer;
+mod view_fit;
 
 use soft_shadow_core::pool::Pool;
 use std::sync::Arc;
