@@ -22,7 +22,8 @@ use soft_shadow_core::{Light, SceneGeometry};
 pub(crate) const SLICE_TOLERANCE: f32 = 1e-3;
 
 /// Casters nearer the light's plane than this fraction of the farthest caster do not widen the
-/// frustum (a wall through the light's plane would otherwise ask for a 180-degree field of view).
+/// frustum (a wall through the light's plane would otherwise ask for a 180-degree field of view);
+/// the penumbra they throw from this depth on does (the casters' box clipped to it).
 const FIT_FLOOR: f32 = 0.02;
 
 /// The slicing frame, laid out as `Frame` in `frame.wgsl`.
@@ -154,7 +155,22 @@ impl Frame {
         let deepest = scene.corners().iter().map(|c| depth(*c)).fold(hi, f32::max);
         let mut penumbra = Vec::new();
         if occupied && !scene.is_empty() {
-            for c in casters.corners() {
+            // The casters' box clipped to the floor: where it crosses the plane `FIT_FLOOR *
+            // far`, the points on its edges there cast too (a wall through the light's plane
+            // shadows the ground behind it from just below that plane).
+            let corners = casters.corners();
+            let floor = FIT_FLOOR * far;
+            let mut sources = corners.to_vec();
+            for (i, a) in corners.iter().enumerate() {
+                for b in &corners[i + 1..] {
+                    let (ha, hb) = (depth(*a), depth(*b));
+                    let one_axis = (*a - *b).abs().cmpgt(Vec3::ZERO).bitmask().count_ones() == 1;
+                    if one_axis && (ha - floor) * (hb - floor) < 0.0 {
+                        sources.push(a.lerp(*b, (floor - ha) / (hb - ha)));
+                    }
+                }
+            }
+            for c in sources {
                 for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
                     let dir = c - (center + su * u_half + sv * v_half);
                     let down = dir.dot(normal);

@@ -233,10 +233,13 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
     (
         "light-plane",
         "occlusion-slices",
-        "*",
-        0,
-        "the wall crosses the light's plane: slicing from a COP behind the light drops casters \
-      above the plane and the wall's slices shadow the wall (40-46 vs the hard map's 25-30)",
+        "*-4",
+        2048,
+        "the wall crosses the light's plane and shadows the ground behind it; each of four slices \
+      holds a band of the wall that covers part of a receiver's kernel, and their product (section \
+      3.3) lets light through: V rms 26.4 vs the hard map's 23.3 (image 2.8 vs 4.9). On the \
+      report's 128² G-buffer the ground behind the wall is 81% of the squared error (V rms 114.6 \
+      over its 518 receivers; 8 slices 64.6); mipmap-4, and every variant at 16² and 256², pass",
     ),
 ];
 
