@@ -59,7 +59,7 @@ fn split(a: f32, b: f32) -> Split {
 }
 
 fn sat_mean(c: vec2<f32>, size: f32, k: u32) -> f32 {
-    let half = 0.5 * size;
+    let half = 0.5 * select(size, 1.0, size < 1.0);
     let lo = c - vec2<f32>(half);
     let hi = c + vec2<f32>(half);
     let area = (hi.x - lo.x) * (hi.y - lo.y);
