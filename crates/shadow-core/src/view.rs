@@ -162,8 +162,9 @@ impl View {
     ///
     /// Perspective from a position: a square window around `axis`, clamped to 2 x 80 degrees
     /// (geometry outside is unshadowed by that sample); the depth range spans the whole scene.
-    /// Orthographic for a direction: the window is centred on what it covers, the near plane
-    /// lies just outside the scene.
+    /// Orthographic for a direction: the window is centred on what it covers, the depth range
+    /// starts just before the nearest caster (1% of the range before it) and ends beyond the
+    /// scene's deepest point.
     pub fn fit_light(sample: LightPoint, axis: Vec3, coverage: &Coverage) -> View {
         let axis = axis.normalize();
         let bounds = &coverage.scene;
