@@ -167,18 +167,6 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
       14.5, at 2048² V rms 17.8 vs 16.6 (image 5.14 vs 5.26); the front-face variants pass",
     ),
     (
-        "overlap",
-        "penumbra-limit",
-        "silhouette-*",
-        2048,
-        "three stacked blockers at 2048²: image error 6.90 vs the hard map's 6.17 while V rms is \
-      far better (43.2 vs 55.6); at 16² and 256² it passes. The loss is on the blockers \
-      themselves (report, object pixels 12.9 vs 10.6; ground 6.0 vs 5.6): the lower blockers \
-      read lit where the top one's penumbra falls on them, as if their own geometry, the \
-      nearest at their texels, clamped them lit (one layer per texel, the paper's section 5); \
-      that mechanism is not measured",
-    ),
-    (
         "thin",
         "*",
         "*",
