@@ -73,7 +73,7 @@ fn combine(@builtin(global_invocation_id) gid: vec3<u32>) {
                 g = min(g0, c + p);
             }
         }
-        let covered = p >= 0.0 && g0 < NONE_DEPTH && g0 - c > gap;
+        let covered = p >= 0.0 && g0 < NONE_DEPTH && abs(g0 - c) > gap;
         t = vec4<f32>(c, g, select(lower, g0, transition || covered), p);
     }
     let raw = clamp(vec4<f32>(t.xyz, clamp(t.w, -MAX_P, MAX_P) * 0.25 + 0.5), vec4<f32>(0.0), vec4<f32>(1.0));

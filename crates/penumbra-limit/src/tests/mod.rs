@@ -3,6 +3,7 @@
 mod bunny;
 mod depth_image;
 mod feature_transform;
+mod overlap;
 
 use soft_shadow_core::CpuContext;
 use soft_shadow_core::pool::Pool;
