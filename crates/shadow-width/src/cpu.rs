@@ -8,15 +8,17 @@ use crate::params::{DepthLayer, ShadowWidth};
 use crate::width::width_map;
 use rayon::prelude::*;
 use soft_shadow_core::raster::{DepthPass, depth_map_pass};
-use soft_shadow_core::view::NO_OCCLUDER;
 use soft_shadow_core::{CpuContext, Generation, Map2D, MapParams, Receivers, SampleView};
 
 /// The maps of one light, built on the CPU.
 pub struct CpuWidthMaps {
     /// Its shader-side parameters.
     pub(crate) params: MapParams,
-    /// Linear depth that `sd` is measured from (nearest surface, or nearest back face).
+    /// Linear depth of the nearest caster: the shadow test, and `sd` without a back face.
     pub(crate) depth: Map2D<f32>,
+    /// With [`DepthLayer::BackFaces`]: linear depth of the nearest back face ([`soft_shadow_core::view::NO_OCCLUDER`]
+    /// where none), which `sd` is measured from where it lies in front of the receiver.
+    pub(crate) back: Option<Map2D<f32>>,
     /// Shadow width in texels.
     pub(crate) width: Map2D<f32>,
     /// [`crate::params::softness_size`] of the light: its size over the fit factor.
@@ -41,23 +43,12 @@ pub(crate) fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) ->
     let near = depth_map_pass(pool, &view.view, resolution, tris, DepthPass::NEAREST);
     let occlusion = occlusion_mask(&near);
     let width = width_map(pool, &occlusion, t.method);
-    let depth = match t.depth {
-        DepthLayer::Front => near,
-        DepthLayer::BackFaces => {
-            let mut back =
-                depth_map_pass(pool, &view.view, resolution, tris, DepthPass::NEAREST_BACK);
-            // An open or single-sided caster has no back face: its front face stands in.
-            for (b, f) in back.data_mut().iter_mut().zip(near.data()) {
-                if *b == NO_OCCLUDER {
-                    *b = *f;
-                }
-            }
-            back
-        }
-    };
+    let back = (t.depth == DepthLayer::BackFaces)
+        .then(|| depth_map_pass(pool, &view.view, resolution, tris, DepthPass::NEAREST_BACK));
     CpuWidthMaps {
         params,
-        depth,
+        depth: near,
+        back,
         width,
         light_size: crate::params::softness_size(light),
     }
@@ -80,6 +71,16 @@ pub(crate) fn evaluate(t: &ShadowWidth, maps: &CpuWidthMaps, r: &Receivers) -> V
     r.positions
         .par_iter()
         .zip(r.normals.par_iter())
-        .map(|(p, n)| shade(&prm, &shader, &maps.depth, &maps.width, *p, *n))
+        .map(|(p, n)| {
+            shade(
+                &prm,
+                &shader,
+                &maps.depth,
+                maps.back.as_ref(),
+                &maps.width,
+                *p,
+                *n,
+            )
+        })
         .collect()
 }

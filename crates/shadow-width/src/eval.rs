@@ -33,7 +33,8 @@ pub(crate) struct EvalParams {
     pub light_size: f32,
     /// Entries in the table.
     pub table_size: u32,
-    /// Layer of the depth texture that `sd` is measured from.
+    /// 1 with back faces: layer 1 of the depth texture holds the nearest back face, which `sd`
+    /// is measured from where it lies in front of the receiver; 0: the nearest caster only.
     pub depth_layer: u32,
 }
 
@@ -112,11 +113,15 @@ pub(crate) enum Shader<'a> {
     Table(&'a AttenuationTable),
 }
 
-/// `V` of one receiver: project, shadow depth against `depth`, shadow width from `width`, `I`.
+/// `V` of one receiver: project, the shadow test against the nearest caster `depth`, shadow
+/// depth from the nearest back face in `back` where one lies in front of the receiver (else from
+/// `depth`: an open or single-sided caster has no back face before it), shadow width from
+/// `width`, `I`.
 pub(crate) fn shade(
     prm: &EvalParams,
     shader: &Shader,
     depth: &Map2D<f32>,
+    back: Option<&Map2D<f32>>,
     width: &Map2D<f32>,
     p: glam::Vec3,
     n: glam::Vec3,
@@ -124,7 +129,12 @@ pub(crate) fn shade(
     let Some(c) = shadow_coord(&prm.map, &prm.bias, p, n) else {
         return 1.0;
     };
-    let z_b = *depth.get_clamped(c.st.x.floor() as i64, c.st.y.floor() as i64);
+    let (x, y) = (c.st.x.floor() as i64, c.st.y.floor() as i64);
+    let front = *depth.get_clamped(x, y);
+    let z_b = match back.map(|b| *b.get_clamped(x, y)) {
+        Some(z) if z < c.z => z,
+        _ => front,
+    };
     let sd = c.z - z_b;
     // NaN-safe: anything but a positive shadow depth is lit.
     if sd.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {

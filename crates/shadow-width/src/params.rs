@@ -55,13 +55,14 @@ pub enum DepthLayer {
     /// The nearest surface (the ordinary shadow map).
     #[default]
     Front,
-    /// The back faces of the shadow casters (section 5): fewer self-shadowing artifacts. The
-    /// paper renders the farthest back face ("z-greater"), assuming "shapes that are not both
-    /// blocker and receiver"; on a caster that shadows itself (the bunny's ears and head on its
-    /// body) the farthest back face lies beyond the shadowed surface, which then reads lit. The
-    /// nearest back face is used instead: the far side of the first closed caster along the ray
-    /// (the same depth for one convex blocker). The paper also assumes closed casters; where a
-    /// texel has no back face (an open or single-sided caster) the nearest surface stands in.
+    /// The back faces of the shadow casters (section 5): `sd` is measured from the far side of
+    /// a closed caster, so the shadows a caster casts on itself come out harder (the paper's
+    /// "visually more convincing" self-shadows). The paper renders the farthest back face
+    /// ("z-greater"), assuming "shapes that are not both blocker and receiver"; on a caster that
+    /// shadows itself (the bunny's ears and head on its body) the farthest back face lies beyond
+    /// the shadowed surface. The nearest back face in front of the receiver is used instead, and
+    /// the shadow test stays the nearest surface's: behind an open or single-sided caster (no
+    /// back face before the receiver) `sd` is measured from that caster's front face.
     BackFaces,
 }
 

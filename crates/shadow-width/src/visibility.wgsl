@@ -56,13 +56,17 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     }
     let last = i32(prm.map.resolution) - 1;
     let xy = clamp(vec2<i32>(floor(c.st)), vec2<i32>(0), vec2<i32>(last));
-    var z_ndc = textureLoad(depth, xy, prm.depth_layer, 0);
-    if prm.depth_layer != 0u && z_ndc <= 0.0 {
-        // An open or single-sided caster has no back face (the nearest-back-face pass clears to
-        // the far plane, 0 in reversed Z): its front face stands in.
-        z_ndc = textureLoad(depth, xy, 0, 0);
+    // The shadow test is against the nearest caster (layer 0). With back faces (layer 1), `sd`
+    // is measured from the nearest back face where one lies in front of the receiver; an open or
+    // single-sided caster has none there (nor does a cleared texel: the far plane, no occluder),
+    // and its front face stands in.
+    var z_b = linear_from_ndc(prm.map, textureLoad(depth, xy, 0, 0));
+    if prm.depth_layer != 0u {
+        let z_back = linear_from_ndc(prm.map, textureLoad(depth, xy, 1, 0));
+        if z_back < c.z {
+            z_b = z_back;
+        }
     }
-    let z_b = linear_from_ndc(prm.map, z_ndc);
     let sd = c.z - z_b;
     if !(sd > 0.0) {
         return 1.0;

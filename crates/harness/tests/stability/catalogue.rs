@@ -158,15 +158,6 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
       the hard map's 37.1, while V rms is better: 109.4 vs 111.7)",
     ),
     (
-        "bunny",
-        "shadow-width",
-        "edt-back",
-        0,
-        "from the nearest back faces the bunny's shadow depths are shorter than from its front \
-      faces, so its penumbrae come out wider and lighter: at 16² image 15.2 vs the hard map's \
-      14.5, at 2048² V rms 17.8 vs 16.6 (image 5.14 vs 5.26); the front-face variants pass",
-    ),
-    (
         "thin",
         "*",
         "*",
@@ -174,15 +165,6 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
         "a 16² texel (0.37 m) is 60 times the 6 mm wires: they alias in and out of the map, and \
       the hard map itself is worse than no shadow (29.0 vs 27.5); penumbra-limit's ribbons of \
       texel-wide wires overlap into false umbra (36.5)",
-    ),
-    (
-        "contact",
-        "*",
-        "*",
-        16,
-        "a 16² texel is wider than the contact region: every filter (PCF 28.0, accumulation 17.9, \
-      penumbra-limit 21.7) smears the occluder edge across the touching point, where the hard \
-      map's nearest lookup (about 12) is already right",
     ),
     (
         "grazing",

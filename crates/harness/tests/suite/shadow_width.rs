@@ -64,3 +64,72 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
         }
     }
 }
+
+/// A closed box under a single-sided square (its normal towards the light): the square has no
+/// back face, and the box's nearest back face (its bottom) lies beyond the receivers on its top.
+/// The back-face depth must still shadow them: the square's umbra covers the top's centre
+/// (closed form: `V = 0` within 0.3 m of it, where the light's penumbra is 6 cm wide), on the
+/// CPU and the GPU, as the front depth does.
+#[test]
+fn back_faces_keep_an_open_casters_shadow() {
+    use glam::Vec3;
+    use shadow_width::DepthLayer;
+    use soft_shadow_core::{Light, SceneGeometry};
+    let face = |c: Vec3, u: Vec3, v: Vec3| {
+        [
+            [c - u - v, c + u - v, c + u + v],
+            [c - u - v, c + u + v, c - u + v],
+        ]
+    };
+    let (x, y, z) = (Vec3::X * 0.5, Vec3::Y * 0.5, Vec3::Z * 0.5);
+    let centre = Vec3::Y * 0.5;
+    let mut box_faces: Vec<[Vec3; 3]> = [
+        (x, y, z),
+        (-x, z, y),
+        (y, z, x),
+        (-y, x, z),
+        (z, x, y),
+        (-z, y, x),
+    ]
+    .iter()
+    .flat_map(|&(n, u, v)| face(centre + n, u, v))
+    .collect();
+    // The square 2 m over the ground, facing up.
+    let square = face(Vec3::Y * 2.0, Vec3::Z, Vec3::X);
+    let mut casters = square.to_vec();
+    casters.append(&mut box_faces);
+    let geometry = SceneGeometry::new(casters, Vec::new());
+    let light = Light::Disk {
+        center: Vec3::Y * 6.0,
+        normal: Vec3::NEG_Y,
+        radius: 0.25,
+    };
+    let positions: Vec<Vec3> = (0..7)
+        .map(|i| Vec3::new(-0.3 + 0.1 * i as f32, 1.0, 0.05))
+        .collect();
+    let normals = vec![Vec3::Y; positions.len()];
+    let recv = Recv {
+        positions: &positions,
+        normals: &normals,
+    };
+    let ctx = gpu_for_test("back_faces_keep_an_open_casters_shadow");
+    for depth in [DepthLayer::Front, DepthLayer::BackFaces] {
+        let mut t = ShadowWidth::new(WidthMethod::Exact);
+        t.depth = depth;
+        let maps = t
+            .generate_cpu(crate::common::cpu(), &geometry, &light, 256)
+            .unwrap();
+        let mut runs = vec![("cpu", t.evaluate_cpu(&maps, &recv).unwrap())];
+        if let Some(ctx) = &ctx {
+            let maps = t.generate_gpu(ctx, &geometry, &light, 256).unwrap();
+            runs.push(("gpu", t.evaluate_gpu(ctx, &maps, &recv).unwrap()));
+        }
+        for (backend, v) in runs {
+            let worst = v.iter().copied().fold(0.0f32, f32::max);
+            assert!(
+                worst < 0.02,
+                "{depth:?} {backend}: V up to {worst} under the square's umbra: {v:?}"
+            );
+        }
+    }
+}
