@@ -52,7 +52,8 @@ fn bits(t: &[Vec3; 3]) -> [u32; 9] {
 pub struct PreparedScene {
     /// The description.
     pub spec: SceneSpec,
-    /// Flattened world-space geometry.
+    /// What the techniques' maps cover ([`shadow_frame::Scene::casting_onto`]): the casters
+    /// that can shadow a receiver in view, bounds over them and the receivers they reach.
     pub geometry: SceneGeometry,
     /// The camera G-buffer.
     pub gbuffer: Map2D<GBufferTexel>,
@@ -164,6 +165,9 @@ impl PreparedScene {
             })
             .collect();
         let shading = Shading::new(&irradiance, object, terminator);
+        // What the techniques' maps cover: the casters that can shadow a receiver in view (the
+        // reference above traced every caster).
+        let geometry = scene.casting_onto(&light, &positions);
         Ok(Self {
             spec,
             geometry,

@@ -77,3 +77,136 @@ impl Coverage {
 fn casters_or<'a>(casters: &'a Aabb, scene: &'a Aabb) -> &'a Aabb {
     if casters.is_empty() { scene } else { casters }
 }
+
+/// Whether something inside the box `caster` can shadow a receiver point within `radius` of `p`
+/// from some point of `light`: whether the cone from `p` around the light (a local light's
+/// bounding sphere, a distant light's cone of directions), widened by `radius`, meets the box
+/// beyond `p`. Conservative: `true` whenever the box might block a light point; `false` proves
+/// that nothing in it does, such as for a convex caster's own faces turned to the light.
+///
+/// Along the cone's axis `p + s a`, `dist(p + s a, caster) - w(s)` (with `w` the cone's radius,
+/// linear in `s`) is convex in `s`; the box meets the cone where it is at most 0. It is
+/// minimised over `s` from a thousandth of the box's diagonal (so a receiver on the box's surface
+/// does not count the box as shadowing it where the light leaves that surface) to the light, or
+/// past the box.
+pub fn can_shadow(light: &Light, caster: &Aabb, p: Vec3, radius: f32) -> bool {
+    if caster.is_empty() {
+        return false;
+    }
+    // The octagons of `Light::outline` circumscribe a circle of radius r with r / cos(pi / 8).
+    let circumscribed = 1.0 / (std::f32::consts::PI / 8.0).cos();
+    let far = (caster.center() - p).length() + caster.diagonal() + radius;
+    // The cone's axis, its length, and its radius at `s` along it: for a distant light the
+    // receiver's ball swept along the cone of directions; for a local one the convex hull of the
+    // receiver's ball and the light's bounding ball (radii interpolated along the axis, over the
+    // cosine of the hull's half-angle).
+    let (axis, end, width): (Vec3, f32, Box<dyn Fn(f32) -> f32>) = match light.center() {
+        LightPoint::Direction(d) => {
+            let half = match *light {
+                Light::Distant {
+                    angular_diameter, ..
+                } => (0.5 * angular_diameter).tan() * circumscribed,
+                _ => 0.0,
+            };
+            (d, far, Box::new(move |s| radius + s * half))
+        }
+        LightPoint::Position(c) => {
+            let v = c - p;
+            let l = v.length();
+            let rho = light_radius(light, c);
+            if l.is_nan() || l <= rho + radius {
+                // The receiver's ball reaches the light's.
+                return true;
+            }
+            let cos = (1.0 - ((rho - radius) / l).powi(2)).sqrt();
+            let width = move |s: f32| (radius + (rho - radius) * (s / l)) / cos;
+            (v / l, l.min(far), Box::new(width))
+        }
+    };
+    let f = |s: f32| box_distance(caster, p + axis * s) - width(s);
+    let (mut a, mut b) = (1e-3 * caster.diagonal(), end);
+    if a.is_nan() || b.is_nan() || a >= b {
+        // The light lies closer than the search starts: one test at the light.
+        return f(b.max(0.0)) <= 0.0;
+    }
+    if f(a) <= 0.0 || f(b) <= 0.0 {
+        return true;
+    }
+    // Golden-section search of the convex `f`.
+    let g = 0.5 * (5f32.sqrt() - 1.0);
+    let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..48 {
+        if f1 <= 0.0 || f2 <= 0.0 {
+            return true;
+        }
+        if f1 < f2 {
+            b = x2;
+            (x2, f2) = (x1, f1);
+            x1 = b - g * (b - a);
+            f1 = f(x1);
+        } else {
+            a = x1;
+            (x1, f1) = (x2, f2);
+            x2 = a + g * (b - a);
+            f2 = f(x2);
+        }
+    }
+    f1 <= 0.0 || f2 <= 0.0
+}
+
+/// The radius of a sphere around `c` (a local light's centre) holding every point of `light`.
+fn light_radius(light: &Light, c: Vec3) -> f32 {
+    match *light {
+        Light::Sphere { radius, .. } => radius,
+        _ => light
+            .outline(c)
+            .iter()
+            .filter_map(|q| match q {
+                LightPoint::Position(q) => Some((*q - c).length()),
+                LightPoint::Direction(_) => None,
+            })
+            .fold(0.0, f32::max),
+    }
+}
+
+/// Distance from `p` to the box `b` (0 inside).
+fn box_distance(b: &Aabb, p: Vec3) -> f32 {
+    (b.min - p).max(p - b.max).max(Vec3::ZERO).length()
+}
+
+/// The geometry a light's maps need to shadow what a camera sees, the receiver points `seen`:
+/// of the casters `instances` (each one object's world-space triangles), those that
+/// [`can_shadow`] one of the points; the receiving triangles `receivers`; and bounds over the
+/// casters kept and the receiving triangles they can shadow (every receiving triangle when no
+/// caster is kept). A caster that shadows nothing in view takes no part in the maps, nor does a
+/// receiver no caster can reach.
+pub fn casting_onto(
+    light: &Light,
+    instances: &[Vec<[Vec3; 3]>],
+    receivers: Vec<[Vec3; 3]>,
+    seen: &[Vec3],
+) -> SceneGeometry {
+    let mut casters = Vec::new();
+    let mut boxes = Vec::new();
+    for tris in instances {
+        let b = Aabb::of_triangles(tris);
+        if seen.iter().any(|&p| can_shadow(light, &b, p, 0.0)) {
+            casters.extend_from_slice(tris);
+            boxes.push(b);
+        }
+    }
+    let mut bounds = Aabb::of_triangles(&casters);
+    for t in &receivers {
+        let centre = (t[0] + t[1] + t[2]) / 3.0;
+        let radius = t.iter().map(|v| v.distance(centre)).fold(0.0, f32::max);
+        if boxes.is_empty() || boxes.iter().any(|b| can_shadow(light, b, centre, radius)) {
+            t.iter().for_each(|&v| bounds.grow(v));
+        }
+    }
+    SceneGeometry {
+        casters,
+        receivers,
+        bounds,
+    }
+}

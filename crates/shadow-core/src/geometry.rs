@@ -12,7 +12,9 @@ pub struct SceneGeometry {
     pub casters: Vec<[Vec3; 3]>,
     /// Receiving triangles, world space.
     pub receivers: Vec<[Vec3; 3]>,
-    /// Bounds of casters and receivers together.
+    /// The region the maps cover: the bounds of casters and receivers together
+    /// ([`SceneGeometry::new`]), or of the casters that shadow what a camera sees and the
+    /// receivers they reach ([`crate::coverage::casting_onto`]).
     pub bounds: Aabb,
 }
 

@@ -54,6 +54,15 @@ impl Default for Scene {
     }
 }
 
+/// One mesh instance of the scene.
+struct Instance {
+    order: (u64, Entity),
+    mesh: Arc<TriangleMesh>,
+    transform: Mat4,
+    caster: bool,
+    receiver: bool,
+}
+
 impl Scene {
     /// An empty scene.
     pub fn new() -> Self {
@@ -137,16 +146,8 @@ impl Scene {
         v.into_iter().map(|(_, _, l)| l).collect()
     }
 
-    /// Flattens casters and receivers into world-space triangles, in the order added (entities
-    /// spawned without [`SpawnOrder`] come last).
-    pub fn geometry(&mut self) -> SceneGeometry {
-        struct Instance {
-            order: (u64, Entity),
-            mesh: Arc<TriangleMesh>,
-            transform: Mat4,
-            caster: bool,
-            receiver: bool,
-        }
+    /// The mesh instances in the order added (entities spawned without [`SpawnOrder`] last).
+    fn instances(&mut self) -> Vec<Instance> {
         let mut items: Vec<Instance> = self
             .world
             .query::<(
@@ -167,6 +168,31 @@ impl Scene {
             })
             .collect();
         items.sort_by_key(|i| i.order);
+        items
+    }
+
+    /// The geometry `light`'s maps need to shadow the receiver points `seen` (what a camera
+    /// sees; [`soft_shadow_core::coverage::casting_onto`]): the caster instances that can shadow
+    /// one of them, in the order added, every receiver, and bounds over those casters and the
+    /// receivers they can reach.
+    pub fn casting_onto(&mut self, light: &Light, seen: &[Vec3]) -> SceneGeometry {
+        let (mut casters, mut receivers) = (Vec::new(), Vec::new());
+        for i in self.instances() {
+            let tris: Vec<[Vec3; 3]> = i.mesh.world_triangles(i.transform).collect();
+            if i.receiver {
+                receivers.extend_from_slice(&tris);
+            }
+            if i.caster {
+                casters.push(tris);
+            }
+        }
+        soft_shadow_core::coverage::casting_onto(light, &casters, receivers, seen)
+    }
+
+    /// Flattens casters and receivers into world-space triangles, in the order added (entities
+    /// spawned without [`SpawnOrder`] come last).
+    pub fn geometry(&mut self) -> SceneGeometry {
+        let items = self.instances();
         let mut g = SceneGeometry::default();
         for Instance {
             mesh,

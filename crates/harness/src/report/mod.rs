@@ -122,7 +122,7 @@ fn jobs(specs: Vec<SceneSpec>, techniques: &[Box<dyn DynTechnique>]) -> Result<V
     for spec in specs {
         let mut relit: Vec<Job> = Vec::new();
         if spec.hard_case {
-            let bounds = spec.to_scene()?.geometry().bounds;
+            let bounds = spec.casting_bounds()?;
             for (i, t) in techniques.iter().enumerate() {
                 let Some(r) = spec.relit(&bounds, |k| t.models(k)) else {
                     continue;

@@ -10,6 +10,10 @@ use shadow_frame::Scene;
 use soft_shadow_core::{Aabb, Camera, Light, LightKind, Result, TriangleMesh};
 use std::sync::Arc;
 
+/// Side of the camera G-buffer whose receivers decide what a scene's light casts onto
+/// ([`SceneSpec::casting_bounds`]).
+pub const CASTING_VIEW: u32 = 64;
+
 /// One mesh instance of a scene description.
 #[derive(Clone, Debug)]
 pub struct MeshInstance {
@@ -50,6 +54,15 @@ impl SceneSpec {
         scene.add_light(self.light)?;
         scene.set_camera(self.camera);
         Ok(scene)
+    }
+
+    /// The region its light's maps cover for its camera, which a recast light
+    /// ([`SceneSpec::relit`]) faces: the bounds of [`shadow_frame::Scene::casting_onto`] for
+    /// the receivers a [`CASTING_VIEW`]² G-buffer of the camera sees (the casters that shadow
+    /// what is in view, and the receivers they reach).
+    pub fn casting_bounds(&self) -> Result<Aabb> {
+        let (_, seen, _) = crate::setup::scene_receivers(self, CASTING_VIEW)?;
+        Ok(self.to_scene()?.casting_onto(&self.light, &seen).bounds)
     }
 
     /// This scene (whose geometry spans `bounds`) under the nearest light `models` accepts

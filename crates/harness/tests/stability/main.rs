@@ -65,11 +65,7 @@ pub fn backends() -> Vec<Backend> {
 
 /// `spec` itself when `t` models its light, else `spec` under the nearest light `t` models.
 pub fn scene_for(t: &dyn DynTechnique, spec: &SceneSpec) -> SceneSpec {
-    let bounds = spec
-        .to_scene()
-        .expect("catalogue scene builds")
-        .geometry()
-        .bounds;
+    let bounds = spec.casting_bounds().expect("catalogue scene builds");
     spec.relit(&bounds, |k| t.models(k))
         .unwrap_or_else(|| spec.clone())
 }

@@ -1,6 +1,7 @@
 //! shadow-core tests, one binary (each test binary links wgpu, which is slow on 2 cores).
 
 mod bias;
+mod casting;
 mod light_sampling;
 mod rasterizer;
 mod view_fit;
