@@ -78,9 +78,9 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
         "*",
         "*",
         16,
-        "recast as a 0.5 m rect or segment 11 m away: occlusion-slices' slices span at least the \
-      light's width (a 16² texel of 3 cm or more) and the 2 cm box covers no texel centre, and \
-      linear-light likewise reads no shadow (12.75), where the hard map, fitted to the box, \
+        "recast as a 0.5 m rect or segment 11.7 m away: occlusion-slices' slices span at least \
+      the light's width (a 16² texel of 3 cm or more) and the 2 cm box covers no texel centre, \
+      and linear-light likewise reads no shadow (12.75), where the hard map, fitted to the box, \
       casts it exactly; from 2048² every variant passes",
     ),
     (
@@ -88,8 +88,8 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
         "*",
         "*",
         256,
-        "recast as a 0.5 m rect or segment 11 m away: a 256² slice texel (2 mm or more) puts \
-      a few texels across the 2 cm box, whose shadow the slices' boxes and Heidrich's 2-5 \
+        "recast as a 0.5 m rect or segment 11.7 m away: a 256² slice texel (2 mm or more) \
+      puts a few texels across the 2 cm box, whose shadow the slices' boxes and Heidrich's 2-5 \
       maps read at image 1.9-4.5 (linear-light 2.9-3.1) against the hard map's exact 0.00; \
       from 2048² every variant passes",
     ),
