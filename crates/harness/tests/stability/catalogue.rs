@@ -33,9 +33,10 @@ const SIZE: u32 = 48;
 /// Error (1/255) a configuration may add over the hard shadow map's, in either metric.
 const TOLERANCE: f64 = 0.5;
 
-/// The hard cases that also run on the GPU at the finest resolution: reversed-Z depth
-/// precision over 1e-3..1e4 (`huge-depth-range`) and biases of a texel at grazing light on
-/// curved and flat receivers (`acne`), where the GPU's own f32 arithmetic per texel decides.
+/// The hard cases that also run on the GPU at the finest resolution: texels of 0.03 mm around
+/// a 2 cm box, in a scene that spans 1e-3..1e4 (`huge-depth-range`), and biases of a texel at
+/// grazing light on curved and flat receivers (`acne`), where the GPU's own f32 arithmetic per
+/// texel decides.
 /// Elsewhere the finest row is the geometry's question, which the CPU at 2048 answers with the
 /// same kernels; the GPU's agreement with it is its own property (`gpu_agreement`, the
 /// technique suites), and `resolved_gap` holds the GPU's biases at 2048 too. On lavapipe the
