@@ -96,11 +96,11 @@ pub fn can_shadow(light: &Light, caster: &Aabb, p: Vec3, radius: f32) -> bool {
     // The octagons of `Light::outline` circumscribe a circle of radius r with r / cos(pi / 8).
     let circumscribed = 1.0 / (std::f32::consts::PI / 8.0).cos();
     let far = (caster.center() - p).length() + caster.diagonal() + radius;
-    // The cone's axis, its length, and its radius at `s` along it: for a distant light the
-    // receiver's ball swept along the cone of directions; for a local one the convex hull of the
-    // receiver's ball and the light's bounding ball (radii interpolated along the axis, over the
-    // cosine of the hull's half-angle).
-    let (axis, end, width): (Vec3, f32, Box<dyn Fn(f32) -> f32>) = match light.center() {
+    // The cone's axis, its length, and its radius `w0 + w1 s` at `s` along it: for a distant
+    // light the receiver's ball swept along the cone of directions; for a local one the convex
+    // hull of the receiver's ball and the light's bounding ball (radii interpolated along the
+    // axis, over the cosine of the hull's half-angle).
+    let (axis, end, w0, w1) = match light.center() {
         LightPoint::Direction(d) => {
             let half = match *light {
                 Light::Distant {
@@ -108,7 +108,7 @@ pub fn can_shadow(light: &Light, caster: &Aabb, p: Vec3, radius: f32) -> bool {
                 } => (0.5 * angular_diameter).tan() * circumscribed,
                 _ => 0.0,
             };
-            (d, far, Box::new(move |s| radius + s * half))
+            (d, far, radius, half)
         }
         LightPoint::Position(c) => {
             let v = c - p;
@@ -119,11 +119,10 @@ pub fn can_shadow(light: &Light, caster: &Aabb, p: Vec3, radius: f32) -> bool {
                 return true;
             }
             let cos = (1.0 - ((rho - radius) / l).powi(2)).sqrt();
-            let width = move |s: f32| (radius + (rho - radius) * (s / l)) / cos;
-            (v / l, l.min(far), Box::new(width))
+            (v / l, l.min(far), radius / cos, (rho - radius) / (l * cos))
         }
     };
-    let f = |s: f32| box_distance(caster, p + axis * s) - width(s);
+    let f = |s: f32| box_distance(caster, p + axis * s) - (w0 + w1 * s);
     let (mut a, mut b) = (1e-3 * caster.diagonal(), end);
     if a.is_nan() || b.is_nan() || a >= b {
         // The light lies closer than the search starts: one test at the light.

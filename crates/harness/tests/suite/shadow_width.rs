@@ -108,10 +108,7 @@ fn back_faces_keep_an_open_casters_shadow() {
         .map(|i| Vec3::new(-0.3 + 0.1 * i as f32, 1.0, 0.05))
         .collect();
     let normals = vec![Vec3::Y; positions.len()];
-    let recv = Recv {
-        positions: &positions,
-        normals: &normals,
-    };
+    let recv = Recv::new(&positions, &normals);
     let ctx = gpu_for_test("back_faces_keep_an_open_casters_shadow");
     for depth in [DepthLayer::Front, DepthLayer::BackFaces] {
         let mut t = ShadowWidth::new(WidthMethod::Exact);
