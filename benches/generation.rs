@@ -20,6 +20,7 @@ fn generation(c: &mut Criterion) {
     let cpu_ctx = CpuContext::new();
     for cfg in configs() {
         let (t, geo, light) = (&cfg.technique, &cfg.geometry, &cfg.spec.light);
+        let views = soft_shadow_core::LightViews::plan(light, geo, None);
         let mut group = c.benchmark_group(format!("generate/{}/{}", cfg.spec.name, cfg.label()));
         timing(&mut group, 10);
         // The hard map also from cold caches, beside `write-once/cold` (its goal's floor).
@@ -40,7 +41,7 @@ fn generation(c: &mut Criterion) {
             group.bench_with_input(BenchmarkId::new("gpu-wall", res), &res, |b, &res| {
                 b.iter(|| {
                     let maps = t
-                        .generate_gpu_on(g, &scene, light, res)
+                        .generate_gpu_on(g, &scene, light, &views, res)
                         .expect("gpu generation");
                     maps.recycle(Some(g));
                 })
@@ -48,7 +49,7 @@ fn generation(c: &mut Criterion) {
             if g.has_timestamps() {
                 group.bench_with_input(BenchmarkId::new("gpu-device", res), &res, |b, &res| {
                     iter_device_time(b, g, || {
-                        let maps = t.generate_gpu_on(g, &scene, light, res)?;
+                        let maps = t.generate_gpu_on(g, &scene, light, &views, res)?;
                         maps.recycle(Some(g));
                         Ok(())
                     })

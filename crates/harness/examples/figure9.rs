@@ -33,7 +33,7 @@ fn measure(
     let mut v = Vec::new();
     for _ in 0..5 {
         let start = Instant::now();
-        let maps = t.generate(ctx, &prep.geometry, &prep.spec.light, RES)?;
+        let maps = t.generate_in(ctx, &prep.geometry, &prep.spec.light, &prep.views, RES)?;
         v = maps.evaluate(ctx.gpu(), &prep.receivers())?;
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }

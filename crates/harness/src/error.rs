@@ -23,6 +23,23 @@ pub enum HarnessError {
     /// is not a report), with what to do instead.
     #[error("{0}")]
     Usage(String),
+    /// A scene whose light's views would leave a caster that shadows what the camera sees out
+    /// of every view (or a seen receiver out of its cascade's window): measuring it would
+    /// report a silently missing shadow as a result.
+    #[error(
+        "{scene}: the {light} light's {views} views leave out {what}: its shadow would be \
+         silently missing, so the scene is not measured"
+    )]
+    Uncovered {
+        /// The scene.
+        scene: String,
+        /// The light's kind.
+        light: String,
+        /// How the views were chosen (`single`, `cube`, `cascades`).
+        views: String,
+        /// What is left out, named.
+        what: String,
+    },
     /// Every configuration a run asked for was skipped: nothing was measured.
     #[error("nothing ran: {0}")]
     NothingRan(String),

@@ -72,7 +72,13 @@ pub fn run(opts: &FigureOptions) -> Result<Vec<Column>> {
     let light = p.spec.light;
     let receivers = Receivers::new(&p.positions, &p.normals);
     let measure = |t: &dyn DynTechnique| -> Result<(Column, Vec<f32>)> {
-        let maps = t.generate(Context::Cpu(&cpu), &p.geometry, &light, opts.resolution)?;
+        let maps = t.generate_in(
+            Context::Cpu(&cpu),
+            &p.geometry,
+            &light,
+            &p.views_for(&light),
+            opts.resolution,
+        )?;
         let v = maps.evaluate(None, &receivers)?;
         let e = errors(&v, &reference, &p.shading);
         let column = Column {

@@ -12,6 +12,12 @@ pub const PENUMBRA_HI: f32 = 0.98;
 /// image while `V` changes fast.
 pub const TERMINATOR_COS: f32 = 0.3;
 
+/// Receivers nearer the camera than this (metres) are *near*: the shadows a person looks at
+/// in a deep scene, which one map over everything in view makes coarse.
+pub const NEAR_M: f32 = 15.0;
+/// Receivers farther from the camera than this (metres) are *far*; between the two, *mid*.
+pub const FAR_M: f32 = 60.0;
+
 /// How each receiver counts in the image error and the per-class split: its shading weight and
 /// what it lies on.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -24,6 +30,8 @@ pub struct Shading {
     pub object: Vec<bool>,
     /// Per receiver: in the terminator band ([`TERMINATOR_COS`]).
     pub terminator: Vec<bool>,
+    /// Per receiver: its distance from the camera (metres; empty: every receiver near).
+    pub distance: Vec<f32>,
 }
 
 impl Shading {
@@ -42,7 +50,13 @@ impl Shading {
             weight,
             object,
             terminator,
+            distance: Vec::new(),
         }
+    }
+
+    /// The same with each receiver's distance from the camera (for the near / mid / far split).
+    pub fn with_distance(self, distance: Vec<f32>) -> Self {
+        Self { distance, ..self }
     }
 
     /// Every receiver at weight 1 on the ground, out of the terminator band: the image error
@@ -52,6 +66,7 @@ impl Shading {
             weight: vec![1.0; n],
             object: vec![false; n],
             terminator: vec![false; n],
+            distance: Vec::new(),
         }
     }
 }
@@ -78,6 +93,12 @@ pub struct Classes {
     pub object: ClassErrors,
     /// Receivers in the terminator band ([`TERMINATOR_COS`]), on either.
     pub terminator: ClassErrors,
+    /// Receivers nearer the camera than [`NEAR_M`].
+    pub near: ClassErrors,
+    /// Receivers between [`NEAR_M`] and [`FAR_M`] from the camera.
+    pub mid: ClassErrors,
+    /// Receivers farther from the camera than [`FAR_M`].
+    pub far: ClassErrors,
 }
 
 /// Errors of one run against the reference.
@@ -146,6 +167,7 @@ pub fn errors(v: &[f32], reference: &[f32], shading: &Shading) -> Errors {
         Sums::default(),
         Sums::default(),
     );
+    let mut bands = [Sums::default(); 3];
     for (i, (&x, &r)) in v.iter().zip(reference).enumerate() {
         if r.is_nan() {
             continue;
@@ -172,6 +194,8 @@ pub fn errors(v: &[f32], reference: &[f32], shading: &Shading) -> Errors {
         if shading.terminator.get(i).copied().unwrap_or(false) {
             terminator.add(d, w);
         }
+        let far = shading.distance.get(i).copied().unwrap_or(0.0);
+        bands[usize::from(far >= NEAR_M) + usize::from(far >= FAR_M)].add(d, w);
         if r >= PENUMBRA_HI && x < PENUMBRA_HI {
             e.false_shadow_pixels += 1;
         }
@@ -186,6 +210,9 @@ pub fn errors(v: &[f32], reference: &[f32], shading: &Shading) -> Errors {
         ground: ground.class(),
         object: object.class(),
         terminator: terminator.class(),
+        near: bands[0].class(),
+        mid: bands[1].class(),
+        far: bands[2].class(),
     };
     e
 }

@@ -5,9 +5,13 @@ use crate::ground_truth::{GroundTruthSettings, RayTracer, Reference};
 use crate::metrics::{Shading, TERMINATOR_COS};
 use crate::scenes::SceneSpec;
 use glam::Vec3;
+use soft_shadow_core::coverage;
 use soft_shadow_core::pool::Pool;
 use soft_shadow_core::raster::{GBufferTexel, gbuffer, rasterize_nearest};
-use soft_shadow_core::{Light, LightPoint, Map2D, Receivers, Result, SceneGeometry, ShadowError};
+use soft_shadow_core::{
+    Light, LightPoint, LightViews, Map2D, Receivers, Result, SceneGeometry, SeenDepth, ShadowError,
+    Uncovered,
+};
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::time::Instant;
@@ -48,6 +52,41 @@ fn bits(t: &[Vec3; 3]) -> [u32; 9] {
     std::array::from_fn(|i| f[i / 3][i % 3].to_bits())
 }
 
+/// What `views` of `light` over `geometry` leave out of the scene `spec` whose camera sees
+/// `seen`, named: the caster instances that shadow a seen point ([`coverage::casting_instances`])
+/// and lie partly in no view, and the seen points outside their cascade's window.
+fn uncovered(
+    spec: &SceneSpec,
+    light: &Light,
+    geometry: &SceneGeometry,
+    views: &LightViews,
+    seen: &[Vec3],
+) -> Vec<String> {
+    let casters: Vec<(&str, Vec<[Vec3; 3]>)> = spec
+        .meshes
+        .iter()
+        .filter(|m| m.caster)
+        .map(|m| {
+            (
+                m.mesh.name.as_str(),
+                m.mesh.world_triangles(m.transform).collect(),
+            )
+        })
+        .collect();
+    let all: Vec<Vec<[Vec3; 3]>> = casters.iter().map(|(_, t)| t.clone()).collect();
+    let kept = coverage::casting_instances(light, &all, seen);
+    let instances: Vec<Vec<[Vec3; 3]>> = kept.iter().map(|&i| all[i].clone()).collect();
+    views
+        .uncovered(light, geometry, &instances, seen)
+        .into_iter()
+        .map(|u| match u {
+            Uncovered::Caster(i) => format!("caster `{}`", casters[kept[i]].0),
+            Uncovered::Receiver(k) => format!("the receiver at {:.3}", seen[k]),
+            _ => "a part of the scene".to_string(),
+        })
+        .collect()
+}
+
 /// A scene with its G-buffer and reference visibilities.
 pub struct PreparedScene {
     /// The description.
@@ -55,6 +94,15 @@ pub struct PreparedScene {
     /// What the techniques' maps cover ([`shadow_frame::Scene::casting_onto`]): the casters
     /// that can shadow a receiver in view, bounds over them and the receivers they reach.
     pub geometry: SceneGeometry,
+    /// What the camera sees: its view and the depth range of the receivers, for cascades.
+    pub seen: Option<SeenDepth>,
+    /// The light's views ([`LightViews::plan`] over `geometry` and `seen`): every technique
+    /// generates its maps for these.
+    pub views: LightViews,
+    /// What the views leave out ([`LightViews::uncovered`]): the names of the casters that
+    /// shadow what the camera sees in no view, or the receivers outside their cascade's window.
+    /// Empty where the views hold everything; the report refuses a scene where they do not.
+    pub uncovered: Vec<String>,
     /// The camera G-buffer.
     pub gbuffer: Map2D<GBufferTexel>,
     /// Index into the G-buffer of every covered pixel the light reaches, in row-major order.
@@ -164,13 +212,20 @@ impl PreparedScene {
                 n.dot(towards) < TERMINATOR_COS
             })
             .collect();
-        let shading = Shading::new(&irradiance, object, terminator);
+        let shading = Shading::new(&irradiance, object, terminator)
+            .with_distance(positions.iter().map(|p| p.distance(camera.eye)).collect());
         // What the techniques' maps cover: the casters that can shadow a receiver in view (the
         // reference above traced every caster).
         let geometry = scene.casting_onto(&light, &positions);
+        let seen = SeenDepth::of_points(view, &positions);
+        let views = LightViews::plan(&light, &geometry, seen.as_ref());
+        let uncovered = uncovered(&spec, &light, &geometry, &views, &positions);
         Ok(Self {
             spec,
             geometry,
+            seen,
+            views,
+            uncovered,
             gbuffer: gb,
             pixels,
             unlit_pixels,
@@ -182,6 +237,12 @@ impl PreparedScene {
             settings,
             reference_ms,
         })
+    }
+
+    /// The views of `light` (the scene's light moved, say) over the scene's maps' geometry and
+    /// what the camera sees.
+    pub fn views_for(&self, light: &Light) -> LightViews {
+        LightViews::plan(light, &self.geometry, self.seen.as_ref())
     }
 
     /// The receivers as the techniques take them.

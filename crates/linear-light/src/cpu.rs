@@ -10,7 +10,7 @@ use crate::skins::skins;
 use crate::warp::{Source, warp};
 use rayon::prelude::*;
 use soft_shadow_core::raster::depth_map;
-use soft_shadow_core::{CpuContext, Map2D, MapParams, Receivers, SampleView, SceneGeometry};
+use soft_shadow_core::{CpuContext, Generation, Map2D, MapParams, Receivers, SampleView};
 
 /// The maps of one light: `N` samples per segment, segment after segment.
 #[derive(Clone, Debug)]
@@ -37,9 +37,8 @@ impl CpuLinearMaps {
 pub(crate) fn generate(
     t: &LinearLight,
     cpu: &CpuContext,
-    geometry: &SceneGeometry,
+    input: &Generation,
     segments: &[Segment],
-    res: u32,
 ) -> CpuLinearMaps {
     let mut all = CpuLinearMaps {
         views: Vec::new(),
@@ -48,7 +47,7 @@ pub(crate) fn generate(
         channel: Vec::new(),
     };
     for s in segments {
-        let m = generate_segment(t, cpu, geometry, s, res);
+        let m = generate_segment(t, cpu, input, s);
         all.views.extend(m.views);
         all.params.extend(m.params);
         all.depth.extend(m.depth);
@@ -61,14 +60,13 @@ pub(crate) fn generate(
 fn generate_segment(
     t: &LinearLight,
     cpu: &CpuContext,
-    geometry: &SceneGeometry,
+    input: &Generation,
     seg: &Segment,
-    res: u32,
 ) -> CpuLinearMaps {
+    let (geometry, res) = (input.geometry, input.resolution);
     let n = t.samples;
     let (a, b, w) = (seg.a, seg.b, seg.weight);
-    let coverage =
-        soft_shadow_core::Coverage::new(geometry, &soft_shadow_core::Light::Linear { a, b });
+    let coverage = input.coverage_of(&soft_shadow_core::Light::Linear { a, b });
     let views = sample_views(a, b, n, seg.axis, &coverage, w);
     let params: Vec<MapParams> = views.iter().map(|v| v.params(res)).collect();
     let pool = cpu.pool();

@@ -29,7 +29,7 @@ impl ShadowTechnique for LinearLight {
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuLinearMaps {
         let segs = segments(input.light, input.geometry);
-        cpu::generate(self, cpu, input.geometry, &segs, input.resolution)
+        cpu::generate(self, cpu, &input, &segs)
     }
 
     fn cpu_visibility(
@@ -48,12 +48,12 @@ impl ShadowTechnique for LinearLight {
         input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuLinearMaps> {
         let segs = segments(input.light, input.geometry);
-        gpu::generate(gpu, enc, self, scene, &segs, input.resolution)
+        gpu::generate(gpu, enc, self, scene, &input, &segs)
     }
 
     const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
-    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuLinearMaps) {
+    fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuLinearMaps) {
         gpu.recycle_texture(maps.depth);
         gpu.recycle_texture(maps.channel);
     }

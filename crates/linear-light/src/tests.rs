@@ -215,7 +215,7 @@ fn triangle_light_is_lit_outside_and_dark_under_the_occluder() {
     let maps = t
         .generate_cpu(&CpuContext::new(), &g, &Light::Triangle { a, b, c }, 256)
         .unwrap();
-    assert_eq!(maps.params.len(), 9, "three edges of three samples");
+    assert_eq!(maps.first().params.len(), 9, "three edges of three samples");
     let positions = [Vec3::new(2.5, 0.0, 2.5), Vec3::new(0.0, 0.0, 0.0)];
     let normals = [Vec3::Y; 2];
     let v = t

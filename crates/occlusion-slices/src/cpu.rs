@@ -23,7 +23,7 @@ pub struct CpuSliceMaps {
 /// Slices and prefilters (inputs already checked), the storage from `cpu`'s pool.
 pub(crate) fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation) -> CpuSliceMaps {
     let (geometry, res) = (input.geometry, input.resolution);
-    let frame = Frame::fit(input.light, geometry, t, res);
+    let frame = Frame::fit(input.light, geometry, t, res, input.region);
     let masks = slice(cpu.pool(), &frame, geometry);
     let filtered = Filtered::build(cpu.pool(), t.filter, res, masks.data(), frame.slices);
     CpuSliceMaps {

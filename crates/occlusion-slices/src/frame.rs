@@ -15,7 +15,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 use soft_shadow_core::light::orthonormal_basis;
 use soft_shadow_core::view::{ProjectionKind, View, look_to_up};
-use soft_shadow_core::{Light, SceneGeometry};
+use soft_shadow_core::{Light, LightPoint, Region, SceneGeometry};
 
 /// Fraction of a slice's thickness beyond a plane that still counts as on it (rasterized
 /// depths carry rounding; a surface exactly on a plane must not flicker between two slices).
@@ -79,13 +79,51 @@ pub(crate) struct LightCoord {
 
 /// The rectangle a light is sliced with: centre, normal and two half axes. A disk becomes the
 /// square of equal area, a sphere its silhouette disc facing the scene's centre, then that square,
-/// a triangle the square of equal area at its centroid in its plane.
-pub(crate) fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec3, Vec3)> {
+/// a triangle the square of equal area at its centroid in its plane. For a cube face
+/// ([`Region::Face`]) the rectangle faces the face's axis: a sphere's square, or the bounding
+/// rectangle of the light's outline as the face's receivers see it: projected along the axis
+/// for the face in front of a one-sided light, and for a face beside it along the direction
+/// halfway through its lit part (67.5 degrees from the light's normal; a side face spans 45 to
+/// 90 degrees), where the light is foreshortened to 0.38 of its width.
+pub(crate) fn light_rect(
+    light: &Light,
+    scene_center: Vec3,
+    region: Region,
+) -> Option<(Vec3, Vec3, Vec3)> {
     let square = |center: Vec3, normal: Vec3, radius: f32| {
         let (t, b) = orthonormal_basis(normal);
         let half = 0.5 * radius * std::f32::consts::PI.sqrt();
         (center, t * half, b * half)
     };
+    if let Region::Face { axis, up, .. } = region {
+        let right = up.cross(axis);
+        let LightPoint::Position(center) = light.center() else {
+            return None;
+        };
+        if let Light::Sphere { radius, .. } = *light {
+            let half = 0.5 * radius * std::f32::consts::PI.sqrt();
+            return Some((center, right * half, up * half));
+        }
+        // The direction the face's receivers see the light along.
+        let along = match light.front() {
+            Some((_, n)) if n.normalize().dot(axis).abs() < 0.5 => {
+                let t = 67.5f32.to_radians();
+                axis * t.sin() + n.normalize() * t.cos()
+            }
+            _ => axis,
+        };
+        let (mut hx, mut hy) = (0.0f32, 0.0f32);
+        for q in light.outline(center + axis) {
+            if let LightPoint::Position(q) = q {
+                let q = q - center;
+                let q = q - along * (q.dot(axis) / along.dot(axis));
+                hx = hx.max(q.dot(right).abs());
+                hy = hy.max(q.dot(up).abs());
+            }
+        }
+        let floor = 1e-3 * light.size().max(1e-6);
+        return Some((center, right * hx.max(floor), up * hy.max(floor)));
+    }
     match *light {
         Light::Rect {
             center,
@@ -109,17 +147,20 @@ pub(crate) fn light_rect(light: &Light, scene_center: Vec3) -> Option<(Vec3, Vec
 
 impl Frame {
     /// Fits the frame of `t` (its slices, fix and fade) to `geometry`'s casters for `light` (a
-    /// rect, disk or sphere) at texture side `resolution`.
+    /// rect, disk or sphere) at texture side `resolution`, within one view's `region`: a cube
+    /// face's frustum is no wider than the face's window.
     pub(crate) fn fit(
         light: &Light,
         geometry: &SceneGeometry,
         t: &crate::OcclusionSlices,
         resolution: u32,
+        region: Region,
     ) -> Frame {
         let slices = t.slices;
         let (center, u_half, v_half) = light_rect(
             light,
             soft_shadow_core::Coverage::new(geometry, light).center(),
+            region,
         )
         .unwrap_or((Vec3::ZERO, Vec3::X, Vec3::Z));
         let normal = u_half.cross(v_half).normalize();
@@ -195,6 +236,10 @@ impl Frame {
                     d = d.min(a * h / (c - a));
                 }
             }
+        }
+        // A cube face: no wider than its window (what lies beyond is another face's).
+        if let Region::Face { half_angle, .. } = region {
+            d = d.max(half_x.max(half_y) / half_angle.tan());
         }
         let mut frame = Frame {
             view_proj: [0.0; 16],

@@ -47,12 +47,12 @@ impl ShadowTechnique for OcclusionSlices {
         scene: &GpuScene,
         input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuSliceMaps> {
-        gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
+        gpu::generate(gpu, enc, self, scene, &input)
     }
 
     const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
-    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuSliceMaps) {
+    fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuSliceMaps) {
         for t in [maps.occupancy, maps.sat, maps.filtered] {
             gpu.recycle_texture(t);
         }

@@ -185,7 +185,7 @@ mod tests {
         for (slices, thin_fix) in [(4, false), (8, true), (16, false), (16, true)] {
             let t =
                 crate::OcclusionSlices::new(slices, crate::Prefilter::Sat).with_thin_fix(thin_fix);
-            let frame = Frame::fit(&light, &geometry, &t, 256);
+            let frame = Frame::fit(&light, &geometry, &t, 256, soft_shadow_core::Region::Whole);
             let view = frame.view();
             assert!(NdcSlicer::new(&frame, &view).is_some());
             let pool = Arc::new(Pool::new(1 << 30));

@@ -67,7 +67,7 @@ pub(crate) fn layers(
 /// Builds the map of the input's light at its resolution (inputs already checked).
 pub(crate) fn generate(t: &PenumbraLimit, cpu: &CpuContext, input: &Generation) -> CpuPenumbraMaps {
     let (geometry, light, resolution) = (input.geometry, input.light, input.resolution);
-    let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
+    let view = SampleView::center(light, &input.coverage());
     let params = view.params(resolution);
     let warp = Warp::new(&params, light);
     let l = layers(t, cpu, &view, &warp, &geometry.casters, resolution);

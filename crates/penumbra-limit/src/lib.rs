@@ -54,12 +54,12 @@ impl ShadowTechnique for PenumbraLimit {
         scene: &GpuScene,
         input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuPenumbraMaps> {
-        gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
+        gpu::generate(gpu, enc, self, scene, &input)
     }
 
     const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
-    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuPenumbraMaps) {
+    fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuPenumbraMaps) {
         gpu.recycle_texture(maps.map);
     }
 

@@ -14,6 +14,7 @@
 use crate::geometry::SceneGeometry;
 use crate::light::{Light, LightPoint};
 use crate::mesh::Aabb;
+use crate::views::Region;
 use glam::Vec3;
 
 /// Relative margin added to each window, so filter kernels near its edge read empty texels.
@@ -29,6 +30,11 @@ pub struct Coverage {
     /// A convex outline of the light whose penumbrae the maps must hold: positions for a local
     /// light (a sphere's bounding-box corners), directions for a distant one.
     pub light: Vec<LightPoint>,
+    /// The part of it one view covers ([`crate::views`]): the whole, a cube face or a cascade.
+    pub region: Region,
+    /// The map side the view's window is snapped to (a cascade's window moves by whole
+    /// texels); 0: not snapped.
+    pub texels: u32,
 }
 
 impl Coverage {
@@ -50,6 +56,18 @@ impl Coverage {
             casters,
             scene: geometry.bounds,
             light: light_outline,
+            region: Region::Whole,
+            texels: 0,
+        }
+    }
+
+    /// The same coverage restricted to one view's `region`, its window snapped to the texels
+    /// of a `texels`-wide map (0: not snapped).
+    pub fn within(self, region: Region, texels: u32) -> Self {
+        Self {
+            region,
+            texels,
+            ..self
         }
     }
 
@@ -60,6 +78,8 @@ impl Coverage {
             casters: *bounds,
             scene: *bounds,
             light: Vec::new(),
+            region: Region::Whole,
+            texels: 0,
         }
     }
 
@@ -68,9 +88,25 @@ impl Coverage {
         casters_or(&self.casters, &self.scene)
     }
 
-    /// The point a light looks at (for lights without an emission normal): the casters' centre.
+    /// The point a light looks at (for lights without an emission normal, and the receiver
+    /// its samples face): the casters' centre, or for a cube face ([`Region::Face`]) a point
+    /// along the face's axis from the light.
     pub fn center(&self) -> Vec3 {
-        self.fit_box().center()
+        match self.region {
+            Region::Face { axis, .. } => {
+                let positions: Vec<Vec3> = self
+                    .light
+                    .iter()
+                    .filter_map(|q| match q {
+                        LightPoint::Position(p) => Some(*p),
+                        LightPoint::Direction(_) => None,
+                    })
+                    .collect();
+                let light = positions.iter().sum::<Vec3>() / positions.len().max(1) as f32;
+                light + axis * self.scene.diagonal().max(1e-3)
+            }
+            _ => self.fit_box().center(),
+        }
     }
 }
 
@@ -155,7 +191,7 @@ pub fn can_shadow(light: &Light, caster: &Aabb, p: Vec3, radius: f32) -> bool {
 }
 
 /// The radius of a sphere around `c` (a local light's centre) holding every point of `light`.
-fn light_radius(light: &Light, c: Vec3) -> f32 {
+pub(crate) fn light_radius(light: &Light, c: Vec3) -> f32 {
     match *light {
         Light::Sphere { radius, .. } => radius,
         _ => light
@@ -174,6 +210,20 @@ fn box_distance(b: &Aabb, p: Vec3) -> f32 {
     (b.min - p).max(p - b.max).max(Vec3::ZERO).length()
 }
 
+/// The indices of the casters of `instances` (each one object's world-space triangles) that
+/// [`can_shadow`] one of the receiver points `seen`, in order: those [`casting_onto`] keeps.
+pub fn casting_instances(light: &Light, instances: &[Vec<[Vec3; 3]>], seen: &[Vec3]) -> Vec<usize> {
+    instances
+        .iter()
+        .enumerate()
+        .filter(|(_, tris)| {
+            let b = Aabb::of_triangles(tris);
+            seen.iter().any(|&p| can_shadow(light, &b, p, 0.0))
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
 /// The geometry a light's maps need to shadow what a camera sees, the receiver points `seen`:
 /// of the casters `instances` (each one object's world-space triangles), those that
 /// [`can_shadow`] one of the points; the receiving triangles `receivers`; and bounds over the
@@ -190,12 +240,10 @@ pub fn casting_onto(
 ) -> SceneGeometry {
     let mut casters = Vec::new();
     let mut boxes = Vec::new();
-    for tris in instances {
-        let b = Aabb::of_triangles(tris);
-        if seen.iter().any(|&p| can_shadow(light, &b, p, 0.0)) {
-            casters.extend_from_slice(tris);
-            boxes.push(b);
-        }
+    for i in casting_instances(light, instances, seen) {
+        let tris = &instances[i];
+        casters.extend_from_slice(tris);
+        boxes.push(Aabb::of_triangles(tris));
     }
     let mut bounds = Aabb::of_triangles(&casters);
     for t in &receivers {

@@ -17,6 +17,7 @@ pub mod rng;
 pub mod seeds;
 pub mod technique;
 pub mod view;
+pub mod views;
 
 pub use coverage::Coverage;
 pub use cpu::CpuContext;
@@ -33,3 +34,4 @@ pub use technique::{
     TechniqueInfo,
 };
 pub use view::{Camera, View};
+pub use views::{LightViews, Region, SeenDepth, Uncovered, ViewMaps};

@@ -8,6 +8,7 @@
 //! memory budget, geometry, receivers) and the GPU error scopes run here, once, before a
 //! kernel sees its input: a kernel takes [`Checked`] input, which only this crate makes.
 
+use crate::coverage::Coverage;
 use crate::cpu::CpuContext;
 use crate::error::{Result, ShadowError};
 use crate::geometry::SceneGeometry;
@@ -16,6 +17,7 @@ use crate::gpu::visibility::{self, ReceiverTextures};
 use crate::gpu::{GpuContext, GpuScene};
 use crate::light::{Light, LightKind};
 use crate::receivers::Receivers;
+use crate::views::{LightViews, Region, ViewMaps};
 
 /// Largest map side the CPU paths accept (a 16384² f32 map is 1 GiB).
 pub const MAX_CPU_RESOLUTION: u32 = 16384;
@@ -78,15 +80,38 @@ impl<T> std::ops::Deref for Checked<T> {
     }
 }
 
-/// The inputs of one generation: the scene's plain geometry, one light and a map resolution.
+/// The inputs of one generation: the scene's plain geometry, one light, the region of the view
+/// being generated and a map resolution.
 #[derive(Clone, Copy, Debug)]
 pub struct Generation<'a> {
     /// Casters and receivers.
     pub geometry: &'a SceneGeometry,
     /// The light.
     pub light: &'a Light,
+    /// What this view covers ([`crate::views`]): the whole, a cube face or a cascade.
+    pub region: Region,
     /// The map side in texels.
     pub resolution: u32,
+}
+
+impl Generation<'_> {
+    /// What this view's maps cover for the light ([`Coverage::new`] within the region).
+    pub fn coverage(&self) -> Coverage {
+        self.coverage_of(self.light)
+    }
+
+    /// What this view's maps cover for `light` (a part of the light, such as one segment of a
+    /// triangle light), within the region.
+    pub fn coverage_of(&self, light: &Light) -> Coverage {
+        Coverage::new(self.geometry, light).within(self.region, self.resolution)
+    }
+}
+
+impl<'a> Checked<Generation<'a>> {
+    /// The same checked input for the view of `region`.
+    fn in_region(&self, region: Region) -> Checked<Generation<'a>> {
+        Checked(Generation { region, ..self.0 })
+    }
 }
 
 /// How a configuration's generation time grows, in the terms a cost model fits it in
@@ -172,7 +197,9 @@ pub trait TechniqueInfo: Send + Sync {
 }
 
 /// The checks every generation passes before a kernel runs: parameters, light valid and
-/// modelled, resolution in range, memory estimate within `budget`, geometry non-empty.
+/// modelled, resolution in range, memory estimate of every view within `budget`, geometry
+/// non-empty.
+#[allow(clippy::too_many_arguments)]
 fn check<'a>(
     t: &(impl TechniqueInfo + ?Sized),
     backend: Backend,
@@ -181,6 +208,7 @@ fn check<'a>(
     geometry: &'a SceneGeometry,
     light: &'a Light,
     resolution: u32,
+    views: &LightViews,
 ) -> Result<Checked<Generation<'a>>> {
     t.validate()?;
     light.validate()?;
@@ -197,10 +225,18 @@ fn check<'a>(
             max,
         });
     }
-    let need = t.memory_estimate(light, resolution);
+    let need = t
+        .memory_estimate(light, resolution)
+        .saturating_mul(views.len() as u64);
     if need > budget {
         return Err(ShadowError::OverBudget {
-            what: format!("{} {} at {resolution}²", t.name(), t.variant()),
+            what: format!(
+                "{} {} at {resolution}² ({} view{})",
+                t.name(),
+                t.variant(),
+                views.len(),
+                if views.len() == 1 { "" } else { "s" }
+            ),
             need,
             budget,
         });
@@ -209,6 +245,7 @@ fn check<'a>(
     Ok(Checked(Generation {
         geometry,
         light,
+        region: Region::Whole,
         resolution,
     }))
 }
@@ -232,12 +269,18 @@ fn checked_receivers<'a>(receivers: &Receivers<'a>) -> Result<Checked<Receivers<
 ///   above [`max_resolution`](TechniqueInfo::max_resolution), [`ShadowError::OverBudget`] over
 ///   the context's memory budget, [`ShadowError::InvalidScene`] for empty geometry and
 ///   [`ShadowError::InvalidReceivers`] for receivers of unequal length or non-finite values.
+/// - A light's shadow is a set of views ([`crate::views`]): the provided methods run a
+///   generation kernel once per view (its [`Generation::region`]) and evaluate each receiver in
+///   the view that holds it ([`LightViews::weight`]), so a kernel fits its maps to its input's
+///   [`Generation::coverage`] and knows nothing of the others. The methods without a
+///   [`LightViews`] argument plan the views themselves ([`LightViews::plan`] without a camera:
+///   cube faces for a local light among its casters, one view otherwise).
 /// - On the GPU, [`record_gpu`](Self::record_gpu) records generation into the caller's encoder
 ///   from geometry already on the GPU ([`GpuScene`]); the maps are ready once that encoder's
 ///   work has run. `generate_gpu` and `generate_gpu_on` are blocking wrappers that return after
 ///   the GPU has finished, so timing `generate_gpu_on` measures the GPU work without uploads.
 ///   wgpu validation and out-of-memory errors become [`ShadowError::Gpu`].
-/// - The GPU evaluation is one WGSL function, `visibility(world_pos, normal) -> f32`
+/// - The GPU evaluation is one WGSL function per view, `visibility(world_pos, normal) -> f32`
 ///   ([`VISIBILITY`](Self::VISIBILITY), [`crate::gpu::visibility`]): the blocking
 ///   `evaluate_gpu`, the G-buffer pass [`record_visibility`](Self::record_visibility) and a
 ///   renderer's own shader all call it.
@@ -246,25 +289,25 @@ fn checked_receivers<'a>(receivers: &Receivers<'a>) -> Result<Checked<Receivers<
 /// - The GPU path computes the same function as the CPU path: RMS of `V * 255` below 1.0 on every
 ///   catalogue scene, checked by tests on a real Vulkan driver.
 pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
-    /// Maps produced on the CPU.
+    /// One view's maps produced on the CPU.
     type CpuMaps: Send + Sync + 'static;
-    /// Maps produced on (and kept on) the GPU.
+    /// One view's maps produced on (and kept on) the GPU.
     type GpuMaps: Send + Sync + 'static;
 
-    /// The CPU generation kernel: the light-space maps of checked input, their storage from
-    /// `cpu`'s pool.
+    /// The CPU generation kernel: the light-space maps of one view of checked input (fitted to
+    /// [`Generation::coverage`]), their storage from `cpu`'s pool.
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> Self::CpuMaps;
 
-    /// The CPU evaluation kernel: `V` per checked receiver. Maps made with other parameters
-    /// than these are [`ShadowError::MapsMismatch`].
+    /// The CPU evaluation kernel: `V` per checked receiver from one view's maps. Maps made with
+    /// other parameters than these are [`ShadowError::MapsMismatch`].
     fn cpu_visibility(
         &self,
         maps: &Self::CpuMaps,
         receivers: Checked<Receivers<'_>>,
     ) -> Result<Vec<f32>>;
 
-    /// The GPU generation: records the maps of checked input into `enc` (nothing is submitted,
-    /// mapped or uploaded beyond small parameter buffers).
+    /// The GPU generation: records the maps of one view of checked input into `enc` (nothing
+    /// is submitted, mapped or uploaded beyond small parameter buffers).
     fn gpu_maps(
         &self,
         gpu: &GpuContext,
@@ -275,12 +318,13 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
 
     /// The GPU evaluation: the WGSL module that defines
     /// `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` (the same function as
-    /// [`evaluate_cpu`](Self::evaluate_cpu), with `normal` a unit normal facing the viewer)
-    /// over the maps' bindings in `@group(#{MAPS_GROUP})`, and the layout of that group. It
-    /// depends on the type only, not on the parameters (those reach it through the bind group).
+    /// [`evaluate_cpu`](Self::evaluate_cpu) over one view's maps, with `normal` a unit normal
+    /// facing the viewer) over the maps' bindings in `@group(#{MAPS_GROUP})`, and the layout of
+    /// that group. It depends on the type only, not on the parameters (those reach it through
+    /// the bind group).
     const VISIBILITY: &'static VisibilityShader;
 
-    /// A bind group of `maps` (and these parameters) for `layout`, the layout of
+    /// A bind group of one view's `maps` (and these parameters) for `layout`, the layout of
     /// [`VISIBILITY`](Self::VISIBILITY)'s maps. Maps made with other parameters than these are
     /// [`ShadowError::MapsMismatch`].
     fn bind_maps(
@@ -290,20 +334,32 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
         maps: &Self::GpuMaps,
     ) -> Result<wgpu::BindGroup>;
 
-    /// Gives `maps`' textures and buffers back to `gpu`'s pool ([`crate::gpu::pool`]) for the
-    /// next generation of the same size: call it once the maps are no longer read (work already
-    /// recorded with them still runs first). A renderer that recycles last frame's maps before
-    /// recording the next allocates nothing per frame. Dropping the maps instead frees them.
-    fn recycle_gpu(&self, gpu: &GpuContext, maps: Self::GpuMaps);
+    /// Gives one view's `maps` textures and buffers back to `gpu`'s pool
+    /// ([`crate::gpu::pool`]); [`recycle_gpu`](Self::recycle_gpu) calls it for every view.
+    fn recycle_maps(&self, gpu: &GpuContext, maps: Self::GpuMaps);
 
-    /// Builds the light-space maps on the CPU, in `cpu` (its pool and memory budget).
+    /// Builds the light-space maps on the CPU, in `cpu` (its pool and memory budget), for the
+    /// views [`LightViews::plan`] chooses without a camera.
     fn generate_cpu(
         &self,
         cpu: &CpuContext,
         geometry: &SceneGeometry,
         light: &Light,
         resolution: u32,
-    ) -> Result<Self::CpuMaps> {
+    ) -> Result<ViewMaps<Self::CpuMaps>> {
+        let views = LightViews::plan(light, geometry, None);
+        self.generate_cpu_in(cpu, geometry, light, &views, resolution)
+    }
+
+    /// Builds the light-space maps of `views` on the CPU, one generation per view.
+    fn generate_cpu_in(
+        &self,
+        cpu: &CpuContext,
+        geometry: &SceneGeometry,
+        light: &Light,
+        views: &LightViews,
+        resolution: u32,
+    ) -> Result<ViewMaps<Self::CpuMaps>> {
         let input = check(
             self,
             Backend::Cpu,
@@ -312,19 +368,33 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
             geometry,
             light,
             resolution,
+            views,
         )?;
-        Ok(self.cpu_maps(cpu, input))
+        let maps = views
+            .regions()
+            .iter()
+            .map(|r| self.cpu_maps(cpu, input.in_region(*r)))
+            .collect();
+        Ok(ViewMaps::new(views.clone(), maps))
     }
 
-    /// Visibility per receiver from CPU maps.
-    fn evaluate_cpu(&self, maps: &Self::CpuMaps, receivers: &Receivers) -> Result<Vec<f32>> {
+    /// Visibility per receiver from CPU maps, each receiver from the view that holds it.
+    fn evaluate_cpu(
+        &self,
+        maps: &ViewMaps<Self::CpuMaps>,
+        receivers: &Receivers,
+    ) -> Result<Vec<f32>> {
         self.validate()?;
-        self.cpu_visibility(maps, checked_receivers(receivers)?)
+        let receivers = checked_receivers(receivers)?;
+        crate::views::combine(maps.views(), &receivers, |i, sub| {
+            self.cpu_visibility(&maps.maps()[i], Checked(sub))
+        })
     }
 
     /// Records the generation of the light-space maps of `scene` into `enc` (nothing is
-    /// submitted, mapped or uploaded beyond small parameter buffers): the maps hold their
-    /// contents once the caller has submitted `enc`.
+    /// submitted, mapped or uploaded beyond small parameter buffers), for the views
+    /// [`LightViews::plan`] chooses without a camera: the maps hold their contents once the
+    /// caller has submitted `enc`.
     fn record_gpu(
         &self,
         gpu: &GpuContext,
@@ -332,7 +402,21 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
         scene: &GpuScene,
         light: &Light,
         resolution: u32,
-    ) -> Result<Self::GpuMaps> {
+    ) -> Result<ViewMaps<Self::GpuMaps>> {
+        let views = LightViews::plan(light, scene.geometry(), None);
+        self.record_gpu_in(gpu, enc, scene, light, &views, resolution)
+    }
+
+    /// Records the generation of the maps of `views` into `enc`, one generation per view.
+    fn record_gpu_in(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        light: &Light,
+        views: &LightViews,
+        resolution: u32,
+    ) -> Result<ViewMaps<Self::GpuMaps>> {
         let input = check(
             self,
             Backend::Gpu,
@@ -341,51 +425,81 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
             scene.geometry(),
             light,
             resolution,
+            views,
         )?;
         gpu.checked(&format!("{} generation", self.name()), || {
-            self.gpu_maps(gpu, enc, scene, input)
+            let maps = views
+                .regions()
+                .iter()
+                .map(|r| self.gpu_maps(gpu, enc, scene, input.in_region(*r)))
+                .collect::<Result<Vec<_>>>()?;
+            Ok(ViewMaps::new(views.clone(), maps))
         })
     }
 
-    /// Builds the light-space maps on the GPU and waits: uploads `geometry`, then
-    /// [`generate_gpu_on`](Self::generate_gpu_on).
+    /// Builds the light-space maps on the GPU and waits: uploads `geometry`, plans the views
+    /// without a camera, then [`generate_gpu_on`](Self::generate_gpu_on).
     fn generate_gpu(
         &self,
         gpu: &GpuContext,
         geometry: &SceneGeometry,
         light: &Light,
         resolution: u32,
-    ) -> Result<Self::GpuMaps> {
+    ) -> Result<ViewMaps<Self::GpuMaps>> {
         let scene = GpuScene::new(gpu, geometry)?;
-        self.generate_gpu_on(gpu, &scene, light, resolution)
+        let views = LightViews::plan(light, geometry, None);
+        self.generate_gpu_on(gpu, &scene, light, &views, resolution)
     }
 
-    /// Records [`record_gpu`](Self::record_gpu) into a fresh encoder, submits it and waits for
-    /// the GPU.
+    /// Records [`record_gpu_in`](Self::record_gpu_in) into a fresh encoder, submits it and
+    /// waits for the GPU.
     fn generate_gpu_on(
         &self,
         gpu: &GpuContext,
         scene: &GpuScene,
         light: &Light,
+        views: &LightViews,
         resolution: u32,
-    ) -> Result<Self::GpuMaps> {
+    ) -> Result<ViewMaps<Self::GpuMaps>> {
         gpu.checked(&format!("{} generation", self.name()), || {
             let mut enc = gpu.device.create_command_encoder(&Default::default());
-            let maps = self.record_gpu(gpu, &mut enc, scene, light, resolution)?;
+            let maps = self.record_gpu_in(gpu, &mut enc, scene, light, views, resolution)?;
             gpu.queue.submit([enc.finish()]);
             gpu.wait()?;
             Ok(maps)
         })
     }
 
-    /// The bind group a renderer's shader binds (at the group its
-    /// [`visibility_wgsl`](Self::visibility_wgsl) names) to call `visibility()`, with the
-    /// layout [`crate::gpu::visibility::pipelines`] holds for this type.
-    fn maps_bind_group(&self, gpu: &GpuContext, maps: &Self::GpuMaps) -> Result<wgpu::BindGroup> {
+    /// Gives every view's textures and buffers back to `gpu`'s pool ([`crate::gpu::pool`]) for
+    /// the next generation of the same size: call it once the maps are no longer read (work
+    /// already recorded with them still runs first). A renderer that recycles last frame's maps
+    /// before recording the next allocates nothing per frame. Dropping the maps instead frees
+    /// them.
+    fn recycle_gpu(&self, gpu: &GpuContext, maps: ViewMaps<Self::GpuMaps>) {
+        for m in maps.into_maps() {
+            self.recycle_maps(gpu, m);
+        }
+    }
+
+    /// The bind groups [`record_visibility`](Self::record_visibility) reads: per view, the
+    /// maps (the group a renderer's own shader binds, at the group its
+    /// [`visibility_wgsl`](Self::visibility_wgsl) names, to call `visibility()`, with the
+    /// layout [`crate::gpu::visibility::pipelines`] holds for this type) and how a receiver
+    /// picks the view.
+    fn maps_bind_group(
+        &self,
+        gpu: &GpuContext,
+        maps: &ViewMaps<Self::GpuMaps>,
+    ) -> Result<MapsBinding> {
         self.validate()?;
         let p = pipelines::<Self>(gpu);
         gpu.checked(&format!("{} maps", self.name()), || {
-            self.bind_maps(gpu, &p.maps_layout, maps)
+            let groups = maps
+                .maps()
+                .iter()
+                .map(|m| self.bind_maps(gpu, &p.maps_layout, m))
+                .collect::<Result<Vec<_>>>()?;
+            Ok(visibility::binding(gpu, &p, maps.views(), groups))
         })
     }
 
@@ -393,40 +507,42 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     fn evaluate_gpu(
         &self,
         gpu: &GpuContext,
-        maps: &Self::GpuMaps,
+        maps: &ViewMaps<Self::GpuMaps>,
         receivers: &Receivers,
     ) -> Result<Vec<f32>> {
         let receivers = checked_receivers(receivers)?;
-        self.validate()?;
+        let binding = self.maps_bind_group(gpu, maps)?;
         gpu.checked(&format!("{} evaluation", self.name()), || {
             let p = pipelines::<Self>(gpu);
-            let bind = self.bind_maps(gpu, &p.maps_layout, maps)?;
-            visibility::evaluate_buffers(gpu, &p, &bind, &receivers)
+            visibility::evaluate_buffers(gpu, &p, &binding, &receivers)
         })
     }
 
     /// WGSL that defines `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` over
-    /// the maps' bindings in `@group(group)` (laid out as [`VISIBILITY`](Self::VISIBILITY)'s
-    /// maps: `maps_bind_group` binds them), for a renderer's own shader. Its other top-level
-    /// names carry naga_oil's module decoration; a renderer with its own naga_oil composer can
-    /// import the module instead ([`crate::gpu::shader::Library::add_to`]).
+    /// one view's maps' bindings in `@group(group)` (laid out as
+    /// [`VISIBILITY`](Self::VISIBILITY)'s maps: [`MapsBinding::maps`] binds them), for a
+    /// renderer's own shader. Its other top-level names carry naga_oil's module decoration; a
+    /// renderer with its own naga_oil composer can import the module instead
+    /// ([`crate::gpu::shader::Library::add_to`]).
     fn visibility_wgsl(group: u32) -> Result<String> {
         flattened(Self::VISIBILITY, group)
     }
 
     /// Records the evaluation of every texel of the caller's G-buffer `target` into `enc`, with
-    /// the maps bound by `maps_bind` (from [`maps_bind_group`](Self::maps_bind_group)); no
-    /// readback.
+    /// the maps bound by `maps_bind` (from [`maps_bind_group`](Self::maps_bind_group)): one
+    /// pass per view, each adding the receivers it holds; no readback.
     fn record_visibility(
         &self,
         gpu: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
-        maps_bind: &wgpu::BindGroup,
+        maps_bind: &MapsBinding,
         target: &ReceiverTextures,
     ) {
         visibility::record_texels(gpu, &pipelines::<Self>(gpu), enc, maps_bind, target);
     }
 }
+
+pub use visibility::MapsBinding;
 
 /// The evaluation pipelines of technique type `T` on `gpu`, built once.
 fn pipelines<T: ShadowTechnique>(
@@ -456,12 +572,13 @@ pub struct AnyMaps(Box<dyn ErasedMaps>);
 /// What [`AnyMaps`] can do, per technique type and backend.
 trait ErasedMaps: Send + Sync {
     fn backend(&self) -> Backend;
+    fn views(&self) -> &LightViews;
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>>;
     fn recycle(self: Box<Self>, gpu: Option<&GpuContext>);
 }
 
-struct CpuMapsOf<T: ShadowTechnique>(T, T::CpuMaps);
-struct GpuMapsOf<T: ShadowTechnique>(T, T::GpuMaps);
+struct CpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::CpuMaps>);
+struct GpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::GpuMaps>);
 
 fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
     gpu.ok_or_else(|| {
@@ -473,6 +590,9 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
     fn backend(&self) -> Backend {
         Backend::Cpu
     }
+    fn views(&self) -> &LightViews {
+        self.1.views()
+    }
     fn evaluate(&self, _: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_cpu(&self.1, receivers)
     }
@@ -482,6 +602,9 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
 impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
     fn backend(&self) -> Backend {
         Backend::Gpu
+    }
+    fn views(&self) -> &LightViews {
+        self.1.views()
     }
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_gpu(need_gpu(gpu)?, &self.1, receivers)
@@ -500,6 +623,11 @@ impl AnyMaps {
         self.0.backend()
     }
 
+    /// The views the maps were generated for.
+    pub fn views(&self) -> &LightViews {
+        self.0.views()
+    }
+
     /// Visibility per receiver, on the backend that produced the maps (`gpu` is required for
     /// GPU maps).
     pub fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
@@ -516,21 +644,36 @@ impl AnyMaps {
 /// The object-safe form of a [`ShadowTechnique`], for a registry of techniques of different
 /// types: every [`ShadowTechnique`] is one.
 pub trait DynTechnique: TechniqueInfo {
-    /// Generation in `ctx` (see [`ShadowTechnique::generate_cpu`] and
-    /// [`ShadowTechnique::generate_gpu`]).
+    /// Generation in `ctx` for the views [`LightViews::plan`] chooses without a camera (see
+    /// [`ShadowTechnique::generate_cpu`] and [`ShadowTechnique::generate_gpu`]).
     fn generate(
         &self,
         ctx: Context<'_>,
         geometry: &SceneGeometry,
         light: &Light,
         resolution: u32,
+    ) -> Result<AnyMaps> {
+        let views = LightViews::plan(light, geometry, None);
+        self.generate_in(ctx, geometry, light, &views, resolution)
+    }
+    /// Generation of `views` in `ctx` (see [`ShadowTechnique::generate_cpu_in`] and
+    /// [`ShadowTechnique::generate_gpu_on`]).
+    fn generate_in(
+        &self,
+        ctx: Context<'_>,
+        geometry: &SceneGeometry,
+        light: &Light,
+        views: &LightViews,
+        resolution: u32,
     ) -> Result<AnyMaps>;
-    /// GPU generation from a scene already on the GPU (nothing uploaded but parameters).
+    /// GPU generation of `views` from a scene already on the GPU (nothing uploaded but
+    /// parameters).
     fn generate_gpu_on(
         &self,
         gpu: &GpuContext,
         scene: &GpuScene,
         light: &Light,
+        views: &LightViews,
         resolution: u32,
     ) -> Result<AnyMaps>;
     /// See [`ShadowTechnique::visibility_wgsl`].
@@ -540,22 +683,26 @@ pub trait DynTechnique: TechniqueInfo {
 }
 
 impl<T: ShadowTechnique> DynTechnique for T {
-    fn generate(
+    fn generate_in(
         &self,
         ctx: Context<'_>,
         geometry: &SceneGeometry,
         light: &Light,
+        views: &LightViews,
         resolution: u32,
     ) -> Result<AnyMaps> {
         Ok(AnyMaps(match ctx {
             Context::Cpu(cpu) => Box::new(CpuMapsOf(
                 self.clone(),
-                self.generate_cpu(cpu, geometry, light, resolution)?,
+                self.generate_cpu_in(cpu, geometry, light, views, resolution)?,
             )),
-            Context::Gpu(gpu) => Box::new(GpuMapsOf(
-                self.clone(),
-                self.generate_gpu(gpu, geometry, light, resolution)?,
-            )),
+            Context::Gpu(gpu) => {
+                let scene = GpuScene::new(gpu, geometry)?;
+                Box::new(GpuMapsOf(
+                    self.clone(),
+                    ShadowTechnique::generate_gpu_on(self, gpu, &scene, light, views, resolution)?,
+                ))
+            }
         }))
     }
     fn generate_gpu_on(
@@ -563,11 +710,12 @@ impl<T: ShadowTechnique> DynTechnique for T {
         gpu: &GpuContext,
         scene: &GpuScene,
         light: &Light,
+        views: &LightViews,
         resolution: u32,
     ) -> Result<AnyMaps> {
         Ok(AnyMaps(Box::new(GpuMapsOf(
             self.clone(),
-            ShadowTechnique::generate_gpu_on(self, gpu, scene, light, resolution)?,
+            ShadowTechnique::generate_gpu_on(self, gpu, scene, light, views, resolution)?,
         ))))
     }
     fn visibility_wgsl(&self, group: u32) -> Result<String> {

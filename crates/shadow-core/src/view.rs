@@ -6,6 +6,7 @@
 use crate::coverage::{Coverage, MARGIN};
 use crate::light::{Light, LightPoint};
 use crate::mesh::Aabb;
+use crate::views::Region;
 use glam::{Mat4, Vec3, Vec4};
 
 /// Sentinel stored in a linear depth map where no surface was rasterized.
@@ -158,64 +159,44 @@ impl View {
     }
 
     /// A light-space view from one light sample that covers `coverage` (the casters and the
-    /// receivers their penumbrae reach; see [`crate::coverage`]), looking along `axis`.
+    /// receivers their penumbrae reach; see [`crate::coverage`]) within its region
+    /// ([`crate::views::Region`]), looking along `axis`.
     ///
-    /// Perspective from a position: a square window around `axis`, clamped to 2 x 80 degrees
-    /// (geometry outside is unshadowed by that sample); the depth range spans the whole scene.
-    /// Orthographic for a direction: the window is centred on what it covers, the depth range
-    /// starts just before the nearest caster (1% of the range before it) and ends beyond the
-    /// scene's deepest point.
+    /// Perspective from a position: for the whole coverage, a square window around `axis`
+    /// fitted to the casters and their penumbrae, clamped to 2 x 80 degrees
+    /// ([`crate::views::LightViews::plan`] gives a light whose casters need more than 2 x 60
+    /// degrees cube faces instead); for a cube face, the face's axis and window. The depth range
+    /// spans the whole scene. Orthographic for a direction: the window is centred on what it
+    /// covers (a cascade: its own window, centred on whole texels), the depth range starts just
+    /// before the nearest caster (1% of the range before it) and ends beyond the scene's
+    /// deepest point.
     pub fn fit_light(sample: LightPoint, axis: Vec3, coverage: &Coverage) -> View {
         let axis = axis.normalize();
         let bounds = &coverage.scene;
-        let fit = coverage.fit_box();
         let diag = bounds.diagonal().max(1e-6);
         match sample {
             LightPoint::Position(eye) => {
-                let view = look_to(eye, axis);
-                // Widest tangent over directions, infinite when one is not in front.
-                let tan_of = |d: Vec3| {
-                    let v = view.transform_vector3(d);
-                    let z = -v.z;
-                    if z > 1e-6 * d.length().max(1e-30) {
-                        v.x.abs().max(v.y.abs()) / z
-                    } else {
-                        f32::INFINITY
+                // A cube face has its own axis and window; otherwise the window is fitted.
+                let (view, half) = match coverage.region {
+                    Region::Face {
+                        axis,
+                        up,
+                        half_angle,
+                    } => (look_to_up(eye, axis, up), half_angle),
+                    _ => {
+                        let view = look_to(eye, axis);
+                        let tan_max = perspective_tan(&view, eye, coverage);
+                        let half =
+                            tan_max.atan().clamp(1f32.to_radians(), 80f32.to_radians()) * 1.02;
+                        (view, half)
                     }
                 };
                 let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
-                let mut tan_all: f32 = 0.0;
                 for c in bounds.corners() {
                     let z = -view.transform_point3(c).z;
                     zmax = zmax.max(z);
                     zmin = zmin.min(z);
-                    tan_all = tan_all.max(if z > 1e-6 * diag {
-                        tan_of(c - eye)
-                    } else {
-                        f32::INFINITY
-                    });
                 }
-                // The casters' corners, and where their penumbra reaches at the scene's deepest
-                // depth: from each corner away from each light point (a direction that never gets
-                // deeper bounds the window by its own tangent).
-                let mut tan_cast: f32 = 0.0;
-                for c in fit.corners() {
-                    tan_cast = tan_cast.max(tan_of(c - eye));
-                    let zc = -view.transform_point3(c).z;
-                    for q in &coverage.light {
-                        if let LightPoint::Position(q) = q {
-                            let d = c - *q;
-                            let dz = -view.transform_vector3(d).z;
-                            tan_cast = tan_cast.max(if dz > 1e-6 * d.length() {
-                                tan_of(c + d * ((zmax - zc).max(0.0) / dz) - eye)
-                            } else {
-                                tan_of(d)
-                            });
-                        }
-                    }
-                }
-                let tan_max = tan_all.min(tan_cast) * (1.0 + MARGIN);
-                let half = tan_max.atan().clamp(1f32.to_radians(), 80f32.to_radians()) * 1.02;
                 let far = (zmax * 1.01).max(1e-3 * diag);
                 // The box's nearest point is at depth max(zmin, 0): when a corner lies behind the
                 // eye's plane, geometry can come arbitrarily close, so the near plane goes down to
@@ -248,7 +229,7 @@ impl View {
                     (lo, hi)
                 };
                 let (all_lo, all_hi) = range(bounds);
-                let (cast_lo, cast_hi) = range(fit);
+                let (cast_lo, cast_hi) = range(coverage.fit_box());
                 // Penumbra spread per unit of depth: the widest outline direction's tangent.
                 let spread = coverage
                     .light
@@ -264,24 +245,63 @@ impl View {
                 let grow = (all_hi.z - cast_lo.z).max(0.0) * spread;
                 let lo = (cast_lo - Vec3::splat(grow)).max(all_lo);
                 let hi = (cast_hi + Vec3::splat(grow)).min(all_hi);
-                let mid = 0.5 * (lo + hi);
-                let half = 0.5 * (hi.x - lo.x).max(hi.y - lo.y).max(0.0);
+                let (mid_x, mid_y, half_extent) = match coverage.region {
+                    Region::Cascade {
+                        center,
+                        half_extent,
+                        ..
+                    } => {
+                        // The cascade's own window, its centre on whole texels of the light's
+                        // basis (absolute coordinates, so the grid does not move with the scene).
+                        let c = view.transform_point3(center);
+                        let texel = if coverage.texels > 0 {
+                            2.0 * half_extent / coverage.texels as f32
+                        } else {
+                            0.0
+                        };
+                        let snap = |rel: f32, origin: f32| {
+                            if texel > 0.0 {
+                                ((rel + origin) / texel).round() * texel - origin
+                            } else {
+                                rel
+                            }
+                        };
+                        // The eye's own coordinates in the basis: the grid's origin is the world's.
+                        let basis = look_to(Vec3::ZERO, -dir);
+                        let o = basis.transform_point3(eye);
+                        (snap(c.x, o.x), snap(c.y, o.y), half_extent)
+                    }
+                    _ => {
+                        let mid = 0.5 * (lo + hi);
+                        let half = 0.5 * (hi.x - lo.x).max(hi.y - lo.y).max(0.0);
+                        (mid.x, mid.y, half * (1.0 + MARGIN) * 1.01 + 1e-6 * diag)
+                    }
+                };
                 // Centre the window: move the eye across the view.
                 let inv = view.inverse();
                 let eye = eye
-                    + inv.transform_vector3(Vec3::X) * mid.x
-                    + inv.transform_vector3(Vec3::Y) * mid.y;
+                    + inv.transform_vector3(Vec3::X) * mid_x
+                    + inv.transform_vector3(Vec3::Y) * mid_y;
                 let view = look_to(eye, -dir);
                 let clip = (0.05 * radius).max(1e-6);
-                let far = all_hi.z * 1.01 + clip;
                 // The depth range starts just before the nearest caster: nothing in front of it
-                // casts, and an 8-bit or 16-bit map spends its steps on what does.
-                let near = (cast_lo.z - 0.01 * (far - cast_lo.z)).max(clip);
+                // casts, and an 8-bit or 16-bit map spends its steps on what does. A cascade
+                // holds its own heights (its lowest receiver, its highest caster).
+                let (cast_near, deepest) = match coverage.region {
+                    Region::Cascade { heights, .. } => {
+                        let eye_h = eye.dot(dir);
+                        (
+                            (eye_h - heights[1]).max(cast_lo.z),
+                            (eye_h - heights[0]).min(all_hi.z),
+                        )
+                    }
+                    _ => (cast_lo.z, all_hi.z),
+                };
+                let far = deepest * 1.01 + clip;
+                let near = (cast_near - 0.01 * (far - cast_near)).max(clip);
                 View {
                     view,
-                    kind: ProjectionKind::Orthographic {
-                        half_extent: half * (1.0 + MARGIN) * 1.01 + 1e-6 * diag,
-                    },
+                    kind: ProjectionKind::Orthographic { half_extent },
                     near,
                     far,
                     aspect: 1.0,
@@ -290,10 +310,66 @@ impl View {
         }
     }
 
+    /// The tangent of the half-angle of the square window a perspective view from `eye` along
+    /// `axis` needs to hold `coverage`'s casters and their penumbrae (with the filters'
+    /// margin), before [`View::fit_light`] clamps it to 80 degrees; infinite when a caster
+    /// lies beside or behind the eye.
+    pub fn window_tan(eye: Vec3, axis: Vec3, coverage: &Coverage) -> f32 {
+        perspective_tan(&look_to(eye, axis.normalize()), eye, coverage)
+    }
+
     /// The light view of `light`'s centre sample, covering `coverage`.
     pub fn for_light_center(light: &Light, coverage: &Coverage) -> View {
         View::fit_light(light.center(), light.axis(coverage.center()), coverage)
     }
+}
+
+/// The tangent of [`View::window_tan`] for a perspective `view` from `eye`: the casters' corners,
+/// and where their penumbra reaches at the scene's deepest depth, from each corner away from
+/// each light point (a direction that never gets deeper bounds the window by its own tangent),
+/// capped by the whole scene's window.
+fn perspective_tan(view: &Mat4, eye: Vec3, coverage: &Coverage) -> f32 {
+    let bounds = &coverage.scene;
+    let fit = coverage.fit_box();
+    let diag = bounds.diagonal().max(1e-6);
+    // Widest tangent over directions, infinite when one is not in front.
+    let tan_of = |d: Vec3| {
+        let v = view.transform_vector3(d);
+        let z = -v.z;
+        if z > 1e-6 * d.length().max(1e-30) {
+            v.x.abs().max(v.y.abs()) / z
+        } else {
+            f32::INFINITY
+        }
+    };
+    let mut zmax = 0.0f32;
+    let mut tan_all: f32 = 0.0;
+    for c in bounds.corners() {
+        let z = -view.transform_point3(c).z;
+        zmax = zmax.max(z);
+        tan_all = tan_all.max(if z > 1e-6 * diag {
+            tan_of(c - eye)
+        } else {
+            f32::INFINITY
+        });
+    }
+    let mut tan_cast: f32 = 0.0;
+    for c in fit.corners() {
+        tan_cast = tan_cast.max(tan_of(c - eye));
+        let zc = -view.transform_point3(c).z;
+        for q in &coverage.light {
+            if let LightPoint::Position(q) = q {
+                let d = c - *q;
+                let dz = -view.transform_vector3(d).z;
+                tan_cast = tan_cast.max(if dz > 1e-6 * d.length() {
+                    tan_of(c + d * ((zmax - zc).max(0.0) / dz) - eye)
+                } else {
+                    tan_of(d)
+                });
+            }
+        }
+    }
+    tan_all.min(tan_cast) * (1.0 + MARGIN)
 }
 
 /// A perspective camera for the G-buffer.

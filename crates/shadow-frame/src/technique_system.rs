@@ -113,10 +113,11 @@ pub fn run_technique(
                 state.stale = false;
                 continue;
             }
+            let views = soft_shadow_core::LightViews::plan(&light.0, &g, None);
             let made = backend.context().and_then(|ctx| {
                 resolved
                     .technique
-                    .generate(ctx, &g, &light.0, resolved.resolution)
+                    .generate_in(ctx, &g, &light.0, &views, resolved.resolution)
                     .map_err(|e| e.to_string())
             });
             match made {

@@ -12,7 +12,7 @@ use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::light_space::sample_views;
 use soft_shadow_core::{
     Bias, Checked, CpuContext, Generation, GpuContext, Light, LightKind, Receivers, Result,
-    SceneGeometry, ShadowTechnique, TechniqueInfo,
+    ShadowTechnique, TechniqueInfo,
 };
 
 /// Which baseline filter.
@@ -77,17 +77,10 @@ impl ShadowMapBaseline {
         v
     }
 
-    /// The light-sample views of its maps, fitted to `geometry`'s casters.
-    pub fn views(
-        &self,
-        geometry: &SceneGeometry,
-        light: &Light,
-    ) -> Vec<soft_shadow_core::SampleView> {
-        sample_views(
-            light,
-            &soft_shadow_core::Coverage::new(geometry, light),
-            self.map_count(),
-        )
+    /// The light-sample views of its maps for one view of the light, fitted to what it covers
+    /// ([`Generation::coverage`]).
+    pub fn views(&self, input: &Generation<'_>) -> Vec<soft_shadow_core::SampleView> {
+        sample_views(input.light, &input.coverage(), self.map_count())
     }
 
     /// Number of depth maps this baseline renders.
@@ -134,7 +127,7 @@ impl ShadowTechnique for ShadowMapBaseline {
     type GpuMaps = gpu::GpuShadowMaps;
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> CpuShadowMaps {
-        let views = self.views(input.geometry, input.light);
+        let views = self.views(&input);
         CpuShadowMaps::render(
             cpu,
             &views,
@@ -165,7 +158,7 @@ impl ShadowTechnique for ShadowMapBaseline {
         scene: &GpuScene,
         input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuShadowMaps> {
-        let views = self.views(input.geometry, input.light);
+        let views = self.views(&input);
         gpu::GpuShadowMaps::record(
             gpu,
             enc,
@@ -178,7 +171,7 @@ impl ShadowTechnique for ShadowMapBaseline {
 
     const VISIBILITY: &'static VisibilityShader = &gpu::VISIBILITY;
 
-    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuShadowMaps) {
+    fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuShadowMaps) {
         gpu.recycle_texture(maps.texture);
     }
 

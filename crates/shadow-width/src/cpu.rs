@@ -36,7 +36,7 @@ impl CpuWidthMaps {
 /// already checked), their storage from `cpu`'s pool.
 pub(crate) fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) -> CpuWidthMaps {
     let (geometry, light, resolution) = (input.geometry, input.light, input.resolution);
-    let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
+    let view = SampleView::center(light, &input.coverage());
     let params = view.params(resolution);
     let tris = &geometry.casters;
     let pool = cpu.pool();

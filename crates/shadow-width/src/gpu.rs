@@ -15,7 +15,7 @@ use soft_shadow_core::gpu::shader::{
 };
 use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
-use soft_shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
+use soft_shadow_core::{Generation, GpuContext, Map2D, MapParams, Result, SampleView, ShadowError};
 
 /// The maps of one light, kept on the GPU.
 pub struct GpuWidthMaps {
@@ -186,13 +186,12 @@ pub(crate) fn generate(
     enc: &mut wgpu::CommandEncoder,
     t: &ShadowWidth,
     scene: &GpuScene,
-    light: &Light,
-    resolution: u32,
+    input: &Generation,
 ) -> Result<GpuWidthMaps> {
-    let geometry = scene.geometry();
+    let (light, resolution) = (input.light, input.resolution);
     let raster = ctx.cached(GpuRasterizer::new);
     let pipes = ctx.cached(WidthPipelines::new);
-    let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
+    let view = SampleView::center(light, &input.coverage());
     let params = view.params(resolution);
     let texels = resolution as u64 * resolution as u64;
     let limit = ctx.device.limits().max_storage_buffer_binding_size;

@@ -46,12 +46,12 @@ impl ShadowTechnique for ShadowWidth {
         scene: &GpuScene,
         input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuWidthMaps> {
-        gpu::generate(gpu, enc, self, scene, input.light, input.resolution)
+        gpu::generate(gpu, enc, self, scene, &input)
     }
 
     const VISIBILITY: &'static VisibilityShader = &gpu::VISIBILITY;
 
-    fn recycle_gpu(&self, gpu: &GpuContext, maps: gpu::GpuWidthMaps) {
+    fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuWidthMaps) {
         gpu.recycle_texture(maps.depth);
         gpu.recycle_buffer(maps.width);
     }

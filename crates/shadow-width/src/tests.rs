@@ -447,10 +447,10 @@ fn width_units_follow_the_closed_form() {
             .unwrap();
         let l = light.size() / crate::params::fit_factor(light.kind());
         let (slope, texel) = match light {
-            Light::Distant { .. } => (2.0 / (h * l), maps.params.texel_b),
+            Light::Distant { .. } => (2.0 / (h * l), maps.first().params.texel_b),
             _ => {
                 let z_b = 6.0 - h;
-                (2.0 * z_b / (l * h), maps.params.texel_a * 6.0)
+                (2.0 * z_b / (l * h), maps.first().params.texel_a * 6.0)
             }
         };
         for (x, v) in xs.iter().zip(&v) {

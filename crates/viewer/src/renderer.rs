@@ -1,6 +1,6 @@
 //! The renderer: its own device (wrapped in a [`GpuContext`]), G-buffer and shading passes, and
 //! any technique through the public drop-in API. Per frame it records into one encoder its
-//! G-buffer pass, each shown technique's generation ([`ShadowTechnique::record_gpu`] from a
+//! G-buffer pass, each shown technique's generation for the light's views ([`ShadowTechnique::record_gpu_in`] from a
 //! [`GpuScene`] uploaded once) and visibility over the G-buffer
 //! ([`ShadowTechnique::record_visibility`]), and its own shading of the light times `V`; it
 //! never reads anything back to draw a frame.
@@ -14,7 +14,8 @@ use soft_shadow_core::gpu::shader::{
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::gpu::{GpuContext, GpuScene};
 use soft_shadow_core::{
-    Camera, Light, Result, SceneGeometry, ShadowError, ShadowTechnique, TechniqueInfo,
+    Camera, Light, LightViews, Result, SceneGeometry, SeenDepth, ShadowError, ShadowTechnique,
+    TechniqueInfo,
 };
 use std::time::Instant;
 use wgpu::util::DeviceExt;
@@ -636,14 +637,45 @@ impl Renderer {
         shadow: &Shadow,
         k: usize,
     ) -> Result<()> {
+        let (geometry, seen) = (self.scene.geometry(), self.seen());
+        // The light's views for this camera (the README's snippet).
+        let views = LightViews::plan(light, geometry, seen.as_ref());
         shadow.technique.record(
             &self.gpu,
             enc,
             &self.scene,
             light,
+            &views,
             shadow.resolution,
             &self.visibility_targets(k),
         )
+    }
+
+    /// What the camera can see of the scene, for cascades: its view, and the depths from its
+    /// near plane to the farthest corner of the scene's bounds in front of it.
+    fn seen(&self) -> Option<SeenDepth> {
+        let camera = self.settings.camera;
+        let view = camera.view(self.settings.width, self.settings.height);
+        let far = self
+            .scene
+            .geometry()
+            .bounds
+            .corners()
+            .iter()
+            .map(|c| view.linear_depth(*c))
+            .fold(0.0f32, f32::max)
+            .min(camera.far);
+        (far > camera.near).then_some(SeenDepth {
+            camera: view,
+            near: camera.near,
+            far,
+        })
+    }
+
+    /// The views of `light` the next frame uses: cube faces around a light among its casters,
+    /// cascades over what the camera can see for a distant light.
+    pub fn light_views(&self, light: &Light) -> LightViews {
+        LightViews::plan(light, self.scene.geometry(), self.seen().as_ref())
     }
 
     /// The shading and display pass over the whole frame.
@@ -723,14 +755,16 @@ impl Renderer {
 /// A technique as the renderer records it: any [`ShadowTechnique`], behind one object-safe
 /// call, so that a renderer can switch techniques at run time.
 pub trait FrameTechnique: TechniqueInfo {
-    /// Records generation for `light` at `resolution` into `enc`, and `V` for every texel of
-    /// the G-buffer into `targets.visibility`.
+    /// Records generation of `views` of `light` at `resolution` into `enc`, and `V` for every
+    /// texel of the G-buffer into `targets.visibility`.
+    #[allow(clippy::too_many_arguments)]
     fn record(
         &self,
         gpu: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
         light: &Light,
+        views: &LightViews,
         resolution: u32,
         targets: &VisibilityTargets,
     ) -> Result<()>;
@@ -755,6 +789,7 @@ impl<T: ShadowTechnique> FrameTechnique for T {
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
         light: &Light,
+        views: &LightViews,
         resolution: u32,
         targets: &VisibilityTargets,
     ) -> Result<()> {
@@ -763,7 +798,7 @@ impl<T: ShadowTechnique> FrameTechnique for T {
         let (width, height) = (targets.visibility.width(), targets.visibility.height());
         let visibility = view(targets.visibility);
         // The technique, recorded into the renderer's encoder (the README's snippet).
-        let maps = technique.record_gpu(gpu, enc, scene, light, resolution)?;
+        let maps = technique.record_gpu_in(gpu, enc, scene, light, views, resolution)?;
         let maps_bind = technique.maps_bind_group(gpu, &maps)?;
         technique.record_visibility(
             gpu,

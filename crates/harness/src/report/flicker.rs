@@ -68,7 +68,7 @@ pub fn measure(
     let frames = lights(&p.spec.light, references.len())
         .iter()
         .map(|l| {
-            let maps = t.generate(ctx, &p.geometry, l, resolution)?;
+            let maps = t.generate_in(ctx, &p.geometry, l, &p.views_for(l), resolution)?;
             maps.evaluate(ctx.gpu(), &p.receivers())
         })
         .collect::<Result<Vec<_>>>()?;

@@ -102,10 +102,26 @@ pub struct ReferenceInfo {
     pub covered_receivers: usize,
     /// Covered G-buffer pixels no light point reaches (visibility v2: unlit, in no metric).
     pub unlit_receivers: usize,
+    /// How many views the light's maps are generated for (one generation each:
+    /// `soft_shadow_core::views`).
+    #[serde(default = "one")]
+    pub light_views: usize,
+    /// How the views are chosen: `"single"`, `"cube"` (faces around a local light) or
+    /// `"cascades"` (along the camera's depth, for a distant light).
+    #[serde(default = "single")]
+    pub view_kind: String,
     /// Receivers whose reference is in the penumbra band.
     pub penumbra_receivers: usize,
     /// Wall time of the reference.
     pub time_ms: f64,
+}
+
+fn one() -> usize {
+    1
+}
+
+fn single() -> String {
+    "single".into()
 }
 
 /// One measured configuration.

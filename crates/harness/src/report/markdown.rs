@@ -67,17 +67,17 @@ pub fn render(report: &Report, papers_written: bool) -> String {
         );
         let _ = writeln!(
             s,
-            "Columns: {cols}. Rows: `V`; the shaded image `E0 V / E0_max`; its signed error (red: darker than the reference, blue: brighter; full colour at 64/255). `ground`, `object` and `terminator` split the image error by where the receivers lie: on geometry that only receives, on the casters, and where the normal is within about 17 degrees of perpendicular to the light (cos < 0.3).\n"
+            "Columns: {cols}. Rows: `V`; the shaded image `E0 V / E0_max`; its signed error (red: darker than the reference, blue: brighter; full colour at 64/255). `ground`, `object` and `terminator` split the image error by where the receivers lie: on geometry that only receives, on the casters, and where the normal is within about 17 degrees of perpendicular to the light (cos < 0.3); `near`, `mid` and `far` by their distance from the camera: under 15 m, 15 to 60 m, beyond (blank where none lies there).\n"
         );
         let _ = writeln!(
             s,
-            "| technique | variant | backend | res | gen ms | eval ms | image | image penumbra | V rms | V penumbra | ground | object | terminator | max abs | false-shadow px | flicker | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+            "| technique | variant | backend | res | gen ms | eval ms | image | image penumbra | V rms | V penumbra | ground | object | terminator | near | mid | far | max abs | false-shadow px | flicker | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
         );
         for r in report.runs.iter().filter(|r| r.scene == scene) {
             let e = &r.errors;
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {:.1} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {} |",
                 r.technique,
                 r.variant,
                 r.backend,
@@ -91,6 +91,9 @@ pub fn render(report: &Report, papers_written: bool) -> String {
                 class(&e.classes.ground),
                 class(&e.classes.object),
                 class(&e.classes.terminator),
+                class(&e.classes.near),
+                class(&e.classes.mid),
+                class(&e.classes.far),
                 e.max_abs_255,
                 e.false_shadow_pixels,
                 r.flicker_255.map(|f| format!("{f:.2}")).unwrap_or_default(),

@@ -85,8 +85,8 @@ pub fn measure<'t>(
         None => None,
     };
     let generate_with = |t: &dyn DynTechnique| match &scene {
-        Some((g, s)) => t.generate_gpu_on(g, s, light, res),
-        None => t.generate(ctx, &p.geometry, light, res),
+        Some((g, s)) => t.generate_gpu_on(g, s, light, &p.views, res),
+        None => t.generate_in(ctx, &p.geometry, light, &p.views, res),
     };
     // A technique's three steps, for its `Frame`.
     let steps = |t: &'t dyn DynTechnique| {

@@ -193,6 +193,19 @@ impl Runner<'_> {
         let name = job.spec.name.clone();
         self.bar.set_message(format!("{name}: reference"));
         let p = PreparedScene::new(job.spec, self.size, self.settings)?;
+        if !p.uncovered.is_empty() {
+            let n = p.uncovered.len();
+            let mut what = p.uncovered[..n.min(3)].join(", ");
+            if n > 3 {
+                what += &format!(" and {} more", n - 3);
+            }
+            return Err(crate::error::HarnessError::Uncovered {
+                scene: name,
+                light: p.spec.light.kind().name().into(),
+                views: p.views.kind_name().into(),
+                what,
+            });
+        }
         let reference = p.reference_v();
         // The catalogue's `acne` is unshadowed by design; the warning is for users' scenes.
         let builtin = catalogue::SCENE_NAMES.contains(&name.split('@').next().unwrap_or(&name));
@@ -220,6 +233,8 @@ impl Runner<'_> {
             )
             .covered,
             unlit_receivers: p.unlit_pixels.len(),
+            light_views: p.views.len(),
+            view_kind: p.views.kind_name().into(),
             penumbra_receivers: penumbra,
             time_ms: p.reference_ms,
         });

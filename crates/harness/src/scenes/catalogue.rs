@@ -9,9 +9,13 @@ use std::sync::Arc;
 
 /// The Stanford bunny (69,451 triangles), shipped in the repository's assets.
 pub const BUNNY_GLB: &[u8] = include_bytes!("../../../../assets/stanford-bunny.glb");
+/// The Utah teapot (6,320 triangles), shipped in the repository's assets.
+pub const TEAPOT_GLB: &[u8] = include_bytes!("../../../../assets/teapot.glb");
+/// Suzanne (968 triangles), shipped in the repository's assets.
+pub const SUZANNE_GLB: &[u8] = include_bytes!("../../../../assets/suzanne.glb");
 
 /// Every built-in scene name, in report order.
-pub const SCENE_NAMES: [&str; 16] = [
+pub const SCENE_NAMES: [&str; 19] = [
     "plane-occluder",
     "skewed-triangle",
     "linear-bar",
@@ -28,6 +32,9 @@ pub const SCENE_NAMES: [&str; 16] = [
     "degenerate",
     "acne",
     "thin",
+    "room-lamp",
+    "room-lamp-corner",
+    "street-sun",
 ];
 
 /// Names of the catalogue's grounds: receivers only, since nothing lies below them to shadow
@@ -50,6 +57,13 @@ fn camera(eye: Vec3, target: Vec3) -> Camera {
         fov_y: 50f32.to_radians(),
         near: 0.05,
         far: 100.0,
+    }
+}
+
+fn camera_fov(eye: Vec3, target: Vec3, fov_y_deg: f32) -> Camera {
+    Camera {
+        fov_y: fov_y_deg.to_radians(),
+        ..camera(eye, target)
     }
 }
 
@@ -112,6 +126,153 @@ pub fn bunny_mesh() -> Result<TriangleMesh> {
     }
     m.name = "bunny".into();
     Ok(m)
+}
+
+/// A model of the assets, scaled to `height`, turned by `yaw` (radians, around +Y) and standing
+/// on the ground (y = `floor`) centred on `(x, z)`, named `name`.
+fn model(
+    glb: &[u8],
+    name: &str,
+    height: f32,
+    x: f32,
+    z: f32,
+    floor: f32,
+    yaw: f32,
+) -> Result<TriangleMesh> {
+    let mut m = import_gltf_slice(glb, name, None)?;
+    let mut b = Aabb::EMPTY;
+    for p in &m.positions {
+        b.grow(*p);
+    }
+    let s = height / (b.max.y - b.min.y).max(1e-9);
+    let offset = Vec3::new(-b.center().x, -b.min.y, -b.center().z);
+    let turn = glam::Quat::from_rotation_y(yaw);
+    for p in &mut m.positions {
+        *p = turn * ((*p + offset) * s) + Vec3::new(x, floor, z);
+    }
+    m.name = name.into();
+    Ok(m)
+}
+
+/// A closed room of side `side` and height `height` around the origin: its floor (a receiver
+/// only), four walls and a ceiling, which cast; every face looks into the room.
+fn room(side: f32, height: f32) -> Vec<TriangleMesh> {
+    let h = 0.5 * side;
+    let (x, y, z) = (Vec3::X * side, Vec3::Y * height, Vec3::Z * side);
+    vec![
+        ground(side, 0.0, 8),
+        quad_grid("ceiling", Vec3::new(-h, height, -h), x, z, 4),
+        quad_grid("wall-north", Vec3::new(-h, 0.0, -h), x, y, 4),
+        quad_grid("wall-south", Vec3::new(-h, 0.0, h), y, x, 4),
+        quad_grid("wall-west", Vec3::new(-h, 0.0, -h), y, z, 4),
+        quad_grid("wall-east", Vec3::new(h, 0.0, -h), z, y, 4),
+    ]
+}
+
+/// `room-lamp`'s room: a 6 m room, a sphere lamp at table height in its middle, four pieces of
+/// furniture around it whose tops rise above the lamp (a teapot and Suzanne on two of them),
+/// seen by `camera`.
+fn room_lamp(name: &str, description: &str, camera: Camera) -> Result<SceneSpec> {
+    let mut meshes = room(6.0, 3.0);
+    meshes.extend([
+        cuboid(
+            "cabinet",
+            Vec3::new(1.5, 0.6, 0.3),
+            Vec3::new(0.3, 0.6, 0.5),
+        ),
+        cuboid(
+            "shelf",
+            Vec3::new(-0.4, 0.75, -1.6),
+            Vec3::new(0.6, 0.75, 0.2),
+        ),
+        cuboid("desk", Vec3::new(-1.4, 0.5, 0.6), Vec3::new(0.35, 0.5, 0.6)),
+        cuboid(
+            "crate",
+            Vec3::new(0.5, 0.45, 1.5),
+            Vec3::new(0.3, 0.45, 0.3),
+        ),
+        model(TEAPOT_GLB, "teapot", 0.25, 1.5, 0.3, 1.2, 0.4)?,
+        model(SUZANNE_GLB, "suzanne", 0.3, -1.4, 0.6, 1.0, 1.2)?,
+    ]);
+    Ok(spec(
+        name,
+        description,
+        false,
+        meshes,
+        Light::Sphere {
+            center: Vec3::new(0.0, 0.75, 0.0),
+            radius: 0.12,
+        },
+        camera,
+    ))
+}
+
+/// `street-sun`: 100 blocks on a 10 x 10 grid over 200 m along a street, Suzannes and teapots
+/// on its pavements near the camera, under the real sun (0.0093 rad), seen at eye height down
+/// the street.
+fn street_sun() -> Result<SceneSpec> {
+    let mut meshes = vec![ground(460.0, 0.0, 16)];
+    let mut seed = 0x5eed_u64;
+    let mut next = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 33) as f32) / (1u64 << 31) as f32
+    };
+    for i in 0..10 {
+        for j in 0..10 {
+            let x = -90.0 + 20.0 * i as f32;
+            let z = -12.0 - 21.0 * j as f32;
+            let half = Vec3::new(3.0 + 2.0 * next(), 3.0 + 12.0 * next(), 3.0 + 2.0 * next());
+            meshes.push(cuboid(
+                &format!("block-{i}-{j}"),
+                Vec3::new(x, half.y, z),
+                half,
+            ));
+        }
+    }
+    for (k, z) in [-3.0f32, -6.0, -9.5, -14.0].into_iter().enumerate() {
+        let x = if k % 2 == 0 { -3.5 } else { 3.2 };
+        meshes.push(if k % 2 == 0 {
+            model(
+                SUZANNE_GLB,
+                &format!("suzanne-{k}"),
+                1.2,
+                x,
+                z,
+                0.0,
+                0.7 * k as f32,
+            )?
+        } else {
+            model(
+                TEAPOT_GLB,
+                &format!("teapot-{k}"),
+                0.9,
+                x,
+                z,
+                0.0,
+                0.5 * k as f32,
+            )?
+        });
+    }
+    Ok(spec(
+        "street-sun",
+        "100 blocks over 200 m along a street and models near the camera, the real sun, an eye-height camera",
+        false,
+        meshes,
+        Light::Distant {
+            direction: Vec3::new(0.55, 0.62, 0.25).normalize(),
+            angular_diameter: 0.0093,
+            profile: DistantProfile::UniformDisk,
+        },
+        Camera {
+            eye: Vec3::new(0.0, 1.7, 0.0),
+            target: Vec3::new(0.0, 0.9, -30.0),
+            fov_y: 60f32.to_radians(),
+            near: 0.1,
+            far: 400.0,
+        },
+    ))
 }
 
 /// Builds a catalogue scene by name.
@@ -384,6 +545,17 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             rect_down(Vec3::new(0.3, 3.0, 0.0), 0.3),
             default_camera(),
         ),
+        "room-lamp" => room_lamp(
+            name,
+            "a sphere lamp below the tops of the furniture in a closed 6 m room, seen from above",
+            camera_fov(Vec3::new(0.3, 2.9, 0.2), Vec3::ZERO, 80.0),
+        )?,
+        "room-lamp-corner" => room_lamp(
+            name,
+            "room-lamp seen from a corner of the room",
+            camera_fov(Vec3::new(2.7, 2.4, 2.7), Vec3::new(-0.5, 0.4, -0.5), 70.0),
+        )?,
+        "street-sun" => street_sun()?,
         other => {
             return Err(ShadowError::InvalidScene(format!(
                 "unknown scene {other:?}; built-in scenes: {}",

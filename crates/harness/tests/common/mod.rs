@@ -14,16 +14,20 @@ pub struct Receivers {
     pub positions: Vec<Vec3>,
     /// Receiver normals.
     pub normals: Vec<Vec3>,
+    /// What the camera sees, for a distant light's cascades.
+    pub seen: Option<soft_shadow_core::SeenDepth>,
 }
 
 /// Renders the CPU G-buffer of `spec` at `size²` and returns its receivers.
 pub fn receivers(spec: &SceneSpec, size: u32) -> Receivers {
     let (geometry, positions, normals) =
         harness::setup::scene_receivers(spec, size).expect("catalogue scene builds");
+    let seen = soft_shadow_core::SeenDepth::of_points(spec.camera.view(size, size), &positions);
     Receivers {
         geometry,
         positions,
         normals,
+        seen,
     }
 }
 
@@ -32,6 +36,11 @@ impl Receivers {
     /// Borrowed as [`soft_shadow_core::Receivers`].
     pub fn as_receivers(&self) -> soft_shadow_core::Receivers<'_> {
         soft_shadow_core::Receivers::new(&self.positions, &self.normals)
+    }
+
+    /// The views of `light` over the geometry and what the camera sees.
+    pub fn views(&self, light: &soft_shadow_core::Light) -> soft_shadow_core::LightViews {
+        soft_shadow_core::LightViews::plan(light, &self.geometry, self.seen.as_ref())
     }
 }
 

@@ -1,7 +1,9 @@
 //! Every technique x every catalogue scene x {16, 256, 2048} x both backends (the GPU at 2048
-//! only where its own arithmetic at fine texels is what can fail: [`GPU_FINE_CASES`]), two
+//! only where its own arithmetic at fine texels is what can fail: [`GPU_FINE_CASES`]), three
 //! properties over the registry of techniques:
 //!
+//! - **covered**: every caster that shadows what the camera sees lies in a view of the light
+//!   (`LightViews::uncovered`), and every seen receiver in its cascade's window;
 //! - **stable**: finite `V` in [0, 1], one value per receiver;
 //! - **accurate**: in image error and in `V` rms against the reference, no worse than the hard
 //!   shadow map's at the same resolution and backend plus [`TOLERANCE`]; and where the reference
@@ -234,12 +236,43 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
         "light-plane",
         "occlusion-slices",
         "*-4",
-        2048,
+        0,
         "the wall crosses the light's plane and shadows the ground behind it; each of four slices \
       holds a band of the wall that covers part of a receiver's kernel, and their product (section \
-      3.3) lets light through: V rms 26.4 vs the hard map's 23.3 (image 2.8 vs 4.9). On the \
-      report's 128² G-buffer the ground behind the wall is 81% of the squared error (V rms 114.6 \
-      over its 518 receivers; 8 slices 64.6); mipmap-4, and every variant at 16² and 256², pass",
+      3.3) lets light through: at 256² V rms 25.2-25.4 vs the hard map's 23.5 (image 2.8 vs 5.0), \
+      at 2048² 26.4 vs 23.3 (2.8 vs 4.9): the hard map's V, from the cube faces around the \
+      light, lost the 163-degree frustum's coarse texels at 256². On the report's 128² G-buffer \
+      the ground behind the wall is 81% of the squared error (V rms 114.6 over its 518 receivers; \
+      8 slices 64.6)",
+    ),
+    (
+        "street-sun",
+        "penumbra-limit",
+        "*",
+        16,
+        "a 16² cascade texel is 1.8 m and more, wider than the models and the gaps between the \
+      blocks: the ribbons of at least two texels each side of an edge overlap into false umbra \
+      (silhouette image 38.9-39.4 vs the hard map's 34.6; the depth image passes)",
+    ),
+    (
+        "street-sun",
+        "penumbra-limit",
+        "*",
+        256,
+        "the near cascade's 256² texel is 11 cm against the sun's penumbrae of a centimetre: the \
+      lower limit of the taps inside an edge clamps lit receivers up to a texel outside it to 0, \
+      and outer strips of the models' folds read lit inside their shadows (48² G-buffer: 14 \
+      receivers too dark and 11 too light by 0.1 or more, the hard map 16 and 6): image \
+      14.8-16.6 vs 12.6, V 23.0-25.5 vs 20.5; at 2048² every variant is better than the hard map",
+    ),
+    (
+        "street-sun",
+        "shadow-width",
+        "*",
+        256,
+        "one receiver on a Suzanne's side turned 87 degrees from the sun (image weight 0.057) reads \
+      umbra where the hard map's biases clear it: V rms 21.4 vs 20.5, the image error equal \
+      (12.55)",
     ),
 ];
 
@@ -287,6 +320,7 @@ impl Bench {
             geometry: scene.geometry.clone(),
             positions: scene.positions.clone(),
             normals: scene.normals.clone(),
+            seen: scene.seen,
         };
         Self {
             scene,
@@ -317,9 +351,19 @@ fn check(name: &str) {
             continue;
         }
         let relit = scene_for(t.as_ref(), &spec);
-        let bench = benches
-            .entry(relit.name.clone())
-            .or_insert_with(|| Bench::new(relit.clone()));
+        let bench = benches.entry(relit.name.clone()).or_insert_with(|| {
+            let bench = Bench::new(relit.clone());
+            // Every caster that shadows what the camera sees lies in a view of the light (and
+            // every seen receiver in its cascade's window): no shadow is silently missing.
+            assert!(
+                bench.scene.uncovered.is_empty(),
+                "{}: the {} views leave out {:?}",
+                relit.name,
+                bench.scene.views.kind_name(),
+                bench.scene.uncovered
+            );
+            bench
+        });
         if name == acne::SCENE {
             acne::check_scene(&relit.name, &bench.reference);
         }
@@ -419,6 +463,21 @@ fn the_catalogue_has_the_guides_hard_cases() {
             "thin"
         ]
     );
+}
+
+#[test]
+fn room_lamp() {
+    check("room-lamp");
+}
+
+#[test]
+fn room_lamp_corner() {
+    check("room-lamp-corner");
+}
+
+#[test]
+fn street_sun() {
+    check("street-sun");
 }
 
 #[test]

@@ -43,10 +43,11 @@ fn converges(name: &str) {
             .map(|&res| {
                 let what = format!("{name} {} {} {res}", t.name(), t.variant());
                 let maps = t
-                    .generate(
+                    .generate_in(
                         super::common::context(Backend::Cpu, None),
                         &scene.geometry,
                         &scene.spec.light,
+                        &scene.views,
                         res,
                     )
                     .unwrap_or_else(|e| panic!("{what}: generate: {e}"));

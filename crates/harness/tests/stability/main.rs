@@ -31,6 +31,7 @@ mod convergence;
 mod low_resolution;
 mod random_scenes;
 mod resolved_gap;
+mod seams;
 mod tiny_light;
 
 use crate::common::gpu_for_test;
@@ -91,7 +92,13 @@ pub fn visibility(
 ) -> Vec<f32> {
     let t0 = std::time::Instant::now();
     let maps = t
-        .generate(common::context(backend, gpu()), &r.geometry, light, res)
+        .generate_in(
+            common::context(backend, gpu()),
+            &r.geometry,
+            light,
+            &r.views(light),
+            res,
+        )
         .unwrap_or_else(|e| panic!("{what}: generate: {e}"));
     let v = maps
         .evaluate(gpu(), &r.as_receivers())

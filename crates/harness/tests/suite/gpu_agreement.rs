@@ -185,3 +185,55 @@ fn pcss_caps_agree_between_cpu_and_gpu_at_2048() {
         assert!(rms < 1.0, "{name} pcss 2048: CPU/GPU rms {rms:.3}");
     }
 }
+
+/// Every technique, both backends, on the scenes whose lights have several views (cube faces
+/// around `room-lamp`'s lamp and `light-plane`'s light, cascades along `street-sun`'s street):
+/// RMS of `V * 255` below 1.0, so each view's maps and the selection of a view per receiver
+/// (`views.rs` and `views.wgsl`) agree. A technique that does not model a scene's light runs
+/// under the light recast as one it models.
+#[test]
+fn every_technique_agrees_between_cpu_and_gpu_over_several_views() {
+    let test = "every_technique_agrees_between_cpu_and_gpu_over_several_views";
+    let Some(ctx) = gpu_for_test(test) else {
+        return;
+    };
+    for name in ["room-lamp", "street-sun", "light-plane"] {
+        let spec = build(name).unwrap();
+        let r = receivers(&spec, 48);
+        let recv = Recv {
+            positions: &r.positions,
+            normals: &r.normals,
+        };
+        for t in harness::report::all_techniques(true) {
+            let models = |k| t.models(k);
+            let light =
+                match harness::scenes::relight::relight(&spec.light, &r.geometry.bounds, models) {
+                    _ if t.models(spec.light.kind()) => spec.light,
+                    Some(l) => l,
+                    None => continue,
+                };
+            let views = r.views(&light);
+            assert!(views.len() > 1 || light != spec.light, "{name}: one view");
+            let res = 128;
+            let what = format!("{name} {} {} {res}", t.name(), t.variant());
+            let cpu = soft_shadow_core::Context::Cpu(crate::common::cpu());
+            let cv = t
+                .generate_in(cpu, &r.geometry, &light, &views, res)
+                .and_then(|m| m.evaluate(None, &recv))
+                .unwrap_or_else(|e| panic!("{what}: {e}"));
+            let gv = t
+                .generate_in(
+                    soft_shadow_core::Context::Gpu(&ctx),
+                    &r.geometry,
+                    &light,
+                    &views,
+                    res,
+                )
+                .and_then(|m| m.evaluate(Some(&ctx), &recv))
+                .unwrap_or_else(|e| panic!("{what}: {e}"));
+            let rms = rms_255(&cv, &gv);
+            println!("{what} ({} views): CPU/GPU rms {rms:.4}", views.len());
+            assert!(rms < 1.0, "{what}: CPU/GPU rms {rms:.3}");
+        }
+    }
+}

@@ -90,7 +90,10 @@ fn linear_light_is_linear_across_a_straight_edge() {
 /// A tilted receiver: the plane `y = 1.2 (x - 0.1) + 0.2`, which runs under the occluder's edge
 /// and crosses the light's line (y = 2.5) at x = 2.02. The linear channel against the rational
 /// function of equation 1 is reported (and bounded), and `V` stays finite and in [0, 1] up to the
-/// singularity.
+/// singularity. The plane reaches the light, so the light's views are cube faces; the face
+/// below the light images the receiver obliquely, and the channel, linear in that face's image
+/// plane, departs from the rational function by 9.97/255 at N = 2 (5.97 in one frustum turned
+/// towards the casters, which left the receivers beside the light out of the map).
 #[test]
 fn linear_light_on_a_tilted_receiver_stays_finite_at_the_light_line() {
     let (_, light) = edge_scene(1.0, 0.5);
@@ -124,7 +127,7 @@ fn linear_light_on_a_tilted_receiver_stays_finite_at_the_light_line() {
         assert!(v.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x)));
         let rms = rms_255(&v, &exact);
         println!("tilted receiver, N = {n}, 1024: rms {rms:.2}/255 against the rational function");
-        assert!(rms < 8.0, "N = {n}: rms {rms:.2}");
+        assert!(rms < 10.5, "N = {n}: rms {rms:.2}");
     }
 }
 
@@ -234,8 +237,9 @@ fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
                     .generate_cpu(crate::common::cpu(), &r.geometry, &light, res)
                     .unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &light, res).unwrap();
-                let gc = gm.read_channels(&ctx).unwrap();
+                let gc = gm.first().read_channels(&ctx).unwrap();
                 let diff: f64 = cm
+                    .first()
                     .channels()
                     .iter()
                     .zip(&gc)

@@ -104,8 +104,9 @@ fn occlusion_slices_agree_between_cpu_and_gpu_on_every_scene() {
                     .generate_cpu(crate::common::cpu(), &r.geometry, &spec.light, res)
                     .unwrap();
                 let gm = t.generate_gpu(&ctx, &r.geometry, &spec.light, res).unwrap();
-                let gs = gm.read_slices(&ctx).unwrap();
+                let gs = gm.first().read_slices(&ctx).unwrap();
                 let differ: usize = cm
+                    .first()
                     .slices()
                     .iter()
                     .zip(&gs)

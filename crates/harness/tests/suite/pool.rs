@@ -37,16 +37,24 @@ fn recycled_maps_serve_the_next_generation_unchanged() {
             GpuScene::new(&ctx, &b.geometry).unwrap(),
         );
         let label = format!("{test}: {} {}", t.name(), t.variant());
+        let a_views = soft_shadow_core::LightViews::plan(&a_light, &a.geometry, None);
+        let b_views = soft_shadow_core::LightViews::plan(&b_light, &b.geometry, None);
         // Fresh resources.
         ctx.clear_pool();
-        let fresh = t.generate_gpu_on(&ctx, &b_scene, &b_light, 64).unwrap();
+        let fresh = t
+            .generate_gpu_on(&ctx, &b_scene, &b_light, &b_views, 64)
+            .unwrap();
         let want = fresh.evaluate(Some(&ctx), &recv).unwrap();
         drop(fresh);
         // Resources full of another scene's maps.
-        let other = t.generate_gpu_on(&ctx, &a_scene, &a_light, 64).unwrap();
+        let other = t
+            .generate_gpu_on(&ctx, &a_scene, &a_light, &a_views, 64)
+            .unwrap();
         other.recycle(Some(&ctx));
         let before = counts(&ctx);
-        let reused = t.generate_gpu_on(&ctx, &b_scene, &b_light, 64).unwrap();
+        let reused = t
+            .generate_gpu_on(&ctx, &b_scene, &b_light, &b_views, 64)
+            .unwrap();
         assert_eq!(
             counts(&ctx),
             before,

@@ -23,7 +23,7 @@ use soft_shadow_core::gpu::resources::texture_2d;
 use soft_shadow_core::gpu::timer::PassSlot;
 use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
-use soft_shadow_core::{Bias, GpuContext, Map2D, MapParams, Result, ShadowError};
+use soft_shadow_core::{Bias, Generation, GpuContext, Map2D, MapParams, Result, ShadowError};
 
 /// One sample as the shaders read it (`Sample` in `sample.wgsl`).
 #[repr(C)]
@@ -229,10 +229,10 @@ pub(crate) fn generate(
     enc: &mut wgpu::CommandEncoder,
     t: &LinearLight,
     scene: &GpuScene,
+    input: &Generation,
     segments: &[Segment],
-    res: u32,
 ) -> Result<GpuLinearMaps> {
-    let geometry = scene.geometry();
+    let res = input.resolution;
     let n = t.samples;
     let layers = n * segments.len() as u32;
     let limit = ctx.device.limits().max_storage_buffer_binding_size;
@@ -250,7 +250,7 @@ pub(crate) fn generate(
     let mut samples = Vec::with_capacity(layers as usize);
     for seg in segments {
         let light = soft_shadow_core::Light::Linear { a: seg.a, b: seg.b };
-        let coverage = soft_shadow_core::Coverage::new(geometry, &light);
+        let coverage = input.coverage_of(&light);
         for v in sample_views(seg.a, seg.b, n, seg.axis, &coverage, seg.weight) {
             let un = Unproject::new(&v.view, res);
             samples.push(SampleGpu {

@@ -21,7 +21,7 @@ use soft_shadow_core::gpu::raster::read_texture;
 use soft_shadow_core::gpu::resources::texture_2d;
 use soft_shadow_core::gpu::timer::PassSlot;
 use soft_shadow_core::gpu::{GpuScene, GpuTriangles};
-use soft_shadow_core::{GpuContext, Light, Result, ShadowError};
+use soft_shadow_core::{Generation, GpuContext, Result, ShadowError};
 
 /// The occlusion textures of one light, kept on the GPU.
 pub struct GpuSliceMaps {
@@ -244,10 +244,9 @@ pub(crate) fn generate(
     enc: &mut wgpu::CommandEncoder,
     t: &OcclusionSlices,
     scene: &GpuScene,
-    light: &Light,
-    res: u32,
+    input: &Generation,
 ) -> Result<GpuSliceMaps> {
-    let geometry = scene.geometry();
+    let (geometry, light, res) = (input.geometry, input.light, input.resolution);
     let limits = ctx.device.limits();
     let levels = level_count(res);
     let groups = t.slices.div_ceil(4);
@@ -264,7 +263,7 @@ pub(crate) fn generate(
             limits.max_texture_array_layers
         )));
     }
-    let frame = Frame::fit(light, geometry, t, res);
+    let frame = Frame::fit(light, geometry, t, res, input.region);
     let uniform = ctx.uniform_buffer("slicing frame", bytemuck::bytes_of(&frame));
     let pre = ctx.cached(PrefilterPipelines::new);
     let occupancy = texture_2d(

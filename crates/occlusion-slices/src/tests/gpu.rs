@@ -19,8 +19,8 @@ fn gpu_nbuffer_levels_equal_the_cpu() {
     for res in [96, 256] {
         let gm = t.generate_gpu(&ctx, &geometry, &spec.light, res).unwrap();
         let (slices, levels) = (
-            gm.read_slices(&ctx).unwrap(),
-            gm.read_nbuffer(&ctx).unwrap(),
+            gm.first().read_slices(&ctx).unwrap(),
+            gm.first().read_nbuffer(&ctx).unwrap(),
         );
         assert_eq!(levels.len(), 8);
         let occupied = slices.iter().filter(|s| s.iter().any(|&o| o)).count();

@@ -30,7 +30,7 @@ use soft_shadow_core::gpu::timer::PassSlot;
 use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
 use soft_shadow_core::{
-    GpuContext, Light, Map2D, MapParams, Result, SampleView, SceneGeometry, ShadowError,
+    Generation, GpuContext, Map2D, MapParams, Result, SampleView, SceneGeometry, ShadowError,
 };
 
 /// The penumbra limit map of one light, kept on the GPU.
@@ -255,10 +255,9 @@ pub(crate) fn generate(
     enc: &mut wgpu::CommandEncoder,
     t: &PenumbraLimit,
     scene: &GpuScene,
-    light: &Light,
-    res: u32,
+    input: &Generation,
 ) -> Result<GpuPenumbraMaps> {
-    let geometry = scene.geometry();
+    let (light, res) = (input.light, input.resolution);
     let texels = res as u64 * res as u64;
     let limit = ctx.device.limits().max_storage_buffer_binding_size;
     if texels * 4 > limit {
@@ -270,7 +269,7 @@ pub(crate) fn generate(
     let raster = ctx.cached(GpuRasterizer::new);
     let di = ctx.cached(DepthImagePipelines::new);
     let comb = ctx.cached(CombinePipelines::new);
-    let view = SampleView::center(light, &soft_shadow_core::Coverage::new(geometry, light));
+    let view = SampleView::center(light, &input.coverage());
     let params = view.params(res);
     let warp = Warp::new(&params, light);
     let tris = scene.casters();

@@ -79,12 +79,15 @@ pub enum Binding {
         /// 2D or 2D array.
         dimension: wgpu::TextureViewDimension,
     },
-    /// A write-only storage texture.
+    /// A storage texture, write-only or read-write.
     StorageTexture {
         /// The texel format.
         format: wgpu::TextureFormat,
         /// 2D or 2D array.
         dimension: wgpu::TextureViewDimension,
+        /// Whether the shader also reads it (`read_write`; WebGPU allows it for `r32float`,
+        /// `r32uint` and `r32sint`).
+        read_write: bool,
     },
 }
 
@@ -131,7 +134,23 @@ pub const fn storage_texture(
     format: wgpu::TextureFormat,
     dimension: wgpu::TextureViewDimension,
 ) -> Binding {
-    Binding::StorageTexture { format, dimension }
+    Binding::StorageTexture {
+        format,
+        dimension,
+        read_write: false,
+    }
+}
+
+/// A read-write storage texture of `format` (`r32float`, `r32uint` or `r32sint`).
+pub const fn read_write_texture(
+    format: wgpu::TextureFormat,
+    dimension: wgpu::TextureViewDimension,
+) -> Binding {
+    Binding::StorageTexture {
+        format,
+        dimension,
+        read_write: true,
+    }
 }
 
 /// One bind group: its bindings in binding order from 0, visible to `stages`.
@@ -179,13 +198,19 @@ impl Group {
                         view_dimension: dimension,
                         multisampled: false,
                     },
-                    Binding::StorageTexture { format, dimension } => {
-                        wgpu::BindingType::StorageTexture {
-                            access: wgpu::StorageTextureAccess::WriteOnly,
-                            format,
-                            view_dimension: dimension,
-                        }
-                    }
+                    Binding::StorageTexture {
+                        format,
+                        dimension,
+                        read_write,
+                    } => wgpu::BindingType::StorageTexture {
+                        access: if read_write {
+                            wgpu::StorageTextureAccess::ReadWrite
+                        } else {
+                            wgpu::StorageTextureAccess::WriteOnly
+                        },
+                        format,
+                        view_dimension: dimension,
+                    },
                 },
                 count: None,
             })
@@ -515,16 +540,21 @@ pub fn check_bindings(module: &naga::Module, groups: &[Group]) -> Result<(), Str
                 class_ok && view_dimension(*dim, *arrayed) == Some(dimension)
             }
             (
-                Binding::StorageTexture { format, dimension },
+                Binding::StorageTexture {
+                    format,
+                    dimension,
+                    read_write,
+                },
                 _,
                 naga::TypeInner::Image {
                     dim,
                     arrayed,
-                    class: naga::ImageClass::Storage { format: f, .. },
+                    class: naga::ImageClass::Storage { format: f, access },
                 },
             ) => {
                 storage_format(*f) == Some(format)
                     && view_dimension(*dim, *arrayed) == Some(dimension)
+                    && access.contains(naga::StorageAccess::LOAD) == read_write
             }
             _ => false,
         };
@@ -565,6 +595,10 @@ pub static SHADERS: Library = Library {
         ShaderModule {
             path: "soft_shadow_core::raster",
             source: include_str!("raster.wgsl"),
+        },
+        ShaderModule {
+            path: "soft_shadow_core::views",
+            source: include_str!("views.wgsl"),
         },
         ShaderModule {
             path: "soft_shadow_core::evaluate_receivers",

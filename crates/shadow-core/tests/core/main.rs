@@ -5,6 +5,7 @@ mod casting;
 mod light_sampling;
 mod rasterizer;
 mod view_fit;
+mod views;
 
 use soft_shadow_core::pool::Pool;
 use std::sync::Arc;

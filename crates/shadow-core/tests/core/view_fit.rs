@@ -26,6 +26,8 @@ fn a_distant_lights_depth_range_starts_at_the_casters() {
             casters,
             scene,
             light: vec![LightPoint::Direction(dir)],
+            region: soft_shadow_core::Region::Whole,
+            texels: 0,
         };
         let view = View::fit_light(LightPoint::Direction(dir), -dir, &coverage);
         let depth = |p: Vec3| -view.view.transform_point3(p).z;
