@@ -64,6 +64,24 @@ pub(crate) fn bilinear_texel(map: &Map2D<Texel>, st: Vec2) -> Texel {
         })
 }
 
+/// The lower limit `b` a receiver outside the silhouette (interpolated `p >= 0`) takes: the mean
+/// of the taps outside it (`p_i >= 0`), weighted as bilinear interpolation weights them. Inside
+/// the silhouette the interpolated `b` stands. An inner tap's `b` (a back face below its edge,
+/// or a covered texel's own geometry) would otherwise reach up to a texel outwards and clamp
+/// lit receivers beyond the hard edge to 0: false umbra a texel wide around every shadow where
+/// the map's texels are wider than the penumbra.
+pub(crate) fn outer_lower(map: &Map2D<Texel>, st: Vec2, interpolated: &Texel) -> f32 {
+    if interpolated.p < 0.0 {
+        return interpolated.b;
+    }
+    let (b, w) = map
+        .bilinear_taps(st)
+        .iter()
+        .filter(|(t, _)| t.p >= 0.0)
+        .fold((0.0f32, 0.0f32), |(b, s), (t, w)| (b + t.b * w, s + w));
+    if w > 0.0 { b / w } else { interpolated.b }
+}
+
 /// The fraction `l_g` of the light's diameter visible from receiver `p` (normal `n`), before
 /// the table; 1 outside the map.
 pub(crate) fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n: Vec3) -> f32 {
@@ -72,7 +90,8 @@ pub(crate) fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n:
     };
     let z = (prm.warp.receiver_depth(co.z) - prm.tolerance).min(DEPTH_SPAN);
     let t = bilinear_texel(map, co.st);
-    clamped_visibility(z, t.c, t.g, t.b, t.p)
+    let b = outer_lower(map, co.st, &t);
+    clamped_visibility(z, t.c, t.g, b, t.p)
 }
 
 /// `V` of one receiver: the visible fraction through the illumination table.

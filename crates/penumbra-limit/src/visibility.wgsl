@@ -35,6 +35,31 @@ fn bilinear(st: vec2<f32>) -> vec4<f32> {
         + texel(x0, y0 + 1) * ((1.0 - f.x) * f.y) + texel(x0 + 1, y0 + 1) * (f.x * f.y);
 }
 
+// The lower limit a receiver outside the silhouette takes: the mean b of the taps outside it;
+// see penumbra_limit::eval::outer_lower.
+fn outer_lower(st: vec2<f32>, t: vec4<f32>) -> f32 {
+    if t.w < 0.0 {
+        return t.z;
+    }
+    let taps = bilinear_taps(st);
+    let f = taps.f;
+    let x0 = taps.base.x;
+    let y0 = taps.base.y;
+    let a = texel(x0, y0);
+    let b = texel(x0 + 1, y0);
+    let c = texel(x0, y0 + 1);
+    let d = texel(x0 + 1, y0 + 1);
+    let wa = select(0.0, (1.0 - f.x) * (1.0 - f.y), a.w >= 0.0);
+    let wb = select(0.0, f.x * (1.0 - f.y), b.w >= 0.0);
+    let wc = select(0.0, (1.0 - f.x) * f.y, c.w >= 0.0);
+    let wd = select(0.0, f.x * f.y, d.w >= 0.0);
+    let w = wa + wb + wc + wd;
+    if w > 0.0 {
+        return (a.z * wa + b.z * wb + c.z * wc + d.z * wd) / w;
+    }
+    return t.z;
+}
+
 fn sat(x: f32) -> f32 {
     return clamp(x, 0.0, 1.0);
 }
@@ -72,7 +97,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     if co.inside {
         let z = min(receiver_depth(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
         let t = bilinear(co.st);
-        l = clamped_visibility(z, t.x, t.y, t.z, t.w);
+        l = clamped_visibility(z, t.x, t.y, outer_lower(co.st, t), t.w);
     }
     return lookup(l);
 }
