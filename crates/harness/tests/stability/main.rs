@@ -29,6 +29,7 @@ mod acne;
 mod catalogue;
 mod convergence;
 mod low_resolution;
+mod near_field;
 mod random_scenes;
 mod resolved_gap;
 mod seams;
