@@ -277,8 +277,9 @@ fn checked_receivers<'a>(receivers: &Receivers<'a>) -> Result<Checked<Receivers<
 ///   cube faces for a local light among its casters, one view otherwise).
 /// - On the GPU, [`record_gpu`](Self::record_gpu) records generation into the caller's encoder
 ///   from geometry already on the GPU ([`GpuScene`]); the maps are ready once that encoder's
-///   work has run. `generate_gpu` and `generate_gpu_on` are blocking wrappers that return after
-///   the GPU has finished, so timing `generate_gpu_on` measures the GPU work without uploads.
+///   work has run (`record_gpu_in` for views the caller planned). `generate_gpu` and
+///   `generate_gpu_on` are blocking wrappers of `record_gpu_in` that return after the GPU has
+///   finished, so timing `generate_gpu_on` measures the GPU work without uploads.
 ///   wgpu validation and out-of-memory errors become [`ShadowError::Gpu`].
 /// - The GPU evaluation is one WGSL function per view, `visibility(world_pos, normal) -> f32`
 ///   ([`VISIBILITY`](Self::VISIBILITY), [`crate::gpu::visibility`]): the blocking

@@ -164,7 +164,7 @@ impl View {
     ///
     /// Perspective from a position: for the whole coverage, a square window around `axis`
     /// fitted to the casters and their penumbrae, clamped to 2 x 80 degrees
-    /// ([`crate::views::LightViews::plan`] gives a light whose casters need more than 2 x 60
+    /// ([`crate::views::LightViews::plan`] gives a light whose casters need more than 2 x 75
     /// degrees cube faces instead); for a cube face, the face's axis and window. The depth range
     /// spans the whole scene. Orthographic for a direction: the window is centred on what it
     /// covers (a cascade: its own window, centred on whole texels), the depth range starts just

@@ -44,7 +44,7 @@ use glam::{Vec3, Vec4};
 /// 65-68 degrees, and one frustum and the cube faces read the same error there (V rms within 0.7
 /// of each other at 256² and 1024² for the hard map, PCSS, shadow-width and penumbra-limit;
 /// occlusion slices 4.4 better in one frustum); `light-plane`'s wall needs 81 degrees, where the
-/// faces are better (the hard map's image error at 16² 9.81 -> 6.53, PCSS 9.51 -> 4.94).
+/// faces are better (the hard map's image error at 16² 9.81 -> 8.53, PCSS 9.51 -> 7.42).
 pub const SINGLE_VIEW_MAX_DEGREES: f32 = 75.0;
 
 /// Largest guard angle of a cube face beyond its 45 degrees (degrees).
@@ -130,9 +130,10 @@ impl SeenDepth {
                 far = far.max(z);
             }
         }
+        let near = near.max(camera.near);
         (far > 0.0).then_some(Self {
             camera,
-            near: near.max(camera.near),
+            near,
             far: far.max(near),
         })
     }
@@ -587,7 +588,8 @@ impl ViewSelect {
         let m = c[0].abs().max(c[1].abs()).max(c[2].abs()).max(1e-30);
         let b = self.blend;
         let s = c.map(|x| ((x.abs() / m - (1.0 - b)) / b).clamp(0.0, 1.0));
-        let sum = s[0] + s[1] + s[2];
+        // At the light's centre no direction: no face (V is 1 there).
+        let sum = (s[0] + s[1] + s[2]).max(1e-30);
         [0, 1, 2].map(|k| {
             let f = 2 * k + usize::from(c[k] < 0.0);
             (s[k] / sum, self.face_view[f])
@@ -657,19 +659,18 @@ impl ViewSelect {
 /// `from` and `to`: its centre on the axis, where the nearest and the farthest corners are
 /// equally far (or at the far end).
 fn slice_sphere(camera: &View, from: f32, to: f32) -> (Vec3, f32) {
-    let (tx, ty) = match camera.kind {
+    // The squared half-diagonals of the slice's near and far rectangles.
+    let (a2, b2) = match camera.kind {
         crate::view::ProjectionKind::Perspective { fov } => {
             let ty = (0.5 * fov).tan();
-            (ty * camera.aspect, ty)
+            let k2 = ty * ty * (1.0 + camera.aspect * camera.aspect);
+            (from * from * k2, to * to * k2)
         }
         crate::view::ProjectionKind::Orthographic { half_extent } => {
-            // A constant half-width: express it per unit depth at the far end.
-            let t = half_extent / to.max(1e-6);
-            (t * camera.aspect, t)
+            let h2 = half_extent * half_extent * (1.0 + camera.aspect * camera.aspect);
+            (h2, h2)
         }
     };
-    let k2 = tx * tx + ty * ty;
-    let (a2, b2) = (from * from * k2, to * to * k2);
     let z = if to > from {
         ((to * to + b2 - from * from - a2) / (2.0 * (to - from))).clamp(from, to)
     } else {
@@ -833,11 +834,8 @@ pub(crate) fn combine(
     if views.select == Select::One {
         return eval(0, *r);
     }
-    let mut out: Vec<f32> = r
-        .positions
-        .iter()
-        .map(|p| 1.0 - views.total_weight(*p))
-        .collect();
+    let first = views.gpu_select(0);
+    let mut out: Vec<f32> = r.positions.iter().map(|p| 1.0 - first.total(*p)).collect();
     for i in 0..views.len() {
         let select = views.gpu_select(i as u32);
         let held: Vec<(usize, f32)> = r

@@ -1,7 +1,7 @@
 //! The proof of drop-in use, live: a small wgpu renderer with its own device, G-buffer and
 //! shading passes that shows any technique crate through the public drop-in API
 //! ([`GpuContext::from_device`](soft_shadow_core::GpuContext::from_device),
-//! [`GpuScene`](soft_shadow_core::gpu::GpuScene), `record_gpu`, `record_visibility`,
+//! [`GpuScene`](soft_shadow_core::gpu::GpuScene), `record_gpu_in`, `record_visibility`,
 //! `recycle_gpu`), in a window with a panel (winit 0.30, egui 0.37); `--frames` and
 //! `--screenshot` render a given number of frames and write the last for scripts.
 //!

@@ -637,15 +637,12 @@ impl Renderer {
         shadow: &Shadow,
         k: usize,
     ) -> Result<()> {
-        let (geometry, seen) = (self.scene.geometry(), self.seen());
-        // The light's views for this camera (the README's snippet).
-        let views = LightViews::plan(light, geometry, seen.as_ref());
         shadow.technique.record(
             &self.gpu,
             enc,
             &self.scene,
             light,
-            &views,
+            self.seen().as_ref(),
             shadow.resolution,
             &self.visibility_targets(k),
         )
@@ -670,12 +667,6 @@ impl Renderer {
             near: camera.near,
             far,
         })
-    }
-
-    /// The views of `light` the next frame uses: cube faces around a light among its casters,
-    /// cascades over what the camera can see for a distant light.
-    pub fn light_views(&self, light: &Light) -> LightViews {
-        LightViews::plan(light, self.scene.geometry(), self.seen().as_ref())
     }
 
     /// The shading and display pass over the whole frame.
@@ -755,8 +746,9 @@ impl Renderer {
 /// A technique as the renderer records it: any [`ShadowTechnique`], behind one object-safe
 /// call, so that a renderer can switch techniques at run time.
 pub trait FrameTechnique: TechniqueInfo {
-    /// Records generation of `views` of `light` at `resolution` into `enc`, and `V` for every
-    /// texel of the G-buffer into `targets.visibility`.
+    /// Records generation for the views of `light` (planned for what the camera sees, `seen`)
+    /// at `resolution` into `enc`, and `V` for every texel of the G-buffer into
+    /// `targets.visibility`.
     #[allow(clippy::too_many_arguments)]
     fn record(
         &self,
@@ -764,7 +756,7 @@ pub trait FrameTechnique: TechniqueInfo {
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
         light: &Light,
-        views: &LightViews,
+        seen: Option<&SeenDepth>,
         resolution: u32,
         targets: &VisibilityTargets,
     ) -> Result<()>;
@@ -789,7 +781,7 @@ impl<T: ShadowTechnique> FrameTechnique for T {
         enc: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
         light: &Light,
-        views: &LightViews,
+        seen: Option<&SeenDepth>,
         resolution: u32,
         targets: &VisibilityTargets,
     ) -> Result<()> {
@@ -797,8 +789,10 @@ impl<T: ShadowTechnique> FrameTechnique for T {
         let (positions, normals) = (view(targets.positions), view(targets.normals));
         let (width, height) = (targets.visibility.width(), targets.visibility.height());
         let visibility = view(targets.visibility);
-        // The technique, recorded into the renderer's encoder (the README's snippet).
-        let maps = technique.record_gpu_in(gpu, enc, scene, light, views, resolution)?;
+        // The light's views for this camera, then the technique, recorded into the renderer's
+        // encoder (the README's snippet).
+        let views = LightViews::plan(light, scene.geometry(), seen);
+        let maps = technique.record_gpu_in(gpu, enc, scene, light, &views, resolution)?;
         let maps_bind = technique.maps_bind_group(gpu, &maps)?;
         technique.record_visibility(
             gpu,

@@ -38,7 +38,8 @@ fn face_share(s: ViewSelect, p: vec3<f32>, k: u32) -> f32 {
     let m = max(max(max(abs(c.x), abs(c.y)), abs(c.z)), 1e-30);
     let b = s.blend;
     let sh = clamp((abs(c) / m - vec3<f32>(1.0 - b)) / b, vec3<f32>(0.0), vec3<f32>(1.0));
-    return sh[k] / (sh.x + sh.y + sh.z);
+    // At the light's centre no direction: no face (V is 1 there).
+    return sh[k] / max(sh.x + sh.y + sh.z, 1e-30);
 }
 
 // The view of the cube face on axis k's side of p's direction, -1 where none.
