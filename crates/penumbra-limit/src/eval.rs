@@ -52,34 +52,29 @@ impl EvalParams {
     }
 }
 
-/// The four channels bilinearly interpolated at texel coordinate `st`.
-pub(crate) fn bilinear_texel(map: &Map2D<Texel>, st: Vec2) -> Texel {
-    map.bilinear_taps(st)
-        .iter()
-        .fold(Texel::default(), |acc, (t, w)| Texel {
-            c: acc.c + t.c * w,
-            g: acc.g + t.g * w,
-            b: acc.b + t.b * w,
-            p: acc.p + t.p * w,
-        })
-}
-
-/// The lower limit `b` a receiver outside the silhouette (interpolated `p >= 0`) takes: the mean
-/// of the taps outside it (`p_i >= 0`), weighted as bilinear interpolation weights them. Inside
-/// the silhouette the interpolated `b` stands. An inner tap's `b` (a back face below its edge,
-/// or a covered texel's own geometry) would otherwise reach up to a texel outwards and clamp
-/// lit receivers beyond the hard edge to 0: false umbra a texel wide around every shadow where
-/// the map's texels are wider than the penumbra.
-pub(crate) fn outer_lower(map: &Map2D<Texel>, st: Vec2, interpolated: &Texel) -> f32 {
-    if interpolated.p < 0.0 {
-        return interpolated.b;
+/// The four channels bilinearly interpolated at texel coordinate `st`, and the lower limit `b`
+/// the receiver takes: outside the silhouette (interpolated `p >= 0`), the mean of the taps
+/// outside it (`p_i >= 0`), weighted as bilinear interpolation weights them; inside it the
+/// interpolated `b`. An inner tap's `b` (a back face below its edge, or a covered texel's own
+/// geometry) would otherwise reach up to a texel outwards and clamp lit receivers beyond the
+/// hard edge to 0: false umbra a texel wide around every shadow where the map's texels are wider
+/// than the penumbra. The four taps are read once.
+pub(crate) fn bilinear_texel(map: &Map2D<Texel>, st: Vec2) -> (Texel, f32) {
+    let taps = map.bilinear_taps(st);
+    let t = taps.iter().fold(Texel::default(), |acc, (t, w)| Texel {
+        c: acc.c + t.c * w,
+        g: acc.g + t.g * w,
+        b: acc.b + t.b * w,
+        p: acc.p + t.p * w,
+    });
+    if t.p < 0.0 {
+        return (t, t.b);
     }
-    let (b, w) = map
-        .bilinear_taps(st)
+    let (b, w) = taps
         .iter()
         .filter(|(t, _)| t.p >= 0.0)
         .fold((0.0f32, 0.0f32), |(b, s), (t, w)| (b + t.b * w, s + w));
-    if w > 0.0 { b / w } else { interpolated.b }
+    (t, if w > 0.0 { b / w } else { t.b })
 }
 
 /// The fraction `l_g` of the light's diameter visible from receiver `p` (normal `n`), before
@@ -89,8 +84,7 @@ pub(crate) fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n:
         return 1.0;
     };
     let z = (prm.warp.receiver_depth(co.z) - prm.tolerance).min(DEPTH_SPAN);
-    let t = bilinear_texel(map, co.st);
-    let b = outer_lower(map, co.st, &t);
+    let (t, b) = bilinear_texel(map, co.st);
     clamped_visibility(z, t.c, t.g, b, t.p)
 }
 

@@ -26,21 +26,16 @@ fn texel(x: i32, y: i32) -> vec4<f32> {
     return vec4<f32>(raw.xyz, (raw.w - 0.5) * 4.0);
 }
 
-fn bilinear(st: vec2<f32>) -> vec4<f32> {
-    let t = bilinear_taps(st);
-    let f = t.f;
-    let x0 = t.base.x;
-    let y0 = t.base.y;
-    return texel(x0, y0) * ((1.0 - f.x) * (1.0 - f.y)) + texel(x0 + 1, y0) * (f.x * (1.0 - f.y))
-        + texel(x0, y0 + 1) * ((1.0 - f.x) * f.y) + texel(x0 + 1, y0 + 1) * (f.x * f.y);
-}
+struct Interpolated {
+    // c, g, b, p_i bilinearly interpolated.
+    t: vec4<f32>,
+    // The lower limit the receiver takes; see penumbra_limit::eval::bilinear_texel.
+    lower: f32,
+};
 
-// The lower limit a receiver outside the silhouette takes: the mean b of the taps outside it;
-// see penumbra_limit::eval::outer_lower.
-fn outer_lower(st: vec2<f32>, t: vec4<f32>) -> f32 {
-    if t.w < 0.0 {
-        return t.z;
-    }
+// The four channels bilinearly interpolated, and the lower limit a receiver outside the
+// silhouette takes (the mean b of the taps outside it); the taps are read once.
+fn bilinear(st: vec2<f32>) -> Interpolated {
     let taps = bilinear_taps(st);
     let f = taps.f;
     let x0 = taps.base.x;
@@ -49,15 +44,22 @@ fn outer_lower(st: vec2<f32>, t: vec4<f32>) -> f32 {
     let b = texel(x0 + 1, y0);
     let c = texel(x0, y0 + 1);
     let d = texel(x0 + 1, y0 + 1);
-    let wa = select(0.0, (1.0 - f.x) * (1.0 - f.y), a.w >= 0.0);
-    let wb = select(0.0, f.x * (1.0 - f.y), b.w >= 0.0);
-    let wc = select(0.0, (1.0 - f.x) * f.y, c.w >= 0.0);
-    let wd = select(0.0, f.x * f.y, d.w >= 0.0);
-    let w = wa + wb + wc + wd;
-    if w > 0.0 {
-        return (a.z * wa + b.z * wb + c.z * wc + d.z * wd) / w;
+    let w = vec4<f32>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+    let t = a * w.x + b * w.y + c * w.z + d * w.w;
+    var out = Interpolated(t, t.z);
+    if t.w >= 0.0 {
+        let o = w * vec4<f32>(
+            select(0.0, 1.0, a.w >= 0.0),
+            select(0.0, 1.0, b.w >= 0.0),
+            select(0.0, 1.0, c.w >= 0.0),
+            select(0.0, 1.0, d.w >= 0.0),
+        );
+        let s = o.x + o.y + o.z + o.w;
+        if s > 0.0 {
+            out.lower = (a.z * o.x + b.z * o.y + c.z * o.z + d.z * o.w) / s;
+        }
     }
-    return t.z;
+    return out;
 }
 
 fn sat(x: f32) -> f32 {
@@ -97,7 +99,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     if co.inside {
         let z = min(receiver_depth(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
         let t = bilinear(co.st);
-        l = clamped_visibility(z, t.x, t.y, outer_lower(co.st, t), t.w);
+        l = clamped_visibility(z, t.t.x, t.t.y, t.lower, t.t.w);
     }
     return lookup(l);
 }

@@ -314,7 +314,7 @@ impl View {
     /// `axis` needs to hold `coverage`'s casters and their penumbrae (with the filters'
     /// margin), before [`View::fit_light`] clamps it to 80 degrees; infinite when a caster
     /// lies beside or behind the eye.
-    pub fn window_tan(eye: Vec3, axis: Vec3, coverage: &Coverage) -> f32 {
+    pub(crate) fn window_tan(eye: Vec3, axis: Vec3, coverage: &Coverage) -> f32 {
         perspective_tan(&look_to(eye, axis.normalize()), eye, coverage)
     }
 
