@@ -2,6 +2,7 @@
 //! accuracy-vs-time report (`cargo run --release --bin harness -- report`).
 
 pub mod animated;
+pub mod as_seen;
 pub mod error;
 pub mod figure;
 pub mod ground_truth;

@@ -30,7 +30,7 @@ enum Command {
     /// Measure every technique on every scene and write report.json, report.md and pictures.
     Report {
         /// Small G-buffer (128²), one map resolution (256), 16-sample accumulation only, two
-        /// timing repetitions: about a minute on 2 cores.
+        /// timing repetitions: under two minutes on 2 cores.
         #[arg(long)]
         quick: bool,
         /// Print the built-in scenes, the techniques and their variants, then exit.

@@ -130,16 +130,26 @@ pub struct PreparedScene {
 impl PreparedScene {
     /// Builds the ECS scene, renders the G-buffer (`size²` on the CPU rasterizer) and traces the reference.
     pub fn new(spec: SceneSpec, size: u32, settings: GroundTruthSettings) -> Result<Self> {
+        Self::sized(spec, size, size, settings)
+    }
+
+    /// [`PreparedScene::new`] with a `width` x `height` G-buffer (a viewing resolution, say).
+    pub fn sized(
+        spec: SceneSpec,
+        width: u32,
+        height: u32,
+        settings: GroundTruthSettings,
+    ) -> Result<Self> {
         let mut scene = spec.to_scene()?;
         let geometry = scene.geometry();
         geometry.validate()?;
         let camera = scene
             .camera()
             .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
-        let view = camera.view(size, size);
+        let view = camera.view(width, height);
         // One-off maps: nothing to keep for a later call.
         let pool = Arc::new(Pool::new(0));
-        let gb = gbuffer(&pool, &view, camera.eye, size, size, &geometry.receivers);
+        let gb = gbuffer(&pool, &view, camera.eye, width, height, &geometry.receivers);
         let covered: Vec<usize> = gb
             .data()
             .iter()
@@ -155,7 +165,7 @@ impl PreparedScene {
         }
         // Which covered pixels lie on a caster (an object) rather than on receiving-only geometry.
         let caster_set: HashSet<[u32; 9]> = geometry.casters.iter().map(bits).collect();
-        let nearest = rasterize_nearest(&pool, &view, size, size, &geometry.receivers);
+        let nearest = rasterize_nearest(&pool, &view, width, height, &geometry.receivers);
         let all_object: Vec<bool> = covered
             .iter()
             .map(|&i| {

@@ -21,6 +21,37 @@ pub struct Report {
     /// not model, a resolution above the backend's limit, a memory need over the budget).
     #[serde(default)]
     pub skipped: Vec<String>,
+    /// Every technique over the frames a person looks at ([`super::seen`]).
+    #[serde(default)]
+    pub as_seen: Vec<SeenRun>,
+}
+
+/// One technique over one scene's viewing frame ([`crate::as_seen`]): the artefacts a person
+/// sees there.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct SeenRun {
+    /// Scene name.
+    pub scene: String,
+    /// Technique name.
+    pub technique: String,
+    /// Variant label.
+    pub variant: String,
+    /// `"cpu"` or `"gpu"`.
+    pub backend: String,
+    /// Map side.
+    pub resolution: u32,
+    /// Receivers in the frame.
+    pub receivers: usize,
+    /// Receivers the reference sees at least half lit drawn at less than half of it.
+    pub darkened: usize,
+    /// False umbra per million receivers ([`crate::as_seen::Artefacts::false_umbra`]).
+    pub false_umbra_per_million: f64,
+    /// Leaks per million receivers ([`crate::as_seen::Artefacts::leaks`]).
+    pub leaks_per_million: f64,
+    /// Leaks on the casters' own surfaces per million receivers.
+    pub object_leaks_per_million: f64,
+    /// Wall time of the frame's reference, milliseconds.
+    pub reference_ms: f64,
 }
 
 /// The columns of one scene's PNG strip (rows: `V`; the shaded image `E0 V / E0_max`; its

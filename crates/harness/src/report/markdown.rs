@@ -28,6 +28,7 @@ pub fn render(report: &Report, papers_written: bool) -> String {
         );
     }
     summary(&mut s, report);
+    as_seen(&mut s, report);
     s.push_str(&crate::profile::markdown(
         crate::profile::validate(report).as_ref(),
     ));
@@ -247,4 +248,49 @@ fn scaling(s: &mut String, report: &Report) {
         };
         let _ = writeln!(s, "| {k} | {e:.2} | {n} | {why} |");
     }
+}
+
+/// The "as seen" section: per scene, every technique's artefacts over the viewing frame.
+fn as_seen(s: &mut String, report: &Report) {
+    use crate::as_seen::{ARTEFACT_STEP, HEIGHT, ISOLATION, WIDTH};
+    if report.as_seen.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "\n## As seen\n\nThe frame a person looks at ({WIDTH} x {HEIGHT}, maps at {}², the \
+         reference at 128 rays per receiver not proven lit): **darkened** counts receivers the \
+         reference sees at least half lit drawn at less than half of it (blotches, streaks, \
+         rings); **false umbra** receivers darker by more than {ARTEFACT_STEP} of the light \
+         where the reference is lit within {ISOLATION} pixels; **leaks** lighter by as much \
+         where it is umbra within {ISOLATION} pixels (on objects: light specks on a caster's \
+         shadowed side), per million receivers. The small G-buffers' rms above does not rank \
+         these.",
+        super::seen::RESOLUTION
+    );
+    let mut scenes: Vec<&str> = report.as_seen.iter().map(|r| r.scene.as_str()).collect();
+    scenes.dedup();
+    for scene in scenes {
+        let runs: Vec<_> = report.as_seen.iter().filter(|r| r.scene == scene).collect();
+        let _ = writeln!(
+            s,
+            "\n### {scene} as seen\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|",
+            runs[0].receivers,
+            runs[0].reference_ms / 1e3
+        );
+        for r in runs {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {:.0} | {:.0} | {:.0} |",
+                r.technique,
+                r.variant,
+                r.backend,
+                r.darkened,
+                r.false_umbra_per_million,
+                r.leaks_per_million,
+                r.object_leaks_per_million
+            );
+        }
+    }
+    s.push('\n');
 }

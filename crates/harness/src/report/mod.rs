@@ -10,6 +10,7 @@ pub mod measure;
 pub mod options;
 pub mod pareto;
 pub mod progress;
+pub mod seen;
 pub mod stability;
 pub mod summary;
 
@@ -43,6 +44,11 @@ pub fn listing(quick: bool) -> String {
     use std::fmt::Write as _;
     let mut s = String::from("scenes (--scenes):\n");
     for name in catalogue::SCENE_NAMES {
+        let what = catalogue::build(name).map_or_else(|e| e.to_string(), |spec| spec.description);
+        let _ = writeln!(s, "  {name:18} {what}");
+    }
+    s.push_str("scenes measured as seen only (the full report's frames; --scenes runs them):\n");
+    for name in catalogue::AS_SEEN_NAMES {
         let what = catalogue::build(name).map_or_else(|e| e.to_string(), |spec| spec.description);
         let _ = writeln!(s, "  {name:18} {what}");
     }
@@ -616,11 +622,27 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         runs: Vec::new(),
         strips: Vec::new(),
         skipped: Vec::new(),
+        as_seen: Vec::new(),
     };
     for job in jobs {
         runner.scene(job, &mut report)?;
     }
     runner.bar.finish();
+    {
+        // Every backend of the runs: the CPU where it ran, the GPU where there is one.
+        let contexts: Vec<(Backend, Context<'_>)> = runner
+            .backends
+            .iter()
+            .filter_map(|&b| match b {
+                Backend::Cpu => Some((b, Context::Cpu(&runner.cpu))),
+                Backend::Gpu => runner.gpu.as_ref().map(|g| (b, Context::Gpu(g))),
+            })
+            .collect();
+        let (bar, skipped) = (&runner.bar, &mut runner.skipped);
+        report.as_seen = seen::measure(opts, &runner.techniques, &contexts, |label, e| {
+            skip(bar, skipped, label, e)
+        })?;
+    }
     report.skipped = runner.skipped.clone();
     // Measured after the runs, at the largest resolution one of them reached (a resolution
     // every configuration refused is never allocated).

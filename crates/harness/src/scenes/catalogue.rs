@@ -37,6 +37,10 @@ pub const SCENE_NAMES: [&str; 19] = [
     "street-sun",
 ];
 
+/// Scenes built by name that the report measures only as seen ([`crate::as_seen`]): meshes
+/// users bring (flat facets, interpenetrating parts), which no paper's experiment holds.
+pub const AS_SEEN_NAMES: [&str; 3] = ["low-poly-animal", "low-poly-rocks", "low-poly-sphere-light"];
+
 /// Names of the catalogue's grounds: receivers only, since nothing lies below them to shadow
 /// (light-space maps cover what casts, not what only receives).
 pub const GROUNDS: [&str; 2] = ["ground", "graded-strip"];
@@ -556,10 +560,61 @@ pub fn build(name: &str) -> Result<SceneSpec> {
             camera_fov(Vec3::new(2.7, 2.4, 2.7), Vec3::new(-0.5, 0.4, -0.5), 70.0),
         )?,
         "street-sun" => street_sun()?,
+        "low-poly-animal" => spec(
+            name,
+            "a low-poly animal (faceted parts that interpenetrate) under a tilted disk light",
+            false,
+            vec![g(), low_poly_animal("animal", 0.0, 0.0)],
+            Light::Disk {
+                center: Vec3::new(0.8, 3.2, 0.6),
+                normal: (Vec3::ZERO - Vec3::new(0.8, 3.2, 0.6)).normalize(),
+                radius: 0.35,
+            },
+            camera(Vec3::new(-0.6, 2.6, 3.2), Vec3::new(0.0, 0.5, 0.0)),
+        ),
+        "low-poly-rocks" => spec(
+            name,
+            "faceted rocks (80 triangles each) on the ground under a rect light",
+            false,
+            vec![
+                g(),
+                merged(
+                    "rocks",
+                    vec![
+                        faceted_rock("rock", Vec3::new(-0.6, 0.3, 0.0), 0.45, 7),
+                        faceted_rock("rock", Vec3::new(0.5, 0.25, 0.4), 0.35, 11),
+                        faceted_rock("rock", Vec3::new(0.3, 0.6, -0.5), 0.3, 23),
+                    ],
+                ),
+            ],
+            rect_down(Vec3::new(0.5, 2.8, 0.3), 0.3),
+            camera(Vec3::new(0.0, 3.0, 3.2), Vec3::new(0.0, 0.3, 0.0)),
+        ),
+        "low-poly-sphere-light" => spec(
+            name,
+            "the low-poly animal beside a faceted rock under a sphere light",
+            false,
+            vec![
+                g(),
+                merged(
+                    "animal-and-rock",
+                    vec![
+                        low_poly_animal("animal", -0.3, 0.2),
+                        faceted_rock("rock", Vec3::new(0.9, 0.35, -0.6), 0.4, 5),
+                    ],
+                ),
+            ],
+            Light::Sphere {
+                center: Vec3::new(-0.8, 2.6, -0.9),
+                radius: 0.3,
+            },
+            camera(Vec3::new(0.4, 2.8, 3.4), Vec3::new(0.0, 0.4, 0.0)),
+        ),
         other => {
             return Err(ShadowError::InvalidScene(format!(
-                "unknown scene {other:?}; built-in scenes: {}",
-                SCENE_NAMES.join(", ")
+                "unknown scene {other:?}; built-in scenes: {}, {}",
+                SCENE_NAMES.join(", "),
+                AS_SEEN_NAMES.join(", ")
             )));
         }
     })

@@ -192,3 +192,152 @@ pub fn random_quads(count: u32, lo: Vec3, hi: Vec3, size: f32, seed: u64) -> Tri
     }
     mesh("foliage", p, ix)
 }
+
+/// An ellipsoid with semi-axes `radii` around `center`: `segments` around Y, `rings` from pole
+/// to pole (a low-poly sphere at small counts: flat facets, hard silhouette corners); front
+/// faces outwards.
+pub fn ellipsoid(name: &str, center: Vec3, radii: Vec3, segments: u32, rings: u32) -> TriangleMesh {
+    let (segments, rings) = (segments.max(3), rings.max(2));
+    let mut p = vec![center + Vec3::Y * radii.y];
+    for r in 1..rings {
+        let theta = r as f32 / rings as f32 * std::f32::consts::PI;
+        for s in 0..segments {
+            let phi = s as f32 / segments as f32 * std::f32::consts::TAU;
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            p.push(center + d * radii);
+        }
+    }
+    let bottom = p.len() as u32;
+    p.push(center - Vec3::Y * radii.y);
+    let at = |r: u32, s: u32| 1 + (r - 1) * segments + s % segments;
+    let mut ix = Vec::new();
+    for s in 0..segments {
+        ix.push([0, at(1, s + 1), at(1, s)]);
+        ix.push([bottom, at(rings - 1, s), at(rings - 1, s + 1)]);
+        for r in 1..rings - 1 {
+            ix.push([at(r, s), at(r, s + 1), at(r + 1, s + 1)]);
+            ix.push([at(r, s), at(r + 1, s + 1), at(r + 1, s)]);
+        }
+    }
+    mesh(name, p, ix)
+}
+
+/// Several meshes as one (indices shifted), named `name`: parts that interpenetrate, as the
+/// parts of a modelled figure do.
+pub fn merged(name: &str, parts: Vec<TriangleMesh>) -> TriangleMesh {
+    let (mut p, mut ix) = (Vec::new(), Vec::new());
+    for part in parts {
+        let base = p.len() as u32;
+        p.extend(part.positions);
+        ix.extend(part.indices.iter().map(|t| t.map(|i| i + base)));
+    }
+    mesh(name, p, ix)
+}
+
+/// A low-poly animal (a few hundred triangles) standing on y = 0 around `(x, z)` and facing +X:
+/// a faceted body, four tapered legs, a neck and a head, its parts interpenetrating: the flat
+/// facets and sharp silhouette corners of the models users bring, which the catalogue's smooth
+/// meshes do not have.
+pub fn low_poly_animal(name: &str, x: f32, z: f32) -> TriangleMesh {
+    let at = |p: Vec3| Vec3::new(x, 0.0, z) + p;
+    let mut parts = vec![
+        ellipsoid(
+            "body",
+            at(Vec3::new(0.0, 0.8, 0.0)),
+            Vec3::new(0.65, 0.3, 0.28),
+            8,
+            5,
+        ),
+        ellipsoid(
+            "neck",
+            at(Vec3::new(0.62, 1.05, 0.0)),
+            Vec3::new(0.14, 0.3, 0.12),
+            5,
+            3,
+        ),
+        ellipsoid(
+            "head",
+            at(Vec3::new(0.85, 1.3, 0.0)),
+            Vec3::new(0.25, 0.13, 0.12),
+            6,
+            3,
+        ),
+    ];
+    for (lx, lz) in [(0.45, 0.16), (0.45, -0.16), (-0.45, 0.16), (-0.45, -0.16)] {
+        parts.push(ellipsoid(
+            "leg",
+            at(Vec3::new(lx, 0.42, lz)),
+            Vec3::new(0.07, 0.42, 0.07),
+            5,
+            2,
+        ));
+    }
+    merged(name, parts)
+}
+
+/// A faceted rock: an icosahedron's faces split once (80 triangles), each vertex pushed in or out
+/// by up to 30% (`seed`), of radius about `radius` around `center`.
+pub fn faceted_rock(name: &str, center: Vec3, radius: f32, seed: u64) -> TriangleMesh {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut p: Vec<Vec3> = [
+        (-1., t, 0.),
+        (1., t, 0.),
+        (-1., -t, 0.),
+        (1., -t, 0.),
+        (0., -1., t),
+        (0., 1., t),
+        (0., -1., -t),
+        (0., 1., -t),
+        (t, 0., -1.),
+        (t, 0., 1.),
+        (-t, 0., -1.),
+        (-t, 0., 1.),
+    ]
+    .iter()
+    .map(|&(a, b, c)| Vec3::new(a, b, c).normalize())
+    .collect();
+    let faces: [[u32; 3]; 20] = [
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    let mut mids = std::collections::HashMap::new();
+    let mut mid = |a: u32, b: u32, p: &mut Vec<Vec3>| {
+        *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            p.push(((p[a as usize] + p[b as usize]) * 0.5).normalize());
+            p.len() as u32 - 1
+        })
+    };
+    let mut ix = Vec::new();
+    for [a, b, c] in faces {
+        let (ab, bc, ca) = (mid(a, b, &mut p), mid(b, c, &mut p), mid(c, a, &mut p));
+        ix.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+    }
+    let mut rng = SplitMix(seed);
+    let p = p
+        .into_iter()
+        .map(|d| center + d * radius * (0.7 + 0.6 * rng.next_f32()))
+        .collect();
+    mesh(name, p, ix)
+}

@@ -1,0 +1,119 @@
+//! What a person sees: a scene's frame at a viewing resolution, and the artefacts a person sees in
+//! it that an rms over a small G-buffer does not rank: false umbra (dark blotches and streaks
+//! where the reference is lit) and leaks (light specks where it is in umbra).
+//!
+//! The frame is a [`PreparedScene`] with a `WIDTH` x `HEIGHT` G-buffer and a cheaper reference
+//! ([`SETTINGS`]): an artefact here is a difference of more than 1/4 of the light, which a
+//! reference within a few 1/255 of the truth decides.
+
+use crate::ground_truth::GroundTruthSettings;
+use crate::metrics::{PENUMBRA_HI, PENUMBRA_LO};
+use crate::scenes::SceneSpec;
+use crate::setup::PreparedScene;
+use soft_shadow_core::Result;
+
+/// Width of the viewing frame, pixels.
+pub const WIDTH: u32 = 1280;
+/// Height of the viewing frame, pixels.
+pub const HEIGHT: u32 = 720;
+
+/// The reference's sampling in a viewing frame: 8 x 8 strata, 2 replicates (128 shadow rays per
+/// receiver not proven lit). Its standard error over a penumbra is a few 1/255 where the full
+/// report's is below 1/255; an artefact counted here differs from it by 64/255.
+pub const SETTINGS: GroundTruthSettings = GroundTruthSettings {
+    strata_side: 8,
+    replicates: 2,
+    ray_offset: 2e-5,
+};
+
+/// How much darker (or lighter) than the reference a receiver must be to count as an artefact:
+/// 1/4 of the light.
+pub const ARTEFACT_STEP: f32 = 0.25;
+
+/// Pixels around a receiver (a square of side `2 ISOLATION + 1`) in which the reference must have
+/// no penumbra for a difference there to count as false umbra or a leak: a shadow edge drawn a
+/// pixel or two off is an error the rms ranks, not an artefact.
+pub const ISOLATION: i64 = 2;
+
+/// Receivers the light lights at less than this fraction of the frame's brightest (grazing, or
+/// far from a lamp) show no difference in `V` a person sees, and count in no artefact.
+pub const LIT_WEIGHT: f32 = 0.1;
+
+/// `spec`'s frame at the viewing resolution with its reference.
+pub fn frame(spec: SceneSpec) -> Result<PreparedScene> {
+    PreparedScene::sized(spec, WIDTH, HEIGHT, SETTINGS)
+}
+
+/// What a technique's `V` draws in a frame that the reference does not.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Artefacts {
+    /// Receivers the reference sees at least half lit that are drawn at less than half of the
+    /// reference's `V`: dark blotches, streaks and rings, wherever they are.
+    pub darkened: usize,
+    /// Receivers darker than the reference by more than [`ARTEFACT_STEP`] where the reference is
+    /// lit all around them (no penumbra within [`ISOLATION`] pixels): false umbra.
+    pub false_umbra: usize,
+    /// Receivers lighter than the reference by more than [`ARTEFACT_STEP`] where the reference is
+    /// umbra all around them: leaks.
+    pub leaks: usize,
+    /// The leaks on the casters' own surfaces (object pixels): light specks on a shadowed side,
+    /// the receiver bias's failures.
+    pub object_leaks: usize,
+    /// Receivers in the frame (every one the light reaches, lit enough to count or not).
+    pub receivers: usize,
+}
+
+impl Artefacts {
+    /// `count` per million receivers of the frame.
+    pub fn per_million(&self, count: usize) -> f64 {
+        count as f64 * 1e6 / self.receivers.max(1) as f64
+    }
+}
+
+/// The artefacts of `v` (one value per receiver of `scene`) against the scene's reference.
+pub fn artefacts(scene: &PreparedScene, v: &[f32]) -> Artefacts {
+    let reference = scene.reference_v();
+    let (w, h) = (scene.gbuffer.width() as i64, scene.gbuffer.height() as i64);
+    // The reference over the frame, NaN where no receiver is.
+    let mut image = vec![f32::NAN; (w * h) as usize];
+    for (&i, &r) in scene.pixels.iter().zip(&reference) {
+        image[i] = r;
+    }
+    // Whether every reference value around pixel `i` satisfies `keep`.
+    let around = |i: usize, keep: &dyn Fn(f32) -> bool| {
+        let (x, y) = (i as i64 % w, i as i64 / w);
+        (y - ISOLATION..=y + ISOLATION).all(|yy| {
+            (x - ISOLATION..=x + ISOLATION).all(|xx| {
+                let r = if (0..w).contains(&xx) && (0..h).contains(&yy) {
+                    image[(yy * w + xx) as usize]
+                } else {
+                    f32::NAN
+                };
+                r.is_nan() || keep(r)
+            })
+        })
+    };
+    let mut a = Artefacts {
+        receivers: v.len(),
+        ..Default::default()
+    };
+    for (k, (&r, &got)) in reference.iter().zip(v).enumerate() {
+        if scene.shading.weight[k] < LIT_WEIGHT {
+            continue;
+        }
+        let i = scene.pixels[k];
+        if r >= 0.5 && got < 0.5 * r {
+            a.darkened += 1;
+        }
+        if got < r - ARTEFACT_STEP && around(i, &|r| r >= PENUMBRA_HI) {
+            a.false_umbra += 1;
+        }
+        if got > r + ARTEFACT_STEP && around(i, &|r| r <= PENUMBRA_LO) {
+            a.leaks += 1;
+            if scene.shading.object[k] {
+                a.object_leaks += 1;
+            }
+        }
+    }
+    a
+}
