@@ -18,8 +18,9 @@ pub const WIDTH: u32 = 1280;
 pub const HEIGHT: u32 = 720;
 
 /// The reference's sampling in a viewing frame: 8 x 8 strata, 2 replicates (128 shadow rays per
-/// receiver not proven lit). Its standard error over a penumbra is a few 1/255 where the full
-/// report's is below 1/255; an artefact counted here differs from it by 64/255.
+/// receiver not proven lit). Its standard error over a penumbra is 1.7-1.9/255 rms on the mesh
+/// scenes (the full report's is below 1/255; the worst receiver's, where the horizon leaves few
+/// rays, 9-128/255); an artefact counted here differs from it by 64/255.
 pub const SETTINGS: GroundTruthSettings = GroundTruthSettings {
     strata_side: 8,
     replicates: 2,
@@ -116,4 +117,33 @@ pub fn artefacts(scene: &PreparedScene, v: &[f32]) -> Artefacts {
         }
     }
     a
+}
+
+/// `v` drawn over the frame at half its size (each tile pixel the top-left receiver of a 2 x 2
+/// block): the shaded image `V E0 / E0_max` in grey, red where it is darker than the reference by
+/// more than [`ARTEFACT_STEP`], blue where lighter; black where no receiver is. With `v` the
+/// reference itself, the reference's shaded image.
+pub fn picture(scene: &PreparedScene, v: &[f32]) -> image::RgbImage {
+    let w = scene.gbuffer.width();
+    let reference = scene.reference_v();
+    let mut img = image::RgbImage::new(w.div_ceil(2), scene.gbuffer.height().div_ceil(2));
+    for (k, &i) in scene.pixels.iter().enumerate() {
+        let (x, y) = (i as u32 % w, i as u32 / w);
+        if x % 2 != 0 || y % 2 != 0 {
+            continue;
+        }
+        let d = v[k] - reference[k];
+        let grey = (v[k] * scene.shading.weight[k] * 255.0)
+            .round()
+            .clamp(0.0, 255.0) as u8;
+        let px = if scene.shading.weight[k] >= LIT_WEIGHT && d < -ARTEFACT_STEP {
+            [230, 30, 30]
+        } else if scene.shading.weight[k] >= LIT_WEIGHT && d > ARTEFACT_STEP {
+            [40, 80, 255]
+        } else {
+            [grey; 3]
+        };
+        img.put_pixel(x / 2, y / 2, image::Rgb(px));
+    }
+    img
 }

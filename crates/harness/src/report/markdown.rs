@@ -272,9 +272,18 @@ fn as_seen(s: &mut String, report: &Report) {
     scenes.dedup();
     for scene in scenes {
         let runs: Vec<_> = report.as_seen.iter().filter(|r| r.scene == scene).collect();
+        let mut shown: Vec<&str> = Vec::new();
+        // The picture's tiles: each technique's first run on the first backend.
+        for r in runs.iter().filter(|r| r.backend == runs[0].backend) {
+            if !shown.contains(&r.technique.as_str()) {
+                shown.push(&r.technique);
+            }
+        }
         let _ = writeln!(
             s,
-            "\n### {scene} as seen\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|",
+            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nLeft to right, top to bottom: the reference, then {} (each technique's first variant; red: darker by 1/4 of the light, blue: lighter).\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|",
+            super::seen::picture_file(scene),
+            shown.join(", "),
             runs[0].receivers,
             runs[0].reference_ms / 1e3
         );

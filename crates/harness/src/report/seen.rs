@@ -3,7 +3,7 @@
 
 use super::json::SeenRun;
 use super::options::ReportOptions;
-use crate::as_seen::{artefacts, frame};
+use crate::as_seen::{artefacts, frame, picture};
 use crate::error::Result;
 use crate::scenes::catalogue::{AS_SEEN_NAMES, build};
 use soft_shadow_core::{Backend, Context, DynTechnique};
@@ -26,8 +26,16 @@ pub fn scene_names(opts: &ReportOptions) -> Vec<String> {
     }
 }
 
+/// The file of a scene's picture in the output folder: `as-seen-<scene>.png`.
+pub fn picture_file(scene: &str) -> String {
+    format!("as-seen-{}.png", super::file_stem(scene))
+}
+
 /// Every technique of `techniques` that models the scene's light, on `backends`, over the frame
-/// of each scene of [`scene_names`]; a configuration that fails is recorded by `skip`.
+/// of each scene of [`scene_names`]; a configuration that fails is recorded by `skip`. Per
+/// scene, [`picture_file`] in `opts.out` holds the reference's shaded image, then the first
+/// variant of each technique on the first backend ([`crate::as_seen::picture`]), tiles of
+/// 640 x 360 two to a row.
 pub fn measure(
     opts: &ReportOptions,
     techniques: &[Box<dyn DynTechnique>],
@@ -38,8 +46,10 @@ pub fn measure(
     for name in scene_names(opts) {
         let scene = frame(build(&name)?)?;
         let light = &scene.spec.light;
+        let mut tiles = vec![picture(&scene, &scene.reference_v())];
+        let mut pictured: Vec<&str> = Vec::new();
         for t in techniques.iter().filter(|t| t.models(light.kind())) {
-            for &(backend, ctx) in contexts {
+            for (i, &(backend, ctx)) in contexts.iter().enumerate() {
                 let label = format!(
                     "{name} as seen {} {} {RESOLUTION} {backend:?}",
                     t.name(),
@@ -59,6 +69,10 @@ pub fn measure(
                         continue;
                     }
                 };
+                if i == 0 && !pictured.contains(&t.name()) {
+                    pictured.push(t.name());
+                    tiles.push(picture(&scene, &v));
+                }
                 let a = artefacts(&scene, &v);
                 runs.push(SeenRun {
                     scene: name.clone(),
@@ -75,6 +89,20 @@ pub fn measure(
                 });
             }
         }
+        write_grid(&opts.out.join(picture_file(&name)), &tiles)?;
     }
     Ok(runs)
+}
+
+/// `tiles` (all of one size) two to a row, as PNG.
+fn write_grid(path: &std::path::Path, tiles: &[image::RgbImage]) -> Result<()> {
+    let (w, h) = tiles.first().map_or((1, 1), |t| t.dimensions());
+    let rows = tiles.len().div_ceil(2) as u32;
+    let mut grid = image::RgbImage::new(2 * w, rows * h);
+    for (i, t) in tiles.iter().enumerate() {
+        let (x, y) = ((i as u32 % 2) * w, (i as u32 / 2) * h);
+        image::imageops::replace(&mut grid, t, x as i64, y as i64);
+    }
+    grid.save(path)
+        .map_err(|e| crate::error::HarnessError::write(path, e))
 }
