@@ -147,3 +147,65 @@ pub fn picture(scene: &PreparedScene, v: &[f32]) -> image::RgbImage {
     }
     img
 }
+
+/// FLIP (NVIDIA's perceptual difference between a render and its reference, LDR version, through
+/// the `nv-flip` crate) of a technique's frame against the reference's: per pixel in [0, 1],
+/// pooled over the frame's receivers (the pixels the light reaches; the background, equal in
+/// both, would dilute it).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Flip {
+    /// Mean over the receivers.
+    pub mean: f32,
+    /// 95th percentile over the receivers.
+    pub p95: f32,
+}
+
+/// Pixels per degree of visual angle the frames are compared at: FLIP's default, a 0.7 m
+/// viewing distance from a 24-inch 4K monitor.
+pub const PIXELS_PER_DEGREE: f32 = nv_flip::DEFAULT_PIXELS_PER_DEGREE;
+
+/// The frame as a person sees it with `V = v` (one value per receiver): the light's shaded
+/// image `V E0 / E0_max` (linear), sRGB-encoded, grey; black where no receiver is.
+pub fn shaded(scene: &PreparedScene, v: &[f32]) -> image::RgbImage {
+    let (w, h) = (scene.gbuffer.width(), scene.gbuffer.height());
+    let mut img = image::RgbImage::new(w, h);
+    for (k, &i) in scene.pixels.iter().enumerate() {
+        let linear = (v[k] * scene.shading.weight[k]).clamp(0.0, 1.0);
+        let srgb = if linear <= 0.003_130_8 {
+            12.92 * linear
+        } else {
+            1.055 * linear.powf(1.0 / 2.4) - 0.055
+        };
+        let g = (srgb * 255.0).round() as u8;
+        img.put_pixel(i as u32 % w, i as u32 / w, image::Rgb([g; 3]));
+    }
+    img
+}
+
+/// FLIP of `v`'s shaded frame against the reference's, with its error map coloured (magma) at
+/// the frame's size.
+pub fn flip(scene: &PreparedScene, v: &[f32]) -> (Flip, image::RgbImage) {
+    let image = |img: image::RgbImage| {
+        nv_flip::FlipImageRgb8::with_data(img.width(), img.height(), img.as_raw())
+    };
+    let reference = image(shaded(scene, &scene.reference_v()));
+    let test = image(shaded(scene, v));
+    let error = nv_flip::flip(reference, test, PIXELS_PER_DEGREE);
+    let all = error.to_vec();
+    let mut at: Vec<f32> = scene.pixels.iter().map(|&i| all[i]).collect();
+    let mean = at.iter().map(|&e| e as f64).sum::<f64>() / at.len().max(1) as f64;
+    let k = ((0.95 * at.len() as f64) as usize).min(at.len().saturating_sub(1));
+    let p95 = if at.is_empty() {
+        0.0
+    } else {
+        *at.select_nth_unstable_by(k, f32::total_cmp).1
+    };
+    let score = Flip {
+        mean: mean as f32,
+        p95,
+    };
+    let heat = error.apply_color_lut(&nv_flip::magma_lut());
+    let heat =
+        image::RgbImage::from_raw(heat.width(), heat.height(), heat.to_vec()).unwrap_or_default();
+    (score, heat)
+}

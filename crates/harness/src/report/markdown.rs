@@ -252,20 +252,23 @@ fn scaling(s: &mut String, report: &Report) {
 
 /// The "as seen" section: per scene, every technique's artefacts over the viewing frame.
 fn as_seen(s: &mut String, report: &Report) {
-    use crate::as_seen::{ARTEFACT_STEP, HEIGHT, ISOLATION, WIDTH};
+    use crate::as_seen::{ARTEFACT_STEP, HEIGHT, ISOLATION, PIXELS_PER_DEGREE, WIDTH};
     if report.as_seen.is_empty() {
         return;
     }
     let _ = writeln!(
         s,
         "\n## As seen\n\nThe frame a person looks at ({WIDTH} x {HEIGHT}, maps at {}², the \
-         reference at 128 rays per receiver not proven lit): **darkened** counts receivers the \
-         reference sees at least half lit drawn at less than half of it (blotches, streaks, \
-         rings); **false umbra** receivers darker by more than {ARTEFACT_STEP} of the light \
-         where the reference is lit within {ISOLATION} pixels; **leaks** lighter by as much \
-         where it is umbra within {ISOLATION} pixels (on objects: light specks on a caster's \
-         shadowed side), per million receivers. The small G-buffers' rms above does not rank \
-         these.",
+         reference at 128 rays per receiver not proven lit). **FLIP**: NVIDIA's perceptual \
+         difference of the shaded frame (`V E0 / E0_max`, sRGB) from the reference's at \
+         {PIXELS_PER_DEGREE:.0} pixels per degree, mean and 95th percentile over the frame; \
+         **worse than hard** marks a configuration whose mean FLIP is above the hard shadow \
+         map's on the same scene and backend. **darkened** counts receivers the reference sees \
+         at least half lit drawn at less than half of it (blotches, streaks, rings); **false \
+         umbra** receivers darker by more than {ARTEFACT_STEP} of the light where the \
+         reference is lit within {ISOLATION} pixels; **leaks** lighter by as much where it is \
+         umbra within {ISOLATION} pixels (on objects: light specks on a caster's shadowed \
+         side), per million receivers. The small G-buffers' rms above does not rank these.",
         super::seen::RESOLUTION
     );
     let mut scenes: Vec<&str> = report.as_seen.iter().map(|r| r.scene.as_str()).collect();
@@ -273,7 +276,7 @@ fn as_seen(s: &mut String, report: &Report) {
     for scene in scenes {
         let runs: Vec<_> = report.as_seen.iter().filter(|r| r.scene == scene).collect();
         let mut shown: Vec<&str> = Vec::new();
-        // The picture's tiles: each technique's first run on the first backend.
+        // The picture's rows: each technique's first run on the first backend.
         for r in runs.iter().filter(|r| r.backend == runs[0].backend) {
             if !shown.contains(&r.technique.as_str()) {
                 shown.push(&r.technique);
@@ -281,19 +284,29 @@ fn as_seen(s: &mut String, report: &Report) {
         }
         let _ = writeln!(
             s,
-            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nLeft to right, top to bottom: the reference, then {} (each technique's first variant; red: darker by 1/4 of the light, blue: lighter).\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|",
+            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nTop: the reference. Then one row each for {} (the first variant): the frame, red where darker than the reference by 1/4 of the light, blue where lighter; beside it the FLIP map (magma: black is no visible difference). Full-size frames: `{}/`.\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | FLIP mean | FLIP p95 | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|---:|---:|",
             super::seen::picture_file(scene),
             shown.join(", "),
+            super::seen::frames_dir(scene),
             runs[0].receivers,
             runs[0].reference_ms / 1e3
         );
-        for r in runs {
+        let hard = |backend: &str| {
+            runs.iter()
+                .find(|r| r.technique == "hard-shadow-map" && r.backend == backend)
+                .map(|r| r.flip_mean)
+        };
+        for r in &runs {
+            let worse = hard(&r.backend).is_some_and(|h| r.flip_mean > h);
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {:.0} | {:.0} | {:.0} |",
+                "| {} | {} | {} | {:.4}{} | {:.3} | {} | {:.0} | {:.0} | {:.0} |",
                 r.technique,
                 r.variant,
                 r.backend,
+                r.flip_mean,
+                if worse { " (worse than hard)" } else { "" },
+                r.flip_p95,
                 r.darkened,
                 r.false_umbra_per_million,
                 r.leaks_per_million,

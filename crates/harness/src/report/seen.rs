@@ -3,7 +3,7 @@
 
 use super::json::SeenRun;
 use super::options::ReportOptions;
-use crate::as_seen::{artefacts, frame, picture};
+use crate::as_seen::{artefacts, flip, frame, picture, shaded};
 use crate::error::Result;
 use crate::scenes::catalogue::{AS_SEEN_NAMES, build};
 use soft_shadow_core::{Backend, Context, DynTechnique};
@@ -31,11 +31,19 @@ pub fn picture_file(scene: &str) -> String {
     format!("as-seen-{}.png", super::file_stem(scene))
 }
 
+/// The folder of a scene's full-size shaded frames in the output folder: `as-seen-<scene>/`,
+/// holding `reference.png` and `<technique>-<variant>.png` for each technique pictured, the
+/// images FLIP compared (to check it with another FLIP implementation).
+pub fn frames_dir(scene: &str) -> String {
+    format!("as-seen-{}", super::file_stem(scene))
+}
+
 /// Every technique of `techniques` that models the scene's light, on `backends`, over the frame
 /// of each scene of [`scene_names`]; a configuration that fails is recorded by `skip`. Per
-/// scene, [`picture_file`] in `opts.out` holds the reference's shaded image, then the first
-/// variant of each technique on the first backend ([`crate::as_seen::picture`]), tiles of
-/// 640 x 360 two to a row.
+/// scene, [`picture_file`] in `opts.out` shows the reference's shaded frame, then for the first
+/// variant of each technique on the first backend its frame with the artefacts marked
+/// ([`crate::as_seen::picture`]) beside its FLIP map, at half size; [`frames_dir`] holds the
+/// full-size frames.
 pub fn measure(
     opts: &ReportOptions,
     techniques: &[Box<dyn DynTechnique>],
@@ -46,7 +54,11 @@ pub fn measure(
     for name in scene_names(opts) {
         let scene = frame(build(&name)?)?;
         let light = &scene.spec.light;
-        let mut tiles = vec![picture(&scene, &scene.reference_v())];
+        let dir = opts.out.join(frames_dir(&name));
+        super::create_dir(&dir)?;
+        let reference = scene.reference_v();
+        save(&dir.join("reference.png"), &shaded(&scene, &reference))?;
+        let mut rows = vec![(picture(&scene, &reference), None)];
         let mut pictured: Vec<&str> = Vec::new();
         for t in techniques.iter().filter(|t| t.models(light.kind())) {
             for (i, &(backend, ctx)) in contexts.iter().enumerate() {
@@ -69,9 +81,14 @@ pub fn measure(
                         continue;
                     }
                 };
+                let (score, heat) = flip(&scene, &v);
                 if i == 0 && !pictured.contains(&t.name()) {
                     pictured.push(t.name());
-                    tiles.push(picture(&scene, &v));
+                    let file = format!("{}-{}.png", t.name(), super::file_stem(&t.variant()));
+                    save(&dir.join(file), &shaded(&scene, &v))?;
+                    let (w, h) = heat.dimensions();
+                    let half = image::imageops::thumbnail(&heat, w.div_ceil(2), h.div_ceil(2));
+                    rows.push((picture(&scene, &v), Some(half)));
                 }
                 let a = artefacts(&scene, &v);
                 runs.push(SeenRun {
@@ -85,24 +102,36 @@ pub fn measure(
                     false_umbra_per_million: a.per_million(a.false_umbra),
                     leaks_per_million: a.per_million(a.leaks),
                     object_leaks_per_million: a.per_million(a.object_leaks),
+                    flip_mean: score.mean,
+                    flip_p95: score.p95,
                     reference_ms: scene.reference_ms,
                 });
             }
         }
-        write_grid(&opts.out.join(picture_file(&name)), &tiles)?;
+        write_grid(&opts.out.join(picture_file(&name)), &rows)?;
     }
     Ok(runs)
 }
 
-/// `tiles` (all of one size) two to a row, as PNG.
-fn write_grid(path: &std::path::Path, tiles: &[image::RgbImage]) -> Result<()> {
-    let (w, h) = tiles.first().map_or((1, 1), |t| t.dimensions());
-    let rows = tiles.len().div_ceil(2) as u32;
-    let mut grid = image::RgbImage::new(2 * w, rows * h);
-    for (i, t) in tiles.iter().enumerate() {
-        let (x, y) = ((i as u32 % 2) * w, (i as u32 / 2) * h);
-        image::imageops::replace(&mut grid, t, x as i64, y as i64);
-    }
-    grid.save(path)
+/// `img` as PNG at `path`.
+fn save(path: &std::path::Path, img: &image::RgbImage) -> Result<()> {
+    img.save(path)
         .map_err(|e| crate::error::HarnessError::write(path, e))
+}
+
+/// `rows` of two tiles (all of one size; a missing second tile left black), as PNG.
+fn write_grid(
+    path: &std::path::Path,
+    rows: &[(image::RgbImage, Option<image::RgbImage>)],
+) -> Result<()> {
+    let (w, h) = rows.first().map_or((1, 1), |t| t.0.dimensions());
+    let mut grid = image::RgbImage::new(2 * w, rows.len() as u32 * h);
+    for (i, (a, b)) in rows.iter().enumerate() {
+        let y = i as i64 * h as i64;
+        image::imageops::replace(&mut grid, a, 0, y);
+        if let Some(b) = b {
+            image::imageops::replace(&mut grid, b, w as i64, y);
+        }
+    }
+    save(path, &grid)
 }

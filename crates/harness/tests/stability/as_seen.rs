@@ -2,10 +2,11 @@
 //! user picks by default draw no more dark blotches than PCSS on the bunny and on low-poly meshes
 //! (`harness::as_seen`; flat facets and interpenetrating parts, disk, rect and sphere lights):
 //! receivers the reference sees at least half lit that a technique draws at less than half of
-//! it, at most PCSS's count plus 0.1% of the frame's pixels, on both backends, which agree.
+//! it, at most PCSS's count plus 0.1% of the frame's pixels, on both backends, which agree; and
+//! their mean FLIP is no worse than the hard shadow map's.
 
 use super::{gpu, techniques};
-use harness::as_seen::{HEIGHT, WIDTH, artefacts, frame};
+use harness::as_seen::{HEIGHT, WIDTH, artefacts, flip, frame};
 use harness::scenes::catalogue::{AS_SEEN_NAMES, build};
 use soft_shadow_core::{Backend, Context};
 
@@ -26,7 +27,7 @@ fn no_more_dark_blotches_than_pcss_at_viewing_resolution() {
             .find(|t| t.name() == name && t.variant() == variant)
             .unwrap_or_else(|| panic!("{name} {variant} is in the technique list"))
     };
-    let pcss = find("pcss", "7x7-9x9");
+    let (pcss, hard) = (find("pcss", "7x7-9x9"), find("hard-shadow-map", "nearest"));
     let mut failures = Vec::new();
     for name in std::iter::once("bunny").chain(AS_SEEN_NAMES) {
         let scene = frame(build(name).unwrap()).unwrap();
@@ -41,25 +42,36 @@ fn no_more_dark_blotches_than_pcss_at_viewing_resolution() {
                 .and_then(|m| m.evaluate(gpu(), &scene.receivers()))
                 .unwrap();
             let a = artefacts(&scene, &v);
+            let score = flip(&scene, &v).0;
             println!(
-                "{name} {} {} {backend:?}: darkened {}, false umbra {:.0}/M, leaks {:.0}/M \
-                 ({:.0}/M on objects)",
+                "{name} {} {} {backend:?}: FLIP {:.4} (p95 {:.3}), darkened {}, false umbra \
+                 {:.0}/M, leaks {:.0}/M ({:.0}/M on objects)",
                 t.name(),
                 t.variant(),
+                score.mean,
+                score.p95,
                 a.darkened,
                 a.per_million(a.false_umbra),
                 a.per_million(a.leaks),
                 a.per_million(a.object_leaks),
             );
-            Some(a.darkened)
+            Some((a.darkened, score.mean))
         };
-        let baseline = darkened(pcss.as_ref(), Backend::Cpu).unwrap();
+        let baseline = darkened(pcss.as_ref(), Backend::Cpu).unwrap().0;
+        let hard_flip = darkened(hard.as_ref(), Backend::Cpu).unwrap().1;
         for (t, v) in CHECKED {
             let t = find(t, v);
             if !t.models(light.kind()) {
                 continue;
             }
-            let cpu = darkened(t.as_ref(), Backend::Cpu).unwrap();
+            let (cpu, cpu_flip) = darkened(t.as_ref(), Backend::Cpu).unwrap();
+            if cpu_flip > hard_flip {
+                failures.push(format!(
+                    "{name} {} {}: mean FLIP {cpu_flip:.4} against the hard map's {hard_flip:.4}",
+                    t.name(),
+                    t.variant()
+                ));
+            }
             if cpu > baseline + allowance {
                 failures.push(format!(
                     "{name} {} {}: {cpu} darkened against PCSS's {baseline}",
@@ -67,7 +79,7 @@ fn no_more_dark_blotches_than_pcss_at_viewing_resolution() {
                     t.variant()
                 ));
             }
-            if let Some(gpu) = darkened(t.as_ref(), Backend::Gpu)
+            if let Some((gpu, _)) = darkened(t.as_ref(), Backend::Gpu)
                 && gpu.abs_diff(cpu) > allowance / 10
             {
                 failures.push(format!(
