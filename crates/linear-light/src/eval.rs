@@ -1,5 +1,5 @@
 //! Shading one receiver: the `shade()` loop of section 3 over `N` samples, shared by the CPU
-//! path (`evaluate.wgsl` is the same on the GPU).
+//! path (`visibility.wgsl` is the same on the GPU).
 //!
 //! For each sample: the receiver's depth against that sample's map and the visibility channel,
 //! both read at the four bilinear taps around the receiver, so `V += sum_tap w_tap * lit_tap *

@@ -1,4 +1,4 @@
-//! Shading one receiver (sections 3.4-3.5), shared by the CPU path; `evaluate.wgsl` is the same
+//! Shading one receiver (sections 3.4-3.5), shared by the CPU path; `visibility.wgsl` is the same
 //! function on the GPU.
 //!
 //! For each slice plane `p_k` between the receiver and the light: the kernel of equation 4

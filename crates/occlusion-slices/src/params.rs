@@ -61,7 +61,7 @@ impl Combination {
         }
     }
 
-    /// Index shared with the shaders (`COMBINE_*` in `evaluate.wgsl`).
+    /// Index shared with the shaders (`COMBINE_*` in `visibility.wgsl`).
     pub fn index(self) -> u32 {
         match self {
             Combination::Product => 0,

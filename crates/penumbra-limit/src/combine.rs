@@ -17,7 +17,10 @@
 //!   outer penumbra, at least half lit: on `overlap` at 2048², the bottom blocker's top under a
 //!   higher edge (V rms 95.5 over 1650 receivers) and a lit streak on the ground inside the top
 //!   blocker's umbra under the middle one's edge (124 receivers of the 128² G-buffer at 256²,
-//!   V 0.69-0.81 against 0.00-0.05). Image error 6.89 against the hard map's 6.23; now 2.78.
+//!   V 0.69-0.81 against 0.00-0.05). Where the covering caster is thin (an ear), its own
+//!   penumbra reaches under the texel and this hard shadow is false umbra: thin dark spikes out
+//!   of Suzanne's ears' shadow under a disk light at 1280 x 720 (`harness::as_seen`), which
+//!   only the covering caster's own edge, not stored, could soften.
 //! - Without one (beyond every ribbon): the hard shadow, lit above the geometry and umbra below
 //!   it: `c = g` and `p_i = -MAX_P` where there is geometry (so a receiver between the inner end
 //!   of a ribbon and such a texel interpolates towards umbra, not towards "outside"), `c` =

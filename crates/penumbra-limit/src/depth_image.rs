@@ -6,7 +6,7 @@
 //!    `gap(t) = layer_gap texels + 2 |D(t) - D(t - (n - t))|`: the jump must beat the local
 //!    slope (twice the step on the far side of `t`), so a steep but continuous surface is no
 //!    edge. The neighbour `n` is then on the *far side*.
-//! 2. **Propagation.** The exact nearest-seed map ([`soft_shadow_core::feature_transform`]) gives
+//! 2. **Propagation.** The exact nearest-seed map (`crate::feature_transform`) gives
 //!    every texel its nearest near-side seed `A` and far-side seed `B`; of equally near
 //!    near-side seeds, the one nearest the light (least `D`), whose occluder shades every
 //!    receiver the farther one does. A texel nearer to `A` is inside the silhouette; the edge

@@ -1,4 +1,4 @@
-//! Evaluation shared by both backends: the parameters `evaluate.wgsl` reads and the per-receiver
+//! Evaluation shared by both backends: the parameters `visibility.wgsl` reads and the per-receiver
 //! shading on the CPU, which the shader repeats line for line: project the receiver, sample the
 //! four channels bilinearly, equation 2, then the visibility-to-illumination table.
 
@@ -11,7 +11,7 @@ use glam::{Vec2, Vec3};
 use soft_shadow_core::light_space::shadow_coord;
 use soft_shadow_core::{Bias, Map2D, MapParams};
 
-/// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
+/// Evaluation parameters, laid out as `EvalParams` in `visibility.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub(crate) struct EvalParams {

@@ -2,7 +2,7 @@
 #import soft_shadow_core::seeds::{NONE_SEED, seed_pack}
 
 // The exact nearest-seed map (feature transform) on the GPU. Mirrors
-// soft_shadow_core::feature_transform step by step, in the same integer arithmetic, so both backends
+// penumbra_limit::feature_transform (feature_transform.rs) step by step, in the same integer arithmetic, so both backends
 // give the same seeds.
 //
 // Of equally near seeds, the one of least key (`keys`, one f32 per texel, where `prm.keyed`),

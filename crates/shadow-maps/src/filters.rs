@@ -1,4 +1,4 @@
-//! The baselines' filters on the CPU. `shadow_map_eval.wgsl` is the same code in WGSL, line for
+//! The baselines' filters on the CPU. `visibility.wgsl` is the same code in WGSL, line for
 //! line, so that both backends compute the same function.
 
 use crate::maps::CpuShadowMaps;
@@ -18,7 +18,7 @@ pub(crate) const MODE_PCSS: u32 = 2;
 /// Accumulation.
 pub(crate) const MODE_ACCUMULATE: u32 = 3;
 
-/// Evaluation parameters, laid out as `Params` in `shadow_map_eval.wgsl`.
+/// Evaluation parameters, laid out as `Params` in `visibility.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub(crate) struct EvalParams {

@@ -1,5 +1,5 @@
 //! The baselines on the GPU: depth maps rendered by `soft_shadow_core`'s rasterizer into one
-//! reversed-Z texture array, filters evaluated by `visibility()` in `shadow_map_eval.wgsl`.
+//! reversed-Z texture array, filters evaluated by `visibility()` in `visibility.wgsl`.
 
 use crate::filters::EvalParams;
 use soft_shadow_core::gpu::compute::{bind_group, depth_array_view};

@@ -1,4 +1,4 @@
-//! Evaluation shared by both backends: the parameters `evaluate.wgsl` reads and the per-receiver
+//! Evaluation shared by both backends: the parameters `visibility.wgsl` reads and the per-receiver
 //! shading `I(sd, sw)` on the CPU, which the shader repeats line for line.
 
 use crate::attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation, table_coordinate};
@@ -11,7 +11,7 @@ use soft_shadow_core::{Bias, Map2D, MapParams};
 /// Largest `c_scale` used (beyond it `I` is a hard shadow to f32 precision; keeps products finite).
 pub(crate) const MAX_C_SCALE: f32 = 1.0e30;
 
-/// Evaluation parameters, laid out as `EvalParams` in `evaluate.wgsl`.
+/// Evaluation parameters, laid out as `EvalParams` in `visibility.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub(crate) struct EvalParams {

@@ -1,6 +1,6 @@
 //! The GPU path: depth passes into one depth array (layer 0 nearest caster, 1 nearest back
 //! face when asked for), the width map by the compute kernels of `width.wgsl`, and evaluation by
-//! `evaluate.wgsl`. Nothing is read back between generation steps.
+//! `visibility.wgsl`. Nothing is read back between generation steps.
 
 use crate::attenuation::{AttenuationTable, FalloffKind};
 use crate::eval::EvalParams;

@@ -6,7 +6,7 @@
 //!    of each neighbour warped into its view (`skins.wgsl`, an indirect draw of those quads);
 //! 3. the visibility channel from the warped values (`combine.wgsl`).
 //!
-//! Evaluation is `visibility()` in `evaluate.wgsl`.
+//! Evaluation is `visibility()` in `visibility.wgsl`.
 
 pub(crate) mod pipelines;
 
@@ -88,7 +88,7 @@ pub(crate) struct CombineParams {
 }
 
 /// Evaluation parameters (binding 0 of the maps' bind group), laid out as `EvalParams` in
-/// `evaluate.wgsl`.
+/// `visibility.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct EvalParams {

@@ -1,7 +1,7 @@
 //! The three box filters of section 3.2 over binary slices: [`mipmap`], [`nbuffer`] and the exact
 //! [`sat`]. Each stores exact integer counts (the N-Buffers read them from the slice's
 //! summed-area table, the mipmap sums them level by level) and answers the mean occupancy over
-//! a square kernel; `evaluate.wgsl` holds the same lookups.
+//! a square kernel; `visibility.wgsl` holds the same lookups.
 
 pub(crate) mod mipmap;
 pub(crate) mod nbuffer;

@@ -95,7 +95,7 @@ impl Sat {
 }
 
 /// The mean of a binary slice over a square box, from exact integer box counts
-/// `count(x0, y0, x1, y1)` over `[x0, x1) x [y0, y1)`: `WGSL: sat_mean` in `evaluate.wgsl`.
+/// `count(x0, y0, x1, y1)` over `[x0, x1) x [y0, y1)`: `WGSL: sat_mean` in `visibility.wgsl`.
 ///
 /// The box is at least a texel wide, as the mipmap and N-Buffer lookups' (a smaller box reads
 /// one point of the binary slice: a hard edge on the texel grid, which under a 0.2 mm light

@@ -5,7 +5,7 @@
 //! 2. the summed-area table of integer counts (`sat_rows.wgsl`, `sat_cols.wgsl`);
 //! 3. for N-Buffers and mipmaps, every level from the table (`levels.wgsl`), RGBA8.
 //!
-//! Evaluation is `visibility()` in `evaluate.wgsl`.
+//! Evaluation is `visibility()` in `visibility.wgsl`.
 
 pub(crate) mod pipelines;
 
@@ -96,7 +96,7 @@ pub(crate) struct LevelParams {
 }
 
 /// Evaluation parameters (binding 1 of the maps' bind group), laid out as `EvalParams` in
-/// `evaluate.wgsl`.
+/// `visibility.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct EvalParams {

@@ -7,7 +7,7 @@
 //!    the depth image (`seeds`, two nearest-seed maps, `limits`);
 //! 3. the stored map (`combine.wgsl`, written through a storage texture of the map's format).
 //!
-//! Evaluation is `visibility()` in `evaluate.wgsl`.
+//! Evaluation is `visibility()` in `visibility.wgsl`.
 
 pub(crate) mod feature_transform;
 pub(crate) mod pipelines;
