@@ -87,7 +87,8 @@ enum Command {
         size: u32,
     },
     /// Print the "which technique" table (Markdown) from a report: per light kind and budget,
-    /// the technique with the lowest image error that fits, and the best baseline beside it.
+    /// the technique with the lowest image error that fits, and the best baseline beside it,
+    /// each with its FLIP; none that a person sees as worse than the hard map by FLIP.
     Choose {
         /// The report.json to read.
         #[arg(long, default_value = "report/report.json")]

@@ -32,6 +32,8 @@ pub struct Report {
 pub struct SeenRun {
     /// Scene name.
     pub scene: String,
+    /// The scene's light kind (`"disk"`, `"rect"`, ...).
+    pub light: String,
     /// Technique name.
     pub technique: String,
     /// Variant label.

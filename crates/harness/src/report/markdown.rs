@@ -258,18 +258,17 @@ fn as_seen(s: &mut String, report: &Report) {
     }
     let _ = writeln!(
         s,
-        "\n## As seen\n\nThe frame a person looks at ({WIDTH} x {HEIGHT}, maps at {}², the \
-         reference at 128 rays per receiver not proven lit). **FLIP**: NVIDIA's perceptual \
+        "\n## As seen\n\nThe frame a person looks at ({WIDTH} x {HEIGHT}, the reference at \
+         128 rays per receiver not proven lit), at every map side of the report. **FLIP**: NVIDIA's perceptual \
          difference of the shaded frame (`V E0 / E0_max`, sRGB) from the reference's at \
          {PIXELS_PER_DEGREE:.0} pixels per degree, mean and 95th percentile over the frame; \
          **worse than hard** marks a configuration whose mean FLIP is above the hard shadow \
-         map's on the same scene and backend. **darkened** counts receivers the reference sees \
+         map's on the same scene, backend and map side: `choose` never recommends it. **darkened** counts receivers the reference sees \
          at least half lit drawn at less than half of it (blotches, streaks, rings); **false \
          umbra** receivers darker by more than {ARTEFACT_STEP} of the light where the \
          reference is lit within {ISOLATION} pixels; **leaks** lighter by as much where it is \
          umbra within {ISOLATION} pixels (on objects: light specks on a caster's shadowed \
-         side), per million receivers. The small G-buffers' rms above does not rank these.",
-        super::seen::RESOLUTION
+         side), per million receivers. The small G-buffers' rms above does not rank these."
     );
     let mut scenes: Vec<&str> = report.as_seen.iter().map(|r| r.scene.as_str()).collect();
     scenes.dedup();
@@ -284,26 +283,29 @@ fn as_seen(s: &mut String, report: &Report) {
         }
         let _ = writeln!(
             s,
-            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nTop: the reference. Then one row each for {} (the first variant): the frame, red where darker than the reference by 1/4 of the light, blue where lighter; beside it the FLIP map (magma: black is no visible difference). Full-size frames: `{}/`.\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | FLIP mean | FLIP p95 | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|---:|---:|",
+            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nTop: the reference. Then one row each for {} (the first variant, at the side nearest 1024²): the frame, red where darker than the reference by 1/4 of the light, blue where lighter; beside it the FLIP map (magma: black is no visible difference). Full-size frames: `{}/`.\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | side | FLIP mean | FLIP p95 | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
             super::seen::picture_file(scene),
             shown.join(", "),
             super::seen::frames_dir(scene),
             runs[0].receivers,
             runs[0].reference_ms / 1e3
         );
-        let hard = |backend: &str| {
+        let hard = |backend: &str, side: u32| {
             runs.iter()
-                .find(|r| r.technique == "hard-shadow-map" && r.backend == backend)
+                .find(|r| {
+                    r.technique == "hard-shadow-map" && r.backend == backend && r.resolution == side
+                })
                 .map(|r| r.flip_mean)
         };
         for r in &runs {
-            let worse = hard(&r.backend).is_some_and(|h| r.flip_mean > h);
+            let worse = hard(&r.backend, r.resolution).is_some_and(|h| r.flip_mean > h);
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {:.4}{} | {:.3} | {} | {:.0} | {:.0} | {:.0} |",
+                "| {} | {} | {} | {}² | {:.4}{} | {:.3} | {} | {:.0} | {:.0} | {:.0} |",
                 r.technique,
                 r.variant,
                 r.backend,
+                r.resolution,
                 r.flip_mean,
                 if worse { " (worse than hard)" } else { "" },
                 r.flip_p95,

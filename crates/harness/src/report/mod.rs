@@ -608,7 +608,8 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         warmed: HashSet::new(),
         skipped: Vec::new(),
     };
-    let total: u64 = jobs.iter().map(|j| runner.runs_per_scene(j)).sum();
+    let total: u64 = jobs.iter().map(|j| runner.runs_per_scene(j)).sum::<u64>()
+        + seen::steps(opts, &runner.techniques, runner.backends.len());
     runner.bar = Progress::new(total);
     let mut report = Report {
         version: 1,
@@ -627,7 +628,6 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
     for job in jobs {
         runner.scene(job, &mut report)?;
     }
-    runner.bar.finish();
     {
         // Every backend of the runs: the CPU where it ran, the GPU where there is one.
         let contexts: Vec<(Backend, Context<'_>)> = runner
@@ -638,11 +638,15 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
                 Backend::Gpu => runner.gpu.as_ref().map(|g| (b, Context::Gpu(g))),
             })
             .collect();
-        let (bar, skipped) = (&runner.bar, &mut runner.skipped);
-        report.as_seen = seen::measure(opts, &runner.techniques, &contexts, |label, e| {
-            skip(bar, skipped, label, e)
-        })?;
+        report.as_seen = seen::measure(
+            opts,
+            &runner.techniques,
+            &contexts,
+            &mut runner.bar,
+            &mut runner.skipped,
+        )?;
     }
+    runner.bar.finish();
     report.skipped = runner.skipped.clone();
     // Measured after the runs, at the largest resolution one of them reached (a resolution
     // every configuration refused is never allocated).

@@ -1,15 +1,14 @@
 //! The report's "as seen" section: every technique's `V` over the frame a person looks at
-//! ([`crate::as_seen`]: 1280 x 720, maps at 1024²), with the artefacts counted there.
+//! ([`crate::as_seen`]: 1280 x 720, maps at the report's sides), with FLIP and the artefacts
+//! counted there.
 
 use super::json::SeenRun;
 use super::options::ReportOptions;
+use super::progress::Progress;
 use crate::as_seen::{artefacts, flip, frame, picture, shaded};
 use crate::error::Result;
 use crate::scenes::catalogue::{AS_SEEN_NAMES, build};
 use soft_shadow_core::{Backend, Context, DynTechnique};
-
-/// The map side the frames are measured at: the side people use in a viewer.
-pub const RESOLUTION: u32 = 1024;
 
 /// The scenes measured as seen: the bunny and [`AS_SEEN_NAMES`] in the full report, the bunny
 /// with `--quick`; with `--scenes`, those of them named; none for scene files alone.
@@ -26,6 +25,22 @@ pub fn scene_names(opts: &ReportOptions) -> Vec<String> {
     }
 }
 
+/// How many steps [`measure`] counts on the progress bar with `techniques` on `backends`
+/// backends: a reference per scene and a step per configuration.
+pub fn steps(opts: &ReportOptions, techniques: &[Box<dyn DynTechnique>], backends: usize) -> u64 {
+    scene_names(opts)
+        .iter()
+        .filter_map(|n| build(n).ok())
+        .map(|spec| {
+            let modelled = techniques
+                .iter()
+                .filter(|t| t.models(spec.light.kind()))
+                .count();
+            1 + (modelled * opts.resolutions().len() * backends) as u64
+        })
+        .sum()
+}
+
 /// The file of a scene's picture in the output folder: `as-seen-<scene>.png`.
 pub fn picture_file(scene: &str) -> String {
     format!("as-seen-{}.png", super::file_stem(scene))
@@ -38,21 +53,25 @@ pub fn frames_dir(scene: &str) -> String {
     format!("as-seen-{}", super::file_stem(scene))
 }
 
-/// Every technique of `techniques` that models the scene's light, on `backends`, over the frame
-/// of each scene of [`scene_names`]; a configuration that fails is recorded by `skip`. Per
-/// scene, [`picture_file`] in `opts.out` shows the reference's shaded frame, then for the first
-/// variant of each technique on the first backend its frame with the artefacts marked
+/// Every technique of `techniques` that models the scene's light, at every map side of the
+/// report, on `backends`, over the frame of each scene of [`scene_names`]; a configuration that
+/// fails is recorded by `skip`. Per scene, [`picture_file`] in `opts.out` shows the reference's
+/// shaded frame, then for the first variant of each technique on the first backend, at the side
+/// nearest 1024, its frame with the artefacts marked
 /// ([`crate::as_seen::picture`]) beside its FLIP map, at half size; [`frames_dir`] holds the
 /// full-size frames.
 pub fn measure(
     opts: &ReportOptions,
     techniques: &[Box<dyn DynTechnique>],
     contexts: &[(Backend, Context<'_>)],
-    mut skip: impl FnMut(String, &soft_shadow_core::ShadowError),
+    bar: &mut Progress,
+    skipped: &mut Vec<String>,
 ) -> Result<Vec<SeenRun>> {
     let mut runs = Vec::new();
     for name in scene_names(opts) {
+        bar.set_message(format!("{name} as seen: reference"));
         let scene = frame(build(&name)?)?;
+        bar.inc();
         let light = &scene.spec.light;
         let dir = opts.out.join(frames_dir(&name));
         super::create_dir(&dir)?;
@@ -60,52 +79,65 @@ pub fn measure(
         save(&dir.join("reference.png"), &shaded(&scene, &reference))?;
         let mut rows = vec![(picture(&scene, &reference), None)];
         let mut pictured: Vec<&str> = Vec::new();
+        let resolutions = opts.resolutions();
+        // The pictures show the side nearest 1024, the side people use in a viewer.
+        let pictured_side = resolutions
+            .iter()
+            .copied()
+            .min_by_key(|r| (*r as i64 - 1024).abs())
+            .unwrap_or(0);
         for t in techniques.iter().filter(|t| t.models(light.kind())) {
-            for (i, &(backend, ctx)) in contexts.iter().enumerate() {
-                let label = format!(
-                    "{name} as seen {} {} {RESOLUTION} {backend:?}",
-                    t.name(),
-                    t.variant()
-                );
-                let gpu = match ctx {
-                    Context::Gpu(g) => Some(g),
-                    Context::Cpu(_) => None,
-                };
-                let v = match t
-                    .generate_in(ctx, &scene.geometry, light, &scene.views, RESOLUTION)
-                    .and_then(|m| m.evaluate(gpu, &scene.receivers()))
-                {
-                    Ok(v) => v,
-                    Err(e) => {
-                        skip(label, &e);
-                        continue;
+            for &resolution in &resolutions {
+                for (i, &(backend, ctx)) in contexts.iter().enumerate() {
+                    let label = format!(
+                        "{name} as seen {} {} {resolution} {backend:?}",
+                        t.name(),
+                        t.variant()
+                    );
+                    bar.set_message(label.clone());
+                    let gpu = match ctx {
+                        Context::Gpu(g) => Some(g),
+                        Context::Cpu(_) => None,
+                    };
+                    let v = match t
+                        .generate_in(ctx, &scene.geometry, light, &scene.views, resolution)
+                        .and_then(|m| m.evaluate(gpu, &scene.receivers()))
+                    {
+                        Ok(v) => v,
+                        Err(e) => {
+                            super::skip(bar, skipped, label, &e);
+                            bar.inc();
+                            continue;
+                        }
+                    };
+                    bar.inc();
+                    let (score, heat) = flip(&scene, &v);
+                    if i == 0 && resolution == pictured_side && !pictured.contains(&t.name()) {
+                        pictured.push(t.name());
+                        let file = format!("{}-{}.png", t.name(), super::file_stem(&t.variant()));
+                        save(&dir.join(file), &shaded(&scene, &v))?;
+                        let (w, h) = heat.dimensions();
+                        let half = image::imageops::thumbnail(&heat, w.div_ceil(2), h.div_ceil(2));
+                        rows.push((picture(&scene, &v), Some(half)));
                     }
-                };
-                let (score, heat) = flip(&scene, &v);
-                if i == 0 && !pictured.contains(&t.name()) {
-                    pictured.push(t.name());
-                    let file = format!("{}-{}.png", t.name(), super::file_stem(&t.variant()));
-                    save(&dir.join(file), &shaded(&scene, &v))?;
-                    let (w, h) = heat.dimensions();
-                    let half = image::imageops::thumbnail(&heat, w.div_ceil(2), h.div_ceil(2));
-                    rows.push((picture(&scene, &v), Some(half)));
+                    let a = artefacts(&scene, &v);
+                    runs.push(SeenRun {
+                        scene: name.clone(),
+                        light: light.kind().name().to_string(),
+                        technique: t.name().to_string(),
+                        variant: t.variant(),
+                        backend: format!("{backend:?}").to_lowercase(),
+                        resolution,
+                        receivers: a.receivers,
+                        darkened: a.darkened,
+                        false_umbra_per_million: a.per_million(a.false_umbra),
+                        leaks_per_million: a.per_million(a.leaks),
+                        object_leaks_per_million: a.per_million(a.object_leaks),
+                        flip_mean: score.mean,
+                        flip_p95: score.p95,
+                        reference_ms: scene.reference_ms,
+                    });
                 }
-                let a = artefacts(&scene, &v);
-                runs.push(SeenRun {
-                    scene: name.clone(),
-                    technique: t.name().to_string(),
-                    variant: t.variant(),
-                    backend: format!("{backend:?}").to_lowercase(),
-                    resolution: RESOLUTION,
-                    receivers: a.receivers,
-                    darkened: a.darkened,
-                    false_umbra_per_million: a.per_million(a.false_umbra),
-                    leaks_per_million: a.per_million(a.leaks),
-                    object_leaks_per_million: a.per_million(a.object_leaks),
-                    flip_mean: score.mean,
-                    flip_p95: score.p95,
-                    reference_ms: scene.reference_ms,
-                });
             }
         }
         write_grid(&opts.out.join(picture_file(&name)), &rows)?;

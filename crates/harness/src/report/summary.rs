@@ -26,6 +26,11 @@ pub struct Config {
     pub image_rms_255: f64,
     /// Mean `rms_255` (of `V`) over the scenes.
     pub rms_255: f64,
+    /// Mean FLIP over the "as seen" frames of the light kind's scenes at the same side and
+    /// backend (`None` where no frame of the kind was measured).
+    pub flip: Option<f64>,
+    /// Whether that FLIP is above the hard shadow map's on the same frames: never recommended.
+    pub worse_than_hard: bool,
 }
 
 /// One line of the summary.
@@ -70,8 +75,42 @@ pub fn configs(report: &Report) -> BTreeMap<String, Vec<Config>> {
         g.4 += r.errors.rms_255;
         g.5 += 1;
     }
+    // (light, label) -> (FLIP sum, frames); the hard map's per (light, backend, side).
+    let mut flips: BTreeMap<(String, String), (f64, u32)> = BTreeMap::new();
+    let mut hard: BTreeMap<(String, String, u32), (f64, u32)> = BTreeMap::new();
+    for r in &report.as_seen {
+        let label = format!(
+            "{} {} {} {}",
+            r.technique, r.variant, r.backend, r.resolution
+        );
+        let f = flips.entry((r.light.clone(), label)).or_default();
+        f.0 += r.flip_mean as f64;
+        f.1 += 1;
+        if r.technique == "hard-shadow-map" {
+            let h = hard
+                .entry((r.light.clone(), r.backend.clone(), r.resolution))
+                .or_default();
+            h.0 += r.flip_mean as f64;
+            h.1 += 1;
+        }
+    }
+    let mean = |(sum, n): (f64, u32)| sum / n.max(1) as f64;
     let mut out: BTreeMap<String, Vec<Config>> = BTreeMap::new();
     for ((light, label), (technique, backend, t, image, v, n)) in groups {
+        let flip = flips
+            .get(&(light.clone(), label.clone()))
+            .copied()
+            .map(mean);
+        let side: u32 = label
+            .rsplit(' ')
+            .next()
+            .and_then(|r| r.parse().ok())
+            .unwrap_or(0);
+        let hard_flip = hard
+            .get(&(light.clone(), backend.clone(), side))
+            .copied()
+            .map(mean);
+        let worse_than_hard = matches!((flip, hard_flip), (Some(f), Some(h)) if f > h);
         out.entry(light).or_default().push(Config {
             label,
             technique,
@@ -79,13 +118,17 @@ pub fn configs(report: &Report) -> BTreeMap<String, Vec<Config>> {
             time_ms: t / n as f64,
             image_rms_255: image / n as f64,
             rms_255: v / n as f64,
+            flip,
+            worse_than_hard,
         });
     }
     out
 }
 
+/// The lowest-image-error configuration of `c` within `budget`, leaving out what a person sees
+/// as worse than the hard shadow map ([`Config::worse_than_hard`]).
 fn best<'a>(c: impl Iterator<Item = &'a Config>, budget: f64) -> Option<Config> {
-    c.filter(|c| c.time_ms <= budget)
+    c.filter(|c| c.time_ms <= budget && !c.worse_than_hard)
         .min_by(|a, b| {
             a.image_rms_255
                 .total_cmp(&b.image_rms_255)
@@ -117,23 +160,25 @@ pub fn lines(report: &Report) -> Vec<Line> {
 /// The "which technique" table for users, in Markdown: per light kind and budget, the
 /// lowest-image-error configuration of the four techniques (baselines excluded) measured on
 /// `backend` whose mean time fits the budget, and beside it the lowest-error baseline within the
-/// same budget. A light kind no technique ran on is left out.
+/// same budget; each with its mean FLIP over the light kind's "as seen" frames, and none whose
+/// FLIP is above the hard map's. A light kind no technique ran on is left out.
 pub fn choices(report: &Report, backend: &str, budgets: &[f64]) -> String {
     let cell = |c: &Option<Config>| match c {
         Some(c) => {
             let mut words = c.label.split(' ');
             let (t, v) = (words.next().unwrap_or(""), words.next().unwrap_or(""));
             let res = words.nth(1).unwrap_or("");
+            let flip = c.flip.map_or("–".to_string(), |f| format!("{f:.4}"));
             format!(
-                "{t} {v} at {res}² | {:.2} | {:.1}",
+                "{t} {v} at {res}² | {:.2} | {flip} | {:.1}",
                 c.image_rms_255, c.time_ms
             )
         }
-        None => "nothing fits | | ".to_string(),
+        None => "nothing fits | | | ".to_string(),
     };
     let mut out = String::from(
-        "| light | budget | technique | image error | ms | best baseline | image error | ms |\n\
-         |---|---:|---|---:|---:|---|---:|---:|\n",
+        "| light | budget | technique | image error | FLIP | ms | best baseline | image error | FLIP | ms |\n\
+         |---|---:|---|---:|---:|---:|---|---:|---:|---:|\n",
     );
     for (light, cs) in configs(report) {
         let on: Vec<&Config> = cs.iter().filter(|c| c.backend == backend).collect();
@@ -276,5 +321,78 @@ pub fn scaling_cause(key: &str) -> &'static str {
             "maps outgrow the CPU caches (16 MiB per f32 map at 2048): every pass over them costs \
              memory traffic rather than cache reads"
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::json::{ReferenceInfo, Run, SeenRun};
+
+    /// A disk-light report where penumbra-limit has the lowest image error but a person sees it
+    /// as worse than the hard map (its FLIP above the hard map's at the same side), and
+    /// occlusion-slices is a little less accurate but not worse by FLIP.
+    fn report(pl_flip: f32) -> Report {
+        let run = |technique: &str, variant: &str, image: f64| {
+            let mut r = Run {
+                scene: "bunny".into(),
+                technique: technique.into(),
+                variant: variant.into(),
+                backend: "cpu".into(),
+                resolution: 512,
+                generate_ms: 1.0,
+                evaluate_ms: 1.0,
+                ..Default::default()
+            };
+            r.errors.image_rms_255 = image;
+            r
+        };
+        let seen = |technique: &str, variant: &str, flip_mean: f32| SeenRun {
+            scene: "bunny".into(),
+            light: "disk".into(),
+            technique: technique.into(),
+            variant: variant.into(),
+            backend: "cpu".into(),
+            resolution: 512,
+            flip_mean,
+            ..Default::default()
+        };
+        Report {
+            references: vec![ReferenceInfo {
+                scene: "bunny".into(),
+                light: "disk".into(),
+                ..Default::default()
+            }],
+            runs: vec![
+                run("hard-shadow-map", "nearest", 6.0),
+                run("penumbra-limit", "silhouette-f32", 2.0),
+                run("occlusion-slices", "nbuffer-8", 3.0),
+            ],
+            as_seen: vec![
+                seen("hard-shadow-map", "nearest", 0.010),
+                seen("penumbra-limit", "silhouette-f32", pl_flip),
+                seen("occlusion-slices", "nbuffer-8", 0.008),
+            ],
+            ..Default::default()
+        }
+    }
+
+    /// A configuration whose FLIP is above the hard map's is never recommended, whatever its
+    /// image error; one at or below it is, with its FLIP printed beside its image error.
+    #[test]
+    fn a_configuration_seen_worse_than_the_hard_map_is_never_recommended() {
+        let table = choices(&report(0.012), "cpu", &[16.0]);
+        assert!(
+            table.contains("| disk | 16 ms | occlusion-slices nbuffer-8 at 512² | 3.00 | 0.0080 |"),
+            "{table}"
+        );
+        assert!(!table.contains("penumbra-limit"), "{table}");
+        let table = choices(&report(0.009), "cpu", &[16.0]);
+        assert!(
+            table.contains(
+                "| disk | 16 ms | penumbra-limit silhouette-f32 at 512² | 2.00 | 0.0090 |"
+            ),
+            "{table}"
+        );
     }
 }
