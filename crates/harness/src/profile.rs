@@ -3,8 +3,9 @@
 //!
 //! Per configuration (technique, variant, backend), from its runs over scenes and map sides:
 //!
-//! - **Cost**: generation time against `1` and the terms of the technique's [`CostForm`]
-//!   (triangles, a texel term, per-triangle work that grows with the map); evaluation time
+//! - **Cost**: generation time per view (a run's over its scene's `light_views`) against `1`
+//!   and the terms of the technique's [`CostForm`] (triangles, a texel term, per-triangle work
+//!   that grows with the map); evaluation time
 //!   against `1`, the receivers inside the light's map and the others. Least squares weighted by
 //!   `1/sqrt(time)`, between absolute and relative error; a coefficient that comes out negative
 //!   is dropped and the rest refitted. The entry's margin is the 95th percentile of
@@ -140,6 +141,7 @@ fn scenes(report: &Report) -> BTreeMap<String, SceneInfo> {
                     triangles,
                     receivers: r.receivers,
                     covered,
+                    views: r.light_views,
                 },
             },
         );
@@ -179,8 +181,10 @@ fn fit_entry(
     let gen_rows: Vec<(Vec<f64>, f64, f64)> = runs
         .iter()
         .map(|(r, s)| {
+            // Per view: a light with several views generated each in full.
             let [t1, t2, t3] = form.terms(s.size.triangles, r.resolution);
-            (vec![1.0, t1, t2, t3], r.generate_ms, weight(r.generate_ms))
+            let per_view = r.generate_ms / s.size.views.max(1) as f64;
+            (vec![1.0, t1, t2, t3], per_view, weight(per_view))
         })
         .collect();
     let eval_rows: Vec<(Vec<f64>, f64, f64)> = runs

@@ -3,9 +3,9 @@
 //! them from a `report.json`), so `Auto` can predict what a configuration costs on a scene it
 //! has never seen and how accurate it is at each map resolution.
 //!
-//! - **Cost**: generation `g0 + g1·t1 + g2·t2 + g3·t3` milliseconds over the terms of the form
-//!   the technique states ([`CostForm::terms`]: triangles, a texel term, and per-triangle work
-//!   that grows with the map); evaluation `e0 + e1·(covered receivers / 10⁶) + e2·(other
+//! - **Cost**: generation `g0 + g1·t1 + g2·t2 + g3·t3` milliseconds per view over the terms of
+//!   the form the technique states ([`CostForm::terms`]: triangles, a texel term, and
+//!   per-triangle work that grows with the map), times the light's views ([`SceneSize::views`]); evaluation `e0 + e1·(covered receivers / 10⁶) + e2·(other
 //!   receivers / 10⁶)`, the covered ones those inside the light's map ([`SceneSize::of`]). `Auto` multiplies the
 //!   prediction by the entry's margin, the 95th percentile of measured over predicted time in
 //!   the fit, so that its picks fit the budget.
@@ -19,7 +19,7 @@
 use glam::Vec3;
 use soft_shadow_core::light::LightKind;
 use soft_shadow_core::technique::{Backend, CostForm};
-use soft_shadow_core::{Coverage, Light, SampleView, SceneGeometry, ShadowError};
+use soft_shadow_core::{Coverage, Light, LightViews, SampleView, SceneGeometry, ShadowError};
 
 /// One configuration's fitted models.
 #[derive(Clone, Debug, PartialEq)]
@@ -55,12 +55,22 @@ pub struct SceneSize {
     pub receivers: usize,
     /// Of those, the receivers inside the light's central map (the others return at once).
     pub covered: usize,
+    /// The light's views ([`LightViews`]: one frustum, cube faces or cascades), each generated
+    /// in full: generation is predicted per view and multiplied by them (0 counts as 1).
+    pub views: usize,
 }
 
 impl SceneSize {
-    /// The size of `geometry` lit by `light` with `receivers`: its caster triangles, and how many
-    /// receivers fall inside the map a light's centre would render of what casts.
+    /// The size of `geometry` lit by `light` with `receivers`: its caster triangles, how many
+    /// receivers fall inside the map a light's centre would render of what casts, and how many
+    /// views the light's maps take ([`LightViews::plan`] without a camera, as the frame
+    /// pipeline plans them).
     pub fn of(geometry: &SceneGeometry, light: &Light, receivers: &[Vec3]) -> Self {
+        let views = if geometry.casters.is_empty() {
+            1
+        } else {
+            LightViews::plan(light, geometry, None).len()
+        };
         let covered = if geometry.casters.is_empty() {
             0
         } else {
@@ -78,20 +88,20 @@ impl SceneSize {
             triangles: geometry.casters.len(),
             receivers: receivers.len(),
             covered,
+            views,
         }
     }
 }
 
 impl ProfileEntry {
-    /// Predicted generation + evaluation milliseconds at map side `side` for a scene of `size`.
+    /// Predicted generation + evaluation milliseconds at map side `side` for a scene of `size`:
+    /// one generation per view ([`SceneSize::views`]), one evaluation.
     pub fn predict_ms(&self, size: SceneSize, side: u32) -> f64 {
         let [g0, g1, g2, g3] = self.generate;
         let [t1, t2, t3] = self.form.terms(size.triangles, side);
         let [e0, e1, e2] = self.evaluate;
         let outside = size.receivers.saturating_sub(size.covered);
-        g0 + g1 * t1
-            + g2 * t2
-            + g3 * t3
+        (g0 + g1 * t1 + g2 * t2 + g3 * t3) * size.views.max(1) as f64
             + e0
             + e1 * size.covered as f64 / 1e6
             + e2 * outside as f64 / 1e6

@@ -122,14 +122,15 @@ fn auto_pick(
         resolution: p.resolution,
         reason: format!(
             "auto: {} {} at {}² predicts image error {:.2}/255 in {:.2} ms{stand_in} <= {budget_ms} \
-             ms ({} triangles, {} receivers, {} in the light's map), the lowest predicted error \
-             that fits",
+             ms ({} triangles in {} views, {} receivers, {} in the light's map), the lowest \
+             predicted error that fits",
             e.technique,
             e.variant,
             p.resolution,
             p.error_255,
             p.time_ms,
             size.triangles,
+            size.views.max(1),
             size.receivers,
             size.covered
         ),

@@ -341,10 +341,11 @@ fn auto_lights_say_what_they_picked_and_why() {
 #[test]
 fn auto_steps_down_when_the_frames_run_over_its_budget() {
     let mut lab = lab(5.0);
-    // 64 depth maps of 256² cannot take 0.5 ms; the hard map is predicted to take almost none.
+    // 64 depth maps of 256² cannot take 0.5 ms (predicted 0.1 ms per view, for the rect
+    // light's views); the hard map is predicted to take almost none.
     let profile = TechniqueProfile {
         entries: vec![
-            entry("accumulation", "n64", 0.3, 1.0),
+            entry("accumulation", "n64", 0.1, 1.0),
             entry("hard-shadow-map", "nearest", 1e-4, 9.0),
         ],
     };
@@ -385,14 +386,16 @@ fn auto_steps_down_when_the_frames_run_over_its_budget() {
 }
 
 /// A report becomes a profile: generation time fitted against triangles and texels, evaluation
-/// against receivers, the error against log2 of the side per light kind; runs on scenes that
-/// are not in the catalogue are skipped; a malformed file is a typed error.
+/// against receivers, the error against log2 of the side per light kind; a light's views each
+/// cost a generation; runs on scenes that are not in the catalogue are skipped; a malformed
+/// file is a typed error.
 #[test]
 fn a_report_json_becomes_a_profile() {
-    // Generation 0.5 + 2e-6 texels ms, evaluation 1 ms, error 30 - 2 log2(side) under rect
-    // lights, on three rect-light scenes.
+    // Generation 0.5 + 2e-6 texels ms per view, evaluation 1 ms, error 30 - 2 log2(side) under
+    // rect lights, on three rect-light scenes, one of them with 3 views (cube faces, say).
+    let views = |scene: &str| if scene == "contact" { 3.0 } else { 1.0 };
     let run = |scene: &str, side: u32| {
-        let g = 0.5 + 2e-6 * (side as f64).powi(2);
+        let g = views(scene) * (0.5 + 2e-6 * (side as f64).powi(2));
         let e = 30.0 - 2.0 * (side as f64).log2();
         format!(
             r#"{{"scene":"{scene}","technique":"pcf","variant":"r2","backend":"cpu","resolution":{side},
@@ -405,7 +408,9 @@ fn a_report_json_becomes_a_profile() {
         format!(
             r#"{{"scene":"{scene}","light":"rect","method":"monte-carlo","samples_per_pixel":1,
             "std_error_255":0,"max_std_error_255":0,"receivers":1000,"unlit_receivers":0,
-            "penumbra_receivers":0,"time_ms":0,"caster_triangles":10,"covered_receivers":1000}}"#
+            "penumbra_receivers":0,"time_ms":0,"caster_triangles":10,"covered_receivers":1000,
+            "light_views":{}}}"#,
+            views(scene)
         )
     };
     let scenes = ["plane-occluder", "overlap", "contact"];
@@ -431,6 +436,7 @@ fn a_report_json_becomes_a_profile() {
         triangles: 10,
         receivers: 1000,
         covered: 1000,
+        views: 1,
     };
     for side in [128, 1024, 2048] {
         let want = 0.5 + 2e-6 * (side as f64).powi(2) + 1.0;
@@ -438,6 +444,13 @@ fn a_report_json_becomes_a_profile() {
         assert!(
             (got - want).abs() < 1e-6 * want.max(1.0),
             "{side}: {got} vs {want}"
+        );
+        // Three views: three generations, one evaluation.
+        let want = 3.0 * (0.5 + 2e-6 * (side as f64).powi(2)) + 1.0;
+        let got = e.predict_ms(shadow_frame::SceneSize { views: 3, ..size }, side);
+        assert!(
+            (got - want).abs() < 1e-6 * want.max(1.0),
+            "{side}, 3 views: {got} vs {want}"
         );
         let err = e.predict_error(LightKind::Rect, side).unwrap();
         assert!((err - (30.0 - 2.0 * (side as f64).log2())).abs() < 1e-9);
@@ -456,6 +469,29 @@ fn a_report_json_becomes_a_profile() {
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// `Auto` sizes a lamp among furniture by the views its maps take (the cube faces that hold
+/// casters, as the frame pipeline plans them), each a generation.
+#[test]
+fn auto_counts_the_views_of_a_lamp_among_furniture() {
+    let spec = harness::scenes::catalogue::build("room-lamp").unwrap();
+    let casters: Vec<[Vec3; 3]> = spec
+        .meshes
+        .iter()
+        .filter(|m| m.caster)
+        .flat_map(|m| m.mesh.world_triangles(m.transform).collect::<Vec<_>>())
+        .collect();
+    let g = soft_shadow_core::SceneGeometry::new(casters, Vec::new());
+    let size = shadow_frame::SceneSize::of(&g, &spec.light, &[]);
+    let planned = soft_shadow_core::LightViews::plan(&spec.light, &g, None);
+    assert_eq!(size.views, planned.len());
+    assert!(
+        size.views > 1,
+        "{} views ({})",
+        size.views,
+        planned.kind_name()
+    );
 }
 
 /// On every catalogue scene left out of the fit, `Auto`'s picks from a full CPU report fit
