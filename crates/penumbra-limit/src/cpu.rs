@@ -54,8 +54,11 @@ pub(crate) fn layers(
                 .edges(tris)
                 .iter()
                 .filter_map(|e| silhouette::ribbon(&params, warp, e))
+                .filter(|r| {
+                    r.is_outline(&geom, |c| warp.depth_gap(warp.linear(c), t.transition_gap))
+                })
                 .collect();
-            let edge = silhouette::rasterize_ribbons(pool, &ribbons, res, warp.p_per_texel);
+            let edge = silhouette::rasterize_ribbons(pool, &ribbons, &geom, warp.p_per_texel);
             let lower = silhouette::lower_limit(pool, &view.view, warp, tris, &edge, t.layer_gap);
             (edge, lower)
         }

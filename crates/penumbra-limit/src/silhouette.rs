@@ -3,9 +3,11 @@
 //! 1. Every face (front faces, and open surfaces' back faces, which occlude too) to the
 //!    geometry depth (`geom`), nearest wins: an ordinary shadow map.
 //! 2. Every silhouette edge (faces on its two sides face the light differently, or a mesh
-//!    border) becomes two ribbons in the map: an inner strip over the silhouette's inside and an
-//!    outer strip, extended past both ends to cover the corners, on the outside. Each is as wide
-//!    as the widest penumbra of that edge ([`Warp::ribbon_texels`]). A ribbon fragment at
+//!    border) that outlines its caster ([`Ribbon::is_outline`]: not a fold whose outside the
+//!    caster itself covers) becomes two ribbons in the map: an inner strip over the silhouette's
+//!    inside and an outer strip on the outside, each extended past both ends to cover the
+//!    corners (an inner strip's fragments land only over a caster), each as wide as the widest
+//!    penumbra of that edge ([`Warp::ribbon_texels`]). A ribbon fragment at
 //!    distance `d` texels from the edge *segment* carries `c` (the edge's depth at the nearest
 //!    point) and `p_i = -/+ d * p_per_texel`; its depth-test key is the penumbra limit
 //!    `c + |p_i|` scaled by [`KEY_SCALE`] into the depth range `[0, 1]`, and the smallest key
@@ -15,6 +17,7 @@
 //!    `layer_gap` texels (a surface must not clip its own soft shadow).
 
 use crate::combine::NO_EDGE;
+use crate::warp::NONE_DEPTH;
 use crate::warp::Warp;
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
@@ -269,13 +272,44 @@ pub(crate) fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
     })
 }
 
+/// Texels outside an edge, along its outward normal, at which [`Ribbon::is_outline`] reads the
+/// geometry.
+pub(crate) const OUTLINE_PROBE: f32 = 1.5;
+
 impl Ribbon {
-    /// The two quads (texel coordinates): the inner strip, then the outer strip with its caps.
+    /// Whether the edge outlines its caster against what lies beyond it: at its two ends and its
+    /// middle, [`OUTLINE_PROBE`] texels outside, the map holds no caster or one deeper than the
+    /// edge by more than `gap(c)` (normalised) at one point at least. An edge whose outside is
+    /// covered everywhere by a caster at its depth or nearer the light is a fold inside the
+    /// caster's outline (a bump on a surface, a crease): no receiver sees light past it, and its
+    /// ribbon drew a penumbra there, light streaks inside the umbra and dark ones around them.
+    pub(crate) fn is_outline(&self, geom: &Map2D<f32>, gap: impl Fn(f32) -> f32) -> bool {
+        let (w, h) = (geom.width() as f32, geom.height() as f32);
+        let probe = |p: Vec2, c: f32| {
+            let q = p + self.out * OUTLINE_PROBE;
+            if !(q.x >= 0.0 && q.y >= 0.0 && q.x < w && q.y < h) {
+                return true;
+            }
+            let g = *geom.get(q.x as u32, q.y as u32);
+            g >= NONE_DEPTH || g > c + gap(c)
+        };
+        let (mid, cm) = ((self.a + self.b) * 0.5, (self.ca + self.cb) * 0.5);
+        probe(self.a, self.ca) || probe(mid, cm) || probe(self.b, self.cb)
+    }
+
+    /// The two quads (texel coordinates): the inner strip, then the outer strip, each with its
+    /// caps (extended past both ends by its half-width, so that the strips of a curved outline
+    /// leave no texel between them uncovered).
     pub(crate) fn quads(&self) -> [[Vec2; 4]; 2] {
         let t = (self.b - self.a).normalize_or_zero();
         let (a, b, o) = (self.a, self.b, self.out);
         [
-            [a, b, b - o * self.hb, a - o * self.ha],
+            [
+                a - t * self.ha,
+                b + t * self.hb,
+                b + t * self.hb - o * self.hb,
+                a - t * self.ha - o * self.ha,
+            ],
             [
                 a - t * self.ha,
                 b + t * self.hb,
@@ -326,6 +360,8 @@ pub(crate) const KEY_SCALE: f32 = 1.0 / (1.0 + crate::storage::MAX_P);
 struct Row<'a> {
     keys: &'a mut [f32],
     out: &'a mut [[f32; 2]],
+    /// The row's geometry depths: an inner fragment lands only where a caster is.
+    geom: &'a [f32],
     /// The row's texel centre y.
     y: f32,
 }
@@ -363,7 +399,10 @@ impl Row<'_> {
         let mut keys: [f32; L] = std::array::from_fn(|l| self.keys[x + l]);
         let mut out: [[f32; 2]; L] = std::array::from_fn(|l| self.out[x + l]);
         for l in 0..L {
-            let nearer = f[l].0 < keys[l];
+            // An inner fragment over no caster: past a corner of the outline (an inner strip's
+            // cap) or past a part thinner than the penumbra.
+            let outside = sign < 0.0 && self.geom[x + l] >= NONE_DEPTH;
+            let nearer = f[l].0 < keys[l] && !outside;
             keys[l] = if nearer { f[l].0 } else { keys[l] };
             out[l] = if nearer { [f[l].1, f[l].2] } else { out[l] };
         }
@@ -376,9 +415,10 @@ impl Row<'_> {
 pub(crate) fn rasterize_ribbons(
     pool: &Arc<Pool>,
     ribbons: &[Ribbon],
-    res: u32,
+    geom: &Map2D<f32>,
     ppt: f32,
 ) -> Map2D<[f32; 2]> {
+    let res = geom.width();
     // Each quad as the GPU draws it: triangles (0, 1, 2) and (0, 2, 3), inner strip first.
     let tris: Vec<(usize, SnappedTri, f32)> = ribbons
         .iter()
@@ -416,6 +456,7 @@ pub(crate) fn rasterize_ribbons(
                     let row = Row {
                         keys: &mut keys[at..at + w],
                         out: &mut rows[at..at + w],
+                        geom: &geom.data()[y as usize * w..(y as usize + 1) * w],
                         y: y as f32 + 0.5,
                     };
                     row.fill(&ribbons[*i], *sign, ppt, sx0 as usize, sx1 as usize);

@@ -1,10 +1,11 @@
 #define_import_path penumbra_limit::silhouette
 #import soft_shadow_core::light_space::{linear_depth}
-#import penumbra_limit::warp::{GenParams, MAX_P, depth_gap, has_edge, linear, normalized, ribbon_texels}
+#import penumbra_limit::warp::{GenParams, MAX_P, NONE_DEPTH, depth_gap, has_edge, linear, normalized, ribbon_texels}
 
 // Silhouette extrusion (section 3.1), steps 2 and 3; mirrors penumbra_limit::silhouette.
 // Step 2 pulls each edge from a storage buffer, 12 vertices per edge (inner strip, then the
-// outer strip with its caps), degenerate when the edge is no silhouette; the fragment computes
+// outer strip, each with its caps), degenerate when the edge is no silhouette or a fold inside
+// the caster's outline; the fragment computes
 // (key, c, p_i) from the distance to the edge segment and the strip's sign and writes key as its depth, so the depth
 // test (Less, cleared to 1) keeps the highest penumbra limit. Step 3 renders back faces, keeping
 // those deeper than the texel's edge by more than layer_gap texels; nearest wins (reversed Z).
@@ -21,6 +22,8 @@ struct Edge {
 @group(0) @binding(0) var<uniform> gp: GenParams;
 @group(0) @binding(1) var<storage, read> edges: array<Edge>;
 @group(0) @binding(2) var edge_tex: texture_2d<f32>;
+// Step 1's geometry depths (NONE_DEPTH where no caster).
+@group(0) @binding(3) var<storage, read> geom: array<f32>;
 
 struct Projected {
     ok: bool,
@@ -45,6 +48,25 @@ fn faces_light(n: vec3<f32>, p: vec3<f32>) -> bool {
 }
 
 const MIN_FACE_TEXELS: f32 = 1.0e-3;
+
+// Texels outside an edge at which is_outline reads the geometry (OUTLINE_PROBE).
+const OUTLINE_PROBE: f32 = 1.5;
+
+// The geometry depth of the texel under `q` (texel coordinates); NONE_DEPTH outside the map.
+fn geom_at(q: vec2<f32>) -> f32 {
+    let r = f32(gp.res);
+    if !(q.x >= 0.0 && q.y >= 0.0 && q.x < r && q.y < r) {
+        return NONE_DEPTH;
+    }
+    return geom[u32(q.y) * gp.res + u32(q.x)];
+}
+
+// Whether the map holds no caster `OUTLINE_PROBE` texels outside `q` along `o`, or one deeper
+// than `c` by more than the transition gap (Ribbon::is_outline, one probe).
+fn beyond(q: vec2<f32>, o: vec2<f32>, c: f32) -> bool {
+    let g = geom_at(q + o * OUTLINE_PROBE);
+    return g >= NONE_DEPTH || g > c + depth_gap(gp.warp, linear(gp.warp, c), gp.transition_gap);
+}
 
 // Signed distance (texels) of the projected vertex `o` from the edge's line; 0 behind the light.
 fn side(o: vec3<f32>, sa: vec2<f32>, d: vec2<f32>, len: f32) -> f32 {
@@ -110,10 +132,14 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
     let cap = 2.0 * f32(gp.map.resolution);
     let ha = min(ribbon_texels(gp.warp, ca), cap);
     let hb = min(ribbon_texels(gp.warp, cb), cap);
+    // A fold inside the caster's outline (its outside covered at its depth or nearer): no ribbon.
+    if !(beyond(sa, o, ca) || beyond((sa + sb) * 0.5, o, (ca + cb) * 0.5) || beyond(sb, o, cb)) {
+        return v;
+    }
     let t = d / len;
     var quad: array<vec2<f32>, 4>;
     if k < 6u {
-        quad = array<vec2<f32>, 4>(sa, sb, sb - o * hb, sa - o * ha);
+        quad = array<vec2<f32>, 4>(sa - t * ha, sb + t * hb, sb + t * hb - o * hb, sa - t * ha - o * ha);
     } else {
         quad = array<vec2<f32>, 4>(sa - t * ha, sb + t * hb, sb + t * hb + o * hb, sa - t * ha + o * ha);
     }
@@ -140,6 +166,10 @@ fn fs_ribbon(v: RibbonVarying) -> RibbonFragment {
     let dist = length(q - (v.a + d * t));
     let c = v.c.x + (v.c.y - v.c.x) * t;
     let p = clamp(v.sign * dist * gp.warp.p_per_texel, -MAX_P, MAX_P);
+    // An inner fragment lands only over a caster (past a corner, an inner strip's cap is outside).
+    if v.sign < 0.0 && geom[u32(q.y) * gp.res + u32(q.x)] >= NONE_DEPTH {
+        discard;
+    }
     var f: RibbonFragment;
     f.edge = vec2<f32>(c, p);
     f.key = (c + abs(p)) * KEY_SCALE;

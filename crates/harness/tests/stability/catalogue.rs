@@ -141,14 +141,6 @@ const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
     ),
     (
         "bunny",
-        "penumbra-limit",
-        "silhouette-*",
-        16,
-        "at 16² the bunny is a few texels wide and its silhouette ribbons overlap into false umbra \
-      (image 17.2 vs the hard map's 14.5); from 256² better than the hard map",
-    ),
-    (
-        "bunny",
         "occlusion-slices",
         "*-4",
         0,

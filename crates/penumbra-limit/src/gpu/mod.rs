@@ -161,6 +161,7 @@ fn encode_silhouette(
     enc: &mut wgpu::CommandEncoder,
     scene: &GpuScene,
     uniform: &wgpu::Buffer,
+    geom: &wgpu::Buffer,
     edge: &wgpu::Texture,
     lower: &wgpu::Texture,
     res: u32,
@@ -199,6 +200,7 @@ fn encode_silhouette(
                 uniform.as_entire_binding(),
                 eb.as_entire_binding(),
                 wgpu::BindingResource::TextureView(tex),
+                geom.as_entire_binding(),
             ],
         )
     };
@@ -341,7 +343,7 @@ pub(crate) fn generate(
     dispatch(ctx, enc, &di.geometry, &di_bind(&seeds[0], &seeds[1]), res);
     match t.generator {
         Generator::Silhouette => {
-            encode_silhouette(ctx, enc, scene, &uniform, &edge, &lower, res)?;
+            encode_silhouette(ctx, enc, scene, &uniform, &geom, &edge, &lower, res)?;
         }
         Generator::DepthImage => {
             dispatch(ctx, enc, &di.seeds, &di_bind(&seeds[0], &seeds[1]), res);

@@ -57,7 +57,8 @@ pub static SHADERS: Library = Library {
     ],
 };
 
-/// `silhouette.wgsl`: parameters, the edges (vertex stage), the edge layer (fragment stage).
+/// `silhouette.wgsl`: parameters, the edges (vertex stage), the edge layer (fragment stage),
+/// the geometry depths (both).
 static SILHOUETTE: Program = Program {
     library: &SHADERS,
     module: "penumbra_limit::silhouette",
@@ -68,6 +69,7 @@ static SILHOUETTE: Program = Program {
             uniform::<GenParams>(),
             storage::<Edge>(true),
             float_texture(D2),
+            storage::<f32>(true),
         ],
     }],
 };
@@ -146,7 +148,7 @@ pub(crate) const LOWER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Flo
 
 /// Silhouette extrusion, steps 2 and 3.
 pub(crate) struct SilhouettePipelines {
-    /// Parameters, edges, edge texture.
+    /// Parameters, edges, edge texture, geometry depths.
     pub layout: wgpu::BindGroupLayout,
     /// Ribbons into the edge layer, depth = penumbra limit.
     pub ribbons: wgpu::RenderPipeline,
