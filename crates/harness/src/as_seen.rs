@@ -120,7 +120,7 @@ pub fn artefacts(scene: &PreparedScene, v: &[f32]) -> Artefacts {
 }
 
 /// `v` drawn over the frame at half its size (each tile pixel the top-left receiver of a 2 x 2
-/// block): the shaded image `V E0 / E0_max` in grey, red where it is darker than the reference by
+/// block): the shaded image `V E0 / E0_max` in grey as [`shaded`] encodes it, red where it is darker than the reference by
 /// more than [`ARTEFACT_STEP`], blue where lighter; black where no receiver is. With `v` the
 /// reference itself, the reference's shaded image.
 pub fn picture(scene: &PreparedScene, v: &[f32]) -> image::RgbImage {
@@ -133,9 +133,7 @@ pub fn picture(scene: &PreparedScene, v: &[f32]) -> image::RgbImage {
             continue;
         }
         let d = v[k] - reference[k];
-        let grey = (v[k] * scene.shading.weight[k] * 255.0)
-            .round()
-            .clamp(0.0, 255.0) as u8;
+        let grey = srgb(v[k] * scene.shading.weight[k]);
         let px = if scene.shading.weight[k] >= LIT_WEIGHT && d < -ARTEFACT_STEP {
             [230, 30, 30]
         } else if scene.shading.weight[k] >= LIT_WEIGHT && d > ARTEFACT_STEP {
@@ -164,19 +162,24 @@ pub struct Flip {
 /// viewing distance from a 24-inch 4K monitor.
 pub const PIXELS_PER_DEGREE: f32 = nv_flip::DEFAULT_PIXELS_PER_DEGREE;
 
+/// The 8-bit sRGB encoding of a linear value in [0, 1].
+fn srgb(linear: f32) -> u8 {
+    let l = linear.clamp(0.0, 1.0);
+    let e = if l <= 0.003_130_8 {
+        12.92 * l
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    };
+    (e * 255.0).round() as u8
+}
+
 /// The frame as a person sees it with `V = v` (one value per receiver): the light's shaded
 /// image `V E0 / E0_max` (linear), sRGB-encoded, grey; black where no receiver is.
 pub fn shaded(scene: &PreparedScene, v: &[f32]) -> image::RgbImage {
     let (w, h) = (scene.gbuffer.width(), scene.gbuffer.height());
     let mut img = image::RgbImage::new(w, h);
     for (k, &i) in scene.pixels.iter().enumerate() {
-        let linear = (v[k] * scene.shading.weight[k]).clamp(0.0, 1.0);
-        let srgb = if linear <= 0.003_130_8 {
-            12.92 * linear
-        } else {
-            1.055 * linear.powf(1.0 / 2.4) - 0.055
-        };
-        let g = (srgb * 255.0).round() as u8;
+        let g = srgb(v[k] * scene.shading.weight[k]);
         img.put_pixel(i as u32 % w, i as u32 / w, image::Rgb([g; 3]));
     }
     img
@@ -194,7 +197,8 @@ pub fn flip(scene: &PreparedScene, v: &[f32]) -> (Flip, image::RgbImage) {
     let all = error.to_vec();
     let mut at: Vec<f32> = scene.pixels.iter().map(|&i| all[i]).collect();
     let mean = at.iter().map(|&e| e as f64).sum::<f64>() / at.len().max(1) as f64;
-    let k = ((0.95 * at.len() as f64) as usize).min(at.len().saturating_sub(1));
+    // Nearest rank: the smallest value at or above 95% of the receivers.
+    let k = ((0.95 * at.len() as f64).ceil() as usize).saturating_sub(1);
     let p95 = if at.is_empty() {
         0.0
     } else {

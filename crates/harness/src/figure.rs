@@ -187,3 +187,129 @@ fn labelled(
     image::imageops::replace(&mut img, strip, 0, HEADER as i64);
     Ok(img)
 }
+
+/// The configurations of the "as seen" figure: the baselines and the techniques' defaults that
+/// model a disk light (`technique:variant`).
+pub const AS_SEEN: [&str; 7] = [
+    "hard-shadow-map:nearest",
+    "pcf:r2",
+    "pcss:7x7-9x9",
+    "accumulation:n16",
+    "shadow-width:edt",
+    "penumbra-limit:silhouette-f32",
+    "occlusion-slices:nbuffer-8",
+];
+
+/// Pixels around the reference's shadow kept in the "as seen" crops.
+const CROP_MARGIN: u32 = 24;
+
+/// `harness figure --as-seen`: the bunny's shadow as a person sees it (the 1280 x 720 frame of
+/// [`crate::as_seen`], maps at `resolution`), cropped around the reference's shadow, the
+/// reference then each configuration of [`AS_SEEN`], four to a row, labelled, FLIP under each.
+/// Returns each configuration's label and mean FLIP.
+pub fn as_seen(out: &std::path::Path, resolution: u32) -> Result<Vec<(String, f32)>> {
+    use crate::as_seen::{LIT_WEIGHT, flip, frame, shaded};
+    let scene = frame(catalogue::build("bunny")?)?;
+    let reference = scene.reference_v();
+    let w = scene.gbuffer.width();
+    // The crop: the lit receivers the reference shades, padded.
+    let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
+    for (k, &i) in scene.pixels.iter().enumerate() {
+        if reference[k] < crate::metrics::PENUMBRA_HI && scene.shading.weight[k] >= LIT_WEIGHT {
+            let (x, y) = (i as u32 % w, i as u32 / w);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+        }
+    }
+    if x0 > x1 {
+        return Err(HarnessError::Usage(
+            "the bunny casts no shadow in view".into(),
+        ));
+    }
+    let h = scene.gbuffer.height();
+    let (x0, y0) = (
+        x0.saturating_sub(CROP_MARGIN),
+        y0.saturating_sub(CROP_MARGIN),
+    );
+    let (x1, y1) = ((x1 + CROP_MARGIN).min(w - 1), (y1 + CROP_MARGIN).min(h - 1));
+    let crop = |img: &RgbImage| {
+        image::imageops::crop_imm(img, x0, y0, x1 - x0 + 1, y1 - y0 + 1).to_image()
+    };
+    let mut tiles = vec![(
+        "reference".to_string(),
+        "ray traced".to_string(),
+        "FLIP".to_string(),
+        crop(&shaded(&scene, &reference)),
+    )];
+    let cpu = CpuContext::new();
+    let all = all_techniques(false);
+    let mut scores = Vec::new();
+    for label in AS_SEEN {
+        let t = all
+            .iter()
+            .find(|t| format!("{}:{}", t.name(), t.variant()) == label)
+            .ok_or_else(|| HarnessError::Usage(format!("no configuration {label}")))?;
+        let v = t
+            .generate_in(
+                Context::Cpu(&cpu),
+                &scene.geometry,
+                &scene.spec.light,
+                &scene.views,
+                resolution,
+            )?
+            .evaluate(None, &scene.receivers())?;
+        let score = flip(&scene, &v).0;
+        scores.push((label.to_string(), score.mean));
+        tiles.push((
+            t.name().to_string(),
+            t.variant(),
+            format!("FLIP {:.4}", score.mean),
+            crop(&shaded(&scene, &v)),
+        ));
+    }
+    let img = grid(&tiles, 4).map_err(|e| HarnessError::write(out, e))?;
+    img.save(out).map_err(|e| HarnessError::write(out, e))?;
+    Ok(scores)
+}
+
+/// `tiles` (all of one size) `columns` to a row, each with two label lines above and one below.
+fn grid(
+    tiles: &[(String, String, String, RgbImage)],
+    columns: u32,
+) -> std::result::Result<RgbImage, String> {
+    register_font();
+    let (tw, th) = tiles.first().map_or((1, 1), |t| t.3.dimensions());
+    let (cell_w, cell_h) = (tw + 8, HEADER + th + FOOTER);
+    let rows = (tiles.len() as u32).div_ceil(columns);
+    let (w, h) = (columns * cell_w, rows * cell_h);
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&RGBColor(20, 20, 20))
+            .map_err(|e| e.to_string())?;
+        let style = |px: u32| {
+            ("sans-serif", px as f64)
+                .into_font()
+                .color(&WHITE)
+                .pos(Pos::new(HPos::Center, VPos::Top))
+        };
+        for (i, (a, b, c, _)) in tiles.iter().enumerate() {
+            let (cx, cy) = ((i as u32 % columns) * cell_w, (i as u32 / columns) * cell_h);
+            let x = (cx + cell_w / 2) as i32;
+            for (text, y, px) in [
+                (a, cy + 4, 17),
+                (b, cy + 24, 15),
+                (c, cy + HEADER + th + 4, 15),
+            ] {
+                root.draw(&Text::new(text.as_str(), (x, y as i32), style(px)))
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    let mut img = RgbImage::from_raw(w, h, buf).ok_or("label buffer size")?;
+    for (i, (_, _, _, tile)) in tiles.iter().enumerate() {
+        let (cx, cy) = ((i as u32 % columns) * cell_w, (i as u32 / columns) * cell_h);
+        image::imageops::replace(&mut img, tile, (cx + 4) as i64, (cy + HEADER) as i64);
+    }
+    Ok(img)
+}

@@ -85,6 +85,11 @@ enum Command {
         /// G-buffer side in pixels.
         #[arg(long, default_value_t = 256)]
         size: u32,
+        /// Draw the "as seen" figure instead: the bunny's shadow in the 1280 x 720 frame,
+        /// cropped, the reference and the techniques' defaults with FLIP under each (`--scene`
+        /// and `--size` are not used; `--out docs/as-seen.png --resolution 1024` for the docs).
+        #[arg(long)]
+        as_seen: bool,
     },
     /// Print the "which technique" table (Markdown) from a report: per light kind and budget,
     /// the technique with the lowest image error that fits, and the best baseline beside it,
@@ -216,10 +221,23 @@ fn main() -> ExitCode {
             })
         }
         Command::Figure {
+            out,
+            resolution,
+            as_seen: true,
+            ..
+        } => harness::figure::as_seen(&out, resolution).map(|scores| {
+            let mut s = String::new();
+            for (label, flip) in scores {
+                s.push_str(&format!("{label}: mean FLIP {flip:.4}\n"));
+            }
+            s + &format!("wrote {}", out.display())
+        }),
+        Command::Figure {
             scene,
             out,
             resolution,
             size,
+            ..
         } => {
             let opts = harness::figure::FigureOptions {
                 scene,

@@ -3,12 +3,13 @@
 //! them from a `report.json`), so `Auto` can predict what a configuration costs on a scene it
 //! has never seen and how accurate it is at each map resolution.
 //!
-//! - **Cost**: generation `g0 + g1·t1 + g2·t2 + g3·t3` milliseconds per view over the terms of
-//!   the form the technique states ([`CostForm::terms`]: triangles, a texel term, and
-//!   per-triangle work that grows with the map), times the light's views ([`SceneSize::views`]); evaluation `e0 + e1·(covered receivers / 10⁶) + e2·(other
-//!   receivers / 10⁶)`, the covered ones those inside the light's map ([`SceneSize::of`]). `Auto` multiplies the
-//!   prediction by the entry's margin, the 95th percentile of measured over predicted time in
-//!   the fit, so that its picks fit the budget.
+//! - **Cost**: generation `g0 + g1·t1 + g2·t2 + g3·t3` milliseconds per view over the terms
+//!   of the form the technique states ([`CostForm::terms`]: triangles, a texel term, and
+//!   per-triangle work that grows with the map), times the light's views
+//!   ([`SceneSize::views`]); evaluation `e0 + e1·(covered receivers / 10⁶) + e2·(other
+//!   receivers / 10⁶)`, the covered ones those inside the light's map ([`SceneSize::of`]).
+//!   `Auto` multiplies the prediction by the entry's margin, the 95th percentile of measured
+//!   over predicted time in the fit, so that its picks fit the budget.
 //! - **Error**: the image error (1/255) as `a + b·log2(side)` per light kind, clamped to the
 //!   resolutions it was fitted over. Maps cover what casts, so the side is the resolution
 //!   relative to the casters' extent.
@@ -57,14 +58,14 @@ pub struct SceneSize {
     pub covered: usize,
     /// The light's views ([`LightViews`]: one frustum, cube faces or cascades), each generated
     /// in full: generation is predicted per view and multiplied by them (0 counts as 1).
+    /// The frame pipeline's `Auto` plans them as it generates them.
     pub views: usize,
 }
 
 impl SceneSize {
     /// The size of `geometry` lit by `light` with `receivers`: its caster triangles, how many
     /// receivers fall inside the map a light's centre would render of what casts, and how many
-    /// views the light's maps take ([`LightViews::plan`] without a camera, as the frame
-    /// pipeline plans them).
+    /// views the light's maps over `geometry` take ([`LightViews::plan`] without a camera).
     pub fn of(geometry: &SceneGeometry, light: &Light, receivers: &[Vec3]) -> Self {
         let views = if geometry.casters.is_empty() {
             1

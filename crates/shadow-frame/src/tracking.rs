@@ -76,7 +76,8 @@ type CasterMeshes<'w, 's> =
     Query<'w, 's, (&'static MeshHandle, &'static Transform), With<ShadowCaster>>;
 
 /// The scene `light` sees, as predictions size it: the casters' triangles, the frame's
-/// receivers, and those inside the light's map ([`SceneSize::of`]).
+/// receivers, those inside the light's map ([`SceneSize::of`]), and the light's views as the
+/// pipeline plans them.
 fn scene_size(
     casters: &CasterMeshes,
     frame: &FrameReceivers,
@@ -87,7 +88,20 @@ fn scene_size(
         .flat_map(|(m, t)| m.0.world_triangles(t.0).collect::<Vec<_>>())
         .collect();
     let geometry = soft_shadow_core::SceneGeometry::new(tris, Vec::new());
-    SceneSize::of(&geometry, light, &frame.positions)
+    let size = SceneSize::of(&geometry, light, &frame.positions);
+    if geometry.casters.is_empty() {
+        return size;
+    }
+    // The views as the pipeline plans them: over the casters with the bounds grown by the
+    // receivers (`light_geometry`), every caster kept (a light's range only drops some).
+    let mut planned = geometry;
+    for p in &frame.positions {
+        planned.bounds.grow(*p);
+    }
+    SceneSize {
+        views: soft_shadow_core::LightViews::plan(light, &planned, None).len(),
+        ..size
+    }
 }
 
 /// `Auto`'s pick for `kind` within `budget_ms`, as a resolved technique whose reason names the

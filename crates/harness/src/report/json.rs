@@ -52,9 +52,10 @@ pub struct SeenRun {
     pub leaks_per_million: f64,
     /// Leaks on the casters' own surfaces per million receivers.
     pub object_leaks_per_million: f64,
-    /// Mean FLIP of the shaded frame against the reference's ([`crate::as_seen::flip`]).
+    /// Mean FLIP over the frame's receivers, the shaded frame against the reference's
+    /// ([`crate::as_seen::flip`]).
     pub flip_mean: f32,
-    /// 95th percentile of FLIP over the frame.
+    /// 95th percentile of FLIP over the frame's receivers.
     pub flip_p95: f32,
     /// Wall time of the frame's reference, milliseconds.
     pub reference_ms: f64,

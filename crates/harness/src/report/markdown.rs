@@ -127,7 +127,8 @@ fn summary(s: &mut String, report: &Report) {
         "## Summary\n\nPer light kind and per-light budget (generation + evaluation, mean over the \
          scenes of that kind), the configuration with the lowest mean image error \
          (`image_rms_255`) here, and the best baseline (hard shadow map, PCF, PCSS, \
-         accumulation) in the same budget. Budgets: {:?} ms.\n",
+         accumulation) in the same budget, leaving out any configuration a person sees as \
+         worse than the hard shadow map by FLIP (As seen). Budgets: {:?} ms.\n",
         BUDGETS_MS
     );
     let _ = writeln!(
@@ -261,7 +262,7 @@ fn as_seen(s: &mut String, report: &Report) {
         "\n## As seen\n\nThe frame a person looks at ({WIDTH} x {HEIGHT}, the reference at \
          128 rays per receiver not proven lit), at every map side of the report. **FLIP**: NVIDIA's perceptual \
          difference of the shaded frame (`V E0 / E0_max`, sRGB) from the reference's at \
-         {PIXELS_PER_DEGREE:.0} pixels per degree, mean and 95th percentile over the frame; \
+         {PIXELS_PER_DEGREE:.0} pixels per degree, mean and 95th percentile over the receivers; \
          **worse than hard** marks a configuration whose mean FLIP is above the hard shadow \
          map's on the same scene, backend and map side: `choose` never recommends it. **darkened** counts receivers the reference sees \
          at least half lit drawn at less than half of it (blotches, streaks, rings); **false \

@@ -47,7 +47,7 @@ pub fn listing(quick: bool) -> String {
         let what = catalogue::build(name).map_or_else(|e| e.to_string(), |spec| spec.description);
         let _ = writeln!(s, "  {name:18} {what}");
     }
-    s.push_str("scenes measured as seen only (the full report's frames; --scenes runs them):\n");
+    s.push_str("scenes of the as-seen frames only (--scenes also runs them as the others):\n");
     for name in catalogue::AS_SEEN_NAMES {
         let what = catalogue::build(name).map_or_else(|e| e.to_string(), |spec| spec.description);
         let _ = writeln!(s, "  {name:18} {what}");
@@ -199,19 +199,7 @@ impl Runner<'_> {
         let name = job.spec.name.clone();
         self.bar.set_message(format!("{name}: reference"));
         let p = PreparedScene::new(job.spec, self.size, self.settings)?;
-        if !p.uncovered.is_empty() {
-            let n = p.uncovered.len();
-            let mut what = p.uncovered[..n.min(3)].join(", ");
-            if n > 3 {
-                what += &format!(" and {} more", n - 3);
-            }
-            return Err(crate::error::HarnessError::Uncovered {
-                scene: name,
-                light: p.spec.light.kind().name().into(),
-                views: p.views.kind_name().into(),
-                what,
-            });
-        }
+        refuse_uncovered(&name, &p)?;
         let reference = p.reference_v();
         // The catalogue's `acne` is unshadowed by design; the warning is for users' scenes.
         let builtin = catalogue::SCENE_NAMES.contains(&name.split('@').next().unwrap_or(&name));
@@ -679,6 +667,25 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         &html::render_report(&md, &report.strips),
     )?;
     Ok(report)
+}
+
+/// Refuses a scene whose views leave a caster out ([`PreparedScene::uncovered`]), naming the
+/// light and (up to three of) what they leave out.
+pub(crate) fn refuse_uncovered(name: &str, p: &PreparedScene) -> Result<()> {
+    if p.uncovered.is_empty() {
+        return Ok(());
+    }
+    let n = p.uncovered.len();
+    let mut what = p.uncovered[..n.min(3)].join(", ");
+    if n > 3 {
+        what += &format!(" and {} more", n - 3);
+    }
+    Err(HarnessError::Uncovered {
+        scene: name.to_string(),
+        light: p.spec.light.kind().name().into(),
+        views: p.views.kind_name().into(),
+        what,
+    })
 }
 
 /// Prints (on stderr, whether or not a terminal shows the bar: `println` drops the line when

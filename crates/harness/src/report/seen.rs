@@ -55,7 +55,7 @@ pub fn frames_dir(scene: &str) -> String {
 
 /// Every technique of `techniques` that models the scene's light, at every map side of the
 /// report, on `backends`, over the frame of each scene of [`scene_names`]; a configuration that
-/// fails is recorded by `skip`. Per scene, [`picture_file`] in `opts.out` shows the reference's
+/// fails is recorded in `skipped` (and printed above `bar`). Per scene, [`picture_file`] in `opts.out` shows the reference's
 /// shaded frame, then for the first variant of each technique on the first backend, at the side
 /// nearest 1024, its frame with the artefacts marked
 /// ([`crate::as_seen::picture`]) beside its FLIP map, at half size; [`frames_dir`] holds the
@@ -71,6 +71,7 @@ pub fn measure(
     for name in scene_names(opts) {
         bar.set_message(format!("{name} as seen: reference"));
         let scene = frame(build(&name)?)?;
+        super::refuse_uncovered(&name, &scene)?;
         bar.inc();
         let light = &scene.spec.light;
         let dir = opts.out.join(frames_dir(&name));
@@ -114,7 +115,11 @@ pub fn measure(
                     let (score, heat) = flip(&scene, &v);
                     if i == 0 && resolution == pictured_side && !pictured.contains(&t.name()) {
                         pictured.push(t.name());
-                        let file = format!("{}-{}.png", t.name(), super::file_stem(&t.variant()));
+                        let file = format!(
+                            "{}-{}.png",
+                            super::file_stem(t.name()),
+                            super::file_stem(&t.variant())
+                        );
                         save(&dir.join(file), &shaded(&scene, &v))?;
                         let (w, h) = heat.dimensions();
                         let half = image::imageops::thumbnail(&heat, w.div_ceil(2), h.div_ceil(2));
