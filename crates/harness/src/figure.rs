@@ -155,10 +155,31 @@ pub fn run(opts: &FigureOptions) -> Result<Vec<Column>> {
 fn labelled(
     strip: &RgbImage,
     size: u32,
-    labels: &[(String, String, String)],
+    labels: &[Labels],
+) -> std::result::Result<RgbImage, String> {
+    let (w, h) = (strip.width(), HEADER + STRIP_ROWS * size + FOOTER);
+    let below = (HEADER + STRIP_ROWS * size + 4) as i32;
+    let texts: Vec<_> = labels
+        .iter()
+        .enumerate()
+        .map(|(i, l)| ((i as u32 * size + size / 2) as i32, 0, below, l))
+        .collect();
+    let mut img = canvas(w, h, &texts)?;
+    image::imageops::replace(&mut img, strip, 0, HEADER as i64);
+    Ok(img)
+}
+
+/// The label lines of one column or tile: two above it, one below.
+type Labels = (String, String, String);
+
+/// A dark `w` x `h` canvas with, for each `(x, top, below, (a, b, c))`, the lines `a` and `b`
+/// centred on `x` from `top` and `c` centred on `x` at `below`.
+fn canvas(
+    w: u32,
+    h: u32,
+    texts: &[(i32, i32, i32, &Labels)],
 ) -> std::result::Result<RgbImage, String> {
     register_font();
-    let (w, h) = (strip.width(), HEADER + STRIP_ROWS * size + FOOTER);
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
@@ -170,22 +191,15 @@ fn labelled(
                 .color(&WHITE)
                 .pos(Pos::new(HPos::Center, VPos::Top))
         };
-        for (i, (a, b, c)) in labels.iter().enumerate() {
-            let x = (i as u32 * size + size / 2) as i32;
-            for (text, y, px) in [
-                (a, 4, 17),
-                (b, 24, 15),
-                (c, (HEADER + STRIP_ROWS * size + 4) as i32, 15),
-            ] {
+        for &(x, top, below, (a, b, c)) in texts {
+            for (text, y, px) in [(a, top + 4, 17), (b, top + 24, 15), (c, below, 15)] {
                 root.draw(&Text::new(text.as_str(), (x, y), style(px)))
                     .map_err(|e| e.to_string())?;
             }
         }
         root.present().map_err(|e| e.to_string())?;
     }
-    let mut img = RgbImage::from_raw(w, h, buf).ok_or("label buffer size")?;
-    image::imageops::replace(&mut img, strip, 0, HEADER as i64);
-    Ok(img)
+    Ok(RgbImage::from_raw(w, h, buf).ok_or("label buffer size")?)
 }
 
 /// The configurations of the "as seen" figure: the baselines and the techniques' defaults that
@@ -235,9 +249,11 @@ pub fn as_seen(out: &std::path::Path, resolution: u32) -> Result<Vec<(String, f3
         image::imageops::crop_imm(img, x0, y0, x1 - x0 + 1, y1 - y0 + 1).to_image()
     };
     let mut tiles = vec![(
-        "reference".to_string(),
-        "ray traced".to_string(),
-        "FLIP".to_string(),
+        (
+            "reference".to_string(),
+            "ray traced".to_string(),
+            "FLIP".to_string(),
+        ),
         crop(&shaded(&scene, &reference)),
     )];
     let cpu = CpuContext::new();
@@ -260,9 +276,11 @@ pub fn as_seen(out: &std::path::Path, resolution: u32) -> Result<Vec<(String, f3
         let score = flip(&scene, &v).0;
         scores.push((label.to_string(), score.mean));
         tiles.push((
-            t.name().to_string(),
-            t.variant(),
-            format!("FLIP {:.4}", score.mean),
+            (
+                t.name().to_string(),
+                t.variant(),
+                format!("FLIP {:.4}", score.mean),
+            ),
             crop(&shaded(&scene, &v)),
         ));
     }
@@ -272,43 +290,27 @@ pub fn as_seen(out: &std::path::Path, resolution: u32) -> Result<Vec<(String, f3
 }
 
 /// `tiles` (all of one size) `columns` to a row, each with two label lines above and one below.
-fn grid(
-    tiles: &[(String, String, String, RgbImage)],
-    columns: u32,
-) -> std::result::Result<RgbImage, String> {
-    register_font();
-    let (tw, th) = tiles.first().map_or((1, 1), |t| t.3.dimensions());
+fn grid(tiles: &[(Labels, RgbImage)], columns: u32) -> std::result::Result<RgbImage, String> {
+    let (tw, th) = tiles.first().map_or((1, 1), |t| t.1.dimensions());
     let (cell_w, cell_h) = (tw + 8, HEADER + th + FOOTER);
     let rows = (tiles.len() as u32).div_ceil(columns);
-    let (w, h) = (columns * cell_w, rows * cell_h);
-    let mut buf = vec![0u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&RGBColor(20, 20, 20))
-            .map_err(|e| e.to_string())?;
-        let style = |px: u32| {
-            ("sans-serif", px as f64)
-                .into_font()
-                .color(&WHITE)
-                .pos(Pos::new(HPos::Center, VPos::Top))
-        };
-        for (i, (a, b, c, _)) in tiles.iter().enumerate() {
-            let (cx, cy) = ((i as u32 % columns) * cell_w, (i as u32 / columns) * cell_h);
-            let x = (cx + cell_w / 2) as i32;
-            for (text, y, px) in [
-                (a, cy + 4, 17),
-                (b, cy + 24, 15),
-                (c, cy + HEADER + th + 4, 15),
-            ] {
-                root.draw(&Text::new(text.as_str(), (x, y as i32), style(px)))
-                    .map_err(|e| e.to_string())?;
-            }
-        }
-        root.present().map_err(|e| e.to_string())?;
-    }
-    let mut img = RgbImage::from_raw(w, h, buf).ok_or("label buffer size")?;
-    for (i, (_, _, _, tile)) in tiles.iter().enumerate() {
-        let (cx, cy) = ((i as u32 % columns) * cell_w, (i as u32 / columns) * cell_h);
+    let corner = |i: usize| ((i as u32 % columns) * cell_w, (i as u32 / columns) * cell_h);
+    let texts: Vec<_> = tiles
+        .iter()
+        .enumerate()
+        .map(|(i, (l, _))| {
+            let (cx, cy) = corner(i);
+            (
+                (cx + cell_w / 2) as i32,
+                cy as i32,
+                (cy + HEADER + th + 4) as i32,
+                l,
+            )
+        })
+        .collect();
+    let mut img = canvas(columns * cell_w, rows * cell_h, &texts)?;
+    for (i, (_, tile)) in tiles.iter().enumerate() {
+        let (cx, cy) = corner(i);
         image::imageops::replace(&mut img, tile, (cx + 4) as i64, (cy + HEADER) as i64);
     }
     Ok(img)
