@@ -8,8 +8,9 @@
 //! - **accurate**: in image error and in `V` rms against the reference, no worse than the hard
 //!   shadow map's at the same resolution and backend plus [`TOLERANCE`]; and where the reference
 //!   has a shadow (the "no shadow" image's `V` rms above 1/255), measurably better than that
-//!   image (`V = 1` everywhere): its `V` rms at least [`TOLERANCE`] below. [`EXCUSED`] names the
-//!   configurations let off, each with the measured reason. A false umbra (the landed
+//!   image (`V = 1` everywhere): its `V` rms at least [`TOLERANCE`] below (the hard map itself
+//!   only the latter). [`EXCUSED`] names the configurations let off, scene by scene, each with
+//!   the measured reason and the worst errors it may reach. A false umbra (the landed
 //!   penumbra-limit warp) or a technique that silently casts no shadow (shadow-width `edt-back`
 //!   on open casters, penumbra-limit f16 on `light-plane`, both fixed) fails it.
 //!
@@ -53,227 +54,451 @@ fn runs_at(name: &str, res: u32, backend: Backend) -> bool {
     res != FINEST || backend == Backend::Cpu || GPU_FINE_CASES.contains(&name)
 }
 
-/// `(scene, technique or "*", variant or "*", resolution or 0 for all, why)`: configurations
-/// allowed to lose to the hard shadow map or to the no-shadow image, each with the measured
-/// reason (48² G-buffer; lavapipe and the CPU agree to 0.01). An entry naming a scene that no
-/// longer excuses anything there fails the test, so the list shrinks as techniques improve.
-const EXCUSED: &[(&str, &str, &str, u32, &str)] = &[
-    (
-        "huge-depth-range",
-        "*",
-        "*",
-        16,
-        "the maps cover the 2 cm box and the ground its shadow can reach (the 5 km far box \
+/// Error (1/255) an excused configuration may add over the worst its excuse recorded.
+const EXCUSE_TOLERANCE: f64 = 0.1;
+
+/// The worst errors (1/255) of the configurations an excuse lets off, as measured when it was
+/// written (the larger of the CPU's and lavapipe's).
+#[derive(Clone, Copy, Debug)]
+struct Worst {
+    /// Image error.
+    image: f64,
+    /// `V` rms.
+    v: f64,
+}
+
+/// A configuration allowed to lose to the hard shadow map or to the no-shadow image, with the
+/// measured reason. It may not get worse than [`Excuse::worst`] plus [`EXCUSE_TOLERANCE`].
+#[derive(Debug)]
+struct Excuse {
+    /// A scene name, or a pattern with a leading or trailing `*` (relit scenes: `name@kind`).
+    scene: &'static str,
+    /// A technique's name or a pattern.
+    technique: &'static str,
+    /// A variant or a pattern.
+    variant: &'static str,
+    /// One resolution, or 0 for every one.
+    resolution: u32,
+    /// The worst errors of what it lets off.
+    worst: Worst,
+    /// Why, measured (48² G-buffer; lavapipe and the CPU agree to 0.01).
+    why: &'static str,
+}
+
+/// Why PCF r2 fails at 16², on each scene it names.
+const PCF_16: &str = "the fixed 5x5 kernel of 16² texels spans 5/16 of the map: skewed triangle 29.6 vs the \
+      hard map's 23.3, torus 20.4 vs 17.0, triangle light 9.8 vs 9.2 (image error)";
+
+/// Why occlusion-slices' `sat-8-max` fails, on each scene it names.
+const SAT_8_MAX: &str = "the max of the slices' occlusion ignores that the slices add up: foliage image 25.5-27.7 \
+      vs the hard map's 24.9-26.1";
+
+/// The configurations allowed to lose to the hard shadow map or to the no-shadow image. Each
+/// names its scenes, so that an entry that no longer excuses anything on a scene it names fails
+/// that scene's test and the list shrinks as techniques improve; an excused configuration that
+/// gets worse than the entry's recorded worst fails too.
+const EXCUSED: &[Excuse] = &[
+    Excuse {
+        scene: "huge-depth-range",
+        technique: "*",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 7.65,
+            v: 7.65,
+        },
+        why: "the maps cover the 2 cm box and the ground its shadow can reach (the 5 km far box \
       shadows nothing in view): a 16² texel is 3.6 mm, and kernels of several texels spread the \
       box's shadow (a 0.05 rad sun: a penumbra under 1 mm) where the hard map reads it exactly \
       (0.00): PCSS 5.03, accumulation 5.1-6.4, depth-image 0.66-0.81; from 256² they pass",
-    ),
-    (
-        "huge-depth-range",
-        "pcf",
-        "*",
-        256,
-        "the fixed 5x5 kernel of 0.23 mm texels spans 1.1 mm, wider than the sun's penumbra \
+    },
+    Excuse {
+        scene: "huge-depth-range",
+        technique: "pcf",
+        variant: "*",
+        resolution: 256,
+        worst: Worst {
+            image: 1.47,
+            v: 1.47,
+        },
+        why: "the fixed 5x5 kernel of 0.23 mm texels spans 1.1 mm, wider than the sun's penumbra \
       behind the 2 cm box (1.47 vs the hard map's exact 0.00); at 2048² it passes",
-    ),
-    (
-        "huge-depth-range@*",
-        "*",
-        "*",
-        16,
-        "recast as a 0.5 m rect or segment 11.7 m away: occlusion-slices' slices span at least \
+    },
+    Excuse {
+        scene: "huge-depth-range@*",
+        technique: "*",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 12.61,
+            v: 12.75,
+        },
+        why: "recast as a 0.5 m rect or segment 11.7 m away: occlusion-slices' slices span at least \
       the light's width (a 16² texel of 3 cm or more) and the 2 cm box covers no texel centre, \
       and linear-light likewise reads no shadow (12.75), where the hard map, fitted to the box, \
       casts it exactly; from 2048² every variant passes",
-    ),
-    (
-        "huge-depth-range@*",
-        "*",
-        "*",
-        256,
-        "recast as a 0.5 m rect or segment 11.7 m away: a 256² slice texel (2 mm or more) \
+    },
+    Excuse {
+        scene: "huge-depth-range@*",
+        technique: "*",
+        variant: "*",
+        resolution: 256,
+        worst: Worst {
+            image: 4.44,
+            v: 4.48,
+        },
+        why: "recast as a 0.5 m rect or segment 11.7 m away: a 256² slice texel (2 mm or more) \
       puts a few texels across the 2 cm box, whose shadow the slices' boxes and Heidrich's 2-5 \
       maps read at image 1.9-4.5 (linear-light 2.9-3.1) against the hard map's exact 0.00; \
       from 2048² every variant passes",
-    ),
-    (
-        "light-plane",
-        "*",
-        "*",
-        16,
-        "the map takes in the 4 m wall up to the light's plane (a 163-degree field of view), and \
+    },
+    Excuse {
+        scene: "light-plane",
+        technique: "*",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 9.75,
+            v: 52.10,
+        },
+        why: "the map takes in the 4 m wall up to the light's plane (a 163-degree field of view), and \
       at 16² the 0.7 m occluder covers no texel centre (0 texels; 132 at 256², the wall 78 and \
       20,318): the hard map and every technique built on its depths read the no-shadow image \
       (65.22; PCF 63.2 and PCSS 62.7 by their kernels' reach); from 256² all cast it",
-    ),
-    (
-        "linear-bar",
-        "*",
-        "*",
-        16,
-        "at 16² the hard map, PCF, PCSS and shadow-width read the no-shadow image (34.07): the \
+    },
+    Excuse {
+        scene: "linear-bar",
+        technique: "*",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 10.98,
+            v: 34.07,
+        },
+        why: "at 16² the hard map, PCF, PCSS and shadow-width read the no-shadow image (34.07): the \
       0.2 m bar covers no texel centre of the 16² map (0 texels; 3,744 at 256²), whose texels \
       are 0.20 m at the bar's top, its width, and it falls between their centres; linear-light, the technique for this light, casts it",
-    ),
-    (
-        "linear-bar",
-        "hard-shadow-map",
-        "*",
-        0,
-        "the centre's hard shadow of a 0.2 m bar under a 1.6 m segment light: a black strip where \
+    },
+    Excuse {
+        scene: "linear-bar",
+        technique: "hard-shadow-map",
+        variant: "*",
+        resolution: 0,
+        worst: Worst {
+            image: 12.25,
+            v: 39.01,
+        },
+        why: "the centre's hard shadow of a 0.2 m bar under a 1.6 m segment light: a black strip where \
       the true shadow is a faint 0.8 m band without umbra (V rms 38.6 at 256², the no-shadow \
       image 34.1); what a hard map is, not a defect",
-    ),
-    (
-        "linear-bar",
-        "pcf",
-        "*",
-        2048,
-        "the 5x5 kernel of 2048² texels is the hard shadow's (38.4 vs no shadow's 34.1)",
-    ),
-    (
-        "*",
-        "pcf",
-        "*",
-        16,
-        "the fixed 5x5 kernel of 16² texels spans 5/16 of the map: skewed triangle 29.6 vs the \
-      hard map's 23.3, torus 20.4 vs 17.0, triangle light 9.8 vs 9.2 (image error)",
-    ),
-    (
-        "bunny",
-        "occlusion-slices",
-        "*-4",
-        0,
-        "four slices over the bunny's depth: where neighbouring slices' cross-sections of the body \
+    },
+    Excuse {
+        scene: "linear-bar",
+        technique: "pcf",
+        variant: "*",
+        resolution: 2048,
+        worst: Worst {
+            image: 11.91,
+            v: 38.37,
+        },
+        why: "the 5x5 kernel of 2048² texels is the hard shadow's (38.4 vs no shadow's 34.1)",
+    },
+    Excuse {
+        scene: "acne",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 1.62,
+            v: 6.04,
+        },
+        why: PCF_16,
+    },
+    Excuse {
+        scene: "grazing",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 3.09,
+            v: 25.97,
+        },
+        why: PCF_16,
+    },
+    Excuse {
+        scene: "room-lamp",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 3.89,
+            v: 47.82,
+        },
+        why: PCF_16,
+    },
+    Excuse {
+        scene: "room-lamp-corner",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 3.61,
+            v: 87.69,
+        },
+        why: PCF_16,
+    },
+    Excuse {
+        scene: "skewed-triangle",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 29.64,
+            v: 29.64,
+        },
+        why: PCF_16,
+    },
+    Excuse {
+        scene: "street-sun",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 42.39,
+            v: 64.35,
+        },
+        why: PCF_16,
+    },
+    Excuse {
+        scene: "torus",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 20.40,
+            v: 68.13,
+        },
+        why: PCF_16,
+    },
+    Excuse {
+        scene: "triangle-light",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 9.82,
+            v: 23.05,
+        },
+        why: PCF_16,
+    },
+    Excuse {
+        scene: "bunny",
+        technique: "occlusion-slices",
+        variant: "*-4",
+        resolution: 0,
+        worst: Worst {
+            image: 5.79,
+            v: 18.50,
+        },
+        why: "four slices over the bunny's depth: where neighbouring slices' cross-sections of the body \
       meet, two half-covered kernels combine to a quarter of the light (section 3.3), at 2048² \
       image 5.46-5.79 vs the hard map's 5.26, V 18.3-18.5 vs 16.6; 8 and 16 slices pass",
-    ),
-    (
-        "*",
-        "occlusion-slices",
-        "sat-8-max",
-        0,
-        "the max of the slices' occlusion ignores that the slices add up: foliage image 25.5-27.7 \
-      vs the hard map's 24.9-26.1",
-    ),
-    (
-        "foliage",
-        "occlusion-slices",
-        "*-4",
-        0,
-        "four slices over 3000 leaves: each slice's coverage is one average at one depth (N-Buffers \
+    },
+    Excuse {
+        scene: "foliage",
+        technique: "occlusion-slices",
+        variant: "sat-8-max",
+        resolution: 0,
+        worst: Worst {
+            image: 27.72,
+            v: 93.68,
+        },
+        why: SAT_8_MAX,
+    },
+    Excuse {
+        scene: "grazing",
+        technique: "occlusion-slices",
+        variant: "sat-8-max",
+        resolution: 0,
+        worst: Worst {
+            image: 1.21,
+            v: 9.99,
+        },
+        why: SAT_8_MAX,
+    },
+    Excuse {
+        scene: "foliage",
+        technique: "occlusion-slices",
+        variant: "*-4",
+        resolution: 0,
+        worst: Worst {
+            image: 26.70,
+            v: 54.35,
+        },
+        why: "four slices over 3000 leaves: each slice's coverage is one average at one depth (N-Buffers \
       and SAT image 25.8-26.7 vs the hard map's 24.9-26.1; V rms 52-54 against its 92-95)",
-    ),
-    (
-        "foliage",
-        "shadow-width",
-        "*",
-        0,
-        "the width is the distance to the nearest unblocked texel, and under 3000 leaves that is \
+    },
+    Excuse {
+        scene: "foliage",
+        technique: "shadow-width",
+        variant: "*",
+        resolution: 0,
+        worst: Worst {
+            image: 30.70,
+            v: 125.40,
+        },
+        why: "the width is the distance to the nearest unblocked texel, and under 3000 leaves that is \
       a gap between leaves: every receiver reads near an edge, nearly lit (V rms 109-125 vs the \
       hard map's 92-95; image 28.5-30.7 vs 24.9-26.1). Inner penumbrae only, as the paper",
-    ),
-    (
-        "foliage",
-        "penumbra-limit",
-        "depth-image-*",
-        16,
-        "a 16² texel holds many leaves, and the depth image's edges are texel blocks (image 38.1 vs \
+    },
+    Excuse {
+        scene: "foliage",
+        technique: "penumbra-limit",
+        variant: "depth-image-*",
+        resolution: 16,
+        worst: Worst {
+            image: 38.25,
+            v: 109.49,
+        },
+        why: "a 16² texel holds many leaves, and the depth image's edges are texel blocks (image 38.1 vs \
       the hard map's 37.1, while V rms is better: 109.4 vs 111.7)",
-    ),
-    (
-        "thin",
-        "*",
-        "*",
-        16,
-        "a 16² texel (0.37 m) is 60 times the 6 mm wires: they alias in and out of the map, and \
+    },
+    Excuse {
+        scene: "thin",
+        technique: "*",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 17.31,
+            v: 29.04,
+        },
+        why: "a 16² texel (0.37 m) is 60 times the 6 mm wires: they alias in and out of the map, and \
       the hard map itself is worse than no shadow (29.0 vs 27.5); penumbra-limit's ribbons of \
       texel-wide wires overlap into false umbra (36.5)",
-    ),
-    (
-        "grazing",
-        "occlusion-slices",
-        "*",
-        256,
-        "at grazing light the eq. 4 kernel spans most of a slice: mipmaps over-blur (11.2 vs the \
+    },
+    Excuse {
+        scene: "grazing",
+        technique: "occlusion-slices",
+        variant: "*",
+        resolution: 256,
+        worst: Worst {
+            image: 0.81,
+            v: 11.16,
+        },
+        why: "at grazing light the eq. 4 kernel spans most of a slice: mipmaps over-blur (11.2 vs the \
       hard map's 7.3), SAT-sum double counts (7.36)",
-    ),
-    (
-        "grazing",
-        "*",
-        "*",
-        16,
-        "a 16² texel (0.10 m, the map spans the post's long grazing penumbra) is half the 0.2 m \
+    },
+    Excuse {
+        scene: "grazing",
+        technique: "*",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 1.94,
+            v: 11.58,
+        },
+        why: "a 16² texel (0.10 m, the map spans the post's long grazing penumbra) is half the 0.2 m \
       post: every filter and width estimate spreads the umbra at its base, where the hard map's \
       nearest lookup is exact (within 1 m of the post: PCF 59.9, PCSS 27.0, accumulation 20.2, \
       shadow-width 32.0 vs 0; all 6.4-26.6 overall vs the hard map's 6.45 and no shadow's 34.6)",
-    ),
-    (
-        "grazing@linear",
-        "linear-light",
-        "*",
-        0,
-        "the recast segment light at grazing angles: 2-5 depth maps undersample the skins at 16² \
+    },
+    Excuse {
+        scene: "grazing@linear",
+        technique: "linear-light",
+        variant: "*",
+        resolution: 0,
+        worst: Worst {
+            image: 2.31,
+            v: 14.71,
+        },
+        why: "the recast segment light at grazing angles: 2-5 depth maps undersample the skins at 16² \
       (30.7 vs 21.8) and n2 at 256² (15.7 vs 7.3): Heidrich's own undersampling failure",
-    ),
-    (
-        "contact@linear",
-        "linear-light",
-        "n2",
-        16,
-        "two 16² depth maps at the segment's ends: their umbrae overlap nowhere near the contact, \
+    },
+    Excuse {
+        scene: "contact@linear",
+        technique: "linear-light",
+        variant: "n2",
+        resolution: 16,
+        worst: Worst {
+            image: 6.61,
+            v: 15.53,
+        },
+        why: "two 16² depth maps at the segment's ends: their umbrae overlap nowhere near the contact, \
          so the strip between them reads lit (14.5 vs the hard map's 8.1; n3 and n5 pass)",
-    ),
-    (
-        "light-plane",
-        "occlusion-slices",
-        "*-4",
-        0,
-        "the wall crosses the light's plane and shadows the ground behind it; each of four slices \
+    },
+    Excuse {
+        scene: "light-plane",
+        technique: "occlusion-slices",
+        variant: "*-4",
+        resolution: 0,
+        worst: Worst {
+            image: 2.81,
+            v: 25.30,
+        },
+        why: "the wall crosses the light's plane and shadows the ground behind it; each of four slices \
       holds a band of the wall that covers part of a receiver's kernel, and their product (section \
       3.3) lets light through: at 256² V rms 25.2-25.4 vs the hard map's 23.5 (image 2.8 vs 5.0), \
       at 2048² 26.4 vs 23.3 (2.8 vs 4.9): the hard map's V, from the cube faces around the \
       light, lost the 163-degree frustum's coarse texels at 256². On the report's 128² G-buffer \
       the ground behind the wall is 81% of the squared error (V rms 114.6 over its 518 receivers; \
       8 slices 64.6)",
-    ),
-    (
-        "street-sun",
-        "penumbra-limit",
-        "*",
-        16,
-        "a 16² cascade texel is 1.8 m and more, wider than the models and the gaps between the \
+    },
+    Excuse {
+        scene: "street-sun",
+        technique: "penumbra-limit",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 39.38,
+            v: 71.91,
+        },
+        why: "a 16² cascade texel is 1.8 m and more, wider than the models and the gaps between the \
       blocks: the ribbons of at least two texels each side of an edge overlap into false umbra \
       (silhouette image 38.9-39.4 vs the hard map's 34.6; the depth image passes)",
-    ),
-    (
-        "street-sun",
-        "penumbra-limit",
-        "*",
-        256,
-        "the near cascade's 256² texel is 11 cm against the sun's penumbrae of a centimetre: \
+    },
+    Excuse {
+        scene: "street-sun",
+        technique: "penumbra-limit",
+        variant: "*",
+        resolution: 256,
+        worst: Worst {
+            image: 14.69,
+            v: 22.77,
+        },
+        why: "the near cascade's 256² texel is 11 cm against the sun's penumbrae of a centimetre: \
       ribbons of two texels and more each side of an edge compete where edges meet (a shadow's \
       corner), and outer strips of the models' folds read lit inside their shadows (48² \
       G-buffer: image 14.6-14.7 vs the hard map's 12.6, V 22.3-23.1 vs 20.5); at 2048² every \
       variant is better than the hard map",
-    ),
-    (
-        "street-sun",
-        "shadow-width",
-        "*",
-        256,
-        "one receiver on a Suzanne's side turned 87 degrees from the sun (image weight 0.057) reads \
+    },
+    Excuse {
+        scene: "street-sun",
+        technique: "shadow-width",
+        variant: "*",
+        resolution: 256,
+        worst: Worst {
+            image: 12.55,
+            v: 21.43,
+        },
+        why: "one receiver on a Suzanne's side turned 87 degrees from the sun (image weight 0.057) reads \
       umbra where the hard map's biases clear it: V rms 21.4 vs 20.5, the image error equal \
       (12.55)",
-    ),
+    },
 ];
 
+impl Excuse {
+    /// What it names, for messages.
+    fn pattern(&self) -> (&str, &str, &str, u32) {
+        (self.scene, self.technique, self.variant, self.resolution)
+    }
+}
+
 fn excused(scene: &str, t: &dyn DynTechnique, res: u32) -> Option<usize> {
-    EXCUSED.iter().position(|(s, n, v, r, _)| {
-        matches(s, scene)
-            && matches(n, t.name())
-            && matches(v, &t.variant())
-            && (*r == 0 || *r == res)
+    EXCUSED.iter().position(|e| {
+        matches(e.scene, scene)
+            && matches(e.technique, t.name())
+            && matches(e.variant, &t.variant())
+            && (e.resolution == 0 || e.resolution == res)
     })
 }
 
@@ -335,7 +560,8 @@ fn check(name: &str) {
     let mut failures = Vec::new();
     // Per scene (the relit ones too).
     let mut benches: HashMap<String, Bench> = HashMap::new();
-    let mut used = std::collections::HashSet::new();
+    // The worst errors of what each excuse let off on this scene.
+    let mut worst: HashMap<usize, Worst> = HashMap::new();
     for t in &all {
         // As the report: a hard case is recast for the techniques that do not model its light;
         // other scenes run the techniques that model theirs.
@@ -367,7 +593,13 @@ fn check(name: &str) {
                 assert_stable(&v, bench.receivers.positions.len(), &what);
                 runs += 1;
                 let e = errors(&v, &bench.reference, &bench.scene.shading);
+                // The hard map is the yardstick: its own run sets it and is not compared
+                // with itself.
+                let is_hard = t.name() == hard.name();
                 let h = *bench.hard.entry((res, be)).or_insert_with(|| {
+                    if is_hard {
+                        return e;
+                    }
                     let hv = visibility(hard.as_ref(), be, &bench.receivers, light, res, &what);
                     errors(&hv, &bench.reference, &bench.scene.shading)
                 });
@@ -388,8 +620,9 @@ fn check(name: &str) {
                         e.rms_255, n.rms_255
                     ));
                 }
-                if e.image_rms_255 > h.image_rms_255 + TOLERANCE
-                    || e.rms_255 > h.rms_255 + TOLERANCE
+                if !is_hard
+                    && (e.image_rms_255 > h.image_rms_255 + TOLERANCE
+                        || e.rms_255 > h.rms_255 + TOLERANCE)
                 {
                     failure = Some(format!(
                         "{what}: image {:.2} V {:.2}, hard map image {:.2} V {:.2}",
@@ -399,7 +632,22 @@ fn check(name: &str) {
                 if let Some(f) = failure {
                     match excused(&relit.name, t.as_ref(), res) {
                         Some(i) => {
-                            used.insert(i);
+                            let w = worst.entry(i).or_insert(Worst { image: 0.0, v: 0.0 });
+                            w.image = w.image.max(e.image_rms_255);
+                            w.v = w.v.max(e.rms_255);
+                            let cap = EXCUSED[i].worst;
+                            if e.image_rms_255 > cap.image + EXCUSE_TOLERANCE
+                                || e.rms_255 > cap.v + EXCUSE_TOLERANCE
+                            {
+                                failures.push(format!(
+                                    "{f}: worse than its excuse recorded (image {:.2} V {:.2}): \
+                                     {:?}, {}",
+                                    cap.image,
+                                    cap.v,
+                                    EXCUSED[i].pattern(),
+                                    EXCUSED[i].why
+                                ));
+                            }
                         }
                         None => failures.push(f),
                     }
@@ -417,14 +665,22 @@ fn check(name: &str) {
         .filter(|t| spec.hard_case || t.models(spec.light.kind()))
         .count();
     assert_eq!(runs, modelled * per_technique);
+    for (i, w) in &worst {
+        // What an excuse lets off here, to record it in `worst` when the excuse is written.
+        println!(
+            "{name}: excuse {:?} worst image {:.2} V {:.2}",
+            EXCUSED[*i].pattern(),
+            w.image,
+            w.v
+        );
+    }
     for (i, e) in EXCUSED.iter().enumerate() {
-        // An entry for every scene ("*") may pass on some of them.
-        let on_scene = e.0 != "*" && benches.keys().any(|b| matches(e.0, b));
-        let at_res = e.3 == 0 || RESOLUTIONS.contains(&e.3);
-        if on_scene && at_res && !used.contains(&i) {
+        let on_scene = benches.keys().any(|b| matches(e.scene, b));
+        let at_res = e.resolution == 0 || RESOLUTIONS.contains(&e.resolution);
+        if on_scene && at_res && !worst.contains_key(&i) {
             failures.push(format!(
                 "excused, but nothing it names fails on {name}: {:?}",
-                (e.0, e.1, e.2, e.3)
+                e.pattern()
             ));
         }
     }
