@@ -71,6 +71,17 @@ proptest! {
         prop_assert_eq!(combine(Combination::Product, &with_one), 0.0);
     }
 
+    /// Section 3.3's model holds for the product: slices are independent random occluders.
+    #[test]
+    fn product_treats_slices_as_independent_occluders(
+        a in occlusions(),
+        b in occlusions(),
+        x in 0.01f32..0.99,
+        y in 0.01f32..0.99,
+    ) {
+        prop_assert_eq!(independent(Combination::Product, &a, &b, x, y), Ok(()));
+    }
+
     /// The summed-area table's box sums equal brute force exactly for random binary masks and
     /// random integer rectangles, including rectangles clipped by the border.
     #[test]
@@ -170,6 +181,48 @@ proptest! {
             prop_assert!((got - exact).abs() < 1e-4, "{got} vs {exact}");
         }
     }
+}
+
+/// Section 3.3's independence, which only the product has: the light two groups of slices let
+/// through is the product of what each lets through (`V(a ++ b) = V(a) V(b)`), and two partial
+/// occluders `x`, `y` in (0, 1) block strictly more than the stronger and strictly less than
+/// their sum (`max < 1 - (1 - x)(1 - y) < x + y`). `Err` says which part fails.
+fn independent(how: Combination, a: &[f32], b: &[f32], x: f32, y: f32) -> Result<(), String> {
+    let joined: Vec<f32> = a.iter().chain(b).copied().collect();
+    let (va, vb, vab) = (combine(how, a), combine(how, b), combine(how, &joined));
+    // One f32 rounding per factor.
+    let eps = 1e-6 * (joined.len() as f32 + 1.0);
+    if (vab - va * vb).abs() > eps {
+        return Err(format!("V(a ++ b) {vab} != V(a) V(b) {}", va * vb));
+    }
+    let occluded = 1.0 - combine(how, &[x, y]);
+    // The margins are min(x, y) (1 - max(x, y)) and x y, at least 1e-4 here.
+    if occluded <= x.max(y) + 1e-5 {
+        return Err(format!(
+            "{x} and {y} block {occluded}, no more than the stronger"
+        ));
+    }
+    if occluded >= x + y - 1e-5 {
+        return Err(format!("{x} and {y} block {occluded}, their sum"));
+    }
+    Ok(())
+}
+
+/// The independence property can fail: the strongest slice alone and the clamped sum break it
+/// on two half-covered slices (Max lets half the light through where the product lets a
+/// quarter, Sum none).
+#[test]
+fn max_and_sum_are_not_independent_occluders() {
+    for how in [Combination::Max, Combination::Sum] {
+        assert!(
+            independent(how, &[0.5], &[0.5], 0.5, 0.5).is_err(),
+            "{how:?} passes the product's property"
+        );
+    }
+    assert_eq!(
+        independent(Combination::Product, &[0.5], &[0.5], 0.5, 0.5),
+        Ok(())
+    );
 }
 
 fn random_mask(res: u32, density: f64, seed: u64) -> Vec<bool> {
