@@ -11,6 +11,7 @@ mod ground_truth;
 mod linear_light;
 mod occlusion_slices;
 mod own_device;
+mod own_shader;
 mod papers;
 mod penumbra_limit;
 mod pool;
