@@ -101,11 +101,12 @@ fn as_rect(light: &Light, bounds: &Aabb) -> Light {
             let along = (b - a).normalize_or(Vec3::X);
             let across = facing.cross(along).normalize_or(orthonormal_basis(along).0);
             let half = 0.5 * (b - a).length();
-            // u x v must face the scene: (along x across) = facing when across = facing x along.
+            // u x v must face the scene: along x (facing x along) = facing, for `facing`
+            // across the segment.
             Light::Rect {
                 center,
                 u_half: along * half,
-                v_half: -across * (0.01 * half),
+                v_half: across * (0.01 * half),
             }
         }
         Light::Point { .. } | Light::Rect { .. } => {
@@ -206,6 +207,34 @@ mod tests {
                 .validate()
                 .unwrap();
         }
+    }
+
+    /// A segment over the scene becomes a thin rect along it that emits towards the scene (it
+    /// faced away, lighting nothing: every random scene under a segment light recast to a rect).
+    #[test]
+    fn a_segment_becomes_a_thin_rect_facing_the_scene() {
+        let l = Light::Linear {
+            a: Vec3::new(-0.5, 3.0, 0.2),
+            b: Vec3::new(0.5, 3.0, 0.2),
+        };
+        let b = unit_box();
+        let r = relight(&l, &b, |k| k == LightKind::Rect).unwrap();
+        r.validate().unwrap();
+        let Light::Rect {
+            center,
+            u_half,
+            v_half,
+        } = r
+        else {
+            panic!("{r:?}")
+        };
+        let towards = (b.center() - center).normalize();
+        assert!(
+            u_half.cross(v_half).normalize().dot(towards) > 0.99,
+            "{r:?} emits away from the scene"
+        );
+        assert!((u_half.length() - 0.5).abs() < 1e-6);
+        assert!(v_half.length() < 0.01);
     }
 
     #[test]
