@@ -13,3 +13,8 @@ pub mod report;
 pub mod scenes;
 pub mod setup;
 pub mod testing;
+
+/// docs/integration.md, whose code examples compile as doc-tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/integration.md")]
+pub struct IntegrationDoc;
