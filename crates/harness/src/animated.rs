@@ -7,9 +7,9 @@ use crate::scenes::shapes::{cuboid, ground, torus};
 use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::entity::Entity;
 use glam::{Mat4, Vec3};
-use shadow_frame::Scene;
 use shadow_frame::scene::Transform;
 use shadow_frame::{FramePipeline, FrameReceivers, ShadowConfig};
+use shadow_frame::{Scene, Shadows};
 use soft_shadow_core::raster::{GBufferTexel, gbuffer};
 use soft_shadow_core::{Camera, DynTechnique, Light, Map2D, Result};
 use std::sync::Arc;
@@ -44,18 +44,20 @@ impl AnimatedScene {
     /// Builds the scene with `size²` camera receivers and maps of `resolution`.
     pub fn new(size: u32, resolution: u32) -> Result<Self> {
         let mut scene = Scene::new();
-        scene.add_mesh(Arc::new(ground(14.0, 0.0, 1)), Mat4::IDENTITY, true, true)?;
+        scene.add_mesh(
+            Arc::new(ground(14.0, 0.0, 1)),
+            Mat4::IDENTITY,
+            Shadows::CAST_AND_RECEIVE,
+        )?;
         scene.add_mesh(
             Arc::new(torus(Vec3::new(-3.0, 0.9, -3.0), 0.6, 0.2, 32, 12)),
             Mat4::IDENTITY,
-            true,
-            true,
+            Shadows::CAST_AND_RECEIVE,
         )?;
         let mover = scene.add_mesh(
             Arc::new(cuboid("mover", Vec3::ZERO, Vec3::splat(0.35))),
             Mat4::IDENTITY,
-            true,
-            true,
+            Shadows::CAST_AND_RECEIVE,
         )?;
         let lights = [
             (

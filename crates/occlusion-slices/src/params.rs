@@ -4,6 +4,7 @@ use soft_shadow_core::{Backend, Light, LightKind, Result, ShadowError, Technique
 
 /// How an occlusion texture is box-filtered (section 3.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Prefilter {
     /// A mipmap pyramid (dyadic 2x2 means), read trilinearly at the kernel's level.
     Mipmap,
@@ -39,6 +40,7 @@ impl Prefilter {
 
 /// How the occlusions `I_k` of the slices between a point and the light combine (section 3.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Combination {
     /// Equation 5: `V = prod(1 - I_k)`, slices as independent random occluders.
     Product,

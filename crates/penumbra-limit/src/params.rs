@@ -6,6 +6,7 @@ use soft_shadow_core::{Backend, Bias, Light, LightKind, Result, ShadowError, Tec
 
 /// How the map is generated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Generator {
     /// Section 3.1: front geometry to `g`, silhouette edges extruded into soft-shadow ribbons
     /// that write `c` and `p_i` ("highest penumbra limit wins"), back faces to `b`.

@@ -12,6 +12,7 @@ pub(crate) const MAX_P: f32 = 2.0;
 
 /// Texel format of a penumbra limit map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Storage {
     /// `Rgba32Float`.
     F32,

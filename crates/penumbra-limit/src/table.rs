@@ -22,6 +22,7 @@ pub const TABLE_SIZE_RANGE: std::ops::RangeInclusive<u32> = 2..=65536;
 
 /// Emission profile across the light, as the table integrates it.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Profile {
     /// Chosen from the light: the limb-darkened sun for a [`DistantProfile::LimbDarkenedSun`],
     /// the uniform disk otherwise.

@@ -6,6 +6,7 @@ use thiserror::Error;
 ///
 /// Library code never panics on user input; it returns one of these instead.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum ShadowError {
     /// A glTF/GLB file could not be parsed or holds something this library does not read.
     #[error("glTF import failed ({source_name}): {reason}")]

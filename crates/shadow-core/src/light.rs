@@ -14,6 +14,7 @@ pub const SUN_LIMB_DARKENING_U: f32 = 0.6;
 
 /// Emission profile of a distant light across its disc.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum DistantProfile {
     /// Every direction inside the cone emits equally.
     UniformDisk,
@@ -24,6 +25,7 @@ pub enum DistantProfile {
 
 /// A light source. All positions are in world space, metres.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Light {
     /// A point light (hard shadows).
     Point {
@@ -85,6 +87,7 @@ pub enum Light {
 
 /// The kind of a [`Light`], without parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[non_exhaustive]
 pub enum LightKind {
     /// [`Light::Point`].
     Point,

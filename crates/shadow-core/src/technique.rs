@@ -119,6 +119,7 @@ impl<'a> Checked<Generation<'a>> {
 /// [`CostForm::terms`]: the triangles, a texel term, and a term for work per triangle that grows
 /// with the map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[non_exhaustive]
 pub enum CostForm {
     /// A fixed number of passes over the map (`side²`), and rasterization whose per-triangle
     /// work grows with the rows each triangle spans (`triangles·side`).

@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 /// How a light's technique is chosen.
 #[derive(Clone)]
+#[non_exhaustive]
 pub enum TechniqueChoice {
     /// This technique, with these parameters.
     Explicit(Arc<dyn DynTechnique>),

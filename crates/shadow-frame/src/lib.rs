@@ -13,7 +13,7 @@ pub mod tracking;
 
 pub use components::*;
 pub use profile::{Pick, ProfileEntry, SceneSize, TechniqueProfile};
-pub use scene::Scene;
+pub use scene::{Scene, Shadows};
 pub use stats::{FrameStats, TechniqueStats};
 
 use crate::scene::ShadowCaster;

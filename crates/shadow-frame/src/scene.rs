@@ -63,6 +63,33 @@ struct Instance {
     receiver: bool,
 }
 
+/// Whether a mesh instance casts shadows, receives them (appears in the G-buffer), or both.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shadows {
+    /// Casts shadows: it lies in the light's maps.
+    pub casts: bool,
+    /// Receives shadows.
+    pub receives: bool,
+}
+
+impl Shadows {
+    /// Casts and receives: an object.
+    pub const CAST_AND_RECEIVE: Shadows = Shadows {
+        casts: true,
+        receives: true,
+    };
+    /// Casts only: an occluder the camera does not shade (a light's housing).
+    pub const CAST_ONLY: Shadows = Shadows {
+        casts: true,
+        receives: false,
+    };
+    /// Receives only: a ground that shadows nothing in view.
+    pub const RECEIVE_ONLY: Shadows = Shadows {
+        casts: false,
+        receives: true,
+    };
+}
+
 impl Scene {
     /// An empty scene.
     pub fn new() -> Self {
@@ -72,13 +99,13 @@ impl Scene {
         }
     }
 
-    /// Adds a mesh instance; it is validated (finite vertices, indices in range).
+    /// Adds a mesh instance that casts and receives as `shadows` says; it is validated (finite
+    /// vertices, indices in range).
     pub fn add_mesh(
         &mut self,
         mesh: Arc<TriangleMesh>,
         transform: Mat4,
-        caster: bool,
-        receiver: bool,
+        shadows: Shadows,
     ) -> Result<Entity> {
         mesh.validate()?;
         if !transform.is_finite() {
@@ -93,10 +120,10 @@ impl Scene {
             Transform(transform),
             SpawnOrder(self.next),
         ));
-        if caster {
+        if shadows.casts {
             e.insert(ShadowCaster);
         }
-        if receiver {
+        if shadows.receives {
             e.insert(ShadowReceiver);
         }
         Ok(e.id())

@@ -17,6 +17,7 @@ use soft_shadow_core::{
 
 /// Which baseline filter.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Filter {
     /// One nearest depth test on the light centre's map.
     Hard,

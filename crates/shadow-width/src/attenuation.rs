@@ -25,6 +25,7 @@ impl<F: Fn(f32) -> f32 + Send + Sync> Falloff for F {
 
 /// Which falloff `f` the technique uses.
 #[derive(Clone)]
+#[non_exhaustive]
 pub enum FalloffKind {
     /// The paper's `f(x) = 1 + c_bias - x` (`c_bias >= 0`, default 0).
     Linear {

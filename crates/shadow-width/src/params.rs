@@ -6,6 +6,7 @@ use soft_shadow_core::{Bias, Light, LightKind, Result, ShadowError, TechniqueInf
 
 /// How the shadow-width map is built from the inverted occlusion map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum WidthMethod {
     /// The paper's iterative propagation (section 4): each pass takes the minimum over the texel
     /// and its neighbours at distance `step`, plus `step` times the neighbour's offset length; the
@@ -23,6 +24,7 @@ pub enum WidthMethod {
 
 /// Neighbourhood of [`WidthMethod::Propagate`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Neighbours {
     /// Three directions 120 degrees apart (the paper's GeForce3 loop: three shifted textures
     /// and the unshifted one fill its four texture units), each offset rounded to the nearest
@@ -51,6 +53,7 @@ impl Neighbours {
 
 /// Which surface the depth map holds, i.e. where the shadow depth `sd = z' - z` is measured from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
 pub enum DepthLayer {
     /// The nearest surface (the ordinary shadow map).
     #[default]
@@ -68,6 +71,7 @@ pub enum DepthLayer {
 
 /// The softness `c_scale` of `I = f(c_scale * sw / sd)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Softness {
     /// A constant `c_scale >= 0` (the paper's form). Larger is harder.
     Constant(f32),

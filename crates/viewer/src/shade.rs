@@ -6,7 +6,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use soft_shadow_core::{Light, Result};
+use soft_shadow_core::{Light, LightPoint, Result};
 
 /// Light samples per side of the grid.
 pub const GRID: u32 = 8;
@@ -111,6 +111,15 @@ fn light_samples(light: &Light) -> (Vec<[f32; 4]>, f32, Vec3) {
             DISTANT_IRRADIANCE / RADIANCE,
             Vec3::ZERO,
         ),
+        // A kind added later: shaded as a point at its centre (or the sun along its direction).
+        other => match other.center() {
+            LightPoint::Position(p) => (vec![p.extend(1.0).to_array()], POINT_AREA, Vec3::ZERO),
+            LightPoint::Direction(d) => (
+                vec![d.extend(0.0).to_array()],
+                DISTANT_IRRADIANCE / RADIANCE,
+                Vec3::ZERO,
+            ),
+        },
     }
 }
 

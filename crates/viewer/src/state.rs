@@ -4,7 +4,7 @@
 use crate::renderer::ViewMode;
 use crate::techniques::{TechniqueEntry, find};
 use glam::Vec3;
-use soft_shadow_core::{Camera, DistantProfile, Light, LightKind, Result, ShadowError};
+use soft_shadow_core::{Camera, DistantProfile, Light, LightKind, LightPoint, Result, ShadowError};
 
 /// A camera orbiting a target: yaw and pitch around it at a distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,6 +128,11 @@ impl LightEdit {
                     2.0 * d * (angular_diameter * 0.5).tan(),
                 )
             }
+            // A kind added later: its centre and size.
+            other => match other.center() {
+                LightPoint::Position(p) => (p, other.size()),
+                LightPoint::Direction(d) => (target + d * 4.0, 4.0 * other.size()),
+            },
         };
         Self {
             kind: light.kind(),
@@ -208,6 +213,12 @@ impl LightEdit {
                 angular_diameter: 2.0 * (0.5 * size / distance).atan(),
                 profile: DistantProfile::UniformDisk,
             },
+            other => {
+                return Err(ShadowError::InvalidLight(format!(
+                    "the viewer cannot place a {} light",
+                    other.name()
+                )));
+            }
         };
         let light = fix_winding(light, n);
         light.validate()?;

@@ -6,7 +6,7 @@ pub mod scene_file;
 pub mod shapes;
 
 use glam::Mat4;
-use shadow_frame::Scene;
+use shadow_frame::{Scene, Shadows};
 use soft_shadow_core::{Aabb, Camera, Light, LightKind, Result, TriangleMesh};
 use std::sync::Arc;
 
@@ -49,7 +49,14 @@ impl SceneSpec {
     pub fn to_scene(&self) -> Result<Scene> {
         let mut scene = Scene::new();
         for m in &self.meshes {
-            scene.add_mesh(m.mesh.clone(), m.transform, m.caster, m.receiver)?;
+            scene.add_mesh(
+                m.mesh.clone(),
+                m.transform,
+                Shadows {
+                    casts: m.caster,
+                    receives: m.receiver,
+                },
+            )?;
         }
         scene.add_light(self.light)?;
         scene.set_camera(self.camera);

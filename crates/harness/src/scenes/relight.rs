@@ -18,7 +18,7 @@
 
 use glam::Vec3;
 use soft_shadow_core::light::orthonormal_basis;
-use soft_shadow_core::{Aabb, Light, LightKind};
+use soft_shadow_core::{Aabb, Light, LightKind, LightPoint};
 
 /// Distance of a recast distant light, in scene diagonals.
 pub const DISTANCE_FACTOR: f32 = 10.0;
@@ -59,6 +59,12 @@ fn anchor(light: &Light, bounds: &Aabb) -> Vec3 {
         Light::Rect { center, .. } | Light::Disk { center, .. } | Light::Sphere { center, .. } => {
             center
         }
+        other => match other.center() {
+            LightPoint::Position(c) => c,
+            LightPoint::Direction(d) => {
+                bounds.center() + d * DISTANCE_FACTOR * bounds.diagonal().max(1e-3)
+            }
+        },
     }
 }
 
@@ -112,6 +118,12 @@ fn as_rect(light: &Light, bounds: &Aabb) -> Light {
         Light::Point { .. } | Light::Rect { .. } => {
             square(center, facing, 0.5 * point_size(center))
         }
+        // A kind added later: the square of its size.
+        _ => square(
+            center,
+            facing,
+            0.25 * std::f32::consts::PI.sqrt() * light.size(),
+        ),
     }
 }
 
@@ -136,6 +148,8 @@ fn as_segment(light: &Light, bounds: &Aabb) -> Light {
             angular_diameter, ..
         } => (center - bounds.center()).length() * (0.5 * angular_diameter).tan(),
         Light::Point { .. } | Light::Linear { .. } => 0.5 * point_size(center),
+        // A kind added later: a segment of its size.
+        _ => 0.5 * light.size().max(point_size(center)),
     };
     let (across, _) = orthonormal_basis(facing);
     Light::Linear {

@@ -5,12 +5,12 @@ use glam::{Mat4, Vec2, Vec3};
 use harness::animated::pipeline;
 use harness::scenes::shapes::{cuboid, ground};
 use proptest::prelude::*;
-use shadow_frame::Scene;
 use shadow_frame::scene::Transform;
 use shadow_frame::{
     FrameReceivers, FrameStats, LightState, ProfileEntry, ResolvedTechnique, ShadowConfig,
     TechniqueProfile,
 };
+use shadow_frame::{Scene, Shadows};
 use soft_shadow_core::{Backend, DynTechnique, Light, LightKind};
 use std::sync::Arc;
 
@@ -28,23 +28,25 @@ struct Lab {
 fn lab(mover_x: f32) -> Lab {
     let mut scene = Scene::new();
     scene
-        .add_mesh(Arc::new(ground(16.0, 0.0, 1)), Mat4::IDENTITY, true, true)
+        .add_mesh(
+            Arc::new(ground(16.0, 0.0, 1)),
+            Mat4::IDENTITY,
+            Shadows::CAST_AND_RECEIVE,
+        )
         .unwrap();
     let box_mesh = Arc::new(cuboid("box", Vec3::ZERO, Vec3::splat(0.3)));
     scene
         .add_mesh(
             box_mesh.clone(),
             Mat4::from_translation(Vec3::new(-5.0, 0.8, 0.0)),
-            true,
-            true,
+            Shadows::CAST_AND_RECEIVE,
         )
         .unwrap();
     let mover = scene
         .add_mesh(
             box_mesh,
             Mat4::from_translation(Vec3::new(mover_x, 0.8, 0.0)),
-            true,
-            true,
+            Shadows::CAST_AND_RECEIVE,
         )
         .unwrap();
     let rect = scene

@@ -189,7 +189,7 @@ fn more_samples_do_not_increase_the_error_on_linear_bar() {
 
 /// The scene's light as linear-light models it: segments and triangles as they are, a rect's u
 /// axis, a disk's or sphere's diameter, a short segment through a point light; distant lights
-/// are skipped.
+/// (and kinds added later) are skipped.
 fn as_segment(light: &Light) -> Option<Light> {
     let seg = |c: Vec3, half: Vec3| Light::Linear {
         a: c - half,
@@ -208,7 +208,7 @@ fn as_segment(light: &Light) -> Option<Light> {
         )),
         Light::Sphere { center, radius } => Some(seg(center, Vec3::X * radius)),
         Light::Point { position } => Some(seg(position, Vec3::X * 1e-4)),
-        Light::Distant { .. } => None,
+        _ => None,
     }
 }
 

@@ -36,6 +36,7 @@ fn penumbra_limit_agrees_between_cpu_and_gpu_on_every_scene() {
                     Storage::F32 => 1e-4,
                     Storage::F16 => 2.0 / 2048.0,
                     Storage::Rgba8 => 1.5 / 255.0,
+                    other => panic!("no agreement step for {other:?}"),
                 };
                 // Every view's maps (one per cube face or cascade).
                 for (view, (cmap, gmap)) in cm.maps().iter().zip(gm.maps()).enumerate() {

@@ -1,7 +1,7 @@
 //! Bad input gets a typed error naming the problem; nothing panics.
 
-use crate::Scene;
 use crate::gltf::{glb, import_gltf_slice};
+use crate::{Scene, Shadows};
 use glam::{Mat4, Vec3};
 use soft_shadow_core::{Light, ShadowError, TriangleMesh};
 use std::sync::Arc;
@@ -113,7 +113,7 @@ fn nan_vertex_is_a_typed_error() {
         indices: vec![[0, 1, 2]],
     });
     assert!(matches!(
-        Scene::new().add_mesh(bad, Mat4::IDENTITY, true, true),
+        Scene::new().add_mesh(bad, Mat4::IDENTITY, Shadows::CAST_AND_RECEIVE),
         Err(ShadowError::InvalidMesh { .. })
     ));
 }

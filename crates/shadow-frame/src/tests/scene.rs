@@ -1,6 +1,6 @@
 //! The ECS scene flattens into plain geometry: transforms applied, caster/receiver flags kept.
 
-use crate::Scene;
+use crate::{Scene, Shadows};
 use glam::{Mat4, Vec3};
 use soft_shadow_core::{Camera, Light, TriangleMesh};
 use std::sync::Arc;
@@ -17,14 +17,19 @@ fn geometry_applies_transforms_and_flags() {
         .add_mesh(
             tri.clone(),
             Mat4::from_translation(Vec3::Y * 2.0),
-            true,
-            false,
+            Shadows::CAST_ONLY,
         )
         .unwrap();
     scene
-        .add_mesh(tri.clone(), Mat4::from_scale(Vec3::splat(3.0)), false, true)
+        .add_mesh(
+            tri.clone(),
+            Mat4::from_scale(Vec3::splat(3.0)),
+            Shadows::RECEIVE_ONLY,
+        )
         .unwrap();
-    scene.add_mesh(tri, Mat4::IDENTITY, true, true).unwrap();
+    scene
+        .add_mesh(tri, Mat4::IDENTITY, Shadows::CAST_AND_RECEIVE)
+        .unwrap();
     let g = scene.geometry();
     assert_eq!(g.casters.len(), 2);
     assert_eq!(g.receivers.len(), 2);
