@@ -92,8 +92,10 @@ enum Command {
         as_seen: bool,
     },
     /// Print the "which technique" table (Markdown) from a report: per light kind and budget,
-    /// the technique with the lowest image error that fits, and the best baseline beside it,
-    /// each with its FLIP; none that a person sees as worse than the hard map by FLIP.
+    /// what to use (the configuration with the lowest image error that fits, paper technique or
+    /// baseline) with the Rust expression that builds it, and the best of the other kind beside
+    /// it (where a paper technique wins, by how much); each with its FLIP, none that a person
+    /// sees as worse than the hard map by FLIP.
     Choose {
         /// The report.json to read.
         #[arg(long, default_value = "report/report.json")]

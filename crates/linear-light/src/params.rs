@@ -69,6 +69,17 @@ impl TechniqueInfo for LinearLight {
         self.label()
     }
 
+    fn call(&self) -> String {
+        let mut fields = Vec::new();
+        if self.edge_threshold != 0.02 {
+            fields.push(format!("edge_threshold = {:?}", self.edge_threshold));
+        }
+        soft_shadow_core::technique::call_with(
+            format!("LinearLight::new({})", self.samples),
+            &fields,
+        )
+    }
+
     /// Segment lights, and triangles as three of them.
     fn models(&self, kind: LightKind) -> bool {
         matches!(kind, LightKind::Linear | LightKind::Triangle)

@@ -173,6 +173,27 @@ impl TechniqueInfo for OcclusionSlices {
         self.label()
     }
 
+    fn call(&self) -> String {
+        let mut c = format!(
+            "OcclusionSlices::new({}, Prefilter::{:?})",
+            self.slices, self.filter
+        );
+        if self.combination != Combination::Product {
+            c.push_str(&format!(
+                ".with_combination(Combination::{:?})",
+                self.combination
+            ));
+        }
+        if self.thin_fix {
+            c.push_str(".with_thin_fix(true)");
+        }
+        let mut fields = Vec::new();
+        if self.fade_texels != DEFAULT_FADE_TEXELS {
+            fields.push(format!("fade_texels = {:?}", self.fade_texels));
+        }
+        soft_shadow_core::technique::call_with(c, &fields)
+    }
+
     /// Rect lights, and disk, sphere and triangle lights through their equal-area square.
     fn models(&self, kind: LightKind) -> bool {
         matches!(

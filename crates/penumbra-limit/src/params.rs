@@ -115,6 +115,28 @@ impl TechniqueInfo for PenumbraLimit {
         self.label()
     }
 
+    fn call(&self) -> String {
+        let mut fields = Vec::new();
+        match self.profile {
+            Profile::Auto => {}
+            Profile::UniformDisk => fields.push("profile = Profile::UniformDisk".to_string()),
+            Profile::LimbDarkened { u } => {
+                fields.push(format!("profile = Profile::LimbDarkened {{ u: {u:?} }}"))
+            }
+            Profile::Line => fields.push("profile = Profile::Line".to_string()),
+        }
+        if self.table_size != DEFAULT_TABLE_SIZE {
+            fields.push(format!("table_size = {}", self.table_size));
+        }
+        soft_shadow_core::technique::call_with(
+            format!(
+                "PenumbraLimit::new(Generator::{:?}).with_storage(Storage::{:?})",
+                self.generator, self.storage
+            ),
+            &fields,
+        )
+    }
+
     /// Every light but a segment (see the crate docs).
     fn models(&self, kind: LightKind) -> bool {
         kind != LightKind::Linear

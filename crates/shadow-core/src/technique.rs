@@ -164,12 +164,31 @@ impl CostForm {
     }
 }
 
+/// `constructor` with `fields` assigned after it, as one Rust expression:
+/// `{ let mut t = constructor; t.field = value; t }` (`constructor` alone where no field is).
+/// [`TechniqueInfo::call`] writes a configuration with it.
+pub fn call_with(constructor: String, fields: &[String]) -> String {
+    if fields.is_empty() {
+        return constructor;
+    }
+    let mut s = format!("{{ let mut t = {constructor};");
+    for f in fields {
+        s.push_str(&format!(" t.{f};"));
+    }
+    s.push_str(" t }");
+    s
+}
+
 /// What a technique is, object-safe: its names, the lights it models and its limits.
 pub trait TechniqueInfo: Send + Sync {
     /// Technique name as in reports (`"pcf"`, `"occlusion-slices"`, ...).
     fn name(&self) -> &'static str;
     /// Variant label of these parameters (`"r2"`, `"nbuffer-8"`, ...).
     fn variant(&self) -> String;
+    /// The Rust expression that builds these parameters, as a user writes it
+    /// (`"ShadowMapBaseline::new(Filter::Pcf { radius: 2 })"`): what the report's variant label
+    /// stands for ([`call_with`] writes the fields a constructor does not take).
+    fn call(&self) -> String;
     /// Whether this technique models lights of `kind`.
     fn models(&self, kind: LightKind) -> bool;
     /// Checks the parameters: a value out of its documented range is

@@ -112,6 +112,22 @@ impl TechniqueInfo for ShadowMapBaseline {
         }
     }
 
+    fn call(&self) -> String {
+        let filter = match self.filter {
+            Filter::Hard => "Filter::Hard".to_string(),
+            Filter::Pcf { radius } => format!("Filter::Pcf {{ radius: {radius} }}"),
+            Filter::Pcss => "Filter::Pcss".to_string(),
+            Filter::Accumulate { samples } => {
+                format!("Filter::Accumulate {{ samples: {samples} }}")
+            }
+        };
+        let mut fields = Vec::new();
+        if self.bias != Bias::default() {
+            fields.push(format!("bias = {:?}", self.bias));
+        }
+        soft_shadow_core::technique::call_with(format!("ShadowMapBaseline::new({filter})"), &fields)
+    }
+
     fn models(&self, _kind: LightKind) -> bool {
         // Every light has a centre and samples; a point light makes all of them hard shadows.
         true

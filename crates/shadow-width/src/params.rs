@@ -201,6 +201,30 @@ impl TechniqueInfo for ShadowWidth {
         self.label()
     }
 
+    fn call(&self) -> String {
+        let method = match self.method {
+            WidthMethod::Propagate { neighbours } => {
+                format!("WidthMethod::Propagate {{ neighbours: Neighbours::{neighbours:?} }}")
+            }
+            WidthMethod::Exact => "WidthMethod::Exact".to_string(),
+            WidthMethod::JumpFlood => "WidthMethod::JumpFlood".to_string(),
+        };
+        let mut fields = Vec::new();
+        if self.depth == DepthLayer::BackFaces {
+            fields.push("depth = DepthLayer::BackFaces".to_string());
+        }
+        if let Some(n) = self.table {
+            fields.push(format!("table = Some({n})"));
+        }
+        if let FalloffKind::Custom(_) = self.falloff {
+            fields.push("falloff = FalloffKind::Custom(/* your falloff */)".to_string());
+        }
+        if let Softness::Constant(c) = self.softness {
+            fields.push(format!("softness = Softness::Constant({c:?})"));
+        }
+        soft_shadow_core::technique::call_with(format!("ShadowWidth::new({method})"), &fields)
+    }
+
     /// Any light: one sample at its centre, softness from its size.
     fn models(&self, _kind: LightKind) -> bool {
         true

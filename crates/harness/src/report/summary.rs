@@ -157,55 +157,79 @@ pub fn lines(report: &Report) -> Vec<Line> {
     out
 }
 
-/// The "which technique" table for users, in Markdown: per light kind and budget, the
-/// lowest-image-error configuration of the four techniques (baselines excluded) measured on
-/// `backend` whose mean time fits the budget, and beside it the lowest-error baseline within the
-/// same budget; each with its mean FLIP over the light kind's "as seen" frames, and none whose
-/// FLIP is above the hard map's. A light kind no technique ran on is left out.
+/// The "which technique" table for users, in Markdown: per light kind and budget, what to use:
+/// the lowest-image-error configuration measured on `backend` whose mean time fits the budget,
+/// paper technique or baseline, with the Rust expression that builds it
+/// ([`soft_shadow_core::TechniqueInfo::call`]) and its mean FLIP over the light kind's "as seen"
+/// frames (none whose FLIP is above the hard map's); beside it the best of the other kind within
+/// the same budget (the best baseline where a paper technique wins, and by how much; the best
+/// paper technique where a baseline wins). A light kind no paper technique ran on is left out.
 pub fn choices(report: &Report, backend: &str, budgets: &[f64]) -> String {
-    let cell = |c: &Option<Config>| match c {
-        Some(c) => {
-            let mut words = c.label.split(' ');
-            let (t, v) = (words.next().unwrap_or(""), words.next().unwrap_or(""));
-            let res = words.nth(1).unwrap_or("");
-            let flip = c.flip.map_or("–".to_string(), |f| format!("{f:.4}"));
-            format!(
-                "{t} {v} at {res}² | {:.2} | {flip} | {:.1}",
-                c.image_rms_255, c.time_ms
-            )
-        }
-        None => "nothing fits | | | ".to_string(),
+    let mut registry = super::all_techniques(false);
+    registry.extend(super::all_techniques(true));
+    let call = |technique: &str, variant: &str| {
+        registry
+            .iter()
+            .find(|t| t.name() == technique && t.variant() == variant)
+            .map_or_else(|| "–".to_string(), |t| format!("`{}`", t.call()))
     };
+    // `technique variant at side²`, and the call.
+    let named = |c: &Config| {
+        let mut words = c.label.split(' ');
+        let (t, v) = (words.next().unwrap_or(""), words.next().unwrap_or(""));
+        let res = words.nth(1).unwrap_or("");
+        (format!("{t} {v} at {res}²"), call(t, v))
+    };
+    let is_baseline = |c: &Config| BASELINES.contains(&c.technique.as_str());
     let mut out = String::from(
-        "| light | budget | technique | image error | FLIP | ms | best baseline | image error | FLIP | ms |\n\
-         |---|---:|---|---:|---:|---:|---|---:|---:|---:|\n",
+        "| light | budget | use | build it with | image error | FLIP | ms | best of the other kind | image error | ms | a paper technique wins by |\n\
+         |---|---:|---|---|---:|---:|---:|---|---:|---:|---:|\n",
     );
     for (light, cs) in configs(report) {
         let on: Vec<&Config> = cs.iter().filter(|c| c.backend == backend).collect();
-        if !on
-            .iter()
-            .any(|c| !BASELINES.contains(&c.technique.as_str()))
-        {
+        if !on.iter().any(|c| !is_baseline(c)) {
             continue;
         }
         for &budget in budgets {
-            let technique = best(
-                on.iter()
-                    .copied()
-                    .filter(|c| !BASELINES.contains(&c.technique.as_str())),
-                budget,
-            );
-            let baseline = best(
-                on.iter()
-                    .copied()
-                    .filter(|c| BASELINES.contains(&c.technique.as_str())),
-                budget,
-            );
-            out.push_str(&format!(
-                "| {light} | {budget} ms | {} | {} |\n",
-                cell(&technique),
-                cell(&baseline)
-            ));
+            let technique = best(on.iter().copied().filter(|c| !is_baseline(c)), budget);
+            let baseline = best(on.iter().copied().filter(|c| is_baseline(c)), budget);
+            let row = match (&technique, &baseline) {
+                (None, None) => "nothing fits | | | | | | | | ".to_string(),
+                _ => {
+                    let technique_wins = match (&technique, &baseline) {
+                        (Some(t), Some(b)) => t.image_rms_255 < b.image_rms_255,
+                        (t, _) => t.is_some(),
+                    };
+                    let (used, other) = if technique_wins {
+                        (technique.as_ref(), baseline.as_ref())
+                    } else {
+                        (baseline.as_ref(), technique.as_ref())
+                    };
+                    let used = used.expect("one of them fits");
+                    let (name, call) = named(used);
+                    let flip = used.flip.map_or("–".to_string(), |f| format!("{f:.4}"));
+                    let other_cells = match other {
+                        Some(o) => {
+                            format!("{} | {:.2} | {:.1}", named(o).0, o.image_rms_255, o.time_ms)
+                        }
+                        None => "nothing fits | | ".to_string(),
+                    };
+                    let margin = match (technique_wins, other) {
+                        (true, Some(o)) => format!(
+                            "{:.2} ({:.0}%)",
+                            o.image_rms_255 - used.image_rms_255,
+                            100.0 * (o.image_rms_255 - used.image_rms_255) / o.image_rms_255
+                        ),
+                        (true, None) => "no baseline fits".to_string(),
+                        (false, _) => "–".to_string(),
+                    };
+                    format!(
+                        "{name} | {call} | {:.2} | {flip} | {:.1} | {other_cells} | {margin}",
+                        used.image_rms_255, used.time_ms
+                    )
+                }
+            };
+            out.push_str(&format!("| {light} | {budget} ms | {row} |\n"));
         }
     }
     out
@@ -383,14 +407,41 @@ mod tests {
     fn a_configuration_seen_worse_than_the_hard_map_is_never_recommended() {
         let table = choices(&report(0.012), "cpu", &[16.0]);
         assert!(
-            table.contains("| disk | 16 ms | occlusion-slices nbuffer-8 at 512² | 3.00 | 0.0080 |"),
+            table.contains(
+                "| disk | 16 ms | occlusion-slices nbuffer-8 at 512² | \
+                 `OcclusionSlices::new(8, Prefilter::NBuffer)` | 3.00 | 0.0080 | 2.0 | \
+                 hard-shadow-map nearest at 512² | 6.00 | 2.0 | 3.00 (50%) |"
+            ),
             "{table}"
         );
         assert!(!table.contains("penumbra-limit"), "{table}");
         let table = choices(&report(0.009), "cpu", &[16.0]);
         assert!(
             table.contains(
-                "| disk | 16 ms | penumbra-limit silhouette-f32 at 512² | 2.00 | 0.0090 |"
+                "| disk | 16 ms | penumbra-limit silhouette-f32 at 512² | \
+                 `PenumbraLimit::new(Generator::Silhouette).with_storage(Storage::F32)` | 2.00 | \
+                 0.0090 | 2.0 |"
+            ),
+            "{table}"
+        );
+    }
+
+    /// Where a baseline is the most accurate within the budget, it is what to use, with the
+    /// best paper technique beside it and no margin.
+    #[test]
+    fn a_baseline_that_wins_is_what_to_use() {
+        let mut r = report(0.009);
+        for run in &mut r.runs {
+            if run.technique == "hard-shadow-map" {
+                run.errors.image_rms_255 = 1.0;
+            }
+        }
+        let table = choices(&r, "cpu", &[16.0]);
+        assert!(
+            table.contains(
+                "| disk | 16 ms | hard-shadow-map nearest at 512² | \
+                 `ShadowMapBaseline::new(Filter::Hard)` | 1.00 | 0.0100 | 2.0 | \
+                 penumbra-limit silhouette-f32 at 512² | 2.00 | 2.0 | – |"
             ),
             "{table}"
         );

@@ -2,6 +2,7 @@
 //! stability suite of issue 8 is its own target, `tests/stability`.
 
 mod bad_input;
+mod calls;
 mod dependencies;
 mod frame;
 mod fuzz;
