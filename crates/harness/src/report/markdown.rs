@@ -35,14 +35,16 @@ pub fn render(report: &Report, papers_written: bool) -> String {
     s.push('\n');
     let _ = writeln!(
         s,
-        "## References\n\n`scene@kind` is a hard case recast under a light of that kind, for the techniques that do not model its own light (see `harness::scenes::relight`).\n\nA receiver is proven lit (error 0) when no caster crosses the hull of it and the light; every other one gets the stated samples, and its error is the replicates' standard error, or where every ray agreed the 99% bound on a feature the rays could miss: \"max error\" is the reference's true worst error.\n\n| scene | light | samples/px (not proven lit) | std error (255, penumbra RMS) | max error (255) | receivers | unlit | penumbra | time ms |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"
+        "## References\n\n`scene@kind` is a hard case recast under a light of that kind, for the techniques that do not model its own light (see `harness::scenes::relight`).\n\nA receiver is proven lit (error 0) when no caster crosses the hull of it and the light; every other one gets the stated samples, and its error is the replicates' standard error, or where every ray agreed the 99% bound on a feature the rays could miss: \"max error\" is the reference's true worst error. \"views\" are the light's views every technique generates maps for (one frustum, cube faces or cascades).\n\n| scene | light | views | samples/px (not proven lit) | std error (255, penumbra RMS) | max error (255) | receivers | unlit | penumbra | time ms |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|"
     );
     for r in &report.references {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.3} | {:.3} | {} | {} | {} | {:.0} |",
+            "| {} | {} | {} {} | {} | {:.3} | {:.3} | {} | {} | {} | {:.0} |",
             r.scene,
             r.light,
+            r.light_views,
+            r.view_kind,
             r.samples_per_pixel,
             r.std_error_255,
             r.max_std_error_255,
@@ -68,22 +70,29 @@ pub fn render(report: &Report, papers_written: bool) -> String {
         );
         let _ = writeln!(
             s,
-            "Columns: {cols}. Rows: `V`; the shaded image `E0 V / E0_max`; its signed error (red: darker than the reference, blue: brighter; full colour at 64/255). `ground`, `object` and `terminator` split the image error by where the receivers lie: on geometry that only receives, on the casters, and where the normal is within about 17 degrees of perpendicular to the light (cos < 0.3); `near`, `mid` and `far` by their distance from the camera: under 15 m, 15 to 60 m, beyond (blank where none lies there).\n"
+            "Columns: {cols}. Rows: `V`; the shaded image `E0 V / E0_max`; its signed error (red: darker than the reference, blue: brighter; full colour at 64/255). `ground`, `object` and `terminator` split the image error by where the receivers lie: on geometry that only receives, on the casters, and where the normal is within about 17 degrees of perpendicular to the light (cos < 0.3); `near`, `mid` and `far` by their distance from the camera: under 15 m, 15 to 60 m, beyond (blank where none lies there). `gen ms` generates the maps of every view of the light, `gen ms per view` is its share per view.\n"
         );
         let _ = writeln!(
             s,
-            "| technique | variant | backend | res | gen ms | eval ms | image | image penumbra | V rms | V penumbra | ground | object | terminator | near | mid | far | max abs | false-shadow px | flicker | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+            "| technique | variant | backend | res | gen ms | gen ms per view | eval ms | image | image penumbra | V rms | V penumbra | ground | object | terminator | near | mid | far | max abs | false-shadow px | flicker | nonfinite |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
         );
+        // The maps of every view of the scene's light (its recast light's, on `scene@kind`).
+        let views = report
+            .references
+            .iter()
+            .find(|r| r.scene == scene)
+            .map_or(1, |r| r.light_views.max(1));
         for r in report.runs.iter().filter(|r| r.scene == scene) {
             let e = &r.errors;
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {} |",
                 r.technique,
                 r.variant,
                 r.backend,
                 r.resolution,
                 r.generate_ms,
+                r.generate_ms / views as f64,
                 r.evaluate_ms,
                 e.image_rms_255,
                 e.image_penumbra_rms_255,
