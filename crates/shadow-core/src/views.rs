@@ -44,7 +44,8 @@ use glam::{Vec3, Vec4};
 /// 65-68 degrees, and one frustum and the cube faces read the same error there (V rms within 0.7
 /// of each other at 256² and 1024² for the hard map, PCSS, shadow-width and penumbra-limit;
 /// occlusion slices 4.4 better in one frustum); `light-plane`'s wall needs 81 degrees, where the
-/// faces are better (the hard map's image error at 16² 9.81 -> 8.53, PCSS 9.51 -> 7.42).
+/// faces are better (at 16², the hard map's image error 9.81 in one frustum against 8.53 on the
+/// faces, PCSS 9.51 against 7.42).
 pub const SINGLE_VIEW_MAX_DEGREES: f32 = 75.0;
 
 /// Largest guard angle of a cube face beyond its 45 degrees (degrees).

@@ -37,7 +37,8 @@ fn false_umbra(t: &PenumbraLimit, res: u32, n: u32) -> (usize, usize, usize) {
 /// shadow to clamp to: clamping it at its raised outer limit `c + p_i` turned every receiver
 /// below that limit into umbra, radial streaks of false umbra outside the bunny's shadow where
 /// ribbons of neighbouring edges at slightly different depths meet (1094 false-umbra pixels in
-/// the viewer's 1000x720 frame, now 664: the rest is the thin ears' lower limit). Below the
+/// the viewer's 1000x720 frame with that clamp, 664 without: the rest is the thin ears' lower
+/// limit). Below the
 /// ears' lower limit the paper's step to 0 read the ground as umbra where the reference reads
 /// 0.64-0.68; the lower layer's own inner penumbra does not (ground receivers darker than the
 /// reference by more than 1/2: 527 and 115 with the step, 100 and 15 without).

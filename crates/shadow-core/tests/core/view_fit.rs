@@ -8,9 +8,9 @@ use soft_shadow_core::{Aabb, Coverage};
 /// A distant light's map spends its depth range on the casters and what lies below them: the
 /// near plane lies before every caster and within 1% of the range of the nearest one, the far
 /// plane beyond every receiver. A 10 m ground under a 0.5 m box, straight down and tilted. Fitted
-/// to the scene's bounding sphere, the near plane lay 6.9 m above the box straight down (the
-/// 8-bit penumbra limit map of Lawlor's Figure 10 read 20.2 rms at 16² against the published
-/// 11.3; now 10.6).
+/// to the scene's bounding sphere, the near plane would lie 6.9 m above the box straight down
+/// (the 8-bit penumbra limit map of Lawlor's Figure 10 reads 20.2 rms at 16² that way, 10.6
+/// fitted to the casters, against the published 11.3).
 #[test]
 fn a_distant_lights_depth_range_starts_at_the_casters() {
     let casters = Aabb {
