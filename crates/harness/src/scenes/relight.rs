@@ -169,6 +169,21 @@ mod tests {
         }
     }
 
+    /// `l` recast as a rect over `b`, valid: its centre and half sides.
+    fn as_rect_of(l: &Light, b: &Aabb) -> (Vec3, Vec3, Vec3) {
+        let r = relight(l, b, |k| k == LightKind::Rect).unwrap();
+        r.validate().unwrap();
+        let Light::Rect {
+            center,
+            u_half,
+            v_half,
+        } = r
+        else {
+            panic!("{r:?}")
+        };
+        (center, u_half, v_half)
+    }
+
     #[test]
     fn a_modelled_light_is_kept() {
         let l = Light::Sphere {
@@ -189,16 +204,7 @@ mod tests {
             profile: soft_shadow_core::DistantProfile::UniformDisk,
         };
         let b = unit_box();
-        let r = relight(&l, &b, |k| k == LightKind::Rect).unwrap();
-        r.validate().unwrap();
-        let Light::Rect {
-            center,
-            u_half,
-            v_half,
-        } = r
-        else {
-            panic!("{r:?}")
-        };
+        let (center, u_half, v_half) = as_rect_of(&l, &b);
         let d = (center - b.center()).length();
         assert!((d - DISTANCE_FACTOR * b.diagonal()).abs() < 1e-3 * d);
         assert!(u_half.cross(v_half).normalize().dot(-dir) > 0.9999);
@@ -232,20 +238,11 @@ mod tests {
             b: Vec3::new(0.5, 3.0, 0.2),
         };
         let b = unit_box();
-        let r = relight(&l, &b, |k| k == LightKind::Rect).unwrap();
-        r.validate().unwrap();
-        let Light::Rect {
-            center,
-            u_half,
-            v_half,
-        } = r
-        else {
-            panic!("{r:?}")
-        };
+        let (center, u_half, v_half) = as_rect_of(&l, &b);
         let towards = (b.center() - center).normalize();
         assert!(
             u_half.cross(v_half).normalize().dot(towards) > 0.99,
-            "{r:?} emits away from the scene"
+            "the rect emits away from the scene: {u_half} x {v_half}"
         );
         assert!((u_half.length() - 0.5).abs() < 1e-6);
         assert!(v_half.length() < 0.01);

@@ -1,7 +1,8 @@
 //! What cargo builds, read with `cargo tree` (offline, from the lock file):
 //!
 //! - a renderer takes one technique crate without the harness's weight: with default features
-//!   off, no technique crate pulls in `bevy_ecs`, `gltf`, `clap`, `plotters` or `obvhs`;
+//!   off, no technique crate pulls in `bevy_ecs`, `gltf`, `clap`, `plotters` or `obvhs`, and
+//!   none turns on a wgpu backend (the application chooses them);
 //! - the README's two commands share one build: every package the report binary is built from
 //!   has the same features under the report command as under the test command, so the report
 //!   after the tests builds nothing and the tests after the report rebuild none of its crates
@@ -117,5 +118,17 @@ fn technique_crates_without_default_features_stay_light() {
             );
         }
         assert!(tree.contains("wgpu v"), "{krate}: {tree}");
+        // The application that makes the device chooses wgpu's backends, not a library.
+        let wgpu = features(&["-p", krate, "-e", "normal"])
+            .into_iter()
+            .find(|(p, _)| p.starts_with("wgpu v"))
+            .map(|(_, f)| f)
+            .unwrap_or_else(|| panic!("{krate} does not build wgpu"));
+        for backend in ["vulkan", "metal", "dx12", "gles", "webgpu"] {
+            assert!(
+                wgpu.iter().all(|f| !f.split(',').any(|x| x == backend)),
+                "{krate} turns on wgpu's {backend}: {wgpu:?}"
+            );
+        }
     }
 }

@@ -81,9 +81,15 @@ fn pasted<T: ShadowTechnique>() -> String {
     )
 }
 
-/// A `w x h` float texture with `texels`, bound as a non-filterable `texture_2d<f32>`.
-fn upload(gpu: &GpuContext, label: &str, w: u32, h: u32, texels: &[[f32; 4]]) -> wgpu::Texture {
-    let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
+/// A `w x h` texture of `format` for `usage` (and copies from it).
+fn texture(
+    gpu: &GpuContext,
+    label: &str,
+    (w, h): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
             width: w,
@@ -93,10 +99,21 @@ fn upload(gpu: &GpuContext, label: &str, w: u32, h: u32, texels: &[[f32; 4]]) ->
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        format,
+        usage: usage | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
-    });
+    })
+}
+
+/// A `w x h` float texture with `texels`, bound as a non-filterable `texture_2d<f32>`.
+fn upload(gpu: &GpuContext, label: &str, w: u32, h: u32, texels: &[[f32; 4]]) -> wgpu::Texture {
+    let tex = texture(
+        gpu,
+        label,
+        (w, h),
+        wgpu::TextureFormat::Rgba32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
     gpu.queue.write_texture(
         tex.as_image_copy(),
         bytemuck::cast_slice(texels),
@@ -112,20 +129,7 @@ fn upload(gpu: &GpuContext, label: &str, w: u32, h: u32, texels: &[[f32; 4]]) ->
 
 /// An `R32Float` target of `w x h` that a pass can write (`usage`) and the test can read.
 fn target(gpu: &GpuContext, w: u32, h: u32, usage: wgpu::TextureUsages) -> wgpu::Texture {
-    gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("V"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: usage | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    })
+    texture(gpu, "V", (w, h), wgpu::TextureFormat::R32Float, usage)
 }
 
 /// `V` drawn by the renderer's own pipeline from `module`, with the maps bound at
