@@ -3,7 +3,9 @@
 use soft_shadow_core::GpuContext;
 
 /// A context for the GPU test named `test`, or `None` (after printing why) where no adapter
-/// exists and `CI` is not set.
+/// exists and `CI` is not set. (On Linux with no Vulkan driver at all, the harness's build
+/// script sets `cfg(no_gpu_adapter)` and the tests that need only the GPU are `ignored` before
+/// they run.)
 ///
 /// # Panics
 ///

@@ -599,6 +599,10 @@ fn bad_frame_input_is_reported_not_panicked() {
 /// The pipeline on the GPU backend gives the CPU's visibilities (RMS of `V * 255` below 1.0 per
 /// light) and the same bookkeeping.
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn the_frame_pipeline_agrees_between_cpu_and_gpu() {
     let Some(ctx) = crate::common::gpu_for_test("the_frame_pipeline_agrees_between_cpu_and_gpu")
     else {

@@ -18,6 +18,10 @@ const MAX_COVERAGE_MISMATCH: f64 = 1e-3;
 /// Every depth pass (nearest, farthest, nearest and farthest back face) on every catalogue scene: CPU and GPU
 /// agree on coverage (culling included) and depth.
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn gpu_depth_maps_match_the_cpu_rasterizer() {
     let Some(ctx) = gpu_for_test("gpu_depth_maps_match_the_cpu_rasterizer") else {
         return;
@@ -79,6 +83,10 @@ fn gpu_depth_maps_match_the_cpu_rasterizer() {
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn gpu_gbuffer_matches_the_cpu_rasterizer() {
     let Some(ctx) = gpu_for_test("gpu_gbuffer_matches_the_cpu_rasterizer") else {
         return;
@@ -125,6 +133,10 @@ fn gpu_gbuffer_matches_the_cpu_rasterizer() {
 
 /// Every baseline, both backends, every catalogue scene: RMS of `V * 255` below 1.0.
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn baselines_agree_between_cpu_and_gpu_on_every_scene() {
     let Some(ctx) = gpu_for_test("baselines_agree_between_cpu_and_gpu_on_every_scene") else {
         return;
@@ -160,6 +172,10 @@ fn baselines_agree_between_cpu_and_gpu_on_every_scene() {
 /// texels, above the 16 and 32 of the agreement resolutions): both backends read the caps from
 /// the same uniform and agree, RMS of `V * 255` below 1.0, on `contact` and `overlap`.
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn pcss_caps_agree_between_cpu_and_gpu_at_2048() {
     let Some(ctx) = gpu_for_test("pcss_caps_agree_between_cpu_and_gpu_at_2048") else {
         return;
@@ -192,6 +208,10 @@ fn pcss_caps_agree_between_cpu_and_gpu_at_2048() {
 /// (`views.rs` and `views.wgsl`) agree. A technique that does not model a scene's light runs
 /// under the light recast as one it models.
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn every_technique_agrees_between_cpu_and_gpu_over_several_views() {
     let test = "every_technique_agrees_between_cpu_and_gpu_over_several_views";
     let Some(ctx) = gpu_for_test(test) else {

@@ -34,6 +34,10 @@ fn depth_passes(ctx: &GpuContext, passes: u32) -> soft_shadow_core::Result<u32> 
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn device_time_counts_the_passes_and_fits_in_the_wall_time() {
     let Some(ctx) = gpu_for_test("device_time_counts_the_passes_and_fits_in_the_wall_time") else {
         return;

@@ -217,6 +217,10 @@ fn as_segment(light: &Light) -> Option<Light> {
 /// [`super::AGREEMENT_RESOLUTIONS`], and the visibility channels equal up to rasterization
 /// (mean absolute difference below 0.01).
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
     let Some(ctx) = gpu_for_test("linear_light_agrees_between_cpu_and_gpu_on_every_scene") else {
         return;

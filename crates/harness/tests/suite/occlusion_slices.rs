@@ -81,6 +81,10 @@ fn occlusion_slices_sat_matches_the_closed_form_on_plane_occluder() {
 /// `V * 255` between CPU and GPU below 1.0, and the binary slices equal but for at most 0.1%
 /// of texels (fragments within rounding of a slice plane).
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn occlusion_slices_agree_between_cpu_and_gpu_on_every_scene() {
     let Some(ctx) = gpu_for_test("occlusion_slices_agree_between_cpu_and_gpu_on_every_scene")
     else {

@@ -27,6 +27,10 @@ fn renderer_device(limits: wgpu::Limits) -> Option<(wgpu::Device, wgpu::Queue)> 
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn every_technique_runs_on_a_renderers_default_limits_device() {
     let Some(reference_ctx) =
         gpu_for_test("every_technique_runs_on_a_renderers_default_limits_device")
@@ -67,6 +71,10 @@ fn every_technique_runs_on_a_renderers_default_limits_device() {
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn a_device_below_the_default_limits_is_refused_by_name() {
     if gpu_for_test("a_device_below_the_default_limits_is_refused_by_name").is_none() {
         return;
@@ -84,6 +92,10 @@ fn a_device_below_the_default_limits_is_refused_by_name() {
 /// A lost device (here destroyed by its renderer) turns every later generation and evaluation
 /// into a typed `ShadowError::Gpu`, for every technique, instead of a panic.
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn a_lost_device_is_a_typed_error() {
     if gpu_for_test("a_lost_device_is_a_typed_error").is_none() {
         return;

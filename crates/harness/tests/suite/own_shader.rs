@@ -324,6 +324,10 @@ fn own_shader_matches_record_visibility<T: ShadowTechnique>(test: &str, scene: &
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn own_shader_shadow_maps() {
     own_shader_matches_record_visibility(
         "own_shader_shadow_maps",
@@ -333,6 +337,10 @@ fn own_shader_shadow_maps() {
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn own_shader_penumbra_limit() {
     own_shader_matches_record_visibility(
         "own_shader_penumbra_limit",
@@ -342,6 +350,10 @@ fn own_shader_penumbra_limit() {
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn own_shader_occlusion_slices() {
     own_shader_matches_record_visibility(
         "own_shader_occlusion_slices",
@@ -351,6 +363,10 @@ fn own_shader_occlusion_slices() {
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn own_shader_shadow_width() {
     own_shader_matches_record_visibility(
         "own_shader_shadow_width",
@@ -360,6 +376,10 @@ fn own_shader_shadow_width() {
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn own_shader_linear_light() {
     own_shader_matches_record_visibility(
         "own_shader_linear_light",

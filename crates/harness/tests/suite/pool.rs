@@ -12,6 +12,10 @@ use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::{GpuContext, Receivers as Recv};
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn recycled_maps_serve_the_next_generation_unchanged() {
     let test = "recycled_maps_serve_the_next_generation_unchanged";
     let Some(ctx) = gpu_for_test(test) else {
@@ -74,6 +78,10 @@ fn recycled_maps_serve_the_next_generation_unchanged() {
 /// run first and have that work overwrite its maps (the race that once cleared a PCF depth map
 /// in the stability suite, whose tests share one context). The recycling thread reuses it.
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn resources_recycled_on_one_thread_serve_only_that_thread() {
     let Some(ctx) = gpu_for_test("resources_recycled_on_one_thread_serve_only_that_thread") else {
         return;

@@ -115,6 +115,10 @@ fn frame_matches_cpu<T: ShadowTechnique>(test: &str, t: T) {
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn penumbra_limit_frame_matches_the_cpu_path() {
     frame_matches_cpu(
         "penumbra_limit_frame_matches_the_cpu_path",
@@ -123,6 +127,10 @@ fn penumbra_limit_frame_matches_the_cpu_path() {
 }
 
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn pcss_frame_matches_the_cpu_path() {
     frame_matches_cpu(
         "pcss_frame_matches_the_cpu_path",
@@ -133,6 +141,10 @@ fn pcss_frame_matches_the_cpu_path() {
 /// After the first frame, a static scene's frames upload no geometry (the casters stay on the
 /// GPU, derived data such as silhouette edges is kept with them) and map no buffer.
 #[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
 fn a_static_scenes_second_frame_maps_uploads_and_allocates_nothing() {
     let test = "a_static_scenes_second_frame_maps_uploads_and_allocates_nothing";
     let Some((r, _)) = renderer(test) else {
