@@ -27,9 +27,10 @@ pub(crate) const SLICE_TOLERANCE: f32 = 1e-3;
 const FIT_FLOOR: f32 = 0.02;
 
 /// The frustum's apex lies at least this fraction of the light's shorter half side behind the
-/// light's plane (a half-angle of at most 89.4 degrees across it). Relative to the light, not to the casters'
-/// depth: a 1 mm light 93 m above its casters needs its apex 2 mm behind it to hold casters 30 m
-/// to the side, which a floor of 1e-4 of the depth (9 mm) pushed out of the frustum.
+/// light's plane (a half-angle of at most 89.4 degrees across it). Relative to the light, not
+/// to the casters' depth: a 1 mm light 93 m above its casters needs its apex 2 mm behind it to
+/// hold casters 30 m to the side, which a floor of 1e-4 of the depth (9 mm) pushed out of the
+/// frustum.
 const MIN_APEX: f32 = 0.01;
 
 /// The slicing frame, laid out as `Frame` in `frame.wgsl`.

@@ -413,21 +413,20 @@ fn a_tiny_light_far_above_keeps_casters_to_the_side() {
     let positions = [shadow, -shadow];
     let normals = [Vec3::Y; 2];
     let cpu = CpuContext::new();
+    let gpu = harness::testing::gpu_for_test("a_tiny_light_far_above_keeps_casters_to_the_side");
+    let receivers = soft_shadow_core::Receivers::new(&positions, &normals);
     for prefilter in [Prefilter::Mipmap, Prefilter::NBuffer, Prefilter::Sat] {
         let t = OcclusionSlices::new(8, prefilter);
         let maps = t.generate_cpu(&cpu, &geometry, &light, 256).unwrap();
-        let v = t
-            .evaluate_cpu(
-                &maps,
-                &soft_shadow_core::Receivers::new(&positions, &normals),
-            )
-            .unwrap();
-        assert!(
-            v[0] < 0.1,
-            "{}: V {} in the triangle's shadow",
-            t.label(),
-            v[0]
-        );
-        assert!(v[1] > 0.99, "{}: V {} opposite it", t.label(), v[1]);
+        let mut runs = vec![("cpu", t.evaluate_cpu(&maps, &receivers).unwrap())];
+        if let Some(ctx) = &gpu {
+            let maps = t.generate_gpu(ctx, &geometry, &light, 256).unwrap();
+            runs.push(("gpu", t.evaluate_gpu(ctx, &maps, &receivers).unwrap()));
+        }
+        for (backend, v) in runs {
+            let what = format!("{} {backend}", t.label());
+            assert!(v[0] < 0.1, "{what}: V {} in the triangle's shadow", v[0]);
+            assert!(v[1] > 0.99, "{what}: V {} opposite it", v[1]);
+        }
     }
 }
