@@ -826,7 +826,9 @@ impl<M> ViewMaps<M> {
 
 /// `V` per receiver from per-view evaluations: `eval(i, receivers)` evaluates view `i` over the
 /// receivers it holds, and each receiver's `V` is `1 - total + sum(weight_i V_i)` over the views
-/// in order ([`LightViews::weight`], [`LightViews::total_weight`]), as the GPU passes add them.
+/// in order ([`LightViews::weight`], [`LightViews::total_weight`]), as the GPU passes add them,
+/// clamped to [0, 1] after each: every partial sum lies in [0, 1], but the shares of two or three
+/// faces at a seam sum to `total` only within rounding (an umbra read `-1.2e-7`).
 pub(crate) fn combine(
     views: &LightViews,
     r: &Receivers,
@@ -836,7 +838,11 @@ pub(crate) fn combine(
         return eval(0, *r);
     }
     let first = views.gpu_select(0);
-    let mut out: Vec<f32> = r.positions.iter().map(|p| 1.0 - first.total(*p)).collect();
+    let mut out: Vec<f32> = r
+        .positions
+        .iter()
+        .map(|p| (1.0 - first.total(*p)).clamp(0.0, 1.0))
+        .collect();
     for i in 0..views.len() {
         let select = views.gpu_select(i as u32);
         let held: Vec<(usize, f32)> = r
@@ -855,8 +861,70 @@ pub(crate) fn combine(
         let normals: Vec<Vec3> = held.iter().map(|&(j, _)| r.normals[j]).collect();
         let v = eval(i, Receivers::new(&positions, &normals))?;
         for (&(j, w), v) in held.iter().zip(v) {
-            out[j] += w * v;
+            out[j] = (out[j] + w * v).clamp(0.0, 1.0);
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A plate on each side of a point light, so that its plan takes all six cube faces.
+    fn boxed_light() -> (Light, LightViews) {
+        let light = Light::Point {
+            position: Vec3::ZERO,
+        };
+        let plate = |n: Vec3| -> Vec<[Vec3; 3]> {
+            let (u, v) = orthonormal_basis(n);
+            let c = 2.0 * n;
+            vec![
+                [c - u - v, c + u - v, c + u + v],
+                [c - u - v, c + u + v, c - u + v],
+            ]
+        };
+        let casters: Vec<[Vec3; 3]> = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z]
+            .into_iter()
+            .chain([Vec3::NEG_Z])
+            .flat_map(plate)
+            .collect();
+        let geometry = SceneGeometry::new(casters, Vec::new());
+        let views = LightViews::plan(&light, &geometry, None);
+        (light, views)
+    }
+
+    /// `V` combined over cube faces stays in [0, 1] where every view reads 1 (lit) or 0 (umbra),
+    /// the faces' shares summed in `f32` notwithstanding: receivers near seams and corners, where
+    /// two or three faces share a direction.
+    #[test]
+    fn combined_visibility_stays_in_the_unit_interval_at_seams() {
+        let (_, views) = boxed_light();
+        assert_eq!(views.len(), 6, "{:?}", views.kind_name());
+        let mut positions = Vec::new();
+        for i in 0..200 {
+            for j in 0..200 {
+                let (a, b) = (i as f32 / 199.0, j as f32 / 199.0);
+                // Directions near the +x/+y seam and the +x/+y/+z corner.
+                positions.push(Vec3::new(1.0, 0.8 + 0.2 * a, 0.8 * b) * 1.7);
+                positions.push(Vec3::new(1.0, 0.85 + 0.15 * a, 0.85 + 0.15 * b) * 0.9);
+            }
+        }
+        let normals = vec![Vec3::Y; positions.len()];
+        let r = Receivers::new(&positions, &normals);
+        for value in [0.0f32, 1.0] {
+            let v = combine(&views, &r, |_, sub| Ok(vec![value; sub.positions.len()])).unwrap();
+            let out: Vec<f32> = v
+                .iter()
+                .copied()
+                .filter(|x| !(0.0..=1.0).contains(x))
+                .collect();
+            assert!(
+                out.is_empty(),
+                "every view reading {value}: {} receivers outside [0, 1], e.g. {:?}",
+                out.len(),
+                &out[..out.len().min(4)]
+            );
+        }
+    }
 }

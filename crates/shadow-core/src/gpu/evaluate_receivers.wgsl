@@ -33,5 +33,6 @@ fn evaluate_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
     if w > 0.0 {
         v = v + w * visibility(p, receiver_normals[i].xyz);
     }
-    receiver_visibility[i] = v;
+    // Every partial sum lies in [0, 1]; the faces' shares sum to the total only within rounding.
+    receiver_visibility[i] = clamp(v, 0.0, 1.0);
 }

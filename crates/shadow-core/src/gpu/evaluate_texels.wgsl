@@ -41,5 +41,6 @@ fn evaluate_texels(@builtin(global_invocation_id) id: vec3<u32>) {
     if w > 0.0 {
         v = v + w * visibility(p.xyz, textureLoad(receiver_normals, id.xy, 0).xyz);
     }
-    textureStore(receiver_visibility, id.xy, vec4<f32>(v, 0.0, 0.0, 1.0));
+    // Every partial sum lies in [0, 1]; the faces' shares sum to the total only within rounding.
+    textureStore(receiver_visibility, id.xy, vec4<f32>(clamp(v, 0.0, 1.0), 0.0, 0.0, 1.0));
 }
