@@ -2,7 +2,7 @@
 //! convergence in N on `linear-bar` and CPU against GPU (hard cases: the stability suite, over every technique).
 
 use super::receivers;
-use crate::common::gpu_for_test;
+use crate::common::{Failures, gpu_for_test};
 use glam::{Vec2, Vec3};
 use harness::ground_truth::GroundTruthSettings;
 use harness::metrics::rms_255;
@@ -213,9 +213,9 @@ fn as_segment(light: &Light) -> Option<Light> {
 }
 
 /// Every catalogue scene with a local light, lit by a segment (its own, or the light's axis):
-/// RMS of `V * 255` between CPU and GPU below 1.0 for N = 2, 3, 5 at
-/// [`super::AGREEMENT_RESOLUTIONS`], and the visibility channels equal up to rasterization
-/// (mean absolute difference below 0.01).
+/// `V` agrees between CPU and GPU ([`crate::common::Agreement`]) for N = 2, 3, 5 at
+/// [`super::AGREEMENT_RESOLUTIONS`], and where the GPU rasterizes as the CPU does, the
+/// visibility channels equal up to rasterization (mean absolute difference below 0.01).
 #[test]
 #[cfg_attr(
     no_gpu_adapter,
@@ -225,6 +225,9 @@ fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
     let Some(ctx) = gpu_for_test("linear_light_agrees_between_cpu_and_gpu_on_every_scene") else {
         return;
     };
+    let mut failures = Failures::default();
+    // The maps are held to the CPU's where the GPU rasterizes as it does; `V` everywhere.
+    let same_raster = crate::common::rasterizes_as_the_cpu(&ctx);
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
         let Some(light) = as_segment(&spec.light) else {
@@ -251,20 +254,15 @@ fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
                     .map(|(a, b)| (a - b).abs() as f64)
                     .sum::<f64>()
                     / (t.samples * res * res) as f64;
-                assert!(
-                    diff < 0.01,
-                    "{name} {} {res}: channels differ by {diff:.4}",
-                    t.label()
-                );
+                println!("{name} {} {res}: channels differ by {diff:.4}", t.label());
+                failures.check(!same_raster || diff < 0.01, || {
+                    format!("{name} {} {res}: channels differ by {diff:.4}", t.label())
+                });
                 let cv = t.evaluate_cpu(&cm, &recv).unwrap();
                 let gv = t.evaluate_gpu(&ctx, &gm, &recv).unwrap();
-                let rms = rms_255(&cv, &gv);
-                assert!(
-                    rms < 1.0,
-                    "{name} {} {res}: CPU/GPU rms {rms:.3}",
-                    t.label()
-                );
+                failures.agree(&format!("{name} {} {res}", t.label()), &cv, &gv);
             }
         }
     }
+    failures.assert_none();
 }

@@ -2,7 +2,7 @@
 //! (hard cases and the hard-shadow limit: the stability suite, over every technique).
 
 use super::receivers;
-use crate::common::gpu_for_test;
+use crate::common::{Failures, gpu_for_test};
 use glam::Vec3;
 use harness::metrics::rms_255;
 use harness::scenes::catalogue::{SCENE_NAMES, build};
@@ -77,9 +77,9 @@ fn occlusion_slices_sat_matches_the_closed_form_on_plane_occluder() {
 }
 
 /// Every variant, every catalogue scene whose light it models, at
-/// [`super::AGREEMENT_RESOLUTIONS`]: RMS of
-/// `V * 255` between CPU and GPU below 1.0, and the binary slices equal but for at most 0.1%
-/// of texels (fragments within rounding of a slice plane).
+/// [`super::AGREEMENT_RESOLUTIONS`]: `V` agrees between CPU and GPU ([`crate::common::Agreement`]), and where the GPU
+/// rasterizes as the CPU does, the binary slices equal but for at most 0.1% of texels
+/// (fragments within rounding of a slice plane).
 #[test]
 #[cfg_attr(
     no_gpu_adapter,
@@ -90,6 +90,9 @@ fn occlusion_slices_agree_between_cpu_and_gpu_on_every_scene() {
     else {
         return;
     };
+    let mut failures = Failures::default();
+    // The maps are held to the CPU's where the GPU rasterizes as it does; `V` everywhere.
+    let same_raster = crate::common::rasterizes_as_the_cpu(&ctx);
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
         let r = receivers(&spec, 96);
@@ -117,21 +120,23 @@ fn occlusion_slices_agree_between_cpu_and_gpu_on_every_scene() {
                     .map(|(a, b)| a.iter().zip(b).filter(|(x, y)| x != y).count())
                     .sum();
                 let frac = differ as f64 / (res * res * t.slices) as f64;
-                assert!(
-                    frac <= 1e-3,
+                println!(
                     "{name} {} {res}: {:.3}% of slice texels differ",
                     t.label(),
                     frac * 100.0
                 );
+                failures.check(!same_raster || frac <= 1e-3, || {
+                    format!(
+                        "{name} {} {res}: {:.3}% of slice texels differ",
+                        t.label(),
+                        frac * 100.0
+                    )
+                });
                 let cv = t.evaluate_cpu(&cm, &recv).unwrap();
                 let gv = t.evaluate_gpu(&ctx, &gm, &recv).unwrap();
-                let rms = rms_255(&cv, &gv);
-                assert!(
-                    rms < 1.0,
-                    "{name} {} {res}: CPU/GPU rms {rms:.3}",
-                    t.label()
-                );
+                failures.agree(&format!("{name} {} {res}", t.label()), &cv, &gv);
             }
         }
     }
+    failures.assert_none();
 }

@@ -2,15 +2,14 @@
 //! light's eye plane (hard cases and the hard-shadow limit: the stability suite).
 
 use super::receivers;
-use crate::common::gpu_for_test;
-use harness::metrics::rms_255;
+use crate::common::{Failures, gpu_for_test};
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use penumbra_limit::{PenumbraLimit, Storage};
 use soft_shadow_core::{Backend, DynTechnique, Receivers as Recv, ShadowTechnique, TechniqueInfo};
 
-/// Every variant, every catalogue scene whose light it models, two resolutions: RMS of
-/// `V * 255` between CPU and GPU below 1.0, and the stored maps equal up to rasterization
-/// differences: at most 1% of texels differ in any channel by more than one storage step.
+/// Every variant, every catalogue scene whose light it models, two resolutions: `V` agrees between CPU and GPU ([`crate::common::Agreement`]),
+/// and where the GPU rasterizes as the CPU does, the stored maps equal up to rasterization
+/// differences: at most 2% of texels differ in any channel by more than one storage step.
 #[test]
 #[cfg_attr(
     no_gpu_adapter,
@@ -20,6 +19,9 @@ fn penumbra_limit_agrees_between_cpu_and_gpu_on_every_scene() {
     let Some(ctx) = gpu_for_test("penumbra_limit_agrees_between_cpu_and_gpu_on_every_scene") else {
         return;
     };
+    let mut failures = Failures::default();
+    // The maps are held to the CPU's where the GPU rasterizes as it does; `V` everywhere.
+    let same_raster = crate::common::rasterizes_as_the_cpu(&ctx);
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
         let r = receivers(&spec, 96);
@@ -60,24 +62,26 @@ fn penumbra_limit_agrees_between_cpu_and_gpu_on_every_scene() {
                     // A cube face that sees a zero-thickness plate nearly edge-on (the face beside
                     // `light-plane`'s light, its occluder 63 degrees below) disagrees on the
                     // sliver's coverage, and the depth image's limits spread it: 1.49% at 96².
-                    assert!(
-                        frac <= 0.02,
+                    println!(
                         "{name} {} {res} view {view}: {:.2}% of texels differ",
                         t.label(),
                         frac * 100.0
                     );
+                    failures.check(!same_raster || frac <= 0.02, || {
+                        format!(
+                            "{name} {} {res} view {view}: {:.2}% of texels differ",
+                            t.label(),
+                            frac * 100.0
+                        )
+                    });
                 }
                 let cv = t.evaluate_cpu(&cm, &recv).unwrap();
                 let gv = t.evaluate_gpu(&ctx, &gm, &recv).unwrap();
-                let rms = rms_255(&cv, &gv);
-                assert!(
-                    rms < 1.0,
-                    "{name} {} {res}: CPU/GPU rms {rms:.3}",
-                    t.label()
-                );
+                failures.agree(&format!("{name} {} {res}", t.label()), &cv, &gv);
             }
         }
     }
+    failures.assert_none();
 }
 
 /// The warp's `-1/z` must not wrap a receiver at or behind the light's eye plane to the far

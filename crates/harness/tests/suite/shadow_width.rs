@@ -2,15 +2,14 @@
 //! the hard-shadow limit: the stability suite, over every technique).
 
 use super::receivers;
-use crate::common::gpu_for_test;
-use harness::metrics::rms_255;
+use crate::common::{Failures, gpu_for_test};
 use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_width::{Neighbours, ShadowWidth, WidthMethod};
 use soft_shadow_core::{Receivers as Recv, ShadowTechnique};
 
 /// Every standard variant (and the 3- and 6-neighbour propagation on `plane-occluder`), every
-/// catalogue scene, two resolutions: RMS of `V * 255` between CPU and GPU
-/// below 1.0, and the width maps themselves equal to within 1e-3 texel on average.
+/// catalogue scene, two resolutions: `V` agrees between CPU and GPU ([`crate::common::Agreement`]), and where the GPU
+/// rasterizes as the CPU does, the width maps equal within 0.05 texel on average.
 #[test]
 #[cfg_attr(
     no_gpu_adapter,
@@ -20,6 +19,9 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
     let Some(ctx) = gpu_for_test("shadow_width_agrees_between_cpu_and_gpu_on_every_scene") else {
         return;
     };
+    let mut failures = Failures::default();
+    // The maps are held to the CPU's where the GPU rasterizes as it does; `V` everywhere.
+    let same_raster = crate::common::rasterizes_as_the_cpu(&ctx);
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
         let r = receivers(&spec, 96);
@@ -56,25 +58,27 @@ fn shadow_width_agrees_between_cpu_and_gpu_on_every_scene() {
                     // `light-plane`'s light) disagrees on the sliver's coverage, which widths
                     // propagate: 0.0075 (4 neighbours) to 0.018 (8) texels on average at 96², where
                     // every single-view scene stays under 0.001.
-                    assert!(
-                        mean_diff < 0.05,
-                        "{name} {} {res} view {view}: width maps differ by {mean_diff} texels on \
-                         average",
+                    println!(
+                        "{name} {} {res} view {view}: width maps differ by {mean_diff:.4} \
+                         texels on average",
                         t.label()
                     );
+                    failures.check(!same_raster || mean_diff < 0.05, || {
+                        format!(
+                            "{name} {} {res} view {view}: width maps differ by {mean_diff} \
+                             texels on average",
+                            t.label()
+                        )
+                    });
                 }
                 let cv = soft_shadow_core::ShadowTechnique::evaluate_cpu(t, &cm, &recv).unwrap();
                 let gv =
                     soft_shadow_core::ShadowTechnique::evaluate_gpu(t, &ctx, &gm, &recv).unwrap();
-                let rms = rms_255(&cv, &gv);
-                assert!(
-                    rms < 1.0,
-                    "{name} {} {res}: CPU/GPU rms {rms:.3}",
-                    t.label()
-                );
+                failures.agree(&format!("{name} {} {res}", t.label()), &cv, &gv);
             }
         }
     }
+    failures.assert_none();
 }
 
 /// A closed box under a single-sided square (its normal towards the light): the square has no
