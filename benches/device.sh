@@ -4,11 +4,14 @@
 #   bash benches/device.sh stage   # here, on the developer's machine (no GPU needed)
 #   bash benches/device.sh run     # there, with what `stage` built carried over
 #
-# `stage` builds the bench and GPU test executables into target/device/ and downloads the
-# Vulkan and GL loaders into .gl/ (both ignored by git; `run` needs them), so the GPU machine
-# compiles nothing. `run` unpacks the loaders, then, on the real GPU and against its driver:
+# `stage` builds the bench and GPU test executables, strips them into target/device/ and packs
+# that into target/device.txz (xz: the executables alone are over the 64 MiB a device call
+# carries), and downloads the Vulkan and GL loaders into .gl/ (all ignored by git; carry .gl
+# and target/device.txz), so the GPU machine compiles nothing. `run` unpacks both, then, on the
+# real GPU and against its driver:
 #   1. the tests that hold GPU output to the CPU's (every technique's agreement on every
-#      catalogue scene, the rasterizer, the feature transform, device timing, own-device use);
+#      catalogue scene, the rasterizer, the feature transform, device timing, own-device use)
+#      and the stability suite (every technique on every catalogue scene, both backends);
 #   2. the generation benches at 2048², GPU wall and device time, every configuration;
 #   3. the evaluation benches (512² receivers, 1024² maps), GPU wall and device time;
 # each bench measured for SHADOW_BENCH_SECONDS (default 0.5) instead of the usual 2 s, and
@@ -48,21 +51,22 @@ for line in sys.stdin:
     while read -r name path; do
         case $name in
         # Stripped: what travels to the device is at most 64 MiB, the tree included.
-        generation | evaluation | suite | penumbra_limit | occlusion_slices) cp "$path" "$dir/$name" && strip "$dir/$name" ;;
+        generation | evaluation | suite | stability | penumbra_limit | occlusion_slices) cp "$path" "$dir/$name" && strip "$dir/$name" ;;
         esac
     done < <(
         executables bench -p shadow-benches --no-run
         executables test --workspace --release --no-run
     )
-    for name in generation evaluation suite penumbra_limit occlusion_slices; do
+    for name in generation evaluation suite stability penumbra_limit occlusion_slices; do
         [ -x "$dir/$name" ] || { echo "stage: no $name executable was built" >&2; exit 1; }
     done
-    ls -l "$dir"
+    tar cJf "$dir.txz" -C "$(dirname "$dir")" "$(basename "$dir")"
+    ls -l "$dir" "$dir.txz"
     cat <<'EOF'
 
-Staged. On the GPU machine, from the repository root with .gl/ and target/device/ copied over
-(OUT names the folder it writes):
-  OUT=/tmp/out bash benches/device.sh run     # about 9 minutes
+Staged. On the GPU machine, from the repository root with .gl/ and target/device.txz carried
+over (OUT names the folder it writes):
+  OUT=/tmp/out bash benches/device.sh run     # about 2 minutes on an NVIDIA H200
 summary.md holds every median.
 EOF
 }
@@ -143,6 +147,9 @@ summary() {
 
 run() {
     local out=${OUT:?run writes into the folder OUT names}
+    if [ -f "$dir.txz" ]; then
+        mkdir -p "$(dirname "$dir")" && tar xJf "$dir.txz" -C "$(dirname "$dir")"
+    fi
     # The loaders, where the machine lacks them (unpacked over / as the device notes say).
     if ! ldconfig -p | grep -q 'libvulkan\.so\.1'; then
         for f in .gl/*.deb; do dpkg -x "$f" /; done
@@ -163,6 +170,8 @@ run() {
         timeout 60 "$dir/penumbra_limit" gpu_ --test-threads 4
         echo "exit status $?"
         timeout 60 "$dir/occlusion_slices" gpu_ --test-threads 4
+        echo "exit status $?"
+        timeout 120 "$dir/stability" catalogue --test-threads 8
         echo "exit status $?"
     } >"$out/tests.txt" 2>&1
     timeout 170 "$dir/generation" --noplot --bench "${GEN_FILTER:-/gpu-(device|wall)/2048\$}" \
