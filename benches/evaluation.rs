@@ -7,9 +7,9 @@
 //! `cargo bench -p shadow-benches --bench evaluation [-- <regex>]`; see `benches/README.md`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use harness::setup::scene_receivers;
 use shadow_benches::{configs, gpu, iter_device_time, timing};
 use soft_shadow_core::{Context, CpuContext, Receivers};
+use soft_shadow_reference::scenes::scene_receivers;
 
 /// G-buffer side: the receivers.
 const SIZE: u32 = 512;

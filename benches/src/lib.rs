@@ -5,9 +5,9 @@
 use criterion::measurement::Measurement;
 use criterion::{Bencher, BenchmarkGroup, SamplingMode};
 use harness::report::all_techniques;
-use harness::scenes::SceneSpec;
-use harness::scenes::catalogue::build;
 use soft_shadow_core::{DynTechnique, GpuContext, Result, SceneGeometry};
+use soft_shadow_reference::scenes::SceneSpec;
+use soft_shadow_reference::scenes::catalogue::build;
 use std::time::{Duration, Instant};
 
 /// Map resolutions of the generation benches.

@@ -5,13 +5,13 @@
 //!
 //! `cargo run --release --example figure9 [-- gpu]`
 
-use harness::ground_truth::GroundTruthSettings;
 use harness::metrics::{errors, median};
-use harness::scenes::catalogue::build;
 use harness::setup::PreparedScene;
 use linear_light::LinearLight;
 use shadow_maps::{Filter, ShadowMapBaseline};
 use soft_shadow_core::{Context, CpuContext, DynTechnique, GpuContext};
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
+use soft_shadow_reference::scenes::catalogue::build;
 use std::time::Instant;
 
 const RES: u32 = 512;

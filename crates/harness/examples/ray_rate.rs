@@ -22,12 +22,12 @@
 
 use clap::Parser;
 use glam::Vec3;
-use harness::ground_truth::{GroundTruthSettings, RayTracer};
 use harness::metrics::median;
-use harness::scenes::catalogue::build;
-use harness::setup::scene_receivers;
 use rayon::prelude::*;
 use soft_shadow_core::LightPoint;
+use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
+use soft_shadow_reference::scenes::catalogue::build;
+use soft_shadow_reference::scenes::scene_receivers;
 use std::path::PathBuf;
 use std::time::Instant;
 

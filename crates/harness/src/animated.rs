@@ -3,7 +3,6 @@
 //! and a point that takes the hard-shadow path), a static torus and a box that orbits between the
 //! lights for the first half of the frames, then rests.
 
-use crate::scenes::shapes::{cuboid, ground, torus};
 use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::entity::Entity;
 use glam::{Mat4, Vec3};
@@ -12,6 +11,7 @@ use shadow_frame::{FramePipeline, FrameReceivers, ShadowConfig};
 use shadow_frame::{Scene, Shadows};
 use soft_shadow_core::raster::{GBufferTexel, gbuffer};
 use soft_shadow_core::{Camera, DynTechnique, Light, Map2D, Result};
+use soft_shadow_reference::scenes::shapes::{cuboid, ground, torus};
 use std::sync::Arc;
 
 /// A frame pipeline with every technique crate and the baselines registered.

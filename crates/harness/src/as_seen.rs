@@ -6,11 +6,11 @@
 //! ([`SETTINGS`]): an artefact here is a difference of more than 1/4 of the light, which a
 //! reference within a few 1/255 of the truth decides.
 
-use crate::ground_truth::GroundTruthSettings;
 use crate::metrics::{PENUMBRA_HI, PENUMBRA_LO};
-use crate::scenes::SceneSpec;
 use crate::setup::PreparedScene;
 use soft_shadow_core::Result;
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
+use soft_shadow_reference::scenes::SceneSpec;
 
 /// Width of the viewing frame, pixels.
 pub const WIDTH: u32 = 1280;

@@ -3,16 +3,16 @@
 //! below each (`harness figure`).
 
 use crate::error::{HarnessError, Result};
-use crate::ground_truth::GroundTruthSettings;
 use crate::metrics::errors;
 use crate::report::images::{STRIP_ROWS, scatter, strip_image};
 use crate::report::{all_techniques, pareto::register_font};
-use crate::scenes::catalogue;
 use crate::setup::PreparedScene;
 use image::RgbImage;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use soft_shadow_core::{Context, CpuContext, DynTechnique, Receivers};
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
+use soft_shadow_reference::scenes::catalogue;
 use std::path::PathBuf;
 
 /// The four techniques, each shown at its best variant on the scene.

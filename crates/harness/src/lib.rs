@@ -1,16 +1,16 @@
-//! The soft-shadow harness: ray-traced ground truth, the scene catalogue, metrics and the
-//! accuracy-vs-time report (`cargo run --release --bin harness -- report`).
+//! The soft-shadow harness: metrics, the accuracy-vs-time report (`cargo run --release --bin
+//! harness -- report`), the papers' experiments and the cost profile, over the ground truth and
+//! the scene catalogue of `soft-shadow-reference`.
 
 pub mod animated;
 pub mod as_seen;
 pub mod error;
 pub mod figure;
-pub mod ground_truth;
+mod files;
 pub mod metrics;
 pub mod papers;
 pub mod profile;
 pub mod report;
-pub mod scenes;
 pub mod setup;
 pub mod testing;
 

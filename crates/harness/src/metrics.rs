@@ -23,7 +23,7 @@ pub const FAR_M: f32 = 60.0;
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Shading {
     /// `E0 / E0_max` per receiver, in `[0, 1]`: the light's unshadowed irradiance
-    /// ([`crate::ground_truth::irradiance`]) over the scene's brightest receiver's.
+    /// ([`soft_shadow_reference::ground_truth::irradiance`]) over the scene's brightest receiver's.
     pub weight: Vec<f32>,
     /// Per receiver: it lies on a caster (an object), not on geometry that only receives (the
     /// ground).

@@ -21,9 +21,9 @@
 
 use crate::error::{HarnessError, Result};
 use crate::report::json::{Report, Run};
-use crate::scenes::catalogue::build;
 use shadow_frame::{ProfileEntry, SceneSize, TechniqueProfile};
 use soft_shadow_core::{Backend, CostForm, LightKind};
+use soft_shadow_reference::scenes::catalogue::build;
 use std::collections::BTreeMap;
 
 /// Budgets of the validation, milliseconds per light and frame.
@@ -151,7 +151,7 @@ fn scenes(report: &Report) -> BTreeMap<String, SceneInfo> {
 
 /// The cost form of every configuration the report runs, as its technique states it.
 fn cost_forms() -> BTreeMap<(String, String), CostForm> {
-    crate::report::all_techniques(false)
+    crate::report::options::all_techniques(false)
         .iter()
         .map(|t| ((t.name().to_string(), t.variant()), t.cost_form()))
         .collect()
@@ -332,7 +332,7 @@ pub fn write(
             path.display()
         )));
     }
-    crate::report::write_text(out, &profile.to_text())?;
+    crate::files::write_text(out, &profile.to_text())?;
     Ok((profile, validate(&report)))
 }
 

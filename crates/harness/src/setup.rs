@@ -1,9 +1,6 @@
 //! A scene made ready for measurement: geometry, the camera G-buffer, its receivers, the reference.
 
-use crate::ground_truth::irradiance::irradiance;
-use crate::ground_truth::{GroundTruthSettings, RayTracer, Reference};
 use crate::metrics::{Shading, TERMINATOR_COS};
-use crate::scenes::SceneSpec;
 use glam::Vec3;
 use soft_shadow_core::coverage;
 use soft_shadow_core::pool::Pool;
@@ -12,39 +9,12 @@ use soft_shadow_core::{
     Light, LightPoint, LightViews, Map2D, Receivers, Result, SceneGeometry, SeenDepth, ShadowError,
     Uncovered,
 };
+use soft_shadow_reference::ground_truth::irradiance::irradiance;
+use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer, Reference};
+use soft_shadow_reference::scenes::SceneSpec;
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::time::Instant;
-
-/// The receivers of a scene without its reference (cheap): flattened geometry and the positions
-/// and normals of the covered pixels of the camera's `size²` CPU G-buffer, row-major, as
-/// [`PreparedScene`] takes them.
-pub fn scene_receivers(
-    spec: &SceneSpec,
-    size: u32,
-) -> Result<(SceneGeometry, Vec<Vec3>, Vec<Vec3>)> {
-    let mut scene = spec.to_scene()?;
-    let geometry = scene.geometry();
-    geometry.validate()?;
-    let camera = scene
-        .camera()
-        .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
-    let gb = gbuffer(
-        &Arc::new(Pool::new(0)),
-        &camera.view(size, size),
-        camera.eye,
-        size,
-        size,
-        &geometry.receivers,
-    );
-    let (positions, normals) = gb
-        .data()
-        .iter()
-        .filter(|t| t.covered && t.normal != Vec3::ZERO)
-        .map(|t| (t.position, t.normal))
-        .unzip();
-    Ok((geometry, positions, normals))
-}
 
 /// A triangle's coordinates as bits, to find the same triangle in another list.
 fn bits(t: &[Vec3; 3]) -> [u32; 9] {
@@ -117,7 +87,7 @@ pub struct PreparedScene {
     /// Reference per receiver.
     pub reference: Vec<Reference>,
     /// The light's unshadowed irradiance `E0` per receiver
-    /// ([`crate::ground_truth::irradiance`]).
+    /// ([`soft_shadow_reference::ground_truth::irradiance`]).
     pub irradiance: Vec<f32>,
     /// Image-error weights and classes per receiver.
     pub shading: Shading,

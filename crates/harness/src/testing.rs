@@ -46,14 +46,16 @@ impl ViewerBunnyGround {
     /// The frame with an `n` x `n` grid of ground receivers.
     pub fn new(n: u32) -> Self {
         use glam::Vec3;
-        let spec = crate::scenes::catalogue::build("bunny").expect("the catalogue has the bunny");
-        let tris = |keep: fn(&crate::scenes::MeshInstance) -> bool| -> Vec<[Vec3; 3]> {
-            spec.meshes
-                .iter()
-                .filter(|m| keep(m))
-                .flat_map(|m| m.mesh.world_triangles(m.transform).collect::<Vec<_>>())
-                .collect()
-        };
+        let spec = soft_shadow_reference::scenes::catalogue::build("bunny")
+            .expect("the catalogue has the bunny");
+        let tris =
+            |keep: fn(&soft_shadow_reference::scenes::MeshInstance) -> bool| -> Vec<[Vec3; 3]> {
+                spec.meshes
+                    .iter()
+                    .filter(|m| keep(m))
+                    .flat_map(|m| m.mesh.world_triangles(m.transform).collect::<Vec<_>>())
+                    .collect()
+            };
         let (casters, receivers) = (tris(|m| m.caster), tris(|m| m.receiver));
         let mut all = casters.clone();
         all.extend(receivers.iter().copied());
@@ -79,12 +81,12 @@ impl ViewerBunnyGround {
             })
             .collect();
         let normals = vec![Vec3::Y; positions.len()];
-        let references = crate::ground_truth::RayTracer::new(&geometry.casters)
+        let references = soft_shadow_reference::ground_truth::RayTracer::new(&geometry.casters)
             .references(
                 &light,
                 &positions,
                 &normals,
-                &crate::ground_truth::GroundTruthSettings {
+                &soft_shadow_reference::ground_truth::GroundTruthSettings {
                     strata_side: 8,
                     replicates: 2,
                     ..Default::default()

@@ -2,8 +2,8 @@
 //! resolution refined in [`LEVELS`] passes, cached per scene, light and camera.
 
 use glam::Vec3;
-use harness::ground_truth::{GroundTruthSettings, RayTracer};
 use soft_shadow_core::{Camera, CpuContext, Light, SceneGeometry};
+use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};

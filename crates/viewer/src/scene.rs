@@ -2,8 +2,8 @@
 //! them), or a glTF model (`.glb`, `.gltf`) stood on a ground square.
 
 use crate::renderer::{model_on_ground, moving_light};
-use harness::scenes::{SceneSpec, catalogue, scene_file};
 use soft_shadow_core::{Aabb, Camera, Light, Result, SceneGeometry, ShadowError};
+use soft_shadow_reference::scenes::{SceneSpec, catalogue, scene_file};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -30,7 +30,7 @@ pub struct LoadedScene {
 }
 
 fn from_spec(spec: &SceneSpec) -> LoadedScene {
-    let triangles = |keep: fn(&harness::scenes::MeshInstance) -> bool| -> Vec<_> {
+    let triangles = |keep: fn(&soft_shadow_reference::scenes::MeshInstance) -> bool| -> Vec<_> {
         spec.meshes
             .iter()
             .filter(|m| keep(m))

@@ -6,8 +6,8 @@ use crate::renderer::ViewMode;
 use crate::scene::SceneSource;
 use crate::state::{SIZE_RANGE, ViewState};
 use crate::techniques::{TechniqueEntry, find};
-use harness::scenes::catalogue::SCENE_NAMES;
 use soft_shadow_core::{Backend, LightKind};
+use soft_shadow_reference::scenes::catalogue::SCENE_NAMES;
 use std::collections::VecDeque;
 use std::path::PathBuf;
 

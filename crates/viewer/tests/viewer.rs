@@ -326,7 +326,7 @@ fn a_malformed_glb_exits_cleanly_with_a_message() {
 /// again is served from the cache at once.
 #[test]
 fn the_reference_refines_off_thread_and_is_cached() {
-    use harness::ground_truth::{GroundTruthSettings, RayTracer};
+    use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
     use viewer::reference::{LEVELS, ReferenceKey, References};
     let scene =
         viewer::scene::load(&viewer::scene::SceneSource::Catalogue("bunny".into())).unwrap();

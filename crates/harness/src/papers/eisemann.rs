@@ -8,10 +8,10 @@
 
 use super::{Claim, Experiment, Row, measure_run, prepare, scene};
 use crate::report::json::Run;
-use crate::scenes::shapes::{horizontal_rect, quad_grid};
 use glam::{Vec2, Vec3};
 use occlusion_slices::{Combination, OcclusionSlices, Prefilter};
 use soft_shadow_core::{Light, Result};
+use soft_shadow_reference::scenes::shapes::{horizontal_rect, quad_grid};
 
 /// Scene name of Figures 2-3.
 pub const ID_FIG3: &str = "eisemann-fig3";
@@ -36,7 +36,7 @@ fn light() -> Light {
 }
 
 /// Figures 2-3: three 0.8 m plates at 0.5, 1.0 and 1.5 m, each shifted 0.35 m along x.
-pub fn spec_fig3() -> crate::scenes::SceneSpec {
+pub fn spec_fig3() -> soft_shadow_reference::scenes::SceneSpec {
     let plate = |i: f32| {
         let x = -0.75 + 0.35 * i;
         horizontal_rect(
@@ -57,7 +57,7 @@ pub fn spec_fig3() -> crate::scenes::SceneSpec {
 }
 
 /// Figure 6: two thin wings (open sheets) rising 60 degrees from a 0.9 m high spine.
-pub fn spec_fig6() -> crate::scenes::SceneSpec {
+pub fn spec_fig6() -> soft_shadow_reference::scenes::SceneSpec {
     let (s, c) = (60f32.to_radians().sin(), 60f32.to_radians().cos());
     let wing = |name: &str, dir: f32| {
         quad_grid(

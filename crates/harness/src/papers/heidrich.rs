@@ -12,10 +12,10 @@
 
 use super::{Claim, Experiment, Row, measure_run, prepare, ray_traced_run, rms_where, scene};
 use crate::report::json::Run;
-use crate::scenes::shapes::horizontal_rect;
 use glam::{Vec2, Vec3};
 use linear_light::LinearLight;
 use soft_shadow_core::{Light, LightPoint, Result};
+use soft_shadow_reference::scenes::shapes::horizontal_rect;
 
 /// Scene name of Figure 9's runs.
 pub const ID_FIG9: &str = "heidrich-fig9";
@@ -84,7 +84,7 @@ pub fn uniform_points(n: u32) -> Vec<(LightPoint, f32)> {
 
 /// Figure 9: a 1.2 m square plate 1 m above the ground: the ends' umbrae overlap over
 /// x in [-0.5, 0.5].
-pub fn spec_fig9() -> crate::scenes::SceneSpec {
+pub fn spec_fig9() -> soft_shadow_reference::scenes::SceneSpec {
     scene(
         ID_FIG9,
         "Heidrich Fig. 9: one linear light, one wide blocker, one receiver",
@@ -101,7 +101,7 @@ pub fn spec_fig9() -> crate::scenes::SceneSpec {
 }
 
 /// Figure 8: two 0.3 m bars along z, 0.5 m apart, 1.2 m up: their penumbrae overlap between them.
-pub fn spec_fig8() -> crate::scenes::SceneSpec {
+pub fn spec_fig8() -> soft_shadow_reference::scenes::SceneSpec {
     scene(
         ID_FIG8,
         "Heidrich Fig. 8: two blockers whose penumbrae overlap under a linear light",
@@ -121,7 +121,7 @@ fn bars() -> Vec<soft_shadow_core::TriangleMesh> {
 }
 
 /// Figure 8 (right): the two bars under [`triangle_light`].
-pub fn spec_triangle() -> crate::scenes::SceneSpec {
+pub fn spec_triangle() -> soft_shadow_reference::scenes::SceneSpec {
     scene(
         ID_TRIANGLE,
         "Heidrich Fig. 8 (right): two blockers under a triangle light",

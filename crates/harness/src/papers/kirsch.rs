@@ -9,10 +9,10 @@
 
 use super::{Claim, Experiment, Row, measure_run, measure_run_reps, prepare, rms_where, scene};
 use crate::report::json::Run;
-use crate::scenes::shapes::cuboid;
 use glam::Vec3;
 use shadow_width::{DepthLayer, Neighbours, ShadowWidth, WidthMethod};
 use soft_shadow_core::{Light, Result};
+use soft_shadow_reference::scenes::shapes::cuboid;
 
 /// Scene name of Figure 6.
 pub const ID_FIG6: &str = "kirsch-fig6";
@@ -44,7 +44,7 @@ fn light() -> Light {
 }
 
 /// Figure 6: a closed 0.6 m box 0.5 m above the ground (casts, does not receive).
-pub fn spec_fig6() -> crate::scenes::SceneSpec {
+pub fn spec_fig6() -> soft_shadow_reference::scenes::SceneSpec {
     scene(
         ID_FIG6,
         "Kirsch Fig. 6: a closed blocker, front vs back faces in the depth map",
@@ -61,7 +61,7 @@ pub fn spec_fig6() -> crate::scenes::SceneSpec {
 
 /// Figure 7: a box 1.6 m up over x < 0 (far from the ground) and one 0.1 m up over x > 0
 /// (close to it).
-pub fn spec_fig7() -> crate::scenes::SceneSpec {
+pub fn spec_fig7() -> soft_shadow_reference::scenes::SceneSpec {
     scene(
         ID_FIG7,
         "Kirsch Fig. 7: blockers far from and close to the receiver, 64² maps",

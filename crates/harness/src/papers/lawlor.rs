@@ -3,7 +3,6 @@
 //! overhead; RMS over the ground image on the -255..255 scale at map resolutions 16..128.
 
 use super::{Claim, Experiment, Row, measure_run, prepare, ray_traced_run, rms_where, scene};
-use crate::ground_truth::RayTracer;
 use crate::report::json::Run;
 use glam::Vec3;
 use penumbra_limit::{Generator, PenumbraLimit};
@@ -11,6 +10,7 @@ use shadow_maps::{Filter, ShadowMapBaseline};
 use shadow_width::{ShadowWidth, WidthMethod};
 use soft_shadow_core::TechniqueInfo;
 use soft_shadow_core::{Bias, DistantProfile, DynTechnique, Light, Result, TriangleMesh};
+use soft_shadow_reference::ground_truth::RayTracer;
 
 /// Scene name of the runs.
 pub const ID: &str = "lawlor-fig10";
@@ -55,12 +55,12 @@ pub const WIDE_ANGULAR_DIAMETER: f32 = 0.2;
 pub const WIDE_ID: &str = "lawlor-fig10-wide";
 
 /// The Figure 11 scene.
-pub fn spec() -> crate::scenes::SceneSpec {
+pub fn spec() -> soft_shadow_reference::scenes::SceneSpec {
     spec_with(ID, ANGULAR_DIAMETER)
 }
 
 /// The Figure 11 scene named `id` under a light `angular_diameter` radians across.
-fn spec_with(id: &str, angular_diameter: f32) -> crate::scenes::SceneSpec {
+fn spec_with(id: &str, angular_diameter: f32) -> soft_shadow_reference::scenes::SceneSpec {
     scene(
         id,
         "Lawlor Fig. 10-11: a skewed triangle under a distant disk light straight overhead",
@@ -98,7 +98,7 @@ pub fn random_samples(light: &Light, n: u32, q: Vec3) -> Vec<(soft_shadow_core::
     let seed = q.to_array().iter().fold(0x9e37_79b9_7f4a_7c15u64, |h, c| {
         (h ^ c.to_bits() as u64).wrapping_mul(0x0100_0000_01b3)
     });
-    let mut rng = crate::scenes::shapes::SplitMix(seed);
+    let mut rng = soft_shadow_reference::scenes::shapes::SplitMix(seed);
     (0..n)
         .map(|_| {
             let u = glam::Vec2::new(rng.next_f32(), rng.next_f32());

@@ -15,15 +15,15 @@ pub mod heidrich;
 pub mod kirsch;
 pub mod lawlor;
 
-use crate::ground_truth::{GroundTruthSettings, RayTracer};
 use crate::metrics::errors;
 use crate::report::json::Run;
 use crate::report::measure::measure;
-use crate::scenes::{MeshInstance, SceneSpec};
 use crate::setup::PreparedScene;
 use glam::Vec3;
 use serde::Serialize;
 use soft_shadow_core::{Camera, DynTechnique, Light, LightPoint, Result};
+use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
+use soft_shadow_reference::scenes::{MeshInstance, SceneSpec};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -164,13 +164,13 @@ pub fn run(opts: &PapersOptions) -> crate::error::Result<Papers> {
 
 /// Writes the three files.
 pub fn write(papers: &Papers, out: &Path) -> crate::error::Result<()> {
-    crate::report::create_dir(out)?;
+    crate::files::create_dir(out)?;
     let json = serde_json::to_string_pretty(papers)
         .map_err(|e| crate::error::HarnessError::write(&out.join("papers.json"), e))?;
     let md = markdown(papers);
-    crate::report::write_text(&out.join("papers.json"), &json)?;
-    crate::report::write_text(&out.join("papers.html"), &crate::report::html::render(&md))?;
-    crate::report::write_text(&out.join("papers.md"), &md)
+    crate::files::write_text(&out.join("papers.json"), &json)?;
+    crate::files::write_text(&out.join("papers.html"), &crate::report::html::render(&md))?;
+    crate::files::write_text(&out.join("papers.md"), &md)
 }
 
 fn cell(v: Option<f64>) -> String {
@@ -245,7 +245,10 @@ pub fn scene(
         caster,
         receiver: !caster,
     };
-    let mut meshes = vec![inst(crate::scenes::shapes::ground(20.0, 0.0, 1), false)];
+    let mut meshes = vec![inst(
+        soft_shadow_reference::scenes::shapes::ground(20.0, 0.0, 1),
+        false,
+    )];
     meshes.extend(casters.into_iter().map(|m| inst(m, true)));
     let height = 40.0;
     SceneSpec {

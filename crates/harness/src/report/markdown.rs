@@ -35,7 +35,7 @@ pub fn render(report: &Report, papers_written: bool) -> String {
     s.push('\n');
     let _ = writeln!(
         s,
-        "## References\n\n`scene@kind` is a hard case recast under a light of that kind, for the techniques that do not model its own light (see `harness::scenes::relight`).\n\nA receiver is proven lit (error 0) when no caster crosses the hull of it and the light; every other one gets the stated samples, and its error is the replicates' standard error, or where every ray agreed the 99% bound on a feature the rays could miss: \"max error\" is the reference's true worst error. \"views\" are the light's views every technique generates maps for (one frustum, cube faces or cascades).\n\n| scene | light | views | samples/px (not proven lit) | std error (255, penumbra RMS) | max error (255) | receivers | unlit | penumbra | time ms |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|"
+        "## References\n\n`scene@kind` is a hard case recast under a light of that kind, for the techniques that do not model its own light (see `soft_shadow_reference::scenes::relight`).\n\nA receiver is proven lit (error 0) when no caster crosses the hull of it and the light; every other one gets the stated samples, and its error is the replicates' standard error, or where every ray agreed the 99% bound on a feature the rays could miss: \"max error\" is the reference's true worst error. \"views\" are the light's views every technique generates maps for (one frustum, cube faces or cascades).\n\n| scene | light | views | samples/px (not proven lit) | std error (255, penumbra RMS) | max error (255) | receivers | unlit | penumbra | time ms |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|"
     );
     for r in &report.references {
         let _ = writeln!(

@@ -15,16 +15,16 @@ pub mod stability;
 pub mod summary;
 
 use crate::error::{HarnessError, Result};
-use crate::ground_truth::GroundTruthSettings;
+use crate::files::{create_dir, write_text};
 use crate::metrics::errors;
-use crate::scenes::{SceneSpec, catalogue, scene_file};
 use crate::setup::PreparedScene;
 use json::{Machine, ReferenceInfo, Report, Run};
 pub use options::{BackendChoice, MemoryBudgets, ReportOptions, all_techniques};
 use progress::Progress;
 use soft_shadow_core::{Backend, Context, CpuContext, DynTechnique, GpuContext, ShadowError};
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
+use soft_shadow_reference::scenes::{SceneSpec, catalogue, scene_file};
 use std::collections::HashSet;
-use std::path::Path;
 
 fn cpu_name() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
@@ -99,20 +99,6 @@ pub fn file_stem(name: &str) -> String {
         })
         .collect();
     if s.is_empty() { "scene".into() } else { s }
-}
-
-pub(crate) fn create_dir(path: &Path) -> Result<()> {
-    std::fs::create_dir_all(path).map_err(|source| HarnessError::Write {
-        path: path.display().to_string(),
-        source,
-    })
-}
-
-pub(crate) fn write_text(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|source| HarnessError::Write {
-        path: path.display().to_string(),
-        source,
-    })
 }
 
 /// One scene of the run and the techniques (indices) it runs: all of them, or, for a hard case

@@ -7,8 +7,8 @@ use super::options::ReportOptions;
 use super::progress::Progress;
 use crate::as_seen::{artefacts, flip, frame, picture, shaded};
 use crate::error::Result;
-use crate::scenes::catalogue::{AS_SEEN_NAMES, build};
 use soft_shadow_core::{Backend, Context, DynTechnique};
+use soft_shadow_reference::scenes::catalogue::{AS_SEEN_NAMES, build};
 
 /// The scenes measured as seen: the bunny and [`AS_SEEN_NAMES`] in the full report, the bunny
 /// with `--quick`; with `--scenes`, those of them named; none for scene files alone.
@@ -75,7 +75,7 @@ pub fn measure(
         bar.inc();
         let light = &scene.spec.light;
         let dir = opts.out.join(frames_dir(&name));
-        super::create_dir(&dir)?;
+        crate::files::create_dir(&dir)?;
         let reference = scene.reference_v();
         save(&dir.join("reference.png"), &shaded(&scene, &reference))?;
         let mut rows = vec![(picture(&scene, &reference), None)];

@@ -3,8 +3,8 @@
 #![allow(dead_code)]
 
 use glam::Vec3;
-use harness::scenes::SceneSpec;
 use soft_shadow_core::SceneGeometry;
+use soft_shadow_reference::scenes::SceneSpec;
 
 /// Geometry and G-buffer receivers of a scene, without the reference (cheap).
 pub struct Receivers {
@@ -21,7 +21,7 @@ pub struct Receivers {
 /// Renders the CPU G-buffer of `spec` at `size²` and returns its receivers.
 pub fn receivers(spec: &SceneSpec, size: u32) -> Receivers {
     let (geometry, positions, normals) =
-        harness::setup::scene_receivers(spec, size).expect("catalogue scene builds");
+        soft_shadow_reference::scenes::scene_receivers(spec, size).expect("catalogue scene builds");
     let seen = soft_shadow_core::SeenDepth::of_points(spec.camera.view(size, size), &positions);
     Receivers {
         geometry,

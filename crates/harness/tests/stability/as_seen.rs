@@ -7,8 +7,8 @@
 
 use super::{gpu, techniques};
 use harness::as_seen::{HEIGHT, WIDTH, artefacts, flip, frame};
-use harness::scenes::catalogue::{AS_SEEN_NAMES, build};
 use soft_shadow_core::{Backend, Context};
+use soft_shadow_reference::scenes::catalogue::{AS_SEEN_NAMES, build};
 
 /// The configurations checked: the viewer's defaults of the two techniques whose artefacts the
 /// report's small G-buffers missed, and PCSS, the baseline they are held to.

@@ -23,12 +23,12 @@
 use super::acne;
 use super::common::Receivers;
 use super::{RESOLUTIONS, assert_stable, backends, label, scene_for, techniques, visibility};
-use harness::ground_truth::GroundTruthSettings;
 use harness::metrics::{Errors, errors};
-use harness::scenes::SceneSpec;
-use harness::scenes::catalogue::{SCENE_NAMES, build};
 use harness::setup::PreparedScene;
 use soft_shadow_core::{Backend, DynTechnique};
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
+use soft_shadow_reference::scenes::SceneSpec;
+use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
 use std::collections::HashMap;
 
 /// G-buffer side of the receivers.

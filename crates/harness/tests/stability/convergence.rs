@@ -14,10 +14,10 @@
 //!   receiver (skewed triangle silhouette 2.1 at 128², 4.7 at 2048²).
 
 use super::techniques;
-use harness::ground_truth::GroundTruthSettings;
 use harness::metrics::errors;
 use harness::setup::PreparedScene;
 use soft_shadow_core::Backend;
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
 
 /// Map sides, coarsest first.
 const SIDES: [u32; 3] = [64, 512, 2048];
@@ -29,7 +29,7 @@ const SIZE: u32 = 256;
 const TOLERANCE: f64 = 1.0;
 
 fn converges(name: &str) {
-    let spec = harness::scenes::catalogue::build(name).unwrap();
+    let spec = soft_shadow_reference::scenes::catalogue::build(name).unwrap();
     let scene = PreparedScene::new(spec, SIZE, GroundTruthSettings::default()).unwrap();
     let reference = scene.reference_v();
     let mut failures = Vec::new();

@@ -9,7 +9,7 @@
 use super::common::receivers;
 use super::{backends, label, reference, techniques, visibility};
 use harness::metrics::rms_255;
-use harness::scenes::catalogue::build;
+use soft_shadow_reference::scenes::catalogue::build;
 
 #[test]
 fn every_technique_draws_a_shadow_at_16_texels() {

@@ -18,7 +18,7 @@
 //!   the assertions of `catalogue`.
 //!
 //! A technique that does not model a scene's light kind runs under the nearest light it does
-//! model (`harness::scenes::relight`): occlusion-slices under a distant light's equal square,
+//! model (`soft_shadow_reference::scenes::relight`): occlusion-slices under a distant light's equal square,
 //! linear-light under a rect's mid-line. With `CI` set a missing GPU adapter fails the suite;
 //! elsewhere the GPU half is skipped with one line.
 //!
@@ -41,8 +41,8 @@ mod tiny_light;
 
 use crate::common::gpu_for_test;
 use harness::report::all_techniques;
-use harness::scenes::SceneSpec;
 use soft_shadow_core::{Backend, DynTechnique, GpuContext};
+use soft_shadow_reference::scenes::SceneSpec;
 use std::sync::OnceLock;
 
 /// Map resolutions of the hard cases.
@@ -116,12 +116,12 @@ pub fn visibility(
 
 /// The reference `V` of `r` under `light` (default settings); NaN where a receiver is unlit.
 pub fn reference(light: &soft_shadow_core::Light, r: &common::Receivers) -> Vec<f32> {
-    harness::ground_truth::RayTracer::new(&r.geometry.casters)
+    soft_shadow_reference::ground_truth::RayTracer::new(&r.geometry.casters)
         .references(
             light,
             &r.positions,
             &r.normals,
-            &harness::ground_truth::GroundTruthSettings::default(),
+            &soft_shadow_reference::ground_truth::GroundTruthSettings::default(),
         )
         .iter()
         .map(|x| x.map_or(f32::NAN, |x| x.visibility))

@@ -5,10 +5,10 @@
 //! everything in view made it 2-3 times that (`LightViews::single`, reported beside).
 
 use super::techniques;
-use harness::ground_truth::GroundTruthSettings;
-use harness::scenes::catalogue::build;
 use harness::setup::PreparedScene;
 use soft_shadow_core::{Aabb, Context, LightViews};
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
+use soft_shadow_reference::scenes::catalogue::build;
 
 #[test]
 fn a_street_keeps_its_near_shadows_under_the_sun() {

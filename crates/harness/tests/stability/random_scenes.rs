@@ -9,11 +9,11 @@
 
 use super::catalogue::{Checks, ShadowRule, check_spec};
 use glam::{Mat4, Vec3};
-use harness::scenes::{MeshInstance, SceneSpec};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{RngSeed, TestRunner};
 use soft_shadow_core::{Camera, DistantProfile, Light, TriangleMesh};
+use soft_shadow_reference::scenes::{MeshInstance, SceneSpec};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 

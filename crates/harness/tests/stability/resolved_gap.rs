@@ -22,10 +22,10 @@
 
 use super::{backends, label, scene_for, techniques};
 use glam::{Vec2, Vec3};
-use harness::scenes::shapes::{ground, horizontal_rect};
-use harness::scenes::{MeshInstance, SceneSpec};
 use soft_shadow_core::light_space::DEPTH_SPREAD;
 use soft_shadow_core::{Camera, Coverage, DistantProfile, Light, SampleView};
+use soft_shadow_reference::scenes::shapes::{ground, horizontal_rect};
+use soft_shadow_reference::scenes::{MeshInstance, SceneSpec};
 use std::sync::Arc;
 
 /// Depth gap beyond the receiver's own spread, in texels of the hard shadow map (the cap is 1).

@@ -14,16 +14,16 @@
 
 use super::techniques;
 use glam::Vec3;
-use harness::ground_truth::{GroundTruthSettings, RayTracer};
 use harness::metrics::rms_255;
 use soft_shadow_core::{
     Camera, Context, DistantProfile, DynTechnique, Light, LightKind, LightViews, Receivers,
     SceneGeometry, SeenDepth,
 };
+use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
 
 /// An axis-aligned box's 12 triangles.
 fn cuboid(center: Vec3, half: Vec3) -> Vec<[Vec3; 3]> {
-    let m = harness::scenes::shapes::cuboid("box", center, half);
+    let m = soft_shadow_reference::scenes::shapes::cuboid("box", center, half);
     m.world_triangles(glam::Mat4::IDENTITY).collect()
 }
 

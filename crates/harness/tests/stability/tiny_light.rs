@@ -17,10 +17,10 @@
 
 use super::common::receivers;
 use super::{backends, label, scene_for, techniques, visibility};
-use harness::ground_truth::RayTracer;
 use harness::metrics::rms_255;
-use harness::scenes::catalogue::{build, plane_occluder};
 use soft_shadow_core::LightPoint;
+use soft_shadow_reference::ground_truth::RayTracer;
+use soft_shadow_reference::scenes::catalogue::{build, plane_occluder};
 
 /// Half sides of the light, largest first; the last is `tiny-light`'s.
 const HALF_SIDES: [f32; 3] = [0.2, 0.02, 1e-4];

@@ -3,9 +3,9 @@
 use crate::common::context;
 use crate::common::gpu_for_test;
 use glam::Vec3;
-use harness::scenes::catalogue::build;
 use shadow_maps::{Filter, ShadowMapBaseline};
 use soft_shadow_core::{Backend, DynTechnique, Light, ShadowError};
+use soft_shadow_reference::scenes::catalogue::build;
 
 #[test]
 fn resolution_zero_and_zero_size_light_are_typed_errors() {
@@ -299,7 +299,7 @@ fn report_list_names_scenes_techniques_and_variants() {
         .unwrap();
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    for name in harness::scenes::catalogue::SCENE_NAMES {
+    for name in soft_shadow_reference::scenes::catalogue::SCENE_NAMES {
         assert!(text.contains(name), "{name} missing:\n{text}");
     }
     assert!(
@@ -314,7 +314,7 @@ fn report_list_names_scenes_techniques_and_variants() {
 #[test]
 fn a_configuration_over_the_memory_budget_is_a_typed_error() {
     use soft_shadow_core::{CpuContext, ShadowTechnique, TechniqueInfo};
-    let spec = harness::scenes::catalogue::build("plane-occluder").unwrap();
+    let spec = soft_shadow_reference::scenes::catalogue::build("plane-occluder").unwrap();
     let geometry = spec.to_scene().unwrap().geometry();
     let t = shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Accumulate { samples: 64 });
     assert_eq!(t.memory_estimate(&spec.light, 16384), 64 << 30);

@@ -3,7 +3,6 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use harness::animated::pipeline;
-use harness::scenes::shapes::{cuboid, ground};
 use proptest::prelude::*;
 use shadow_frame::scene::Transform;
 use shadow_frame::{
@@ -12,6 +11,7 @@ use shadow_frame::{
 };
 use shadow_frame::{Scene, Shadows};
 use soft_shadow_core::{Backend, DynTechnique, Light, LightKind};
+use soft_shadow_reference::scenes::shapes::{cuboid, ground};
 use std::sync::Arc;
 
 struct Lab {
@@ -477,7 +477,7 @@ fn a_report_json_becomes_a_profile() {
 /// casters, as the frame pipeline plans them), each a generation.
 #[test]
 fn auto_counts_the_views_of_a_lamp_among_furniture() {
-    let spec = harness::scenes::catalogue::build("room-lamp").unwrap();
+    let spec = soft_shadow_reference::scenes::catalogue::build("room-lamp").unwrap();
     let casters: Vec<[Vec3; 3]> = spec
         .meshes
         .iter()
@@ -521,7 +521,7 @@ fn auto_picks_fit_their_budget_on_scenes_the_catalogue_does_not_hold() {
     let mut files: Vec<(String, String)> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|f| {
-            let spec = harness::scenes::scene_file::load(&f.unwrap().path()).unwrap();
+            let spec = soft_shadow_reference::scenes::scene_file::load(&f.unwrap().path()).unwrap();
             (spec.name, spec.light.kind().name().to_string())
         })
         .collect();

@@ -10,12 +10,12 @@
 //!
 //! `FUZZ_CASES=5000 cargo test --release --test suite fuzz`
 
-use harness::scenes::scene_file;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
 use shadow_frame::gltf::glb;
 use shadow_maps::{Filter, ShadowMapBaseline};
 use soft_shadow_core::ShadowTechnique;
+use soft_shadow_reference::scenes::scene_file;
 use std::path::Path;
 use std::time::Instant;
 
@@ -138,7 +138,8 @@ fn load_and_render(dir: &Path, what: &str) -> Outcome {
         outcome = Outcome::CaughtPanic;
     }
     if let Ok(spec) = loaded
-        && let Ok((geometry, positions, normals)) = harness::setup::scene_receivers(&spec, 24)
+        && let Ok((geometry, positions, normals)) =
+            soft_shadow_reference::scenes::scene_receivers(&spec, 24)
     {
         outcome = Outcome::Rendered;
         let hard = ShadowMapBaseline::new(Filter::Hard);
@@ -273,7 +274,7 @@ fn absurd_coordinates_are_refused() {
     std::fs::write(dir.join("suzanne.glb"), asset("suzanne.glb")).unwrap();
     std::fs::write(dir.join("scene.toml"), toml).unwrap();
     let spec = scene_file::load(&dir.join("scene.toml")).unwrap();
-    let out = harness::setup::scene_receivers(&spec, 24);
+    let out = soft_shadow_reference::scenes::scene_receivers(&spec, 24);
     let _ = std::fs::remove_dir_all(&dir);
     match out {
         Err(e) => assert!(e.to_string().contains("beyond"), "{e}"),

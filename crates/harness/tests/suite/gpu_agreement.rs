@@ -3,12 +3,12 @@
 
 use super::receivers;
 use crate::common::{Failures, gpu_for_test};
-use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_maps::ShadowMapBaseline;
 use soft_shadow_core::gpu::{GpuRasterizer, GpuTriangles};
 use soft_shadow_core::raster::{DepthPass, depth_map_pass, gbuffer};
 use soft_shadow_core::view::NO_OCCLUDER;
 use soft_shadow_core::{Receivers as Recv, ShadowTechnique, TechniqueInfo, View};
+use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
 
 /// Texels where the CPU and GPU disagree on coverage (a fragment exactly on an edge after snapping)
 /// may be at most this fraction of the map.
@@ -256,12 +256,15 @@ fn every_technique_agrees_between_cpu_and_gpu_over_several_views() {
         };
         for t in harness::report::all_techniques(true) {
             let models = |k| t.models(k);
-            let light =
-                match harness::scenes::relight::relight(&spec.light, &r.geometry.bounds, models) {
-                    _ if t.models(spec.light.kind()) => spec.light,
-                    Some(l) => l,
-                    None => continue,
-                };
+            let light = match soft_shadow_reference::scenes::relight::relight(
+                &spec.light,
+                &r.geometry.bounds,
+                models,
+            ) {
+                _ if t.models(spec.light.kind()) => spec.light,
+                Some(l) => l,
+                None => continue,
+            };
             let views = r.views(&light);
             assert!(views.len() > 1 || light != spec.light, "{name}: one view");
             let res = 128;

@@ -6,8 +6,8 @@
 //! tests check that the same bound rejects such a light, so it cannot pass by being loose.
 
 use glam::Vec3;
-use harness::ground_truth::{GroundTruthSettings, RayTracer};
 use soft_shadow_core::Light;
+use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
 
 fn quad(x0: f32, x1: f32, z0: f32, z1: f32, y: f32) -> Vec<[Vec3; 3]> {
     let p = |x, z| Vec3::new(x, y, z);
@@ -291,9 +291,10 @@ fn a_sliver_of_light_above_the_horizon_gets_an_honest_error() {
 /// an independent recomputation: other seeds, 16 replicates of 48² strata (36,864 rays per
 /// receiver, 9x the reference) and no proof of lit receivers.
 fn recompute(scene: &str) -> Vec<(f32, f32, f32, f32)> {
-    use harness::scenes::catalogue::build;
+    use soft_shadow_reference::scenes::catalogue::build;
     let spec = build(scene).unwrap();
-    let (geometry, positions, normals) = harness::setup::scene_receivers(&spec, 32).unwrap();
+    let (geometry, positions, normals) =
+        soft_shadow_reference::scenes::scene_receivers(&spec, 32).unwrap();
     let tracer = RayTracer::new(&geometry.casters);
     let settings = GroundTruthSettings::default();
     let hi = GroundTruthSettings {
@@ -352,10 +353,11 @@ fn the_stated_reference_error_bounds_an_independent_recomputation() {
 /// receivers unlit.
 #[test]
 fn the_reference_does_not_depend_on_the_ray_offset() {
-    use harness::scenes::catalogue::build;
+    use soft_shadow_reference::scenes::catalogue::build;
     for scene in ["torus", "contact"] {
         let spec = build(scene).unwrap();
-        let (geometry, positions, normals) = harness::setup::scene_receivers(&spec, 40).unwrap();
+        let (geometry, positions, normals) =
+            soft_shadow_reference::scenes::scene_receivers(&spec, 40).unwrap();
         let tracer = RayTracer::new(&geometry.casters);
         let base = GroundTruthSettings::default();
         let at = |k: f32| {
@@ -392,7 +394,7 @@ fn the_reference_does_not_depend_on_the_ray_offset() {
     }
 }
 
-/// Traced together ([`harness::ground_truth::packet::OriginRays`]: one receiver's candidate
+/// Traced together ([`soft_shadow_reference::ground_truth::packet::OriginRays`]: one receiver's candidate
 /// casters, binned by direction), every shadow ray gets the answer the BVH gives ray by ray
 /// ([`RayTracer::sees_with`]): on every catalogue scene with an extended light, 256 light points
 /// for each receiver of a 24² G-buffer that is not proven lit, over 100,000 rays blocked and as
@@ -401,7 +403,7 @@ fn the_reference_does_not_depend_on_the_ray_offset() {
 /// behind the origin, fails this.
 #[test]
 fn rays_traced_together_get_the_bvh_answer() {
-    use harness::scenes::catalogue::{SCENE_NAMES, build};
+    use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
     let offset = GroundTruthSettings::default().ray_offset;
     let mut total = [0usize; 2];
     for scene in SCENE_NAMES {
@@ -410,7 +412,8 @@ fn rays_traced_together_get_the_bvh_answer() {
         if light.sample_dimension() == 0 {
             continue;
         }
-        let (geometry, positions, normals) = harness::setup::scene_receivers(&spec, 24).unwrap();
+        let (geometry, positions, normals) =
+            soft_shadow_reference::scenes::scene_receivers(&spec, 24).unwrap();
         let tracer = RayTracer::new(&geometry.casters);
         let mut seen = [0usize; 2];
         for (i, (&p, &n)) in positions.iter().zip(&normals).enumerate() {

@@ -4,16 +4,16 @@
 use super::receivers;
 use crate::common::{Failures, gpu_for_test};
 use glam::{Vec2, Vec3};
-use harness::ground_truth::GroundTruthSettings;
 use harness::metrics::rms_255;
-use harness::scenes::catalogue::{SCENE_NAMES, build};
-use harness::scenes::shapes::{horizontal_rect, quad_grid};
 use harness::setup::PreparedScene;
 use linear_light::LinearLight;
 use proptest::prelude::*;
 use soft_shadow_core::{
     Aabb, Light, Receivers as Recv, SceneGeometry, ShadowTechnique, TriangleMesh,
 };
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
+use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
+use soft_shadow_reference::scenes::shapes::{horizontal_rect, quad_grid};
 
 fn geometry(meshes: &[TriangleMesh]) -> SceneGeometry {
     let tris: Vec<[Vec3; 3]> = meshes

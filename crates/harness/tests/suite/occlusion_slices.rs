@@ -5,11 +5,11 @@ use super::receivers;
 use crate::common::{Failures, gpu_for_test};
 use glam::Vec3;
 use harness::metrics::rms_255;
-use harness::scenes::catalogue::{SCENE_NAMES, build};
 use occlusion_slices::{OcclusionSlices, Prefilter};
 use soft_shadow_core::{
     Backend, DynTechnique, Light, Receivers as Recv, ShadowTechnique, TechniqueInfo,
 };
+use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
 
 /// Section 3.1's closed form for `plane-occluder`: the pyramid from `p` to the square light cut
 /// by the occluder's plane is a square; `V` is the fraction of it outside the occluder.

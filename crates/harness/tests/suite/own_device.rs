@@ -5,9 +5,9 @@
 use super::receivers;
 use crate::common::gpu_for_test;
 use harness::report::all_techniques;
-use harness::scenes::catalogue::build;
-use harness::scenes::relight::relight;
 use soft_shadow_core::{Context, GpuContext, Receivers as Recv, ShadowError};
+use soft_shadow_reference::scenes::catalogue::build;
+use soft_shadow_reference::scenes::relight::relight;
 
 /// A device as a renderer would make it: the environment's adapter, WebGPU default limits, no
 /// optional features; `None` without an adapter (then `gpu_for_test` has decided to skip).

@@ -7,11 +7,11 @@
 
 use crate::common::gpu_for_test;
 use glam::Vec3;
-use harness::scenes::catalogue::build;
 use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue};
 use soft_shadow_core::gpu::raster::read_texture;
 use soft_shadow_core::gpu::visibility::{ReceiverTextures, pipelines};
 use soft_shadow_core::{GpuContext, ShadowTechnique};
+use soft_shadow_reference::scenes::catalogue::build;
 
 /// G-buffer side.
 const SIZE: u32 = 48;

@@ -3,9 +3,9 @@
 
 use super::receivers;
 use crate::common::{Failures, gpu_for_test};
-use harness::scenes::catalogue::{SCENE_NAMES, build};
 use penumbra_limit::{PenumbraLimit, Storage};
 use soft_shadow_core::{Backend, DynTechnique, Receivers as Recv, ShadowTechnique, TechniqueInfo};
+use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
 
 /// Every variant, every catalogue scene whose light it models, two resolutions: `V` agrees between CPU and GPU ([`crate::common::Agreement`]),
 /// and where the GPU rasterizes as the CPU does, the stored maps equal up to rasterization

@@ -6,10 +6,10 @@
 use super::receivers;
 use crate::common::gpu_for_test;
 use harness::report::all_techniques;
-use harness::scenes::catalogue::build;
-use harness::scenes::relight::relight;
 use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::{GpuContext, Receivers as Recv};
+use soft_shadow_reference::scenes::catalogue::build;
+use soft_shadow_reference::scenes::relight::relight;
 
 #[test]
 #[cfg_attr(

@@ -351,11 +351,11 @@ fn report_recasts_hard_cases_and_measures_flicker() {
 /// generations and one evaluation; a technique timed beside runs the same loop first.
 #[test]
 fn cpu_timings_follow_an_unmeasured_generation() {
-    use harness::ground_truth::GroundTruthSettings;
     use harness::report::all_techniques;
     use harness::report::measure::{Frame, repeat};
-    use harness::scenes::catalogue::build;
     use harness::setup::PreparedScene;
+    use soft_shadow_reference::ground_truth::GroundTruthSettings;
+    use soft_shadow_reference::scenes::catalogue::build;
     use std::cell::Cell;
 
     let t = all_techniques(false)

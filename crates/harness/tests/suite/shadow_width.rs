@@ -3,9 +3,9 @@
 
 use super::receivers;
 use crate::common::{Failures, gpu_for_test};
-use harness::scenes::catalogue::{SCENE_NAMES, build};
 use shadow_width::{Neighbours, ShadowWidth, WidthMethod};
 use soft_shadow_core::{Receivers as Recv, ShadowTechnique};
+use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
 
 /// Every standard variant (and the 3- and 6-neighbour propagation on `plane-occluder`), every
 /// catalogue scene, two resolutions: `V` agrees between CPU and GPU ([`crate::common::Agreement`]), and where the GPU

@@ -13,7 +13,7 @@ fn gpu_nbuffer_levels_equal_the_cpu() {
     let Some(ctx) = gpu_for_test("gpu_nbuffer_levels_equal_the_cpu") else {
         return;
     };
-    let spec = harness::scenes::catalogue::build("overlap").unwrap();
+    let spec = soft_shadow_reference::scenes::catalogue::build("overlap").unwrap();
     let geometry = spec.to_scene().unwrap().geometry();
     let t = OcclusionSlices::new(8, Prefilter::NBuffer);
     for res in [96, 256] {

@@ -72,7 +72,7 @@ fn the_bunnys_shadow_has_no_false_umbra_streaks() {
 /// its brightest.
 fn streaks(t: &PenumbraLimit) -> (usize, usize) {
     use harness::as_seen::{LIT_WEIGHT, frame};
-    let scene = frame(harness::scenes::catalogue::build("bunny").unwrap()).unwrap();
+    let scene = frame(soft_shadow_reference::scenes::catalogue::build("bunny").unwrap()).unwrap();
     let maps = t
         .generate_cpu_in(
             &CpuContext::new(),

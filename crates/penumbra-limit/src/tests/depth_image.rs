@@ -25,7 +25,7 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
         ("acne", 256),
         ("tiny-light", 256),
     ] {
-        let spec = harness::scenes::catalogue::build(name).unwrap();
+        let spec = soft_shadow_reference::scenes::catalogue::build(name).unwrap();
         let geometry = spec.to_scene().unwrap().geometry();
         let view = SampleView::center(&spec.light, &Coverage::new(&geometry, &spec.light));
         let warp = Warp::new(&view.params(res), &spec.light);

@@ -1,10 +1,10 @@
 //! `overlap`'s three stacked blockers: one edge per texel, and what lies under another caster.
 
 use crate::{Generator, PenumbraLimit};
-use harness::ground_truth::GroundTruthSettings;
-use harness::scenes::catalogue::build;
 use harness::setup::PreparedScene;
 use soft_shadow_core::{CpuContext, ShadowTechnique};
+use soft_shadow_reference::ground_truth::GroundTruthSettings;
+use soft_shadow_reference::scenes::catalogue::build;
 
 /// Where one blocker's outer ribbon wins a texel over another blocker, the receivers under that
 /// other blocker are in its shadow, not in the edge's outer penumbra. Counted: receivers of the

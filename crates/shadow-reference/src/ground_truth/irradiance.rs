@@ -1,6 +1,6 @@
 //! The light's unshadowed irradiance `E0` at a receiver: what a white Lambertian surface there
 //! would receive with nothing in the way, the weight of the image error
-//! ([`crate::metrics::Shading`]).
+//! (the harness's `metrics::Shading`).
 //!
 //! `E0` integrates the emission over the light points that *reach* the receiver (visibility v2:
 //! above its tangent plane, on the light's emitting side), with the cosine at the receiver, the

@@ -5,9 +5,13 @@ pub mod relight;
 pub mod scene_file;
 pub mod shapes;
 
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 use shadow_frame::{Scene, Shadows};
-use soft_shadow_core::{Aabb, Camera, Light, LightKind, Result, TriangleMesh};
+use soft_shadow_core::pool::Pool;
+use soft_shadow_core::raster::gbuffer;
+use soft_shadow_core::{
+    Aabb, Camera, Light, LightKind, Result, SceneGeometry, ShadowError, TriangleMesh,
+};
 use std::sync::Arc;
 
 /// Side of the camera G-buffer whose receivers decide what a scene's light casts onto
@@ -68,7 +72,7 @@ impl SceneSpec {
     /// the receivers a [`CASTING_VIEW`]² G-buffer of the camera sees (the casters that shadow
     /// what is in view, and the receivers they reach).
     pub fn casting_bounds(&self) -> Result<Aabb> {
-        let (_, seen, _) = crate::setup::scene_receivers(self, CASTING_VIEW)?;
+        let (_, seen, _) = scene_receivers(self, CASTING_VIEW)?;
         Ok(self.to_scene()?.casting_onto(&self.light, &seen).bounds)
     }
 
@@ -91,4 +95,34 @@ impl SceneSpec {
             ..self.clone()
         })
     }
+}
+
+/// The receivers of a scene without its reference (cheap): flattened geometry and the positions
+/// and normals of the covered pixels of the camera's `size²` CPU G-buffer, row-major, as
+/// the harness's `PreparedScene` takes them.
+pub fn scene_receivers(
+    spec: &SceneSpec,
+    size: u32,
+) -> Result<(SceneGeometry, Vec<Vec3>, Vec<Vec3>)> {
+    let mut scene = spec.to_scene()?;
+    let geometry = scene.geometry();
+    geometry.validate()?;
+    let camera = scene
+        .camera()
+        .ok_or_else(|| ShadowError::InvalidScene("no camera".into()))?;
+    let gb = gbuffer(
+        &Arc::new(Pool::new(0)),
+        &camera.view(size, size),
+        camera.eye,
+        size,
+        size,
+        &geometry.receivers,
+    );
+    let (positions, normals) = gb
+        .data()
+        .iter()
+        .filter(|t| t.covered && t.normal != Vec3::ZERO)
+        .map(|t| (t.position, t.normal))
+        .unzip();
+    Ok((geometry, positions, normals))
 }

@@ -7,12 +7,42 @@ use shadow_frame::gltf::import_gltf_slice;
 use soft_shadow_core::{Aabb, Camera, DistantProfile, Light, Result, ShadowError, TriangleMesh};
 use std::sync::Arc;
 
-/// The Stanford bunny (69,451 triangles), shipped in the repository's assets.
-pub const BUNNY_GLB: &[u8] = include_bytes!("../../../../assets/stanford-bunny.glb");
-/// The Utah teapot (6,320 triangles), shipped in the repository's assets.
-pub const TEAPOT_GLB: &[u8] = include_bytes!("../../../../assets/teapot.glb");
-/// Suzanne (968 triangles), shipped in the repository's assets.
-pub const SUZANNE_GLB: &[u8] = include_bytes!("../../../../assets/suzanne.glb");
+/// The Stanford bunny (69,451 triangles), from the repository's assets (empty in a build
+/// outside a checkout: see the crate's docs).
+#[cfg(repository_models)]
+pub const BUNNY_GLB: &[u8] = include_bytes!(concat!(
+    env!("SHADOW_REFERENCE_ASSETS"),
+    "/stanford-bunny.glb"
+));
+/// The Utah teapot (6,320 triangles), from the repository's assets, likewise.
+#[cfg(repository_models)]
+pub const TEAPOT_GLB: &[u8] =
+    include_bytes!(concat!(env!("SHADOW_REFERENCE_ASSETS"), "/teapot.glb"));
+/// Suzanne (968 triangles), from the repository's assets, likewise.
+#[cfg(repository_models)]
+pub const SUZANNE_GLB: &[u8] =
+    include_bytes!(concat!(env!("SHADOW_REFERENCE_ASSETS"), "/suzanne.glb"));
+/// The Stanford bunny: not in this build (see the crate's docs).
+#[cfg(not(repository_models))]
+pub const BUNNY_GLB: &[u8] = &[];
+/// The Utah teapot: not in this build (see the crate's docs).
+#[cfg(not(repository_models))]
+pub const TEAPOT_GLB: &[u8] = &[];
+/// Suzanne: not in this build (see the crate's docs).
+#[cfg(not(repository_models))]
+pub const SUZANNE_GLB: &[u8] = &[];
+
+/// Imports one of the catalogue's models, or says that this build has none.
+fn import_model(glb: &[u8], name: &str) -> Result<TriangleMesh> {
+    if glb.is_empty() {
+        return Err(ShadowError::InvalidScene(format!(
+            "{name}: the catalogue's models ship with the repository only (the Stanford \
+             bunny's licence allows no redistribution); build soft-shadow-reference from a \
+             checkout that has assets/"
+        )));
+    }
+    import_gltf_slice(glb, name, None)
+}
 
 /// Every built-in scene name, in report order.
 pub const SCENE_NAMES: [&str; 19] = [
@@ -37,7 +67,7 @@ pub const SCENE_NAMES: [&str; 19] = [
     "street-sun",
 ];
 
-/// Scenes built by name that the report measures only as seen ([`crate::as_seen`]): meshes
+/// Scenes built by name that the report measures only as seen (the harness's `as_seen`): meshes
 /// users bring (flat facets, interpenetrating parts), which no paper's experiment holds.
 pub const AS_SEEN_NAMES: [&str; 3] = ["low-poly-animal", "low-poly-rocks", "low-poly-sphere-light"];
 
@@ -118,7 +148,7 @@ pub fn plane_occluder(light_half: f32) -> SceneSpec {
 
 /// The bunny, scaled to 1.4 m and standing on the ground at the origin.
 pub fn bunny_mesh() -> Result<TriangleMesh> {
-    let mut m = import_gltf_slice(BUNNY_GLB, "stanford-bunny.glb", None)?;
+    let mut m = import_model(BUNNY_GLB, "stanford-bunny.glb")?;
     let mut b = Aabb::EMPTY;
     for p in &m.positions {
         b.grow(*p);
@@ -143,7 +173,7 @@ fn model(
     floor: f32,
     yaw: f32,
 ) -> Result<TriangleMesh> {
-    let mut m = import_gltf_slice(glb, name, None)?;
+    let mut m = import_model(glb, name)?;
     let mut b = Aabb::EMPTY;
     for p in &m.positions {
         b.grow(*p);
