@@ -136,6 +136,7 @@ impl AnimatedScene {
         scene.world.insert_resource(FrameReceivers {
             positions: pixels.iter().map(|&i| gb.data()[i].position).collect(),
             normals: pixels.iter().map(|&i| gb.data()[i].normal).collect(),
+            camera: Some(camera.view(size, size)),
         });
         Ok(Self {
             scene,

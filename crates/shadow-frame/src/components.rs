@@ -116,6 +116,21 @@ pub struct FrameReceivers {
     pub positions: Vec<Vec3>,
     /// Unit normals.
     pub normals: Vec<Vec3>,
+    /// The view of the camera that sees them (its G-buffer's: `Camera::view(width, height)`),
+    /// if any. With it a distant light's shadow is a set of cascades along the camera's depth
+    /// ([`soft_shadow_core::LightViews::plan`] with what the camera sees), which follow the
+    /// camera: they regenerate when the camera or what it sees changes. Without it a distant
+    /// light has one view over everything it shadows.
+    pub camera: Option<soft_shadow_core::View>,
+}
+
+impl FrameReceivers {
+    /// What the camera sees of these receivers (`None` without a camera or with none in front of
+    /// it): the depth range a distant light's cascades split.
+    pub fn seen(&self) -> Option<soft_shadow_core::SeenDepth> {
+        self.camera
+            .and_then(|c| soft_shadow_core::SeenDepth::of_points(c, &self.positions))
+    }
 }
 
 /// Why this frame's [`FrameReceivers`] cannot be shaded (`None` when they are valid), checked

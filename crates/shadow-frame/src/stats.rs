@@ -12,6 +12,9 @@ pub struct TechniqueStats {
     pub maps_generated: usize,
     /// Maps it reused from the cache.
     pub maps_reused: usize,
+    /// Views it generated: each generated light's maps hold one per view (its frustum, cube
+    /// faces or cascades).
+    pub views_generated: usize,
     /// Receivers it evaluated.
     pub receivers_evaluated: usize,
     /// Wall time of its system, milliseconds.
@@ -27,6 +30,8 @@ pub struct FrameStats {
     pub maps_generated: usize,
     /// Maps reused from the cache.
     pub maps_reused: usize,
+    /// Views generated (all techniques): a generated light's frustum, cube faces or cascades.
+    pub views_generated: usize,
     /// Receivers evaluated (summed over lights; a receiver outside a light's influence is not).
     pub receivers_evaluated: usize,
     /// Per technique name; a technique whose systems did not run is absent.
@@ -36,13 +41,16 @@ pub struct FrameStats {
 }
 
 impl FrameStats {
-    /// Adds one light's work to `technique`'s entry and the totals.
-    pub fn record(&mut self, technique: &str, generated: bool, evaluated: usize) {
+    /// Adds one light's work to `technique`'s entry and the totals: the views it generated
+    /// (0: its maps were reused) and the receivers it evaluated.
+    pub fn record(&mut self, technique: &str, views_generated: usize, evaluated: usize) {
         let t = self.techniques.entry(technique.to_string()).or_default();
         t.lights += 1;
-        if generated {
+        if views_generated > 0 {
             t.maps_generated += 1;
             self.maps_generated += 1;
+            t.views_generated += views_generated;
+            self.views_generated += views_generated;
         } else {
             t.maps_reused += 1;
             self.maps_reused += 1;

@@ -6,9 +6,8 @@ use crate::components::*;
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
 use crate::stats::FrameStats;
 use bevy_ecs::prelude::*;
-use soft_shadow_core::Receivers;
-use soft_shadow_core::SceneGeometry;
 use soft_shadow_core::mesh::Aabb;
+use soft_shadow_core::{LightPoint, LightViews, Receivers, SceneGeometry};
 use std::time::Instant;
 
 /// The lights a technique system reads and updates.
@@ -87,6 +86,7 @@ pub fn run_technique(
 ) {
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
+    let seen = frame.seen();
     for (light, config, resolved, mut state) in &mut lights {
         if resolved.technique.name() != name {
             continue;
@@ -104,16 +104,32 @@ pub fn run_technique(
         let normals: Vec<_> = inside.iter().map(|&i| frame.normals[i]).collect();
         state.visibility = vec![1.0; frame.positions.len()];
         state.evaluated = 0;
-        let generated = state.stale || state.maps.is_none();
         let light_start = Instant::now();
-        if generated {
+        // A distant light seen by a camera has cascades, planned again every frame: they follow
+        // the camera, so maps made for other cascades regenerate.
+        let cascaded = matches!(light.0.center(), LightPoint::Direction(_)) && seen.is_some();
+        let mut planned = None;
+        if let (true, false, Some(maps)) = (cascaded, state.stale, &state.maps) {
             let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
+            let views = LightViews::plan(&light.0, &g, seen.as_ref());
+            if maps.views() != &views {
+                planned = Some((g, views));
+            }
+        }
+        let generated = state.stale || state.maps.is_none() || planned.is_some();
+        let mut views_generated = 0;
+        if generated {
+            let (g, views) = planned.unwrap_or_else(|| {
+                let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
+                let views = LightViews::plan(&light.0, &g, seen.as_ref());
+                (g, views)
+            });
             state.maps = None;
             if g.casters.is_empty() {
                 state.stale = false;
                 continue;
             }
-            let views = soft_shadow_core::LightViews::plan(&light.0, &g, None);
+            views_generated = views.len();
             let made = backend.context().and_then(|ctx| {
                 resolved
                     .technique
@@ -150,7 +166,7 @@ pub fn run_technique(
             state.generated_ms = Some(light_start.elapsed().as_secs_f64() * 1e3);
         }
         let evaluated = state.evaluated;
-        stats.record(name, generated, evaluated);
+        stats.record(name, views_generated, evaluated);
     }
     let ms = start.elapsed().as_secs_f64() * 1e3;
     *stats.system_ms.entry(name.to_string()).or_default() += ms;

@@ -77,7 +77,7 @@ type CasterMeshes<'w, 's> =
 
 /// The scene `light` sees, as predictions size it: the casters' triangles, the frame's
 /// receivers, those inside the light's map ([`SceneSize::of`]), and the light's views as the
-/// pipeline plans them.
+/// pipeline plans them (a distant light's cascades with the frame's camera).
 fn scene_size(
     casters: &CasterMeshes,
     frame: &FrameReceivers,
@@ -99,7 +99,7 @@ fn scene_size(
         planned.bounds.grow(*p);
     }
     SceneSize {
-        views: soft_shadow_core::LightViews::plan(light, &planned, None).len(),
+        views: soft_shadow_core::LightViews::plan(light, &planned, frame.seen().as_ref()).len(),
         ..size
     }
 }

@@ -86,9 +86,11 @@ fn lab(mover_x: f32) -> Lab {
         })
         .collect();
     let normals = vec![Vec3::Y; positions.len()];
-    scene
-        .world
-        .insert_resource(FrameReceivers { positions, normals });
+    scene.world.insert_resource(FrameReceivers {
+        positions,
+        normals,
+        camera: None,
+    });
     Lab {
         scene,
         rect,
@@ -628,4 +630,125 @@ fn the_frame_pipeline_agrees_between_cpu_and_gpu() {
         failures.agree(light, &visibility(&cpu, a), &visibility(&gpu, b));
     }
     failures.assert_none();
+}
+
+/// The frame pipeline runs `street-sun` (100 blocks over 200 m under the real sun, an eye-height
+/// camera) at `side`² G-buffer and 1024² maps, the frame's camera given or not: the light's
+/// entity, `V` per receiver, the frame's statistics and the near receivers (within 15 m of the
+/// camera).
+struct Street {
+    scene: Scene,
+    pipeline: shadow_frame::FramePipeline,
+    light: bevy_ecs::entity::Entity,
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    view: soft_shadow_core::View,
+}
+
+fn street(side: u32, eye: Vec3) -> Street {
+    let mut spec = soft_shadow_reference::scenes::catalogue::build("street-sun").unwrap();
+    spec.camera.target += eye - spec.camera.eye;
+    spec.camera.eye = eye;
+    let mut scene = Scene::new();
+    for m in &spec.meshes {
+        let shadows = Shadows {
+            casts: m.caster,
+            receives: m.receiver,
+        };
+        scene
+            .add_mesh(m.mesh.clone(), m.transform, shadows)
+            .unwrap();
+    }
+    let light = scene.add_light(spec.light).unwrap();
+    let hard: Arc<dyn DynTechnique> = Arc::new(shadow_maps::ShadowMapBaseline::new(
+        shadow_maps::Filter::Hard,
+    ));
+    scene
+        .world
+        .entity_mut(light)
+        .insert(ShadowConfig::explicit(hard, 1024));
+    let (_, positions, normals) =
+        soft_shadow_reference::scenes::scene_receivers(&spec, side).unwrap();
+    Street {
+        scene,
+        pipeline: pipeline(),
+        light,
+        positions,
+        normals,
+        view: spec.camera.view(side, side),
+    }
+}
+
+impl Street {
+    /// One frame with the receivers of the camera at `eye` (its view given to the pipeline or
+    /// not): the statistics and the light's `V`.
+    fn frame(&mut self, with_camera: bool) -> (FrameStats, Vec<f32>) {
+        self.scene.world.insert_resource(FrameReceivers {
+            positions: self.positions.clone(),
+            normals: self.normals.clone(),
+            camera: with_camera.then_some(self.view),
+        });
+        let stats = self.pipeline.run(&mut self.scene.world);
+        let state = self.scene.world.get::<LightState>(self.light).unwrap();
+        assert_eq!(state.error, None);
+        (stats, state.visibility.clone())
+    }
+}
+
+/// A sun seen by the frame's camera gets cascades along the camera's depth (issue: "the sun
+/// over a street loses its near shadows to the far field"): given the camera, the frame
+/// pipeline's `V` of the receivers within 15 m of it is closer to the ray-traced reference than
+/// without it, where one 1024² view spans the whole street; a frame that changes nothing
+/// regenerates nothing, and a camera that moved down the street regenerates the cascades.
+#[test]
+fn a_sun_seen_by_the_frame_camera_gets_cascades_that_follow_it() {
+    let eye = Vec3::new(0.0, 1.7, 0.0);
+    let mut s = street(64, eye);
+    let (one, v_one) = s.frame(false);
+    let mut s = street(64, eye);
+    let (cascaded, v_cascaded) = s.frame(true);
+    assert_eq!(one.views_generated, 1, "{one:?}");
+    assert!(cascaded.views_generated > 1, "{cascaded:?}");
+    // The near receivers against the reference.
+    let near: Vec<usize> = (0..s.positions.len())
+        .filter(|&i| s.positions[i].distance(eye) < 15.0)
+        .collect();
+    assert!(near.len() > 200, "{} near receivers", near.len());
+    let spec = soft_shadow_reference::scenes::catalogue::build("street-sun").unwrap();
+    let (geometry, ..) = soft_shadow_reference::scenes::scene_receivers(&spec, 8).unwrap();
+    let tracer = soft_shadow_reference::ground_truth::RayTracer::new(&geometry.casters);
+    let pick = |v: &[f32]| near.iter().map(|&i| v[i]).collect::<Vec<f32>>();
+    let reference: Vec<f32> = tracer
+        .references(
+            &spec.light,
+            &pick_points(&s.positions, &near),
+            &pick_points(&s.normals, &near),
+            &Default::default(),
+        )
+        .iter()
+        .map(|r| r.map_or(f32::NAN, |r| r.visibility))
+        .collect();
+    let rms_one = harness::metrics::rms_255(&pick(&v_one), &reference);
+    let rms_cascaded = harness::metrics::rms_255(&pick(&v_cascaded), &reference);
+    println!(
+        "street-sun near V rms: one view {rms_one:.2}, {} cascades {rms_cascaded:.2}",
+        cascaded.views_generated
+    );
+    assert!(
+        rms_cascaded < 0.7 * rms_one,
+        "near V rms {rms_cascaded:.2} with cascades vs {rms_one:.2} with one view"
+    );
+    // Nothing changed: nothing regenerates.
+    let (again, v_again) = s.frame(true);
+    assert_eq!((again.views_generated, again.maps_reused), (0, 1));
+    assert_eq!(v_again, v_cascaded);
+    // 20 m down the street: the cascades follow the camera.
+    let mut moved = street(64, eye + Vec3::new(0.0, 0.0, -20.0));
+    (moved.scene, moved.pipeline, moved.light) = (s.scene, s.pipeline, s.light);
+    let (after, _) = moved.frame(true);
+    assert!(after.views_generated > 1, "{after:?}");
+}
+
+fn pick_points(points: &[Vec3], indices: &[usize]) -> Vec<Vec3> {
+    indices.iter().map(|&i| points[i]).collect()
 }
