@@ -73,6 +73,14 @@ impl OrbitCamera {
         self.target += (-dx * right + dy * up) * per_pixel;
     }
 
+    /// Walks `forward` and `right` (world units) in the horizontal plane, as a person looking
+    /// along the camera's heading does: eye and target move together, the view turns not.
+    pub fn walk(&mut self, forward: f32, right: f32) {
+        let ahead = Vec3::new(-self.yaw.sin(), 0.0, -self.yaw.cos());
+        let side = ahead.cross(Vec3::Y);
+        self.target += ahead * forward + side * right;
+    }
+
     /// Zooms by `steps` (positive: nearer), 10% per step, within [`OrbitCamera::ZOOM_RANGE`]
     /// of `home` distance.
     pub fn zoom(&mut self, steps: f32, home: f32) {

@@ -161,7 +161,39 @@ pub(crate) fn panel(ui: &mut egui::Ui, m: &mut Model, tex: egui::TextureId, tex_
                 m.state.animate = !m.state.animate;
             }
         });
+        walk(&ctx, m);
     }
+}
+
+/// W A S D or the arrow keys walk the camera (down a street, through a room) at a fifth of the
+/// scene's home distance per second, Ctrl four times faster.
+fn walk(ctx: &egui::Context, m: &mut Model) {
+    let (forward, right, dt, fast) = ctx.input(|i| {
+        let axis = |plus: [egui::Key; 2], minus: [egui::Key; 2]| {
+            let down = |keys: [egui::Key; 2]| keys.iter().any(|k| i.key_down(*k));
+            f32::from(down(plus)) - f32::from(down(minus))
+        };
+        (
+            axis(
+                [egui::Key::W, egui::Key::ArrowUp],
+                [egui::Key::S, egui::Key::ArrowDown],
+            ),
+            axis(
+                [egui::Key::D, egui::Key::ArrowRight],
+                [egui::Key::A, egui::Key::ArrowLeft],
+            ),
+            i.stable_dt.min(0.1),
+            i.modifiers.ctrl,
+        )
+    });
+    if forward == 0.0 && right == 0.0 {
+        return;
+    }
+    let speed = 0.2 * m.state.home_distance * if fast { 4.0 } else { 1.0 };
+    m.state
+        .camera
+        .walk(forward * speed * dt, right * speed * dt);
+    ctx.request_repaint();
 }
 
 fn controls(ui: &mut egui::Ui, m: &mut Model) {
@@ -223,7 +255,7 @@ fn controls(ui: &mut egui::Ui, m: &mut Model) {
             .text("size"),
     );
     ui.checkbox(&mut m.state.animate, "animate (space)");
-    ui.small("drag with the right button in the view to move the light");
+    ui.small("drag with the right button in the view to move the light; W A S D walk");
     ui.separator();
     ui.heading("Technique");
     technique_controls(ui, m, false);

@@ -46,6 +46,33 @@ fn the_orbit_camera_keeps_its_target_and_distance() {
     assert!((after.target - before.target).length() > 0.0);
 }
 
+/// Walking moves eye and target together along the camera's heading in the horizontal plane
+/// (down a street, through a room): forward closes the horizontal distance to a point ahead,
+/// a step aside keeps it, and neither turns the view nor changes the height.
+#[test]
+fn walking_moves_the_camera_along_its_heading() {
+    let c = camera();
+    let mut o = OrbitCamera::from_camera(&c);
+    let before = o.camera();
+    let heading = {
+        let d = before.target - before.eye;
+        Vec3::new(d.x, 0.0, d.z).normalize()
+    };
+    o.walk(2.0, 0.0);
+    let after = o.camera();
+    assert!(
+        close(after.eye - before.eye, heading * 2.0),
+        "{:?}",
+        after.eye - before.eye
+    );
+    assert!(close(after.target - after.eye, before.target - before.eye));
+    o.walk(0.0, 1.5);
+    let aside = o.camera();
+    let step = aside.eye - after.eye;
+    assert!((step.length() - 1.5).abs() < 1e-4 && step.dot(heading).abs() < 1e-4 && step.y == 0.0);
+    assert!(close(heading.cross(Vec3::Y) * 1.5, step), "{step:?}");
+}
+
 /// Every light kind built from an edit is valid, faces its target, keeps the edit's centre,
 /// and changing the kind keeps the centre and size; a size outside its range is clamped and
 /// a light on its target is an error.
