@@ -27,5 +27,5 @@ mod ui;
 
 pub use renderer::{
     Frame, FrameSettings, FrameTechnique, PassTimes, Renderer, SHADERS, Shadow, ViewMode,
-    model_on_ground, moving_light, own_device,
+    model_on_ground, moving_light, own_device, view_colour,
 };

@@ -37,7 +37,7 @@ struct Args {
     /// Size of the 3D view, WIDTHxHEIGHT (the window adds the panel).
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     size: (u32, u32),
-    /// shaded, v or error.
+    /// shaded, v, error or views (the light's views: frustum, cube faces or cascades).
     #[arg(long, default_value = "shaded", value_parser = parse_mode)]
     view: ViewMode,
     /// Turn the light.
@@ -79,7 +79,7 @@ fn parse_mode(s: &str) -> Result<ViewMode, String> {
     ViewMode::ALL
         .into_iter()
         .find(|m| m.name() == s)
-        .ok_or_else(|| format!("{s:?} is not shaded, v or error"))
+        .ok_or_else(|| format!("{s:?} is not shaded, v, error or views"))
 }
 
 fn main() {

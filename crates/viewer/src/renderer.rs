@@ -13,6 +13,7 @@ use soft_shadow_core::gpu::shader::{
 };
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::gpu::{GpuContext, GpuScene};
+use soft_shadow_core::views::ViewSelect;
 use soft_shadow_core::{
     Camera, Light, LightViews, Result, SceneGeometry, SeenDepth, ShadowError, ShadowTechnique,
     TechniqueInfo,
@@ -49,18 +50,28 @@ pub enum ViewMode {
     /// `V` against the reference: red where darker (false shadow), blue where lighter (leak),
     /// over the dimmed lit scene.
     Error,
+    /// The light's views: each receiver coloured by the view it reads (the frustum, a cube face
+    /// or a cascade, [`view_colour`]), blended where neighbouring views share it, times the
+    /// shading.
+    Views,
 }
 
 impl ViewMode {
     /// Every mode.
-    pub const ALL: [ViewMode; 3] = [ViewMode::Shaded, ViewMode::Visibility, ViewMode::Error];
+    pub const ALL: [ViewMode; 4] = [
+        ViewMode::Shaded,
+        ViewMode::Visibility,
+        ViewMode::Error,
+        ViewMode::Views,
+    ];
 
-    /// Short name (`"shaded"`, `"v"`, `"error"`).
+    /// Short name (`"shaded"`, `"v"`, `"error"`, `"views"`).
     pub fn name(self) -> &'static str {
         match self {
             ViewMode::Shaded => "shaded",
             ViewMode::Visibility => "v",
             ViewMode::Error => "error",
+            ViewMode::Views => "views",
         }
     }
 }
@@ -109,6 +120,22 @@ struct DisplayUniform {
     split: u32,
     reference: u32,
     line: u32,
+    /// How a receiver picks its view of the light ([`ViewMode::Views`]).
+    views: ViewSelect,
+}
+
+/// The colour of view `i` in [`ViewMode::Views`] (`view_colour` in `shade.wgsl`), cycling
+/// after six: red, green, blue, yellow, magenta, cyan.
+pub fn view_colour(i: usize) -> Vec3 {
+    const COLOURS: [[f32; 3]; 6] = [
+        [0.9, 0.2, 0.15],
+        [0.2, 0.75, 0.25],
+        [0.2, 0.4, 0.95],
+        [0.95, 0.85, 0.2],
+        [0.85, 0.3, 0.85],
+        [0.2, 0.85, 0.9],
+    ];
+    Vec3::from(COLOURS[i % COLOURS.len()])
 }
 
 /// The renderer: its device, its passes, its targets and the scene it draws.
@@ -231,7 +258,7 @@ pub static SHADERS: Library = Library {
             source: include_str!("shade.wgsl"),
         },
     ],
-    depends: &[],
+    depends: &[&soft_shadow_core::gpu::shader::SHADERS],
     programs: &[&GBUFFER, &SHADE],
 };
 
@@ -547,10 +574,14 @@ impl Renderer {
                 ViewMode::Shaded => 0,
                 ViewMode::Visibility => 1,
                 ViewMode::Error => 2,
+                ViewMode::Views => 3,
             },
             split,
             reference: self.reference.is_some() as u32,
             line,
+            // The views the techniques plan for this frame (`FrameTechnique::record`).
+            views: LightViews::plan(frame.light, self.scene.geometry(), self.seen().as_ref())
+                .gpu_select(0),
         };
         let q = &self.gpu.queue;
         q.write_buffer(&self.shade_uniform, 0, bytemuck::bytes_of(&shade));
@@ -650,7 +681,7 @@ impl Renderer {
 
     /// What the camera can see of the scene, for cascades: its view, and the depths from its
     /// near plane to the farthest corner of the scene's bounds in front of it.
-    fn seen(&self) -> Option<SeenDepth> {
+    pub fn seen(&self) -> Option<SeenDepth> {
         let camera = self.settings.camera;
         let view = camera.view(self.settings.width, self.settings.height);
         let far = self

@@ -1,4 +1,5 @@
 #define_import_path viewer::shade
+#import soft_shadow_core::views::{ViewSelect, view_weight}
 
 // The renderer's own shading and display pass: Lambert, one light sampled at up to 64 points,
 // times the technique's V; or V itself, or V against the reference. Mirrors `shade::radiance`
@@ -15,14 +16,44 @@ struct Shade {
     terms: vec4<f32>,
 };
 
-// What the pass writes: `mode` 0 shaded, 1 V, 2 V against the reference; pixels from column
-// `split` on show the second technique's V; `reference` 1 when the reference texture holds one.
+// What the pass writes: `mode` 0 shaded, 1 V, 2 V against the reference, 3 the light's views;
+// pixels from column `split` on show the second technique's V; `reference` 1 when the
+// reference texture holds one; `views`, how a receiver picks its view of the light.
 struct Display {
     mode: u32,
     split: u32,
     reference: u32,
     line: u32,
+    views: ViewSelect,
 };
+
+// The colour of view i (`view_colour` in renderer.rs), cycling after six.
+fn view_colour(i: u32) -> vec3<f32> {
+    var colours = array<vec3<f32>, 6>(
+        vec3<f32>(0.9, 0.2, 0.15),
+        vec3<f32>(0.2, 0.75, 0.25),
+        vec3<f32>(0.2, 0.4, 0.95),
+        vec3<f32>(0.95, 0.85, 0.2),
+        vec3<f32>(0.85, 0.3, 0.85),
+        vec3<f32>(0.2, 0.85, 0.9),
+    );
+    return colours[i % 6u];
+}
+
+// The colour of the views p reads, each by its weight (white where none does: a cube direction
+// whose face holds no caster).
+fn views_colour(p: vec3<f32>) -> vec3<f32> {
+    var s = display.views;
+    var rgb = vec3<f32>(0.0);
+    var total = 0.0;
+    for (var i = 0u; i < s.count; i++) {
+        s.index = i;
+        let w = view_weight(s, p);
+        rgb += w * view_colour(i);
+        total += w;
+    }
+    return rgb + vec3<f32>(max(1.0 - total, 0.0));
+}
 
 @group(0) @binding(0) var<uniform> sh: Shade;
 @group(0) @binding(1) var g_position: texture_2d<f32>;
@@ -81,6 +112,8 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
             rgb = vec3<f32>(c);
         } else if display.mode == 1u {
             rgb = vec3<f32>(v);
+        } else if display.mode == 3u {
+            rgb = views_colour(p.xyz) * min(0.35 + 0.65 * c, 1.0);
         } else {
             // Grey: what the lit scene looks like, dimmed; red where V is darker than the
             // reference (false shadow), blue where lighter (light leaking).

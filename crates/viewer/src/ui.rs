@@ -275,6 +275,7 @@ fn controls(ui: &mut egui::Ui, m: &mut Model) {
             (ViewMode::Shaded, "shaded"),
             (ViewMode::Visibility, "V"),
             (ViewMode::Error, "error"),
+            (ViewMode::Views, "views"),
         ] {
             ui.radio_value(&mut m.state.mode, mode, label);
         }

@@ -215,3 +215,66 @@ fn the_readme_snippet_is_the_renderers_code() {
 fn the_readme_standalone_snippet_is_the_examples_code() {
     assert_readme_snippet_is("### Standalone", "crates/harness/examples/standalone.rs");
 }
+
+/// The views overlay colours each receiver by the view of the light it reads: on `room-lamp`
+/// (a lamp among furniture, its cube faces) and `street-sun` (cascades down the street), every
+/// pixel that one view holds whole shows that view's colour ([`viewer::view_colour`], scaled
+/// by the shading), as `LightViews::weight` says on the CPU, and the frame shows several views.
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn the_views_overlay_colours_each_receiver_by_its_view() {
+    let test = "the_views_overlay_colours_each_receiver_by_its_view";
+    let Some(ctx) = gpu_for_test(test) else {
+        return;
+    };
+    for (name, least) in [("room-lamp", 5), ("street-sun", 3)] {
+        let spec = soft_shadow_reference::scenes::catalogue::build(name).unwrap();
+        let geometry = spec.to_scene().unwrap().geometry();
+        let (w, h) = (128, 96);
+        let settings = FrameSettings {
+            width: w,
+            height: h,
+            camera: spec.camera,
+        };
+        let r = Renderer::new(ctx.device.clone(), ctx.queue.clone(), &geometry, settings).unwrap();
+        let pcss = shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Pcss);
+        let mut f = frame(&pcss, &spec.light);
+        f.mode = ViewMode::Views;
+        r.render(&f).unwrap();
+        let image = r.read_color().unwrap();
+        let (pt, _) = r.gbuffer();
+        let p: Vec<[f32; 4]> = read_texture(&r.gpu, pt, 0, wgpu::TextureAspect::All, 16).unwrap();
+        // The views the renderer plans for this camera.
+        let views = soft_shadow_core::LightViews::plan(&spec.light, &geometry, r.seen().as_ref());
+        let (mut whole, mut shown) = (0, std::collections::BTreeSet::new());
+        for (i, t) in p.iter().enumerate().filter(|(_, t)| t[3] > 0.5) {
+            let q = Vec3::from_slice(&t[..3]);
+            let Some(view) = (0..views.len()).find(|&k| views.weight(k, q) >= 0.999) else {
+                continue;
+            };
+            let px = &image.as_raw()[i * 4..i * 4 + 3];
+            let got = Vec3::new(px[0] as f32, px[1] as f32, px[2] as f32);
+            let want = viewer::view_colour(view);
+            // The same colour up to the shading's grey factor (and 8-bit rounding).
+            let scale = got.dot(want) / want.length_squared();
+            let off = (got - want * scale).length();
+            assert!(
+                off <= 3.0 && scale > 0.3 * 255.0,
+                "{name}: pixel {i} of view {view} shows {got} for {want} (off by {off:.1})"
+            );
+            whole += 1;
+            shown.insert(view);
+        }
+        println!(
+            "{name}: {} views ({}), {whole} pixels held whole by one, {} views shown",
+            views.len(),
+            views.kind_name(),
+            shown.len()
+        );
+        assert!(whole > (w * h / 4) as usize, "{name}: {whole} pixels");
+        assert!(shown.len() >= least, "{name}: {} views shown", shown.len());
+    }
+}
