@@ -594,6 +594,7 @@ pub struct AnyMaps(Box<dyn ErasedMaps>);
 trait ErasedMaps: Send + Sync {
     fn backend(&self) -> Backend;
     fn views(&self) -> &LightViews;
+    fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool;
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>>;
     fn recycle(self: Box<Self>, gpu: Option<&GpuContext>);
 }
@@ -614,6 +615,9 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
     fn views(&self) -> &LightViews {
         self.1.views()
     }
+    fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool {
+        self.1.serve(planned, resolution)
+    }
     fn evaluate(&self, _: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_cpu(&self.1, receivers)
     }
@@ -626,6 +630,9 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
     }
     fn views(&self) -> &LightViews {
         self.1.views()
+    }
+    fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool {
+        self.1.serve(planned, resolution)
     }
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_gpu(need_gpu(gpu)?, &self.1, receivers)
@@ -644,9 +651,16 @@ impl AnyMaps {
         self.0.backend()
     }
 
-    /// The views the maps were generated for.
+    /// The views the maps were generated for (or took the selection of, [`AnyMaps::serve`]).
     pub fn views(&self) -> &LightViews {
         self.0.views()
+    }
+
+    /// Whether these maps, made at `resolution`, serve the views `planned` later for the same
+    /// light and casters ([`LightViews::serves`]: cascades whose windows a moving camera kept
+    /// on the same texels); if so they evaluate with `planned`'s selection from now on.
+    pub fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool {
+        self.0.serve(planned, resolution)
     }
 
     /// Visibility per receiver, on the backend that produced the maps (`gpu` is required for

@@ -44,7 +44,7 @@ pub struct View {
     pub aspect: f32,
 }
 
-fn look_to(eye: Vec3, axis: Vec3) -> Mat4 {
+pub(crate) fn look_to(eye: Vec3, axis: Vec3) -> Mat4 {
     let up = if axis.y.abs() > 0.99 {
         Vec3::Z
     } else {

@@ -138,6 +138,23 @@ impl SeenDepth {
             far: far.max(near),
         })
     }
+
+    /// This depth range widened to whole steps of `2^(1/8)` (the near depth down, not below the
+    /// camera's near plane; the far depth up), so that a camera that moved a little plans
+    /// cascades at the same split depths: what a pipeline that keeps cascades across frames
+    /// plans with ([`LightViews::serves`]).
+    pub fn quantized(self) -> Self {
+        let step = |x: f32, up: bool| {
+            let l = 8.0 * x.max(1e-6).log2();
+            2f32.powf(if up { l.ceil() } else { l.floor() } / 8.0)
+        };
+        let near = step(self.near, false).max(self.camera.near);
+        Self {
+            near,
+            far: step(self.far, true).max(near),
+            ..self
+        }
+    }
 }
 
 /// How a receiver picks its view.
@@ -155,7 +172,12 @@ enum Select {
     },
     /// The cascade of the receiver's depth along the camera (`depth_row . (p, 1)`) between
     /// `splits[i]` and `splits[i + 1]`, blending into the next over its last [`CASCADE_BLEND`].
-    Cascades { depth_row: Vec4, splits: Vec<f32> },
+    /// `direction` is the light's (towards it): the cascades' windows snap to its basis.
+    Cascades {
+        depth_row: Vec4,
+        splits: Vec<f32>,
+        direction: Vec3,
+    },
 }
 
 /// A light's views: the region of each (what a technique fits one generation to) and how a
@@ -427,6 +449,7 @@ impl LightViews {
             select: Select::Cascades {
                 depth_row: -seen.camera.view.row(2),
                 splits,
+                direction: dir,
             },
         }
     }
@@ -453,6 +476,68 @@ impl LightViews {
             Select::Cube { .. } => "cube",
             Select::Cascades { .. } => "cascades",
         }
+    }
+
+    /// Whether maps made for these views at `resolution` serve the views `planned` later for
+    /// the same light and casters: the same views, or cascades at the same split depths whose
+    /// windows are as large and lie on the same texels (a camera that moved less than a texel)
+    /// and whose depth ranges hold the planned ones within a texel. Such maps evaluate with the planned
+    /// selection ([`crate::AnyMaps::serve`]); others regenerate.
+    pub fn serves(&self, planned: &LightViews, resolution: u32) -> bool {
+        if self == planned {
+            return true;
+        }
+        let (
+            Select::Cascades { splits, .. },
+            Select::Cascades {
+                splits: planned_splits,
+                ..
+            },
+        ) = (&self.select, &planned.select)
+        else {
+            return false;
+        };
+        splits == planned_splits
+            && self.regions.len() == planned.regions.len()
+            && self
+                .regions
+                .iter()
+                .zip(&planned.regions)
+                .all(|(a, b)| match (a, b) {
+                    (
+                        Region::Cascade {
+                            center: ca,
+                            half_extent: ha,
+                            heights: da,
+                        },
+                        Region::Cascade {
+                            center: cb,
+                            half_extent: hb,
+                            heights: db,
+                        },
+                    ) => {
+                        // A texel of depth to spare: a window's map reaches 1% and more
+                        // beyond its heights ([`View::fit_light`]).
+                        let texel = 2.0 * ha / resolution.max(1) as f32;
+                        ha == hb
+                            && self.cascade_texel(*ca, *ha, resolution)
+                                == self.cascade_texel(*cb, *hb, resolution)
+                            && da[0] <= db[0] + texel
+                            && da[1] >= db[1] - texel
+                    }
+                    _ => false,
+                })
+    }
+
+    /// The texel of the light-space grid a cascade's window centre snaps to
+    /// ([`View::fit_light`]: whole texels of the light's basis, from the world's origin).
+    fn cascade_texel(&self, center: Vec3, half_extent: f32, resolution: u32) -> [i64; 2] {
+        let Select::Cascades { direction: dir, .. } = self.select else {
+            return [0, 0];
+        };
+        let texel = 2.0 * half_extent / resolution.max(1) as f32;
+        let c = crate::view::look_to(Vec3::ZERO, -dir).transform_point3(center);
+        [(c.x / texel).round() as i64, (c.y / texel).round() as i64]
     }
 
     /// How much of view `index`'s visibility a receiver at `p` takes (`view_weight` in WGSL):
@@ -493,7 +578,9 @@ impl LightViews {
                 s.basis = basis.map(|b| b.extend(0.0).to_array());
                 s.face_view[..6].copy_from_slice(face_view);
             }
-            Select::Cascades { depth_row, splits } => {
+            Select::Cascades {
+                depth_row, splits, ..
+            } => {
                 s.kind = 2;
                 s.depth_row = depth_row.to_array();
                 s.splits[..splits.len()].copy_from_slice(splits);
@@ -821,6 +908,16 @@ impl<M> ViewMaps<M> {
     /// The maps, for recycling.
     pub fn into_maps(self) -> Vec<M> {
         self.maps
+    }
+
+    /// Takes the selection of `planned` where these maps, made at `resolution`, serve it
+    /// ([`LightViews::serves`]), and says whether they do.
+    pub fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool {
+        let serves = self.views.serves(planned, resolution);
+        if serves {
+            self.views = planned.clone();
+        }
+        serves
     }
 }
 

@@ -119,17 +119,21 @@ pub struct FrameReceivers {
     /// The view of the camera that sees them (its G-buffer's: `Camera::view(width, height)`),
     /// if any. With it a distant light's shadow is a set of cascades along the camera's depth
     /// ([`soft_shadow_core::LightViews::plan`] with what the camera sees), which follow the
-    /// camera: they regenerate when the camera or what it sees changes. Without it a distant
-    /// light has one view over everything it shadows.
+    /// camera: they regenerate when the camera moved them to other texels or other split
+    /// depths ([`soft_shadow_core::LightViews::serves`]). Without it a distant light has one
+    /// view over everything it shadows.
     pub camera: Option<soft_shadow_core::View>,
 }
 
 impl FrameReceivers {
     /// What the camera sees of these receivers (`None` without a camera or with none in front of
-    /// it): the depth range a distant light's cascades split.
+    /// it): the depth range a distant light's cascades split, in whole steps
+    /// ([`soft_shadow_core::SeenDepth::quantized`]) so that a camera that moves a little keeps
+    /// the cascades' split depths.
     pub fn seen(&self) -> Option<soft_shadow_core::SeenDepth> {
         self.camera
             .and_then(|c| soft_shadow_core::SeenDepth::of_points(c, &self.positions))
+            .map(soft_shadow_core::SeenDepth::quantized)
     }
 }
 

@@ -106,13 +106,14 @@ pub fn run_technique(
         state.evaluated = 0;
         let light_start = Instant::now();
         // A distant light seen by a camera has cascades, planned again every frame: they follow
-        // the camera, so maps made for other cascades regenerate.
+        // the camera, so maps that do not serve the planned cascades (moved to other texels or
+        // split depths) regenerate, and those that do take the new selection.
         let cascaded = matches!(light.0.center(), LightPoint::Direction(_)) && seen.is_some();
         let mut planned = None;
-        if let (true, false, Some(maps)) = (cascaded, state.stale, &state.maps) {
+        if let (true, false, Some(maps)) = (cascaded, state.stale, state.maps.as_mut()) {
             let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
             let views = LightViews::plan(&light.0, &g, seen.as_ref());
-            if maps.views() != &views {
+            if !maps.serve(&views, resolved.resolution) {
                 planned = Some((g, views));
             }
         }

@@ -699,7 +699,8 @@ impl Street {
 /// over a street loses its near shadows to the far field"): given the camera, the frame
 /// pipeline's `V` of the receivers within 15 m of it is closer to the ray-traced reference than
 /// without it, where one 1024² view spans the whole street; a frame that changes nothing
-/// regenerates nothing, and a camera that moved down the street regenerates the cascades.
+/// regenerates nothing, a step of 2 mm keeps the cascades (their maps serve the new camera, as
+/// maps made for it would), and a camera that moved down the street regenerates them.
 #[test]
 fn a_sun_seen_by_the_frame_camera_gets_cascades_that_follow_it() {
     let eye = Vec3::new(0.0, 1.7, 0.0);
@@ -742,11 +743,37 @@ fn a_sun_seen_by_the_frame_camera_gets_cascades_that_follow_it() {
     let (again, v_again) = s.frame(true);
     assert_eq!((again.views_generated, again.maps_reused), (0, 1));
     assert_eq!(v_again, v_cascaded);
+    // A step of 2 mm: the cascades stay on their texels and split depths, the maps serve the
+    // new camera, and they read as maps made for it do.
+    let step = eye + Vec3::new(0.0, 0.0, -0.002);
+    let mut stepped = walked(s, step);
+    let (kept, v_kept) = stepped.frame(true);
+    assert_eq!((kept.views_generated, kept.maps_reused), (0, 1), "{kept:?}");
+    let (_, v_fresh) = street(64, step).frame(true);
+    let rms = harness::metrics::rms_255(&v_kept, &v_fresh);
+    println!("a 2 mm step keeps the cascades: V rms {rms:.4} against fresh ones");
+    assert!(rms < 0.5, "kept cascades vs fresh ones: V rms {rms:.3}");
+    // Walking 1 m in 1 cm steps: frames that regenerate.
+    let mut regenerated = 0;
+    for k in 1..=100 {
+        stepped = walked(stepped, step + Vec3::new(0.0, 0.0, -0.01 * k as f32));
+        regenerated += usize::from(stepped.frame(true).0.views_generated > 0);
+    }
+    println!("walking 1 m in 1 cm steps: {regenerated} of 100 frames regenerate the cascades");
+    // The nearest cascade's texel is 2.1 cm: most steps move one of the four windows by a
+    // texel, and all four regenerate then.
+    assert!(regenerated < 80, "{regenerated} of 100 frames regenerate");
     // 20 m down the street: the cascades follow the camera.
-    let mut moved = street(64, eye + Vec3::new(0.0, 0.0, -20.0));
-    (moved.scene, moved.pipeline, moved.light) = (s.scene, s.pipeline, s.light);
+    let mut moved = walked(stepped, eye + Vec3::new(0.0, 0.0, -20.0));
     let (after, _) = moved.frame(true);
     assert!(after.views_generated > 1, "{after:?}");
+}
+
+/// The street's scene, pipeline and light with the receivers and view of a camera at `eye`.
+fn walked(s: Street, eye: Vec3) -> Street {
+    let mut next = street(64, eye);
+    (next.scene, next.pipeline, next.light) = (s.scene, s.pipeline, s.light);
+    next
 }
 
 fn pick_points(points: &[Vec3], indices: &[usize]) -> Vec<Vec3> {

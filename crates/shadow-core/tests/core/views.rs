@@ -351,3 +351,42 @@ fn every_caster_lies_in_a_view() {
     assert_eq!(views.uncovered(&sun(), &geometry, &blocks, &points), vec![]);
     let _ = LightPoint::Direction(Vec3::Y);
 }
+
+/// Cascades planned for a camera that moved a little (its seen depths quantized) are served by
+/// the maps of the first plan: the same split depths, windows on the same texels; a camera
+/// 20 m down the street, a map side that puts the windows on other texels, or a cube plan of
+/// another light are not.
+#[test]
+fn cascades_a_small_step_keeps_are_served_by_the_first_plan() {
+    let (geometry, seen) = street();
+    let at = |dz: f32, near: f32, far: f32| {
+        let camera = Camera {
+            eye: Vec3::new(0.0, 1.7, dz),
+            target: Vec3::new(0.0, 1.0, dz - 30.0),
+            fov_y: 60f32.to_radians(),
+            near: 0.1,
+            far: 400.0,
+        }
+        .view(256, 256);
+        let seen = SeenDepth { camera, near, far }.quantized();
+        LightViews::plan(&sun(), &geometry, Some(&seen))
+    };
+    let first = at(0.0, seen.near, seen.far);
+    assert_eq!(first.kind_name(), "cascades");
+    // Seen depths that moved within a quantization step plan the same splits.
+    let step = at(-0.001, seen.near * 1.0004, seen.far - 0.001);
+    assert_ne!(first, step, "the windows' centres moved");
+    assert!(first.serves(&step, 1024));
+    assert!(first.serves(&first, 1024));
+    let far_on = at(-20.0, seen.near, seen.far - 20.0);
+    assert!(!first.serves(&far_on, 1024));
+    let (room, _) = room();
+    let cube = LightViews::plan(&lamp(), &room, None);
+    assert!(cube.serves(&cube, 256) && !first.serves(&cube, 256) && !cube.serves(&first, 256));
+    // Quantized depths: near down and far up to whole steps of 2^(1/8), near not below the
+    // camera's near plane.
+    let q = seen.quantized();
+    assert!(q.near <= seen.near && q.near > seen.near / 2f32.powf(0.125));
+    assert!(q.far >= seen.far && q.far < seen.far * 2f32.powf(0.125));
+    assert_eq!(q.quantized(), q);
+}
