@@ -594,7 +594,15 @@ pub struct AnyMaps(Box<dyn ErasedMaps>);
 trait ErasedMaps: Send + Sync {
     fn backend(&self) -> Backend;
     fn views(&self) -> &LightViews;
-    fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool;
+    fn remake(
+        &mut self,
+        ctx: Context<'_>,
+        geometry: &SceneGeometry,
+        light: &Light,
+        planned: &LightViews,
+        resolution: u32,
+        indices: &[usize],
+    ) -> Result<()>;
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>>;
     fn recycle(self: Box<Self>, gpu: Option<&GpuContext>);
 }
@@ -615,8 +623,29 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
     fn views(&self) -> &LightViews {
         self.1.views()
     }
-    fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool {
-        self.1.serve(planned, resolution)
+    fn remake(
+        &mut self,
+        ctx: Context<'_>,
+        geometry: &SceneGeometry,
+        light: &Light,
+        planned: &LightViews,
+        resolution: u32,
+        indices: &[usize],
+    ) -> Result<()> {
+        if indices.is_empty() {
+            self.1.splice(planned, &[], Vec::new());
+            return Ok(());
+        }
+        let Context::Cpu(cpu) = ctx else {
+            return Err(ShadowError::MapsMismatch(
+                "CPU maps are made again on the CPU".into(),
+            ));
+        };
+        let fresh =
+            self.0
+                .generate_cpu_in(cpu, geometry, light, &planned.only(indices), resolution)?;
+        self.1.splice(planned, indices, fresh.into_maps());
+        Ok(())
     }
     fn evaluate(&self, _: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_cpu(&self.1, receivers)
@@ -631,8 +660,32 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
     fn views(&self) -> &LightViews {
         self.1.views()
     }
-    fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool {
-        self.1.serve(planned, resolution)
+    fn remake(
+        &mut self,
+        ctx: Context<'_>,
+        geometry: &SceneGeometry,
+        light: &Light,
+        planned: &LightViews,
+        resolution: u32,
+        indices: &[usize],
+    ) -> Result<()> {
+        if indices.is_empty() {
+            self.1.splice(planned, &[], Vec::new());
+            return Ok(());
+        }
+        let Context::Gpu(gpu) = ctx else {
+            return Err(ShadowError::MapsMismatch(
+                "GPU maps are made again on the GPU".into(),
+            ));
+        };
+        let scene = GpuScene::new(gpu, geometry)?;
+        let fresh =
+            self.0
+                .generate_gpu_on(gpu, &scene, light, &planned.only(indices), resolution)?;
+        for old in self.1.splice(planned, indices, fresh.into_maps()) {
+            self.0.recycle_maps(gpu, old);
+        }
+        Ok(())
     }
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_gpu(need_gpu(gpu)?, &self.1, receivers)
@@ -656,11 +709,26 @@ impl AnyMaps {
         self.0.views()
     }
 
-    /// Whether these maps, made at `resolution`, serve the views `planned` later for the same
-    /// light and casters ([`LightViews::serves`]: cascades whose windows a moving camera kept
-    /// on the same texels); if so they evaluate with `planned`'s selection from now on.
-    pub fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool {
-        self.0.serve(planned, resolution)
+    /// Brings these maps, made at `resolution` in `ctx` for the same light and casters, to the
+    /// views `planned` later, where the plans allow ([`LightViews::moved`]: cascades at the
+    /// same split depths): the views whose windows moved are made again over `geometry`, the
+    /// others serve as they are, and the maps evaluate with `planned`'s selection from then on.
+    /// Returns how many views it made again (0: the maps serve as they are), or `None` where
+    /// the plans differ more and the maps are left as they were: generate anew.
+    pub fn follow(
+        &mut self,
+        ctx: Context<'_>,
+        geometry: &SceneGeometry,
+        light: &Light,
+        planned: &LightViews,
+        resolution: u32,
+    ) -> Result<Option<usize>> {
+        let Some(moved) = self.views().moved(planned, resolution) else {
+            return Ok(None);
+        };
+        self.0
+            .remake(ctx, geometry, light, planned, resolution, &moved)?;
+        Ok(Some(moved.len()))
     }
 
     /// Visibility per receiver, on the backend that produced the maps (`gpu` is required for

@@ -479,13 +479,22 @@ impl LightViews {
     }
 
     /// Whether maps made for these views at `resolution` serve the views `planned` later for
-    /// the same light and casters: the same views, or cascades at the same split depths whose
-    /// windows are as large and lie on the same texels (a camera that moved less than a texel)
-    /// and whose depth ranges hold the planned ones within a texel. Such maps evaluate with the planned
-    /// selection ([`crate::AnyMaps::serve`]); others regenerate.
+    /// the same light and casters as they are: [`LightViews::moved`] finds no view to make
+    /// again.
     pub fn serves(&self, planned: &LightViews, resolution: u32) -> bool {
+        self.moved(planned, resolution)
+            .is_some_and(|moved| moved.is_empty())
+    }
+
+    /// Which views of `planned` (planned later for the same light and casters) maps made for
+    /// these views at `resolution` must make again, the others serving as they are: none where
+    /// the plans are equal; for cascades at the same split depths, those whose window changed
+    /// size or moved to other texels (a camera that moved less than a texel moves none) or
+    /// whose depth range no longer holds the planned one within a texel. `None` where the
+    /// plans differ otherwise (other split depths, other views): every view is made again.
+    pub fn moved(&self, planned: &LightViews, resolution: u32) -> Option<Vec<usize>> {
         if self == planned {
-            return true;
+            return Some(Vec::new());
         }
         let (
             Select::Cascades { splits, .. },
@@ -495,38 +504,48 @@ impl LightViews {
             },
         ) = (&self.select, &planned.select)
         else {
-            return false;
+            return None;
         };
-        splits == planned_splits
-            && self.regions.len() == planned.regions.len()
-            && self
-                .regions
-                .iter()
-                .zip(&planned.regions)
-                .all(|(a, b)| match (a, b) {
-                    (
-                        Region::Cascade {
-                            center: ca,
-                            half_extent: ha,
-                            heights: da,
-                        },
-                        Region::Cascade {
-                            center: cb,
-                            half_extent: hb,
-                            heights: db,
-                        },
-                    ) => {
-                        // A texel of depth to spare: a window's map reaches 1% and more
-                        // beyond its heights ([`View::fit_light`]).
-                        let texel = 2.0 * ha / resolution.max(1) as f32;
-                        ha == hb
-                            && self.cascade_texel(*ca, *ha, resolution)
-                                == self.cascade_texel(*cb, *hb, resolution)
-                            && da[0] <= db[0] + texel
-                            && da[1] >= db[1] - texel
-                    }
-                    _ => false,
-                })
+        if splits != planned_splits || self.regions.len() != planned.regions.len() {
+            return None;
+        }
+        let kept = |a: &Region, b: &Region| match (a, b) {
+            (
+                Region::Cascade {
+                    center: ca,
+                    half_extent: ha,
+                    heights: da,
+                },
+                Region::Cascade {
+                    center: cb,
+                    half_extent: hb,
+                    heights: db,
+                },
+            ) => {
+                // A texel of depth to spare: a window's map reaches 1% and more beyond its
+                // heights ([`View::fit_light`]).
+                let texel = 2.0 * ha / resolution.max(1) as f32;
+                ha == hb
+                    && self.cascade_texel(*ca, *ha, resolution)
+                        == self.cascade_texel(*cb, *hb, resolution)
+                    && da[0] <= db[0] + texel
+                    && da[1] >= db[1] - texel
+            }
+            _ => a == b,
+        };
+        Some(
+            (0..self.regions.len())
+                .filter(|&i| !kept(&self.regions[i], &planned.regions[i]))
+                .collect(),
+        )
+    }
+
+    /// The views `indices` of these, alone (what a technique generates to make them again).
+    pub(crate) fn only(&self, indices: &[usize]) -> LightViews {
+        LightViews {
+            regions: indices.iter().map(|&i| self.regions[i]).collect(),
+            select: self.select.clone(),
+        }
     }
 
     /// The texel of the light-space grid a cascade's window centre snaps to
@@ -910,14 +929,22 @@ impl<M> ViewMaps<M> {
         self.maps
     }
 
-    /// Takes the selection of `planned` where these maps, made at `resolution`, serve it
-    /// ([`LightViews::serves`]), and says whether they do.
-    pub fn serve(&mut self, planned: &LightViews, resolution: u32) -> bool {
-        let serves = self.views.serves(planned, resolution);
-        if serves {
-            self.views = planned.clone();
-        }
-        serves
+    /// The views `planned` with the maps of views `indices` replaced by `fresh` (made for
+    /// `planned.only(indices)`), in order; the replaced maps are returned for recycling.
+    pub(crate) fn splice(
+        &mut self,
+        planned: &LightViews,
+        indices: &[usize],
+        fresh: Vec<M>,
+    ) -> Vec<M> {
+        debug_assert_eq!(indices.len(), fresh.len());
+        let old = indices
+            .iter()
+            .zip(fresh)
+            .map(|(&i, m)| std::mem::replace(&mut self.maps[i], m))
+            .collect();
+        self.views = planned.clone();
+        old
     }
 }
 

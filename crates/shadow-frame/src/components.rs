@@ -119,9 +119,9 @@ pub struct FrameReceivers {
     /// The view of the camera that sees them (its G-buffer's: `Camera::view(width, height)`),
     /// if any. With it a distant light's shadow is a set of cascades along the camera's depth
     /// ([`soft_shadow_core::LightViews::plan`] with what the camera sees), which follow the
-    /// camera: they regenerate when the camera moved them to other texels or other split
-    /// depths ([`soft_shadow_core::LightViews::serves`]). Without it a distant light has one
-    /// view over everything it shadows.
+    /// camera: those the camera moved to other texels are made again, the others kept, and all
+    /// where the split depths changed ([`soft_shadow_core::AnyMaps::follow`]). Without it a
+    /// distant light has one view over everything it shadows.
     pub camera: Option<soft_shadow_core::View>,
 }
 

@@ -106,19 +106,29 @@ pub fn run_technique(
         state.evaluated = 0;
         let light_start = Instant::now();
         // A distant light seen by a camera has cascades, planned again every frame: they follow
-        // the camera, so maps that do not serve the planned cascades (moved to other texels or
-        // split depths) regenerate, and those that do take the new selection.
+        // the camera. Maps whose plan allows it follow the planned cascades, making again only
+        // the views whose windows moved (to other texels); others regenerate.
         let cascaded = matches!(light.0.center(), LightPoint::Direction(_)) && seen.is_some();
         let mut planned = None;
+        let mut views_generated = 0;
         if let (true, false, Some(maps)) = (cascaded, state.stale, state.maps.as_mut()) {
             let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
             let views = LightViews::plan(&light.0, &g, seen.as_ref());
-            if !maps.serve(&views, resolved.resolution) {
-                planned = Some((g, views));
+            let followed = backend.context().and_then(|ctx| {
+                maps.follow(ctx, &g, &light.0, &views, resolved.resolution)
+                    .map_err(|e| e.to_string())
+            });
+            match followed {
+                Ok(Some(remade)) => views_generated = remade,
+                Ok(None) => planned = Some((g, views)),
+                Err(e) => {
+                    state.error = Some(e);
+                    state.maps = None;
+                    continue;
+                }
             }
         }
         let generated = state.stale || state.maps.is_none() || planned.is_some();
-        let mut views_generated = 0;
         if generated {
             let (g, views) = planned.unwrap_or_else(|| {
                 let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
@@ -163,7 +173,7 @@ pub fn run_technique(
             }
             Err(e) => state.error = Some(e.to_string()),
         }
-        if generated {
+        if views_generated > 0 {
             state.generated_ms = Some(light_start.elapsed().as_secs_f64() * 1e3);
         }
         let evaluated = state.evaluated;
