@@ -704,7 +704,7 @@ impl AnyMaps {
         self.0.backend()
     }
 
-    /// The views the maps were generated for (or took the selection of, [`AnyMaps::serve`]).
+    /// The views the maps were generated for (or followed since, [`AnyMaps::follow`]).
     pub fn views(&self) -> &LightViews {
         self.0.views()
     }
