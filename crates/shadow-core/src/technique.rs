@@ -714,7 +714,8 @@ impl AnyMaps {
     /// same split depths): the views whose windows moved are made again over `geometry`, the
     /// others serve as they are, and the maps evaluate with `planned`'s selection from then on.
     /// Returns how many views it made again (0: the maps serve as they are), or `None` where
-    /// the plans differ more and the maps are left as they were: generate anew.
+    /// the plans differ more or `ctx` is of another backend than the maps, which are then left
+    /// as they were: generate anew.
     pub fn follow(
         &mut self,
         ctx: Context<'_>,
@@ -723,6 +724,9 @@ impl AnyMaps {
         planned: &LightViews,
         resolution: u32,
     ) -> Result<Option<usize>> {
+        if ctx.backend() != self.backend() {
+            return Ok(None);
+        }
         let Some(moved) = self.views().moved(planned, resolution) else {
             return Ok(None);
         };

@@ -792,7 +792,7 @@ fn pick_points(points: &[Vec3], indices: &[usize]) -> Vec<Vec3> {
 
 /// The cascades follow the camera on the GPU backend as on the CPU: over five 1 cm steps down
 /// `street-sun` the same views are made again, and `V` agrees
-/// ([`crate::common::Agreement`]).
+/// ([`crate::common::Agreement`]); CPU maps on a pipeline switched to the GPU are made anew.
 #[test]
 #[cfg_attr(
     no_gpu_adapter,
@@ -825,4 +825,10 @@ fn cascades_follow_the_camera_on_the_gpu_as_on_the_cpu() {
     }
     failures.assert_none();
     assert!(partial > 0, "no step made some views again and kept others");
+    // CPU maps on a pipeline switched to the GPU are made anew there, not followed.
+    cpu.scene
+        .world
+        .insert_resource(shadow_frame::FrameBackend::gpu(ctx));
+    let (switched, _) = cpu.frame(true);
+    assert_eq!(switched.views_generated, 4, "{switched:?}");
 }
