@@ -333,14 +333,17 @@ pub fn keep_budgets(
 }
 
 /// Marks stale every light that a changed caster region reaches ([`caster_reaches`]; every
-/// light, with caching off).
+/// light, with caching off or when the frame's backend changed: maps are made where the frame
+/// runs).
 pub fn mark_stale(
     index: Res<CasterIndex>,
     settings: Res<FrameSettings>,
+    backend: Res<FrameBackend>,
     mut lights: Query<(&LightSource, &ShadowConfig, &mut LightState)>,
 ) {
+    let everything = !settings.caching || backend.is_changed();
     for (light, config, mut state) in &mut lights {
-        if !settings.caching {
+        if everything {
             state.stale = true;
             continue;
         }

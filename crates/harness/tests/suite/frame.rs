@@ -832,3 +832,31 @@ fn cascades_follow_the_camera_on_the_gpu_as_on_the_cpu() {
     let (switched, _) = cpu.frame(true);
     assert_eq!(switched.views_generated, 4, "{switched:?}");
 }
+
+/// Switching the frame's backend makes every light's maps anew where the frame now runs: the
+/// lab's three local lights, CPU maps and then GPU maps.
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn switching_the_backend_makes_every_lights_maps_there() {
+    let test = "switching_the_backend_makes_every_lights_maps_there";
+    let Some(ctx) = crate::common::gpu_for_test(test) else {
+        return;
+    };
+    let mut lab = lab(5.0);
+    let mut p = pipeline();
+    assert_eq!(p.run(&mut lab.scene.world).maps_generated, 3);
+    lab.scene
+        .world
+        .insert_resource(shadow_frame::FrameBackend::gpu(Arc::new(ctx)));
+    let s = p.run(&mut lab.scene.world);
+    assert_eq!((s.maps_generated, s.maps_reused), (3, 0), "{}", s.summary());
+    for e in [lab.rect, lab.segment, lab.point] {
+        let state = lab.scene.world.get::<LightState>(e).unwrap();
+        let backend = state.maps.as_ref().map(|m| m.backend());
+        assert_eq!(backend, Some(Backend::Gpu));
+    }
+    assert_eq!(p.run(&mut lab.scene.world).maps_reused, 3);
+}
