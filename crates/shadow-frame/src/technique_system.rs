@@ -105,10 +105,13 @@ pub fn run_technique(
         state.visibility = vec![1.0; frame.positions.len()];
         state.evaluated = 0;
         let light_start = Instant::now();
-        // A distant light seen by a camera has cascades, planned again every frame: they follow
-        // the camera. Maps whose plan allows it follow the planned cascades, making again only
-        // the views whose windows moved (to other texels); others regenerate.
-        let cascaded = matches!(light.0.center(), LightPoint::Direction(_)) && seen.is_some();
+        // A distant light seen by a camera has cascades, planned again in every frame whose
+        // receivers or camera changed: they follow the camera. Maps whose plan allows it follow
+        // the planned cascades, making again only the views whose windows moved (to other
+        // texels); others regenerate.
+        let cascaded = matches!(light.0.center(), LightPoint::Direction(_))
+            && seen.is_some()
+            && frame.is_changed();
         let mut planned = None;
         let mut views_generated = 0;
         if let (true, false, Some(maps)) = (cascaded, state.stale, state.maps.as_mut()) {
