@@ -142,7 +142,7 @@ impl SeenDepth {
     /// This depth range widened to whole steps of `2^(1/8)` (the near depth down, not below the
     /// camera's near plane; the far depth up), so that a camera that moved a little plans
     /// cascades at the same split depths: what a pipeline that keeps cascades across frames
-    /// plans with ([`LightViews::serves`]).
+    /// plans with ([`LightViews::moved`]).
     pub fn quantized(self) -> Self {
         let step = |x: f32, up: bool| {
             let l = 8.0 * x.max(1e-6).log2();
@@ -476,14 +476,6 @@ impl LightViews {
             Select::Cube { .. } => "cube",
             Select::Cascades { .. } => "cascades",
         }
-    }
-
-    /// Whether maps made for these views at `resolution` serve the views `planned` later for
-    /// the same light and casters as they are: [`LightViews::moved`] finds no view to make
-    /// again.
-    pub fn serves(&self, planned: &LightViews, resolution: u32) -> bool {
-        self.moved(planned, resolution)
-            .is_some_and(|moved| moved.is_empty())
     }
 
     /// Which views of `planned` (planned later for the same light and casters) maps made for
