@@ -586,28 +586,42 @@ impl Light {
         }
     }
 
-    /// `n` deterministic, stratified samples of the light seen from `receiver` (a jittered grid
-    /// for 2D lights, evenly spaced for a segment), for techniques that accumulate point lights.
+    /// `n` deterministic, stratified samples of the light seen from `receiver` (the centres of a
+    /// grid's cells for 2D lights, evenly spaced for a segment), for techniques that accumulate point lights.
     pub fn stratified_samples(&self, n: u32, receiver: Vec3) -> Vec<(LightPoint, f32)> {
+        let (cells, _) = self.stratified_grid(n);
+        cells
+            .into_iter()
+            .map(|u| self.sample(u, receiver))
+            .collect()
+    }
+
+    /// The cells of [`stratified_samples`](Self::stratified_samples)' grid: their centres in
+    /// the unit square of [`sample`](Self::sample) (in the samples' order) and the size every
+    /// cell has there (zero for a point, `(1/n, 0)` for a segment).
+    pub fn stratified_grid(&self, n: u32) -> (Vec<Vec2>, Vec2) {
         let n = n.max(1);
         match self.sample_dimension() {
-            0 => vec![self.sample(Vec2::ZERO, receiver)],
-            1 => (0..n)
-                .map(|i| self.sample(Vec2::new((i as f32 + 0.5) / n as f32, 0.5), receiver))
-                .collect(),
+            0 => (vec![Vec2::ZERO], Vec2::ZERO),
+            1 => (
+                (0..n)
+                    .map(|i| Vec2::new((i as f32 + 0.5) / n as f32, 0.5))
+                    .collect(),
+                Vec2::new(1.0 / n as f32, 0.0),
+            ),
             _ => {
                 let cols = (n as f32).sqrt().ceil() as u32;
                 let rows = n.div_ceil(cols);
-                (0..n)
+                let cells = (0..n)
                     .map(|i| {
                         let (c, r) = (i % cols, i / cols);
-                        let u = Vec2::new(
+                        Vec2::new(
                             (c as f32 + 0.5) / cols as f32,
                             (r as f32 + 0.5) / rows as f32,
-                        );
-                        self.sample(u, receiver)
+                        )
                     })
-                    .collect()
+                    .collect();
+                (cells, Vec2::new(1.0 / cols as f32, 1.0 / rows as f32))
             }
         }
     }

@@ -75,6 +75,10 @@ pub struct SampleView {
     pub weight: f32,
     /// Eye position (w = 1) or unit direction towards the light (w = 0).
     pub light: Vec4,
+    /// The cell of the light's sample grid the sample stands for ([`Light::stratified_grid`]):
+    /// its centre and its size in [`Light::sample`]'s unit square; size zero for a light's
+    /// centre or a point light.
+    pub cell: [Vec2; 2],
 }
 
 impl SampleView {
@@ -87,6 +91,7 @@ impl SampleView {
                 LightPoint::Position(p) => p.extend(1.0),
                 LightPoint::Direction(d) => d.normalize().extend(0.0),
             },
+            cell: [Vec2::ZERO; 2],
         }
     }
 
@@ -115,17 +120,24 @@ impl SampleView {
     }
 }
 
-/// The views of `count` stratified light samples (1: the light's centre), covering `coverage`.
+/// The views of `count` stratified light samples (1: the light's centre), covering `coverage`,
+/// each with its [`SampleView::cell`].
 pub fn sample_views(light: &Light, coverage: &Coverage, count: u32) -> Vec<SampleView> {
     let center = coverage.center();
     let axis = light.axis(center);
     if count <= 1 {
         return vec![SampleView::center(light, coverage)];
     }
-    light
-        .stratified_samples(count, center)
+    let (cells, size) = light.stratified_grid(count);
+    cells
         .into_iter()
-        .map(|(q, w)| SampleView::new(q, w, axis, coverage))
+        .map(|u| {
+            let (q, w) = light.sample(u, center);
+            SampleView {
+                cell: [u, size],
+                ..SampleView::new(q, w, axis, coverage)
+            }
+        })
         .collect()
 }
 

@@ -1,13 +1,14 @@
 //! The baselines on the GPU: depth maps rendered by `soft_shadow_core`'s rasterizer into one
 //! reversed-Z texture array, filters evaluated by `visibility()` in `visibility.wgsl`.
 
-use crate::filters::EvalParams;
+use crate::filters::{EvalParams, Stratum, texel_strata};
+use glam::Vec3;
 use soft_shadow_core::gpu::compute::{bind_group, depth_array_view};
 use soft_shadow_core::gpu::shader::{
     DEPTH_ARRAY, Group, Library, ShaderModule, VisibilityShader, storage, uniform,
 };
 use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
-use soft_shadow_core::{GpuContext, Map2D, MapParams, Result, SampleView, ShadowError};
+use soft_shadow_core::{GpuContext, Light, Map2D, MapParams, Result, SampleView, ShadowError};
 
 /// Depth maps kept on the GPU.
 pub struct GpuShadowMaps {
@@ -19,17 +20,21 @@ pub struct GpuShadowMaps {
     pub(crate) resolution: u32,
     /// [`soft_shadow_core::Light::size`] of the light.
     pub(crate) light_size: f32,
+    /// Each sample's cell in texels ([`crate::filters::texel_strata`]).
+    pub(crate) strata: Vec<Stratum>,
 }
 
 impl GpuShadowMaps {
-    /// Records one depth layer per view of `scene`'s casters into `enc`.
+    /// Records one depth layer per view of `light`'s samples as `sample_from` sees them, of
+    /// `scene`'s casters, into `enc`.
     pub fn record(
         ctx: &GpuContext,
         enc: &mut wgpu::CommandEncoder,
+        light: &Light,
+        sample_from: Vec3,
         views: &[SampleView],
         scene: &GpuScene,
         resolution: u32,
-        light_size: f32,
     ) -> Result<Self> {
         let raster = ctx.cached(GpuRasterizer::new);
         let texture = GpuRasterizer::depth_array(ctx, resolution, views.len() as u32)?;
@@ -40,7 +45,8 @@ impl GpuShadowMaps {
             texture,
             views: views.to_vec(),
             resolution,
-            light_size,
+            light_size: light.size(),
+            strata: texel_strata(light, sample_from, views, resolution),
         })
     }
 
@@ -74,6 +80,7 @@ pub static VISIBILITY: VisibilityShader = VisibilityShader {
         uniform::<EvalParams>(),
         storage::<MapParams>(true),
         DEPTH_ARRAY,
+        storage::<Stratum>(true),
     ]),
 };
 
@@ -91,6 +98,7 @@ pub(crate) fn bind_maps(
         .collect();
     let u = ctx.uniform_buffer("eval params", bytemuck::bytes_of(prm));
     let vb = ctx.storage_buffer("map views", bytemuck::cast_slice(&params));
+    let sb = ctx.storage_buffer("map strata", bytemuck::cast_slice(&maps.strata));
     let tv = depth_array_view(&maps.texture);
     bind_group(
         ctx,
@@ -100,6 +108,7 @@ pub(crate) fn bind_maps(
             u.as_entire_binding(),
             vb.as_entire_binding(),
             wgpu::BindingResource::TextureView(&tv),
+            sb.as_entire_binding(),
         ],
     )
 }

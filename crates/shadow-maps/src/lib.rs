@@ -12,7 +12,7 @@ use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::light_space::sample_views;
 use soft_shadow_core::{
     Bias, Checked, CpuContext, Generation, GpuContext, Light, LightKind, Receivers, Result,
-    ShadowTechnique, TechniqueInfo,
+    ShadowError, ShadowTechnique, TechniqueInfo,
 };
 
 /// Which baseline filter.
@@ -35,6 +35,24 @@ pub enum Filter {
     },
 }
 
+/// Where accumulation's light samples lie for each receiver ([`Filter::Accumulate`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SamplePattern {
+    /// Every receiver sees the light through the same samples, the centres of the cells of a
+    /// grid over the light: a penumbra drawn in as many flat steps as there are sample rows (the
+    /// accumulation the papers compare against).
+    #[default]
+    Grid,
+    /// Each receiver moves every sample to its own point of the sample's cell, the grid's
+    /// pattern rotated (Cranley-Patterson) by a hash of the receiver's position: the steps of
+    /// [`Grid`](Self::Grid) become noise, each receiver's expected visibility being that of the
+    /// whole light. The map of each sample is read where the moved sample's ray meets its
+    /// occluder, found by a parallax step (one or two more taps a sample); exact for a planar
+    /// occluder, an estimate where occluders overlap within a cell's parallax.
+    Rotated,
+}
+
 /// A shadow-map baseline: a filter plus biases.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadowMapBaseline {
@@ -42,6 +60,9 @@ pub struct ShadowMapBaseline {
     pub filter: Filter,
     /// The receiver biases (one texel of each term by default).
     pub bias: Bias,
+    /// Where accumulation's samples lie per receiver ([`SamplePattern::Grid`] by default);
+    /// other filters take no light samples and accept only the default.
+    pub pattern: SamplePattern,
 }
 
 /// Largest PCSS blocker-search radius, as a fraction of the map side (16 texels at 512²; never
@@ -59,7 +80,14 @@ impl ShadowMapBaseline {
         Self {
             filter,
             bias: Bias::default(),
+            pattern: SamplePattern::Grid,
         }
+    }
+
+    /// The same baseline with accumulation's samples placed per receiver as `pattern` says.
+    pub fn with_pattern(mut self, pattern: SamplePattern) -> Self {
+        self.pattern = pattern;
+        self
     }
 
     /// The baselines the report runs by default: hard, PCF r=2, PCSS, and accumulation of
@@ -108,7 +136,10 @@ impl TechniqueInfo for ShadowMapBaseline {
             Filter::Hard => "nearest".into(),
             Filter::Pcf { radius } => format!("r{radius}"),
             Filter::Pcss => "7x7-9x9".into(),
-            Filter::Accumulate { samples } => format!("n{samples}"),
+            Filter::Accumulate { samples } => match self.pattern {
+                SamplePattern::Grid => format!("n{samples}"),
+                SamplePattern::Rotated => format!("n{samples}-rotated"),
+            },
         }
     }
 
@@ -121,11 +152,24 @@ impl TechniqueInfo for ShadowMapBaseline {
                 format!("Filter::Accumulate {{ samples: {samples} }}")
             }
         };
+        let mut constructor = format!("ShadowMapBaseline::new({filter})");
+        if self.pattern != SamplePattern::Grid {
+            constructor.push_str(&format!(".with_pattern(SamplePattern::{:?})", self.pattern));
+        }
         let mut fields = Vec::new();
         if self.bias != Bias::default() {
             fields.push(format!("bias = {:?}", self.bias));
         }
-        soft_shadow_core::technique::call_with(format!("ShadowMapBaseline::new({filter})"), &fields)
+        soft_shadow_core::technique::call_with(constructor, &fields)
+    }
+
+    fn validate(&self) -> Result<()> {
+        match (self.filter, self.pattern) {
+            (_, SamplePattern::Grid) | (Filter::Accumulate { .. }, _) => Ok(()),
+            (filter, pattern) => Err(ShadowError::InvalidParameter(format!(
+                "pattern {pattern:?} places accumulation's light samples; {filter:?} takes none"
+            ))),
+        }
     }
 
     fn models(&self, _kind: LightKind) -> bool {
@@ -147,10 +191,11 @@ impl ShadowTechnique for ShadowMapBaseline {
         let views = self.views(&input);
         CpuShadowMaps::render(
             cpu,
+            input.light,
+            input.coverage().center(),
             &views,
             &input.geometry.casters,
             input.resolution,
-            input.light.size(),
         )
     }
 
@@ -179,10 +224,11 @@ impl ShadowTechnique for ShadowMapBaseline {
         gpu::GpuShadowMaps::record(
             gpu,
             enc,
+            input.light,
+            input.coverage().center(),
             &views,
             scene,
             input.resolution,
-            input.light.size(),
         )
     }
 

@@ -1,8 +1,9 @@
 //! Light-space depth maps of the baselines, one per light sample, rendered on the CPU.
 
+use crate::filters::{Stratum, texel_strata};
 use glam::Vec3;
 use soft_shadow_core::raster::depth_map;
-use soft_shadow_core::{CpuContext, Map2D, SampleView};
+use soft_shadow_core::{CpuContext, Light, Map2D, SampleView};
 
 /// Depth maps rendered on the CPU.
 pub struct CpuShadowMaps {
@@ -14,16 +15,20 @@ pub struct CpuShadowMaps {
     pub(crate) resolution: u32,
     /// [`soft_shadow_core::Light::size`] of the light.
     pub(crate) light_size: f32,
+    /// Each sample's cell in texels ([`crate::filters::texel_strata`]).
+    pub(crate) strata: Vec<Stratum>,
 }
 
 impl CpuShadowMaps {
-    /// Rasterizes one depth map per view (storage from `cpu`'s pool); `light_size` is [`soft_shadow_core::Light::size`], kept for PCSS.
+    /// Rasterizes one depth map per view of `light`'s samples as `sample_from` sees them
+    /// (storage from `cpu`'s pool).
     pub fn render(
         cpu: &CpuContext,
+        light: &Light,
+        sample_from: Vec3,
         views: &[SampleView],
         casters: &[[Vec3; 3]],
         resolution: u32,
-        light_size: f32,
     ) -> Self {
         let maps = views
             .iter()
@@ -33,7 +38,8 @@ impl CpuShadowMaps {
             maps,
             views: views.to_vec(),
             resolution,
-            light_size,
+            light_size: light.size(),
+            strata: texel_strata(light, sample_from, views, resolution),
         }
     }
 }

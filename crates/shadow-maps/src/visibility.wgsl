@@ -7,7 +7,7 @@
 struct Params {
     map_count: u32,
     mode: u32,
-    _reserved: u32,
+    rotated: u32,
     pcf_radius: i32,
     light_size: f32,
     search_max: f32,
@@ -19,6 +19,9 @@ struct Params {
 @group(#{MAPS_GROUP}) @binding(0) var<uniform> prm: Params;
 @group(#{MAPS_GROUP}) @binding(1) var<storage, read> views: array<MapView>;
 @group(#{MAPS_GROUP}) @binding(2) var depth_maps: texture_depth_2d_array;
+// Per map, 4 entries: the texels the lookup moves per unit of `parallax` for the 8 points of a
+// 3 x 3 grid over the sample's cell other than its centre (filters.rs `Stratum`).
+@group(#{MAPS_GROUP}) @binding(3) var<storage, read> strata: array<vec4<f32>>;
 
 // The linear depth stored in layer `layer` at the texel under `st + d` (clamped to the edge),
 // and the receiver's own biased depth there: `c.z` moved along its plane to that texel's centre.
@@ -74,6 +77,64 @@ fn pcss(m: MapView, c: Coord) -> f32 {
     return s / 81.0;
 }
 
+fn parallax(m: MapView, z_block: f32, z_recv: f32) -> f32 {
+    var g = 1.0 / z_block - 1.0 / z_recv;
+    if m.ortho == 1u {
+        g = z_recv - z_block;
+    }
+    return max(g, 0.0);
+}
+
+// A receiver's point in each sample's cell, in [-1/2, 1/2)^2: pcg3d of the position's bits,
+// rotated by the R2 sequence per sample, in 24-bit fixed point.
+fn cell_point(p: vec3<f32>, k: u32) -> vec2<f32> {
+    var v = bitcast<vec3<u32>>(p) * 1664525u + 1013904223u;
+    v.x += v.y * v.z;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    v ^= v >> vec3<u32>(16u);
+    v.x += v.y * v.z;
+    v.y += v.z * v.x;
+    let u = ((v.xy >> vec2<u32>(8u)) + k * vec2<u32>(12664746u, 9560334u)) & vec2<u32>(0xffffffu);
+    return vec2<f32>(u) / 16777216.0 - vec2<f32>(0.5);
+}
+
+fn lagrange(t: f32) -> vec3<f32> {
+    let s = 2.0 * t;
+    return vec3<f32>(0.5 * s * (s - 1.0), 1.0 - s * s, 0.5 * s * (s + 1.0));
+}
+
+// The quadratic through map `k`'s stratum at `cell` (filters.rs `moved`).
+fn moved(k: u32, cell: vec2<f32>) -> vec2<f32> {
+    let wx = lagrange(cell.x);
+    let wy = lagrange(cell.y);
+    let a = strata[4u * k];
+    let b = strata[4u * k + 1u];
+    let c = strata[4u * k + 2u];
+    let d = strata[4u * k + 3u];
+    return wy.x * (wx.x * a.xy + wx.y * a.zw + wx.z * b.xy)
+        + wy.y * (wx.x * b.zw + wx.z * c.xy)
+        + wy.z * (wx.x * c.zw + wx.y * d.xy + wx.z * d.zw);
+}
+
+fn capped(d: vec2<f32>) -> vec2<f32> {
+    return d * (prm.search_max / max(length(d), prm.search_max));
+}
+
+// The sample of map `k` moved by `step` texels per unit of parallax (see filters.rs `rotated`).
+fn rotated(m: MapView, k: u32, c: Coord, step: vec2<f32>) -> f32 {
+    let centre = tap(m, k, c, vec2<f32>(0.0));
+    var block = centre.x;
+    if centre.x >= centre.y {
+        let probe = tap(m, k, c, capped(step * parallax(m, m.near, c.z_receiver)));
+        if probe.x >= probe.y {
+            return 1.0;
+        }
+        block = probe.x;
+    }
+    return lit(m, k, c, capped(step * parallax(m, block, c.z_receiver)));
+}
+
 fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     if prm.mode == 3u {
         var sum = 0.0;
@@ -87,7 +148,11 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
             let c = shadow_coord(m, prm.bias, p, n);
             var v = 1.0;
             if c.inside {
-                v = lit(m, k, c, vec2<f32>(0.0));
+                if prm.rotated == 1u {
+                    v = rotated(m, k, c, moved(k, cell_point(p, k)));
+                } else {
+                    v = lit(m, k, c, vec2<f32>(0.0));
+                }
             }
             sum += m.weight * v;
             wsum += m.weight;

@@ -5,7 +5,7 @@ use crate::renderer::FrameTechnique;
 use linear_light::LinearLight;
 use occlusion_slices::{OcclusionSlices, Prefilter};
 use penumbra_limit::{Generator, PenumbraLimit};
-use shadow_maps::{Filter, ShadowMapBaseline};
+use shadow_maps::{Filter, SamplePattern, ShadowMapBaseline};
 use shadow_width::{ShadowWidth, WidthMethod};
 use soft_shadow_core::{LightKind, Result, ShadowError};
 use std::sync::Arc;
@@ -78,7 +78,11 @@ pub fn registry() -> Vec<TechniqueEntry> {
             baseline(Filter::Accumulate { samples: 16 }),
             [4, 64, 256]
                 .map(|samples| baseline(Filter::Accumulate { samples }))
-                .to_vec(),
+                .into_iter()
+                .chain([4, 16, 64].map(|samples| {
+                    baseline(Filter::Accumulate { samples }).with_pattern(SamplePattern::Rotated)
+                }))
+                .collect(),
         ),
         entry(
             PenumbraLimit::new(Generator::Silhouette),

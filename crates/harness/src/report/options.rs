@@ -3,7 +3,7 @@
 use linear_light::LinearLight;
 use occlusion_slices::OcclusionSlices;
 use penumbra_limit::PenumbraLimit;
-use shadow_maps::ShadowMapBaseline;
+use shadow_maps::{Filter, SamplePattern, ShadowMapBaseline};
 use shadow_width::ShadowWidth;
 use soft_shadow_core::DynTechnique;
 use std::path::PathBuf;
@@ -100,8 +100,13 @@ pub fn all_techniques(quick: bool) -> Vec<Box<dyn DynTechnique>> {
     } else {
         &FULL_ACCUMULATION
     };
+    // Accumulation in both sample patterns: the papers' grid and the rotated one engines use.
+    let rotated = accumulation.iter().map(|&samples| {
+        ShadowMapBaseline::new(Filter::Accumulate { samples }).with_pattern(SamplePattern::Rotated)
+    });
     let baselines = ShadowMapBaseline::standard_set(accumulation)
         .into_iter()
+        .chain(rotated)
         .map(|b| Box::new(b) as Box<dyn DynTechnique>);
     let shadow_width = ShadowWidth::standard_set()
         .into_iter()

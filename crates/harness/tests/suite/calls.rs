@@ -6,7 +6,7 @@ use harness::report::all_techniques;
 use linear_light::LinearLight;
 use occlusion_slices::{Combination, OcclusionSlices, Prefilter};
 use penumbra_limit::{Generator, PenumbraLimit, Storage};
-use shadow_maps::{Filter, ShadowMapBaseline};
+use shadow_maps::{Filter, SamplePattern, ShadowMapBaseline};
 use shadow_width::{DepthLayer, Neighbours, ShadowWidth, WidthMethod};
 use soft_shadow_core::DynTechnique;
 
@@ -26,6 +26,12 @@ fn every_configuration_is_built_by_its_call() {
         ShadowMapBaseline::new(Filter::Accumulate { samples: 4 }),
         ShadowMapBaseline::new(Filter::Accumulate { samples: 16 }),
         ShadowMapBaseline::new(Filter::Accumulate { samples: 64 }),
+        ShadowMapBaseline::new(Filter::Accumulate { samples: 4 })
+            .with_pattern(SamplePattern::Rotated),
+        ShadowMapBaseline::new(Filter::Accumulate { samples: 16 })
+            .with_pattern(SamplePattern::Rotated),
+        ShadowMapBaseline::new(Filter::Accumulate { samples: 64 })
+            .with_pattern(SamplePattern::Rotated),
         ShadowWidth::new(WidthMethod::Propagate {
             neighbours: Neighbours::Four
         }),

@@ -3,7 +3,7 @@
 
 use super::receivers;
 use crate::common::{Failures, gpu_for_test};
-use shadow_maps::ShadowMapBaseline;
+use shadow_maps::{Filter, SamplePattern, ShadowMapBaseline};
 use soft_shadow_core::gpu::{GpuRasterizer, GpuTriangles};
 use soft_shadow_core::raster::{DepthPass, depth_map_pass, gbuffer};
 use soft_shadow_core::view::NO_OCCLUDER;
@@ -169,7 +169,11 @@ fn baselines_agree_between_cpu_and_gpu_on_every_scene() {
     let Some(ctx) = gpu_for_test("baselines_agree_between_cpu_and_gpu_on_every_scene") else {
         return;
     };
-    let baselines = ShadowMapBaseline::standard_set(&[16]);
+    let mut baselines = ShadowMapBaseline::standard_set(&[16]);
+    baselines.push(
+        ShadowMapBaseline::new(Filter::Accumulate { samples: 16 })
+            .with_pattern(SamplePattern::Rotated),
+    );
     let mut failures = Failures::default();
     for name in SCENE_NAMES {
         let spec = build(name).unwrap();
@@ -187,7 +191,7 @@ fn baselines_agree_between_cpu_and_gpu_on_every_scene() {
                 let cv = b.evaluate_cpu(&cm, &recv).unwrap();
                 let gv = b.evaluate_gpu(&ctx, &gm, &recv).unwrap();
                 failures.agree(
-                    &format!("{name} {} {res}", TechniqueInfo::name(b)),
+                    &format!("{name} {} {} {res}", TechniqueInfo::name(b), b.variant()),
                     &cv,
                     &gv,
                 );

@@ -1,6 +1,7 @@
 //! harness tests, one binary (each test binary links wgpu, which is slow on 2 cores); the
 //! stability suite of issue 8 is its own target, `tests/stability`.
 
+mod accumulation;
 mod bad_input;
 mod calls;
 mod dependencies;
