@@ -19,9 +19,15 @@ struct Params {
 @group(#{MAPS_GROUP}) @binding(0) var<uniform> prm: Params;
 @group(#{MAPS_GROUP}) @binding(1) var<storage, read> views: array<MapView>;
 @group(#{MAPS_GROUP}) @binding(2) var depth_maps: texture_depth_2d_array;
-// Per map, 4 entries: the texels the lookup moves per unit of `parallax` for the 8 points of a
-// 3 x 3 grid over the sample's cell other than its centre (filters.rs `Stratum`).
-@group(#{MAPS_GROUP}) @binding(3) var<storage, read> strata: array<vec4<f32>>;
+// Per map: the texels the lookup moves per unit of `parallax` for the 8 points of a 3 x 3 grid
+// over the sample's cell other than its centre, two points a vec4 (filters.rs `Stratum`).
+struct Stratum {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+    d: vec4<f32>,
+};
+@group(#{MAPS_GROUP}) @binding(3) var<storage, read> strata: array<Stratum>;
 
 // The linear depth stored in layer `layer` at the texel under `st + d` (clamped to the edge),
 // and the receiver's own biased depth there: `c.z` moved along its plane to that texel's centre.
@@ -108,10 +114,11 @@ fn lagrange(t: f32) -> vec3<f32> {
 fn moved(k: u32, cell: vec2<f32>) -> vec2<f32> {
     let wx = lagrange(cell.x);
     let wy = lagrange(cell.y);
-    let a = strata[4u * k];
-    let b = strata[4u * k + 1u];
-    let c = strata[4u * k + 2u];
-    let d = strata[4u * k + 3u];
+    let s = strata[k];
+    let a = s.a;
+    let b = s.b;
+    let c = s.c;
+    let d = s.d;
     return wy.x * (wx.x * a.xy + wx.y * a.zw + wx.z * b.xy)
         + wy.y * (wx.x * b.zw + wx.z * c.xy)
         + wy.z * (wx.x * c.zw + wx.y * d.xy + wx.z * d.zw);

@@ -92,14 +92,15 @@ fn quick_report_writes_the_contract() {
         assert!(!json["machine"][key].is_null(), "machine.{key}");
     }
     let runs = json["runs"].as_array().unwrap();
-    let techniques = 4 + shadow_width::ShadowWidth::standard_set().len();
+    // Hard, PCF, PCSS, and the quick report's 16-sample accumulation in both sample patterns.
+    let techniques = 5 + shadow_width::ShadowWidth::standard_set().len();
     let penumbra = penumbra_limit::PenumbraLimit::standard_set().len();
     let slices = occlusion_slices::OcclusionSlices::standard_set().len();
     let linear = linear_light::LinearLight::standard_set().len();
     assert_eq!(
         runs.len(),
         (2 * techniques + penumbra + slices + linear) * 3,
-        "2 scenes x (4 baselines + shadow-width variants) x 3 resolutions, plus penumbra-limit \
+        "2 scenes x (5 baselines + shadow-width variants) x 3 resolutions, plus penumbra-limit \
          and occlusion-slices on plane-occluder only (both report a segment light as unsupported) \
          and linear-light on linear-bar only (segments only)"
     );
