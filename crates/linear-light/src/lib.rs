@@ -2,6 +2,7 @@
 
 mod cpu;
 mod eval;
+#[cfg(feature = "gpu")]
 mod gpu;
 mod params;
 mod samples;
@@ -12,20 +13,27 @@ mod tests;
 mod warp;
 
 pub use cpu::CpuLinearMaps;
+#[cfg(feature = "gpu")]
 pub use gpu::GpuLinearMaps;
+#[cfg(feature = "gpu")]
 pub use gpu::pipelines::{SHADERS, VISIBILITY};
 pub use params::{LinearLight, SAMPLE_RANGE};
 
 use segments::segments;
+#[cfg(feature = "gpu")]
+use soft_shadow_core::GpuContext;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::GpuScene;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::shader::VisibilityShader;
-use soft_shadow_core::{
-    Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
-};
+use soft_shadow_core::{Checked, CpuContext, Generation, Receivers, Result, ShadowTechnique};
 
 impl ShadowTechnique for LinearLight {
     type CpuMaps = cpu::CpuLinearMaps;
+    #[cfg(feature = "gpu")]
     type GpuMaps = gpu::GpuLinearMaps;
+    #[cfg(not(feature = "gpu"))]
+    type GpuMaps = soft_shadow_core::NoGpuMaps;
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuLinearMaps {
         let segs = segments(input.light, input.geometry);
@@ -40,6 +48,7 @@ impl ShadowTechnique for LinearLight {
         Ok(cpu::evaluate(self, maps, &receivers))
     }
 
+    #[cfg(feature = "gpu")]
     fn gpu_maps(
         &self,
         gpu: &GpuContext,
@@ -51,13 +60,16 @@ impl ShadowTechnique for LinearLight {
         gpu::generate(gpu, enc, self, scene, &input, &segs)
     }
 
+    #[cfg(feature = "gpu")]
     const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
+    #[cfg(feature = "gpu")]
     fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuLinearMaps) {
         gpu.recycle_texture(maps.depth);
         gpu.recycle_texture(maps.channel);
     }
 
+    #[cfg(feature = "gpu")]
     fn bind_maps(
         &self,
         gpu: &GpuContext,

@@ -27,7 +27,8 @@ use std::sync::Arc;
 /// Relative depth tolerance of a skin fragment against the destination's depth map.
 pub(crate) const SKIN_DEPTH_TOLERANCE: f32 = 1e-3;
 
-/// Where no skin covers a texel of [`warp`]'s output (changes lie in `[-1/2, 1/2]`).
+/// Where no skin covers a texel of the GPU warp's output (changes lie in `[-1/2, 1/2]`).
+#[cfg(feature = "gpu")]
 pub(crate) const NO_SKIN: f32 = -1.0;
 
 /// The fraction of the four bilinear taps around world point `p` in map `m` (linear depths
@@ -68,7 +69,7 @@ pub(crate) struct Source<'a> {
 
 /// Adds to `channel` (the `res`-wide map of `view` whose linear depths are `depth`) the change
 /// `(s v - s / 2) (1 - lit)` at each texel a skin covers; the others keep their value. (The GPU
-/// warps into a texture cleared to [`NO_SKIN`] and adds it where it holds a change, which is
+/// warps into a texture cleared to `NO_SKIN` and adds it where it holds a change, which is
 /// never `NO_SKIN`: the same sums.)
 pub(crate) fn warp(
     pool: &Arc<Pool>,

@@ -5,6 +5,7 @@ mod cpu;
 mod eval;
 mod filters;
 mod frame;
+#[cfg(feature = "gpu")]
 mod gpu;
 mod params;
 mod slicing;
@@ -12,21 +13,28 @@ mod slicing;
 mod tests;
 
 pub use cpu::CpuSliceMaps;
+#[cfg(feature = "gpu")]
 pub use gpu::GpuSliceMaps;
+#[cfg(feature = "gpu")]
 pub use gpu::pipelines::{SHADERS, VISIBILITY};
 pub use params::{
     Combination, DEFAULT_FADE_TEXELS, MAX_RESOLUTION, OcclusionSlices, Prefilter, SLICE_RANGE,
 };
 
+#[cfg(feature = "gpu")]
+use soft_shadow_core::GpuContext;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::GpuScene;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::shader::VisibilityShader;
-use soft_shadow_core::{
-    Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
-};
+use soft_shadow_core::{Checked, CpuContext, Generation, Receivers, Result, ShadowTechnique};
 
 impl ShadowTechnique for OcclusionSlices {
     type CpuMaps = cpu::CpuSliceMaps;
+    #[cfg(feature = "gpu")]
     type GpuMaps = gpu::GpuSliceMaps;
+    #[cfg(not(feature = "gpu"))]
+    type GpuMaps = soft_shadow_core::NoGpuMaps;
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuSliceMaps {
         cpu::generate(self, cpu, &input)
@@ -40,6 +48,7 @@ impl ShadowTechnique for OcclusionSlices {
         Ok(cpu::evaluate(self, maps, &receivers))
     }
 
+    #[cfg(feature = "gpu")]
     fn gpu_maps(
         &self,
         gpu: &GpuContext,
@@ -50,14 +59,17 @@ impl ShadowTechnique for OcclusionSlices {
         gpu::generate(gpu, enc, self, scene, &input)
     }
 
+    #[cfg(feature = "gpu")]
     const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
+    #[cfg(feature = "gpu")]
     fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuSliceMaps) {
         for t in [maps.occupancy, maps.sat, maps.filtered] {
             gpu.recycle_texture(t);
         }
     }
 
+    #[cfg(feature = "gpu")]
     fn bind_maps(
         &self,
         gpu: &GpuContext,

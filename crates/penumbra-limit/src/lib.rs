@@ -5,6 +5,7 @@ mod cpu;
 mod depth_image;
 mod eval;
 mod feature_transform;
+#[cfg(feature = "gpu")]
 mod gpu;
 mod params;
 mod silhouette;
@@ -16,24 +17,32 @@ mod visibility;
 mod warp;
 
 pub use cpu::CpuPenumbraMaps;
+#[cfg(feature = "gpu")]
 pub use gpu::GpuPenumbraMaps;
+#[cfg(feature = "gpu")]
 pub use gpu::pipelines::VISIBILITY;
 pub use params::{Generator, PenumbraLimit};
 pub use storage::{Storage, Texel};
 pub use table::{Profile, TABLE_SIZE_RANGE};
 
+#[cfg(feature = "gpu")]
+use soft_shadow_core::GpuContext;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::GpuScene;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::shader::VisibilityShader;
-use soft_shadow_core::{
-    Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
-};
+use soft_shadow_core::{Checked, CpuContext, Generation, Receivers, Result, ShadowTechnique};
 
+#[cfg(feature = "gpu")]
 pub use gpu::pipelines::SHADERS;
 pub use params::MAX_RESOLUTION;
 
 impl ShadowTechnique for PenumbraLimit {
     type CpuMaps = cpu::CpuPenumbraMaps;
+    #[cfg(feature = "gpu")]
     type GpuMaps = gpu::GpuPenumbraMaps;
+    #[cfg(not(feature = "gpu"))]
+    type GpuMaps = soft_shadow_core::NoGpuMaps;
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuPenumbraMaps {
         cpu::generate(self, cpu, &input)
@@ -47,6 +56,7 @@ impl ShadowTechnique for PenumbraLimit {
         Ok(cpu::evaluate(self, maps, &receivers))
     }
 
+    #[cfg(feature = "gpu")]
     fn gpu_maps(
         &self,
         gpu: &GpuContext,
@@ -57,12 +67,15 @@ impl ShadowTechnique for PenumbraLimit {
         gpu::generate(gpu, enc, self, scene, &input)
     }
 
+    #[cfg(feature = "gpu")]
     const VISIBILITY: &'static VisibilityShader = &gpu::pipelines::VISIBILITY;
 
+    #[cfg(feature = "gpu")]
     fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuPenumbraMaps) {
         gpu.recycle_texture(maps.map);
     }
 
+    #[cfg(feature = "gpu")]
     fn bind_maps(
         &self,
         gpu: &GpuContext,

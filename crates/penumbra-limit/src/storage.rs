@@ -36,6 +36,7 @@ impl Storage {
     }
 
     /// The wgpu format of the map texture.
+    #[cfg(feature = "gpu")]
     pub fn texture_format(self) -> wgpu::TextureFormat {
         match self {
             Storage::F32 => wgpu::TextureFormat::Rgba32Float,

@@ -66,4 +66,17 @@ impl SceneGeometry {
         }
         Ok(())
     }
+
+    /// Every surface once: the casters, then the receivers that are not also casters (compared
+    /// bit for bit). Techniques that follow an occluder edge to the surface behind it read these
+    /// (linear-light's skins); shadow tests read the casters only.
+    pub fn surfaces(&self) -> Vec<[Vec3; 3]> {
+        let key = |t: &[Vec3; 3]| t.map(|p| p.to_array().map(f32::to_bits));
+        let casters: std::collections::HashSet<_> = self.casters.iter().map(key).collect();
+        self.casters
+            .iter()
+            .chain(self.receivers.iter().filter(|t| !casters.contains(&key(t))))
+            .copied()
+            .collect()
+    }
 }

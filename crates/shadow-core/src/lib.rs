@@ -4,6 +4,10 @@ pub mod coverage;
 pub mod cpu;
 pub mod error;
 pub mod geometry;
+#[cfg(feature = "gpu")]
+pub mod gpu;
+#[cfg(not(feature = "gpu"))]
+#[path = "no_gpu.rs"]
 pub mod gpu;
 pub mod light;
 pub mod light_space;
@@ -30,8 +34,8 @@ pub use map2d::Map2D;
 pub use mesh::{Aabb, TriangleMesh};
 pub use receivers::Receivers;
 pub use technique::{
-    AnyMaps, Backend, Checked, Context, CostForm, DynTechnique, Generation, ShadowTechnique,
-    TechniqueInfo,
+    AnyMaps, Backend, Checked, Context, CostForm, DynTechnique, Generation, NoGpuMaps,
+    ShadowTechnique, TechniqueInfo,
 };
 pub use view::{Camera, View};
 pub use views::{LightViews, Region, SeenDepth, Uncovered, ViewMaps};

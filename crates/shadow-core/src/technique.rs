@@ -12,12 +12,29 @@ use crate::coverage::Coverage;
 use crate::cpu::CpuContext;
 use crate::error::{Result, ShadowError};
 use crate::geometry::SceneGeometry;
+use crate::gpu::GpuContext;
+#[cfg(feature = "gpu")]
+use crate::gpu::GpuScene;
+#[cfg(feature = "gpu")]
 use crate::gpu::shader::{self, VisibilityShader};
+#[cfg(feature = "gpu")]
 use crate::gpu::visibility::{self, ReceiverTextures};
-use crate::gpu::{GpuContext, GpuScene};
 use crate::light::{Light, LightKind};
 use crate::receivers::Receivers;
 use crate::views::{LightViews, Region, ViewMaps};
+
+/// The [`ShadowTechnique::GpuMaps`] of a technique type built without its GPU path (its crate's
+/// `gpu` feature off): no value of it exists.
+#[derive(Debug)]
+pub enum NoGpuMaps {}
+
+/// The error of a technique type built without its GPU path asked for GPU work.
+#[cfg(feature = "gpu")]
+fn no_gpu_path(technique: &str) -> ShadowError {
+    ShadowError::Gpu(format!(
+        "{technique} was built without its GPU path (its crate's `gpu` feature)"
+    ))
+}
 
 /// Largest map side the CPU paths accept (a 16384² f32 map is 1 GiB).
 pub const MAX_CPU_RESOLUTION: u32 = 16384;
@@ -329,35 +346,47 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
 
     /// The GPU generation: records the maps of one view of checked input into `enc` (nothing
     /// is submitted, mapped or uploaded beyond small parameter buffers).
+    #[cfg(feature = "gpu")]
+    ///
+    /// The default, for a technique type built without its GPU path (its crate's `gpu`
+    /// feature off while another crate turned this crate's on), is [`ShadowError::Gpu`].
     fn gpu_maps(
         &self,
-        gpu: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &GpuScene,
-        input: Checked<Generation<'_>>,
-    ) -> Result<Self::GpuMaps>;
+        _gpu: &GpuContext,
+        _enc: &mut wgpu::CommandEncoder,
+        _scene: &GpuScene,
+        _input: Checked<Generation<'_>>,
+    ) -> Result<Self::GpuMaps> {
+        Err(no_gpu_path(self.name()))
+    }
 
     /// The GPU evaluation: the WGSL module that defines
     /// `fn visibility(world_pos: vec3<f32>, normal: vec3<f32>) -> f32` (the same function as
     /// [`evaluate_cpu`](Self::evaluate_cpu) over one view's maps, with `normal` a unit normal
     /// facing the viewer) over the maps' bindings in `@group(#{MAPS_GROUP})`, and the layout of
     /// that group. It depends on the type only, not on the parameters (those reach it through
-    /// the bind group).
-    const VISIBILITY: &'static VisibilityShader;
+    /// the bind group). The default, for a technique type built without its GPU path, is
+    /// [`shader::NO_GPU_PATH`], which composes to nothing.
+    #[cfg(feature = "gpu")]
+    const VISIBILITY: &'static VisibilityShader = &shader::NO_GPU_PATH;
 
     /// A bind group of one view's `maps` (and these parameters) for `layout`, the layout of
     /// [`VISIBILITY`](Self::VISIBILITY)'s maps. Maps made with other parameters than these are
     /// [`ShadowError::MapsMismatch`].
+    #[cfg(feature = "gpu")]
     fn bind_maps(
         &self,
-        gpu: &GpuContext,
-        layout: &wgpu::BindGroupLayout,
-        maps: &Self::GpuMaps,
-    ) -> Result<wgpu::BindGroup>;
+        _gpu: &GpuContext,
+        _layout: &wgpu::BindGroupLayout,
+        _maps: &Self::GpuMaps,
+    ) -> Result<wgpu::BindGroup> {
+        Err(no_gpu_path(self.name()))
+    }
 
     /// Gives one view's `maps` textures and buffers back to `gpu`'s pool
     /// ([`crate::gpu::pool`]); [`recycle_gpu`](Self::recycle_gpu) calls it for every view.
-    fn recycle_maps(&self, gpu: &GpuContext, maps: Self::GpuMaps);
+    #[cfg(feature = "gpu")]
+    fn recycle_maps(&self, _gpu: &GpuContext, _maps: Self::GpuMaps) {}
 
     /// Builds the light-space maps on the CPU, in `cpu` (its pool and memory budget), for the
     /// views [`LightViews::plan`] chooses without a camera.
@@ -416,6 +445,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     /// submitted, mapped or uploaded beyond small parameter buffers), for the views
     /// [`LightViews::plan`] chooses without a camera: the maps hold their contents once the
     /// caller has submitted `enc`.
+    #[cfg(feature = "gpu")]
     fn record_gpu(
         &self,
         gpu: &GpuContext,
@@ -429,6 +459,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     }
 
     /// Records the generation of the maps of `views` into `enc`, one generation per view.
+    #[cfg(feature = "gpu")]
     fn record_gpu_in(
         &self,
         gpu: &GpuContext,
@@ -460,6 +491,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
 
     /// Builds the light-space maps on the GPU and waits: uploads `geometry`, plans the views
     /// without a camera, then [`generate_gpu_on`](Self::generate_gpu_on).
+    #[cfg(feature = "gpu")]
     fn generate_gpu(
         &self,
         gpu: &GpuContext,
@@ -474,6 +506,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
 
     /// Records [`record_gpu_in`](Self::record_gpu_in) into a fresh encoder, submits it and
     /// waits for the GPU.
+    #[cfg(feature = "gpu")]
     fn generate_gpu_on(
         &self,
         gpu: &GpuContext,
@@ -496,6 +529,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     /// already recorded with them still runs first). A renderer that recycles last frame's maps
     /// before recording the next allocates nothing per frame. Dropping the maps instead frees
     /// them.
+    #[cfg(feature = "gpu")]
     fn recycle_gpu(&self, gpu: &GpuContext, maps: ViewMaps<Self::GpuMaps>) {
         for m in maps.into_maps() {
             self.recycle_maps(gpu, m);
@@ -507,6 +541,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     /// [`visibility_wgsl`](Self::visibility_wgsl) names, to call `visibility()`, with the
     /// layout [`crate::gpu::visibility::pipelines`] holds for this type) and how a receiver
     /// picks the view.
+    #[cfg(feature = "gpu")]
     fn maps_bind_group(
         &self,
         gpu: &GpuContext,
@@ -525,6 +560,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     }
 
     /// Visibility per receiver from GPU maps, computed on the GPU and read back (blocking).
+    #[cfg(feature = "gpu")]
     fn evaluate_gpu(
         &self,
         gpu: &GpuContext,
@@ -545,13 +581,18 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     /// renderer's own shader. Its other top-level names carry naga_oil's module decoration; a
     /// renderer with its own naga_oil composer can import the module instead
     /// ([`crate::gpu::shader::Library::add_to`]).
+    #[cfg(feature = "gpu")]
     fn visibility_wgsl(group: u32) -> Result<String> {
+        if std::ptr::eq(Self::VISIBILITY, &shader::NO_GPU_PATH) {
+            return Err(no_gpu_path(std::any::type_name::<Self>()));
+        }
         flattened(Self::VISIBILITY, group)
     }
 
     /// Records the evaluation of every texel of the caller's G-buffer `target` into `enc`, with
     /// the maps bound by `maps_bind` (from [`maps_bind_group`](Self::maps_bind_group)): one
     /// pass per view, each adding the receivers it holds; no readback.
+    #[cfg(feature = "gpu")]
     fn record_visibility(
         &self,
         gpu: &GpuContext,
@@ -563,9 +604,11 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     }
 }
 
+#[cfg(feature = "gpu")]
 pub use visibility::MapsBinding;
 
 /// The evaluation pipelines of technique type `T` on `gpu`, built once.
+#[cfg(feature = "gpu")]
 fn pipelines<T: ShadowTechnique>(
     gpu: &GpuContext,
 ) -> std::sync::Arc<visibility::VisibilityPipelines> {
@@ -573,6 +616,7 @@ fn pipelines<T: ShadowTechnique>(
 }
 
 /// The technique's visibility module flattened to WGSL with its maps in `@group(group)`.
+#[cfg(feature = "gpu")]
 fn flattened(technique: &VisibilityShader, group: u32) -> Result<String> {
     let mut composer =
         shader::composer(technique.library, None).map_err(|e| ShadowError::Gpu(e.to_string()))?;
@@ -608,8 +652,10 @@ trait ErasedMaps: Send + Sync {
 }
 
 struct CpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::CpuMaps>);
+#[cfg(feature = "gpu")]
 struct GpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::GpuMaps>);
 
+#[cfg(feature = "gpu")]
 fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
     gpu.ok_or_else(|| {
         ShadowError::NoAdapter("GPU maps were evaluated without a GPU context".into())
@@ -653,6 +699,7 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
     fn recycle(self: Box<Self>, _: Option<&GpuContext>) {}
 }
 
+#[cfg(feature = "gpu")]
 impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
     fn backend(&self) -> Backend {
         Backend::Gpu
@@ -775,6 +822,7 @@ pub trait DynTechnique: TechniqueInfo {
     ) -> Result<AnyMaps>;
     /// GPU generation of `views` from a scene already on the GPU (nothing uploaded but
     /// parameters).
+    #[cfg(feature = "gpu")]
     fn generate_gpu_on(
         &self,
         gpu: &GpuContext,
@@ -784,8 +832,10 @@ pub trait DynTechnique: TechniqueInfo {
         resolution: u32,
     ) -> Result<AnyMaps>;
     /// See [`ShadowTechnique::visibility_wgsl`].
+    #[cfg(feature = "gpu")]
     fn visibility_wgsl(&self, group: u32) -> Result<String>;
     /// See [`ShadowTechnique::VISIBILITY`].
+    #[cfg(feature = "gpu")]
     fn visibility_shader(&self) -> &'static VisibilityShader;
 }
 
@@ -803,6 +853,7 @@ impl<T: ShadowTechnique> DynTechnique for T {
                 self.clone(),
                 self.generate_cpu_in(cpu, geometry, light, views, resolution)?,
             )),
+            #[cfg(feature = "gpu")]
             Context::Gpu(gpu) => {
                 let scene = GpuScene::new(gpu, geometry)?;
                 Box::new(GpuMapsOf(
@@ -810,8 +861,11 @@ impl<T: ShadowTechnique> DynTechnique for T {
                     ShadowTechnique::generate_gpu_on(self, gpu, &scene, light, views, resolution)?,
                 ))
             }
+            #[cfg(not(feature = "gpu"))]
+            Context::Gpu(gpu) => match *gpu {},
         }))
     }
+    #[cfg(feature = "gpu")]
     fn generate_gpu_on(
         &self,
         gpu: &GpuContext,
@@ -825,9 +879,11 @@ impl<T: ShadowTechnique> DynTechnique for T {
             ShadowTechnique::generate_gpu_on(self, gpu, scene, light, views, resolution)?,
         ))))
     }
+    #[cfg(feature = "gpu")]
     fn visibility_wgsl(&self, group: u32) -> Result<String> {
         T::visibility_wgsl(group)
     }
+    #[cfg(feature = "gpu")]
     fn visibility_shader(&self) -> &'static VisibilityShader {
         T::VISIBILITY
     }

@@ -1,18 +1,24 @@
 #![doc = include_str!("../README.md")]
 
 mod filters;
+#[cfg(feature = "gpu")]
 mod gpu;
 mod maps;
 
+#[cfg(feature = "gpu")]
 pub use gpu::{GpuShadowMaps, SHADERS, VISIBILITY};
 pub use maps::CpuShadowMaps;
 
+#[cfg(feature = "gpu")]
+use soft_shadow_core::GpuContext;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::GpuScene;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::light_space::sample_views;
 use soft_shadow_core::{
-    Bias, Checked, CpuContext, Generation, GpuContext, Light, LightKind, Receivers, Result,
-    ShadowError, ShadowTechnique, TechniqueInfo,
+    Bias, Checked, CpuContext, Generation, Light, LightKind, Receivers, Result, ShadowError,
+    ShadowTechnique, TechniqueInfo,
 };
 
 /// Which baseline filter.
@@ -185,7 +191,10 @@ impl TechniqueInfo for ShadowMapBaseline {
 
 impl ShadowTechnique for ShadowMapBaseline {
     type CpuMaps = CpuShadowMaps;
+    #[cfg(feature = "gpu")]
     type GpuMaps = gpu::GpuShadowMaps;
+    #[cfg(not(feature = "gpu"))]
+    type GpuMaps = soft_shadow_core::NoGpuMaps;
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> CpuShadowMaps {
         let views = self.views(&input);
@@ -213,6 +222,7 @@ impl ShadowTechnique for ShadowMapBaseline {
         Ok(filters::evaluate_cpu(&params, maps, &receivers))
     }
 
+    #[cfg(feature = "gpu")]
     fn gpu_maps(
         &self,
         gpu: &GpuContext,
@@ -232,12 +242,15 @@ impl ShadowTechnique for ShadowMapBaseline {
         )
     }
 
+    #[cfg(feature = "gpu")]
     const VISIBILITY: &'static VisibilityShader = &gpu::VISIBILITY;
 
+    #[cfg(feature = "gpu")]
     fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuShadowMaps) {
         gpu.recycle_texture(maps.texture);
     }
 
+    #[cfg(feature = "gpu")]
     fn bind_maps(
         &self,
         gpu: &GpuContext,

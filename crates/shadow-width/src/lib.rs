@@ -3,7 +3,9 @@
 mod attenuation;
 mod cpu;
 mod eval;
+#[cfg(feature = "gpu")]
 mod gpu;
+#[cfg(feature = "gpu")]
 mod gpu_jump_flood;
 mod jump_flood;
 mod occlusion;
@@ -14,18 +16,24 @@ mod width;
 
 pub use attenuation::{Falloff, FalloffKind, TABLE_SIZE_RANGE};
 pub use cpu::CpuWidthMaps;
+#[cfg(feature = "gpu")]
 pub use gpu::{GpuWidthMaps, SHADERS, VISIBILITY};
 pub use params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
 
+#[cfg(feature = "gpu")]
+use soft_shadow_core::GpuContext;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::GpuScene;
+#[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::shader::VisibilityShader;
-use soft_shadow_core::{
-    Checked, CpuContext, Generation, GpuContext, Receivers, Result, ShadowTechnique,
-};
+use soft_shadow_core::{Checked, CpuContext, Generation, Receivers, Result, ShadowTechnique};
 
 impl ShadowTechnique for ShadowWidth {
     type CpuMaps = cpu::CpuWidthMaps;
+    #[cfg(feature = "gpu")]
     type GpuMaps = gpu::GpuWidthMaps;
+    #[cfg(not(feature = "gpu"))]
+    type GpuMaps = soft_shadow_core::NoGpuMaps;
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> cpu::CpuWidthMaps {
         cpu::generate(self, cpu, &input)
@@ -39,6 +47,7 @@ impl ShadowTechnique for ShadowWidth {
         Ok(cpu::evaluate(self, maps, &receivers))
     }
 
+    #[cfg(feature = "gpu")]
     fn gpu_maps(
         &self,
         gpu: &GpuContext,
@@ -49,13 +58,16 @@ impl ShadowTechnique for ShadowWidth {
         gpu::generate(gpu, enc, self, scene, &input)
     }
 
+    #[cfg(feature = "gpu")]
     const VISIBILITY: &'static VisibilityShader = &gpu::VISIBILITY;
 
+    #[cfg(feature = "gpu")]
     fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuWidthMaps) {
         gpu.recycle_texture(maps.depth);
         gpu.recycle_buffer(maps.width);
     }
 
+    #[cfg(feature = "gpu")]
     fn bind_maps(
         &self,
         gpu: &GpuContext,

@@ -101,24 +101,29 @@ fn the_readme_commands_share_one_build() {
     );
 }
 
+/// The technique crates.
+const TECHNIQUE_CRATES: [&str; 5] = [
+    "shadow-maps",
+    "occlusion-slices",
+    "penumbra-limit",
+    "shadow-width",
+    "linear-light",
+];
+
+/// A technique crate with its default features builds wgpu with no backend (the application
+/// that makes the device chooses them) and none of the harness's weight; for the CPU alone
+/// (`--no-default-features --features cpu`) it builds no wgpu, naga or naga_oil either.
 #[test]
 fn technique_crates_without_default_features_stay_light() {
-    for krate in [
-        "shadow-maps",
-        "occlusion-slices",
-        "penumbra-limit",
-        "shadow-width",
-        "linear-light",
-    ] {
-        let tree = cargo_tree(&["--no-default-features", "-e", "normal", "-p", krate]).join("\n");
+    for krate in TECHNIQUE_CRATES {
+        let tree = cargo_tree(&["-e", "normal", "-p", krate]).join("\n");
         for heavy in ["bevy_ecs", "gltf", "clap", "plotters", "obvhs"] {
             assert!(
                 !tree.contains(&format!("{heavy} v")),
-                "{krate} without default features depends on {heavy}:\n{tree}"
+                "{krate} with its default features depends on {heavy}:\n{tree}"
             );
         }
         assert!(tree.contains("wgpu v"), "{krate}: {tree}");
-        // The application that makes the device chooses wgpu's backends, not a library.
         let wgpu = features(&["-p", krate, "-e", "normal"])
             .into_iter()
             .find(|(p, _)| p.starts_with("wgpu v"))
@@ -130,5 +135,47 @@ fn technique_crates_without_default_features_stay_light() {
                 "{krate} turns on wgpu's {backend}: {wgpu:?}"
             );
         }
+        let cpu = cargo_tree(&[
+            "--no-default-features",
+            "--features",
+            "cpu",
+            "-e",
+            "normal",
+            "-p",
+            krate,
+        ])
+        .join("\n");
+        for gpu in ["wgpu", "naga", "naga_oil", "pollster", "bevy_ecs"] {
+            assert!(
+                !cpu.contains(&format!(" {gpu} v")) && !cpu.starts_with(&format!("{gpu} v")),
+                "{krate} for the CPU alone depends on {gpu}:\n{cpu}"
+            );
+        }
     }
+}
+
+/// The CPU-only build of every technique crate compiles (`cargo check`, in a target folder of
+/// its own so the workspace's artifacts are left alone), without a warning.
+#[test]
+fn technique_crates_build_for_the_cpu_alone() {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let mut args = vec!["check", "--offline", "--no-default-features", "--features"];
+    let features = TECHNIQUE_CRATES.map(|k| format!("{k}/cpu")).join(",");
+    args.push(&features);
+    for krate in TECHNIQUE_CRATES {
+        args.extend(["-p", krate]);
+    }
+    let out = Command::new(&cargo)
+        .args(&args)
+        .env("CARGO_TARGET_DIR", format!("{root}/target/cpu-only"))
+        .env("RUSTFLAGS", "-D warnings")
+        .current_dir(root)
+        .output()
+        .expect("cargo runs");
+    assert!(
+        out.status.success(),
+        "cargo {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

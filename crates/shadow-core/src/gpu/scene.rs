@@ -4,7 +4,6 @@ use super::GpuContext;
 use super::raster::GpuTriangles;
 use crate::error::Result;
 use crate::geometry::SceneGeometry;
-use glam::Vec3;
 use std::any::{Any, TypeId};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -82,20 +81,5 @@ impl GpuScene {
         self.derived(ctx, |c, g| {
             Ok(GpuSurfaces(GpuTriangles::new(c, &g.surfaces())?))
         })
-    }
-}
-
-impl SceneGeometry {
-    /// Every surface once: the casters, then the receivers that are not also casters (compared
-    /// bit for bit). Techniques that follow an occluder edge to the surface behind it read these
-    /// (linear-light's skins); shadow tests read the casters only.
-    pub fn surfaces(&self) -> Vec<[Vec3; 3]> {
-        let key = |t: &[Vec3; 3]| t.map(|p| p.to_array().map(f32::to_bits));
-        let casters: std::collections::HashSet<_> = self.casters.iter().map(key).collect();
-        self.casters
-            .iter()
-            .chain(self.receivers.iter().filter(|t| !casters.contains(&key(t))))
-            .copied()
-            .collect()
     }
 }

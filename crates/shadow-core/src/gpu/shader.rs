@@ -612,3 +612,20 @@ pub static SHADERS: Library = Library {
     depends: &[],
     programs: &[&super::raster::PROGRAM],
 };
+
+/// The library of [`NO_GPU_PATH`]: no modules.
+static NO_MODULES: Library = Library {
+    name: "none",
+    modules: &[],
+    depends: &[],
+    programs: &[],
+};
+
+/// The [`ShadowTechnique::VISIBILITY`](crate::ShadowTechnique::VISIBILITY) of a technique type
+/// built without its GPU path: a module that does not exist. The trait's GPU entry points
+/// answer [`ShadowError::Gpu`](crate::ShadowError::Gpu) for such a type before using it.
+pub static NO_GPU_PATH: VisibilityShader = VisibilityShader {
+    library: &NO_MODULES,
+    module: "none",
+    maps: Group::compute(&[]),
+};

@@ -2,6 +2,7 @@
 
 mod bias;
 mod casting;
+mod cpu_only;
 mod light_sampling;
 mod rasterizer;
 mod view_fit;
