@@ -1,7 +1,8 @@
 //! The baselines on the GPU: depth maps rendered by `soft_shadow_core`'s rasterizer into one
 //! reversed-Z texture array, filters evaluated by `visibility()` in `visibility.wgsl`.
 
-use crate::filters::{EvalParams, Stratum, texel_strata};
+use crate::filters::EvalParams;
+use crate::strata::{Stratum, texel_strata};
 use glam::Vec3;
 use soft_shadow_core::gpu::compute::{bind_group, depth_array_view};
 use soft_shadow_core::gpu::shader::{
@@ -20,7 +21,7 @@ pub struct GpuShadowMaps {
     pub(crate) resolution: u32,
     /// [`soft_shadow_core::Light::size`] of the light.
     pub(crate) light_size: f32,
-    /// Each sample's cell in texels ([`crate::filters::texel_strata`]).
+    /// Each sample's cell in texels ([`crate::strata::texel_strata`]).
     pub(crate) strata: Vec<Stratum>,
 }
 

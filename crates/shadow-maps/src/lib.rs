@@ -4,6 +4,7 @@ mod filters;
 #[cfg(feature = "gpu")]
 mod gpu;
 mod maps;
+mod strata;
 
 #[cfg(feature = "gpu")]
 pub use gpu::{GpuShadowMaps, SHADERS, VISIBILITY};

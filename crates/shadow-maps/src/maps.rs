@@ -1,6 +1,6 @@
 //! Light-space depth maps of the baselines, one per light sample, rendered on the CPU.
 
-use crate::filters::{Stratum, texel_strata};
+use crate::strata::{Stratum, texel_strata};
 use glam::Vec3;
 use soft_shadow_core::raster::depth_map;
 use soft_shadow_core::{CpuContext, Light, Map2D, SampleView};
@@ -15,7 +15,7 @@ pub struct CpuShadowMaps {
     pub(crate) resolution: u32,
     /// [`soft_shadow_core::Light::size`] of the light.
     pub(crate) light_size: f32,
-    /// Each sample's cell in texels ([`crate::filters::texel_strata`]).
+    /// Each sample's cell in texels ([`crate::strata::texel_strata`]).
     pub(crate) strata: Vec<Stratum>,
 }
 

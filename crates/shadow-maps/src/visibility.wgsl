@@ -2,7 +2,7 @@
 #import soft_shadow_core::light_space::{Bias, Coord, MapView, above_horizon, linear_from_ndc, receiver_plane_depth, shadow_coord}
 
 // Baseline shadow-map filters (hard, PCF, PCSS, accumulation) over reversed-Z depth maps.
-// Mirrors filters.rs line for line.
+// Mirrors filters.rs (and strata.rs for the rotated pattern) line for line.
 
 struct Params {
     map_count: u32,
@@ -20,7 +20,7 @@ struct Params {
 @group(#{MAPS_GROUP}) @binding(1) var<storage, read> views: array<MapView>;
 @group(#{MAPS_GROUP}) @binding(2) var depth_maps: texture_depth_2d_array;
 // Per map: the texels the lookup moves per unit of `parallax` for the 8 points of a 3 x 3 grid
-// over the sample's cell other than its centre, two points a vec4 (filters.rs `Stratum`).
+// over the sample's cell other than its centre, two points a vec4 (strata.rs `Stratum`).
 struct Stratum {
     a: vec4<f32>,
     b: vec4<f32>,
@@ -110,7 +110,7 @@ fn lagrange(t: f32) -> vec3<f32> {
     return vec3<f32>(0.5 * s * (s - 1.0), 1.0 - s * s, 0.5 * s * (s + 1.0));
 }
 
-// The quadratic through map `k`'s stratum at `cell` (filters.rs `moved`).
+// The quadratic through map `k`'s stratum at `cell` (strata.rs `moved`).
 fn moved(k: u32, cell: vec2<f32>) -> vec2<f32> {
     let wx = lagrange(cell.x);
     let wy = lagrange(cell.y);
