@@ -151,7 +151,7 @@ fn visibility(
                 let v = match shadow_coord(m, &prm.bias, p, n) {
                     None => 1.0,
                     Some(c) if prm.rotated == 1 => {
-                        let step = moved(&maps.strata[k], cell_point(p, k as u32));
+                        let step = moved(&maps.strata[k], cell_point(p, k as u32), c.st);
                         rotated(&maps.maps[k], m, prm, &c, step)
                     }
                     Some(c) => lit(&maps.maps[k], &c, Vec2::ZERO),

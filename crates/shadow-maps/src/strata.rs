@@ -2,17 +2,45 @@
 //! receiver's point of a light sample's cell lies, and how far a move across the cell moves
 //! the lookup in the sample's map. `visibility.wgsl` repeats `cell_point` and `moved`.
 
+use bytemuck::{Pod, Zeroable};
 use glam::{UVec2, Vec2, Vec3, Vec4};
 use soft_shadow_core::{Light, LightPoint, SampleView};
 
 /// Where a sample's map is read when the sample moves across its cell (see
-/// [`SamplePattern::Rotated`]), per unit of the parallax factor the parallax factor (`filters::parallax`): the texel change
-/// of the point where the moved sample's ray crosses a given depth, at the 8 points of a 3 x 3
-/// grid over the cell other than its centre (rows `-1/2, 0, 1/2` of the cell's second axis,
-/// each over the same of its first), interpolated quadratically between them ([`moved`]):
-/// exact for a cell the light's sample map bends into an arc (a distant light's polar cells).
-/// Laid out as 4 `vec4` per map in `visibility.wgsl`.
-pub(crate) type Stratum = [[f32; 4]; 4];
+/// [`crate::SamplePattern::Rotated`]), per unit of the parallax factor (`filters::parallax`),
+/// at the 8 points of a 3 x 3 grid over the cell other than its centre (rows `-1/2, 0, 1/2` of
+/// the cell's second axis, each over the same of its first), interpolated quadratically
+/// between them ([`moved`]), which follows the arcs a distant light's polar cells bend into
+/// (0.016 off a closed form where a linearised cell was 0.049 off).
+///
+/// A perspective map's lookup moves by the move across the map's axis, less the move along it
+/// times the receiver's offset from the principal point (the shift of the point where the
+/// moved sample's ray crosses a depth is `g (d_across - d_along Y)`, `Y` the receiver's
+/// tangent-plane position): the second term matters for a segment or a cell tilted towards
+/// the axis. Laid out as `Stratum` in `visibility.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub(crate) struct Stratum {
+    /// Texels per unit of parallax of the move across the axis, two points a `vec4`.
+    shifts: [[f32; 4]; 4],
+    /// The move along the axis (depth units; zero for an orthographic map), four points a
+    /// `vec4`.
+    along: [[f32; 4]; 2],
+    /// The principal point in texels (`x, y`; the rest padding).
+    centre: [f32; 4],
+}
+
+/// The 8 points of the 3 x 3 grid over a cell other than its centre, in [`Stratum`]'s order.
+const NODES: [(f32, f32); 8] = [
+    (-0.5, -0.5),
+    (0.0, -0.5),
+    (0.5, -0.5),
+    (-0.5, 0.0),
+    (0.5, 0.0),
+    (-0.5, 0.5),
+    (0.0, 0.5),
+    (0.5, 0.5),
+];
 
 /// Every view's [`Stratum`] for `light` sampled as seen from `receiver` (the views' coverage
 /// centre, as [`soft_shadow_core::light_space::sample_views`] samples it).
@@ -32,69 +60,68 @@ pub(crate) fn texel_strata(
             let m = v.params(resolution);
             let forward = Vec4::from(m.depth_row).truncate();
             let st = |q: Vec3| m.project(q).map_or(Vec2::ZERO, |s| s.truncate());
-            // The texel change per unit of parallax of moving the sample by `d`, linearised.
-            let along = |d: Vec3| -> Vec2 {
+            // At unit depth in front of the eye (perspective maps).
+            let ahead = v.light.truncate() + forward / forward.length_squared();
+            // The texel change per unit of parallax of moving the sample by `d` across the
+            // axis, linearised, and the move along it.
+            let moves = |d: Vec3| -> (Vec2, f32) {
                 if m.ortho == 1 {
                     // One unit of depth towards the light, along the direction moved by `t d`.
                     let reach = |t: f32| {
                         let dir = v.light.truncate() + t * d;
                         dir * (-1.0 / forward.dot(dir))
                     };
-                    (st(reach(0.01)) - st(reach(-0.01))) / 0.02
+                    ((st(reach(0.01)) - st(reach(-0.01))) / 0.02, 0.0)
                 } else {
-                    // At unit depth in front of the eye, moved by `t d`.
-                    let ahead = v.light.truncate() + forward / forward.length_squared();
-                    (st(ahead + 0.01 * d) - st(ahead - 0.01 * d)) / 0.02
+                    let along = forward.dot(d) / forward.length_squared();
+                    let across = d - along * forward;
+                    (
+                        (st(ahead + 0.01 * across) - st(ahead - 0.01 * across)) / 0.02,
+                        along,
+                    )
                 }
             };
             let [centre, size] = v.cell;
-            let mut shifts = [Vec2::ZERO; 8];
+            let mut out = Stratum::default();
+            if m.ortho == 0 {
+                let c = st(ahead);
+                out.centre = [c.x, c.y, 0.0, 0.0];
+            }
             if size != Vec2::ZERO {
                 let origin = point(centre);
-                let mut k = 0;
-                for j in [-0.5f32, 0.0, 0.5] {
-                    for i in [-0.5f32, 0.0, 0.5] {
-                        if i == 0.0 && j == 0.0 {
-                            continue;
-                        }
-                        shifts[k] = along(point(centre + Vec2::new(i, j) * size) - origin);
-                        k += 1;
-                    }
+                for (k, (i, j)) in NODES.into_iter().enumerate() {
+                    let (shift, along) = moves(point(centre + Vec2::new(i, j) * size) - origin);
+                    out.shifts[k / 2][2 * (k % 2)] = shift.x;
+                    out.shifts[k / 2][2 * (k % 2) + 1] = shift.y;
+                    out.along[k / 4][k % 4] = along;
                 }
             }
-            let s = shifts.map(|v| v.to_array()).concat();
-            [0, 4, 8, 12].map(|i| [s[i], s[i + 1], s[i + 2], s[i + 3]])
+            out
         })
         .collect()
 }
 
 /// The texel change per unit of parallax for the point `cell` (in `[-1/2, 1/2)²`) of a sample's
-/// cell: the quadratic through the [`Stratum`]'s 3 x 3 points (`moved` in WGSL).
-pub(crate) fn moved(stratum: &Stratum, cell: Vec2) -> Vec2 {
+/// cell, read by a receiver at texel `st`: the quadratic through the [`Stratum`]'s 3 x 3 points
+/// (`moved` in WGSL, summed in the same order).
+pub(crate) fn moved(stratum: &Stratum, cell: Vec2, st: Vec2) -> Vec2 {
     // Lagrange weights of the nodes -1/2, 0, 1/2 at 2 * cell.
     let weights = |t: f32| {
         let s = 2.0 * t;
-        [0.5 * s * (s - 1.0), 1.0 - s * s, 0.5 * s * (s + 1.0)]
+        Vec3::new(0.5 * s * (s - 1.0), 1.0 - s * s, 0.5 * s * (s + 1.0))
     };
     let (wx, wy) = (weights(cell.x), weights(cell.y));
-    let mut sum = Vec2::ZERO;
-    let mut k = 0;
-    for (j, wj) in wy.iter().enumerate() {
-        for (i, wi) in wx.iter().enumerate() {
-            if i == 1 && j == 1 {
-                continue;
-            }
-            let [a, b, c, d] = stratum[k / 2];
-            let p = if k % 2 == 0 {
-                Vec2::new(a, b)
-            } else {
-                Vec2::new(c, d)
-            };
-            sum += p * (wi * wj);
-            k += 1;
-        }
-    }
-    sum
+    let [a, b, c, d] = stratum.shifts.map(Vec4::from);
+    let (xy, zw) = (|v: Vec4| Vec2::new(v.x, v.y), |v: Vec4| Vec2::new(v.z, v.w));
+    let across = wy.x * (wx.x * xy(a) + wx.y * zw(a) + wx.z * xy(b))
+        + wy.y * (wx.x * zw(b) + wx.z * xy(c))
+        + wy.z * (wx.x * zw(c) + wx.y * xy(d) + wx.z * zw(d));
+    let [p, q] = stratum.along.map(Vec4::from);
+    let along = wy.x * (wx.x * p.x + wx.y * p.y + wx.z * p.z)
+        + wy.y * (wx.x * p.w + wx.z * q.x)
+        + wy.z * (wx.x * q.y + wx.y * q.z + wx.z * q.w);
+    let centre = Vec2::new(stratum.centre[0], stratum.centre[1]);
+    across - along * (st - centre)
 }
 
 /// A receiver's point in each sample's cell, in `[-1/2, 1/2)²`: one hash of the receiver's

@@ -20,12 +20,17 @@ struct Params {
 @group(#{MAPS_GROUP}) @binding(1) var<storage, read> views: array<MapView>;
 @group(#{MAPS_GROUP}) @binding(2) var depth_maps: texture_depth_2d_array;
 // Per map: the texels the lookup moves per unit of `parallax` for the 8 points of a 3 x 3 grid
-// over the sample's cell other than its centre, two points a vec4 (strata.rs `Stratum`).
+// over the sample's cell other than its centre, two points a vec4 (a to d), the sample's move
+// along the map's axis at the same points, four a vec4 (za, zb), and the principal point
+// (strata.rs `Stratum`).
 struct Stratum {
     a: vec4<f32>,
     b: vec4<f32>,
     c: vec4<f32>,
     d: vec4<f32>,
+    za: vec4<f32>,
+    zb: vec4<f32>,
+    centre: vec4<f32>,
 };
 @group(#{MAPS_GROUP}) @binding(3) var<storage, read> strata: array<Stratum>;
 
@@ -110,18 +115,19 @@ fn lagrange(t: f32) -> vec3<f32> {
     return vec3<f32>(0.5 * s * (s - 1.0), 1.0 - s * s, 0.5 * s * (s + 1.0));
 }
 
-// The quadratic through map `k`'s stratum at `cell` (strata.rs `moved`).
-fn moved(k: u32, cell: vec2<f32>) -> vec2<f32> {
+// The quadratic through map `k`'s stratum at `cell`, for a receiver at texel `st` (strata.rs
+// `moved`).
+fn moved(k: u32, cell: vec2<f32>, st: vec2<f32>) -> vec2<f32> {
     let wx = lagrange(cell.x);
     let wy = lagrange(cell.y);
     let s = strata[k];
-    let a = s.a;
-    let b = s.b;
-    let c = s.c;
-    let d = s.d;
-    return wy.x * (wx.x * a.xy + wx.y * a.zw + wx.z * b.xy)
-        + wy.y * (wx.x * b.zw + wx.z * c.xy)
-        + wy.z * (wx.x * c.zw + wx.y * d.xy + wx.z * d.zw);
+    let across = wy.x * (wx.x * s.a.xy + wx.y * s.a.zw + wx.z * s.b.xy)
+        + wy.y * (wx.x * s.b.zw + wx.z * s.c.xy)
+        + wy.z * (wx.x * s.c.zw + wx.y * s.d.xy + wx.z * s.d.zw);
+    let along = wy.x * (wx.x * s.za.x + wx.y * s.za.y + wx.z * s.za.z)
+        + wy.y * (wx.x * s.za.w + wx.z * s.zb.x)
+        + wy.z * (wx.x * s.zb.y + wx.y * s.zb.z + wx.z * s.zb.w);
+    return across - along * (st - s.centre.xy);
 }
 
 fn capped(d: vec2<f32>) -> vec2<f32> {
@@ -156,7 +162,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
             var v = 1.0;
             if c.inside {
                 if prm.rotated == 1u {
-                    v = rotated(m, k, c, moved(k, cell_point(p, k)));
+                    v = rotated(m, k, c, moved(k, cell_point(p, k), c.st));
                 } else {
                     v = lit(m, k, c, vec2<f32>(0.0));
                 }
