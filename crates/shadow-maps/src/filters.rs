@@ -113,8 +113,8 @@ fn parallax(m: &MapParams, z_block: f32, z_recv: f32) -> f32 {
     g.max(0.0)
 }
 
-/// Visibility of the light sample of map `k` moved to `cell` of its cell (see
-/// [`SamplePattern::Rotated`]): the occluder's depth from the centre tap, or, where that is lit,
+/// Visibility of a light sample moved across its cell (see [`SamplePattern::Rotated`]), its map
+/// read through `step`, the lookup's move per unit of parallax (`strata::moved`): the occluder's depth from the centre tap, or, where that is lit,
 /// from a tap as far as an occluder at the near plane would move the lookup; then the map at
 /// the moved sample's lookup for that depth.
 fn rotated(map: &Map2D<f32>, m: &MapParams, prm: &EvalParams, c: &ShadowCoord, step: Vec2) -> f32 {

@@ -54,9 +54,12 @@ pub enum SamplePattern {
     /// Each receiver moves every sample to its own point of the sample's cell, the grid's
     /// pattern rotated (Cranley-Patterson) by a hash of the receiver's position: the steps of
     /// [`Grid`](Self::Grid) become noise, each receiver's expected visibility being that of the
-    /// whole light. The map of each sample is read where the moved sample's ray meets its
-    /// occluder, found by a parallax step (one or two more taps a sample); exact for a planar
-    /// occluder, an estimate where occluders overlap within a cell's parallax.
+    /// cells the samples stand for (the whole light where `samples` fills the grid: a square,
+    /// or `n (n + 1)`). The map of each sample is read where the moved sample's ray meets its
+    /// occluder, found by a parallax step (one or two more taps a sample): the occluder's depth
+    /// from the centre tap or from one probe as far as an occluder at the near plane would
+    /// move the lookup; exact for an occluder at one depth whose edge that probe reaches, an
+    /// estimate where thin or overlapping occluders lie between.
     Rotated,
 }
 

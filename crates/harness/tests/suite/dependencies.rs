@@ -114,7 +114,7 @@ const TECHNIQUE_CRATES: [&str; 5] = [
 /// that makes the device chooses them) and none of the harness's weight; for the CPU alone
 /// (`--no-default-features --features cpu`) it builds no wgpu, naga or naga_oil either.
 #[test]
-fn technique_crates_without_default_features_stay_light() {
+fn technique_crates_stay_light_with_and_without_the_gpu() {
     for krate in TECHNIQUE_CRATES {
         let tree = cargo_tree(&["-e", "normal", "-p", krate]).join("\n");
         for heavy in ["bevy_ecs", "gltf", "clap", "plotters", "obvhs"] {

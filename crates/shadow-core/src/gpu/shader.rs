@@ -622,8 +622,11 @@ static NO_MODULES: Library = Library {
 };
 
 /// The [`ShadowTechnique::VISIBILITY`](crate::ShadowTechnique::VISIBILITY) of a technique type
-/// built without its GPU path: a module that does not exist. The trait's GPU entry points
-/// answer [`ShadowError::Gpu`](crate::ShadowError::Gpu) for such a type before using it.
+/// built without its GPU path: a module that does not exist. Such a type's generation answers
+/// [`ShadowError::Gpu`](crate::ShadowError::Gpu) (so no maps of it reach an evaluation) and so
+/// does its `visibility_wgsl`; composing it directly
+/// ([`visibility::pipelines`](crate::gpu::visibility::pipelines)) fails as any unknown module
+/// does.
 pub static NO_GPU_PATH: VisibilityShader = VisibilityShader {
     library: &NO_MODULES,
     module: "none",

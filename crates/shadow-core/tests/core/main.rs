@@ -2,6 +2,7 @@
 
 mod bias;
 mod casting;
+#[cfg(feature = "gpu")]
 mod cpu_only;
 mod light_sampling;
 mod rasterizer;
