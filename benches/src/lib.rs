@@ -5,7 +5,7 @@
 use criterion::measurement::Measurement;
 use criterion::{Bencher, BenchmarkGroup, SamplingMode};
 use harness::report::all_techniques;
-use soft_shadow_core::{DynTechnique, GpuContext, Result, SceneGeometry};
+use soft_shadow_core::{GpuContext, Result, SceneGeometry};
 use soft_shadow_reference::scenes::SceneSpec;
 use soft_shadow_reference::scenes::catalogue::build;
 use std::time::{Duration, Instant};
@@ -26,7 +26,7 @@ pub fn bench_scene(technique: &str) -> &'static str {
 /// One benched configuration: a technique variant and its scene.
 pub struct Config {
     /// The technique.
-    pub technique: Box<dyn DynTechnique>,
+    pub technique: soft_shadow_core::Technique,
     /// Its scene.
     pub spec: SceneSpec,
     /// The scene's flattened geometry.

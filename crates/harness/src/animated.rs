@@ -14,15 +14,9 @@ use soft_shadow_core::{Camera, DynTechnique, Light, Map2D, Result};
 use soft_shadow_reference::scenes::shapes::{cuboid, ground, torus};
 use std::sync::Arc;
 
-/// A frame pipeline with every technique crate and the baselines registered.
+/// A frame pipeline with every technique of `soft_shadow_techniques::registry()` registered.
 pub fn pipeline() -> FramePipeline {
-    let mut p = FramePipeline::new();
-    shadow_maps::add_to(&mut p);
-    occlusion_slices::add_to(&mut p);
-    linear_light::add_to(&mut p);
-    penumbra_limit::add_to(&mut p);
-    shadow_width::add_to(&mut p);
-    p
+    FramePipeline::new().with_registry(&soft_shadow_techniques::registry())
 }
 
 /// The scene, its light entities, the moving caster and the camera G-buffer its receivers come

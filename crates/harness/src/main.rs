@@ -183,6 +183,7 @@ fn main() -> ExitCode {
                 out: out.clone(),
                 scenes,
                 techniques,
+                registry: soft_shadow_techniques::registry(),
                 resolutions,
                 backend: match backend {
                     BackendArg::Cpu => BackendChoice::Cpu,

@@ -26,7 +26,9 @@ use soft_shadow_core::GpuContext;
 use soft_shadow_core::gpu::GpuScene;
 #[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::shader::VisibilityShader;
-use soft_shadow_core::{Checked, CpuContext, Generation, Receivers, Result, ShadowTechnique};
+use soft_shadow_core::{
+    Checked, CpuContext, Family, Generation, Receivers, Result, ShadowTechnique, Tier,
+};
 
 impl ShadowTechnique for LinearLight {
     type CpuMaps = cpu::CpuLinearMaps;
@@ -80,15 +82,12 @@ impl ShadowTechnique for LinearLight {
     }
 }
 
-/// Registers this technique with a frame pipeline: its system set (which runs only while a
-/// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
-#[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
-    frame.add_technique(
-        "linear-light",
-        LinearLight::standard_set()
-            .into_iter()
-            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn soft_shadow_core::DynTechnique>)
-            .collect(),
-    );
+/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the
+/// default (the paper's 3 samples, `LinearLight::new(3)`) first, then [`LinearLight::standard_set`], all run by the
+/// quick report and wider ([`Tier::Quick`]).
+pub fn families() -> Vec<Family> {
+    vec![
+        Family::new(LinearLight::new(3), Tier::Quick)
+            .with_all(LinearLight::standard_set(), Tier::Quick),
+    ]
 }

@@ -1,6 +1,8 @@
 //! The technique's parameters and their validation.
 
-use soft_shadow_core::{Bias, Light, LightKind, Result, ShadowError, TechniqueInfo};
+use soft_shadow_core::{
+    Backend, Bias, DeviceLimits, Light, LightKind, Result, ShadowError, TechniqueInfo,
+};
 
 /// Fewest and most point samples along the segment.
 pub const SAMPLE_RANGE: std::ops::RangeInclusive<u32> = 2..=64;
@@ -83,6 +85,17 @@ impl TechniqueInfo for LinearLight {
     /// Segment lights, and triangles as three of them.
     fn models(&self, kind: LightKind) -> bool {
         matches!(kind, LightKind::Linear | LightKind::Triangle)
+    }
+
+    /// On the GPU, also a side whose skin list (one `u32` per quad, `(side - 1)²`) one storage
+    /// buffer binding holds.
+    fn max_resolution(&self, backend: Backend, device: DeviceLimits) -> u32 {
+        match backend {
+            Backend::Cpu => soft_shadow_core::technique::MAX_CPU_RESOLUTION,
+            Backend::Gpu => device
+                .max_texture_side
+                .min(device.storage_side(4).saturating_add(1)),
+        }
     }
 
     /// Checks every parameter; the error names the first bad one.

@@ -1,42 +1,9 @@
 //! The technique's parameters and their validation.
 
-use soft_shadow_core::{Backend, Light, LightKind, Result, ShadowError, TechniqueInfo};
-
-/// How an occlusion texture is box-filtered (section 3.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum Prefilter {
-    /// A mipmap pyramid (dyadic 2x2 means), read trilinearly at the kernel's level.
-    Mipmap,
-    /// N-Buffers: level `l` holds the normalised `2^l x 2^l` box filter at full resolution; a
-    /// kernel between two levels interpolates linearly in its size.
-    NBuffer,
-    /// A summed-area table of integer counts: the exact box filter of the binary slice.
-    Sat,
-}
-
-impl Prefilter {
-    /// Every filter.
-    pub const ALL: [Prefilter; 3] = [Prefilter::Mipmap, Prefilter::NBuffer, Prefilter::Sat];
-
-    /// Short name used in variant labels.
-    pub fn name(self) -> &'static str {
-        match self {
-            Prefilter::Mipmap => "mipmap",
-            Prefilter::NBuffer => "nbuffer",
-            Prefilter::Sat => "sat",
-        }
-    }
-
-    /// Index shared with the shaders (`FILTER_*` in `frame.wgsl`).
-    pub fn index(self) -> u32 {
-        match self {
-            Prefilter::Mipmap => 0,
-            Prefilter::NBuffer => 1,
-            Prefilter::Sat => 2,
-        }
-    }
-}
+pub use crate::filters::Prefilter;
+use soft_shadow_core::{
+    Backend, DeviceLimits, Light, LightKind, Result, ShadowError, TechniqueInfo,
+};
 
 /// How the occlusions `I_k` of the slices between a point and the light combine (section 3.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -227,10 +194,13 @@ impl TechniqueInfo for OcclusionSlices {
 
     /// [`MAX_RESOLUTION`]; on the GPU also one texel below the device's largest texture side
     /// (the summed-area table is one texel wider than the map).
-    fn max_resolution(&self, backend: Backend, device_max: u32) -> u32 {
+    fn max_resolution(&self, backend: Backend, device: DeviceLimits) -> u32 {
         match backend {
             Backend::Cpu => MAX_RESOLUTION,
-            Backend::Gpu => device_max.saturating_sub(1).min(MAX_RESOLUTION),
+            Backend::Gpu => device
+                .max_texture_side
+                .saturating_sub(1)
+                .min(MAX_RESOLUTION),
         }
     }
 

@@ -31,7 +31,9 @@ use soft_shadow_core::GpuContext;
 use soft_shadow_core::gpu::GpuScene;
 #[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::shader::VisibilityShader;
-use soft_shadow_core::{Checked, CpuContext, Generation, Receivers, Result, ShadowTechnique};
+use soft_shadow_core::{
+    Checked, CpuContext, Family, Generation, Receivers, Result, ShadowTechnique, Tier,
+};
 
 #[cfg(feature = "gpu")]
 pub use gpu::pipelines::SHADERS;
@@ -86,15 +88,12 @@ impl ShadowTechnique for PenumbraLimit {
     }
 }
 
-/// Registers this technique with a frame pipeline: its system set (which runs only while a
-/// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
-#[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
-    frame.add_technique(
-        "penumbra-limit",
-        PenumbraLimit::standard_set()
-            .into_iter()
-            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn soft_shadow_core::DynTechnique>)
-            .collect(),
-    );
+/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the
+/// default (the silhouette generator, `PenumbraLimit::new(Generator::Silhouette)`) first, then [`PenumbraLimit::standard_set`], all run by the
+/// quick report and wider ([`Tier::Quick`]).
+pub fn families() -> Vec<Family> {
+    vec![
+        Family::new(PenumbraLimit::new(Generator::Silhouette), Tier::Quick)
+            .with_all(PenumbraLimit::standard_set(), Tier::Quick),
+    ]
 }

@@ -2,7 +2,9 @@
 
 use crate::storage::Storage;
 use crate::table::{Profile, TABLE_SIZE_RANGE};
-use soft_shadow_core::{Backend, Bias, Light, LightKind, Result, ShadowError, TechniqueInfo};
+use soft_shadow_core::{
+    Backend, Bias, DeviceLimits, Light, LightKind, Result, ShadowError, TechniqueInfo,
+};
 
 /// How the map is generated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -168,10 +170,11 @@ impl TechniqueInfo for PenumbraLimit {
     }
 
     /// [`MAX_RESOLUTION`] at most.
-    fn max_resolution(&self, backend: Backend, device_max: u32) -> u32 {
+    fn max_resolution(&self, backend: Backend, device: DeviceLimits) -> u32 {
         match backend {
             Backend::Cpu => soft_shadow_core::technique::MAX_CPU_RESOLUTION,
-            Backend::Gpu => device_max,
+            // Its geometry and seed layers, one `u32` a texel, each in one storage buffer binding.
+            Backend::Gpu => device.max_texture_side.min(device.storage_side(4)),
         }
         .min(MAX_RESOLUTION)
     }

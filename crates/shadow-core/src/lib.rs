@@ -17,6 +17,7 @@ pub mod mesh;
 pub mod pool;
 pub mod raster;
 pub mod receivers;
+pub mod registry;
 pub mod rng;
 pub mod seeds;
 pub mod technique;
@@ -33,9 +34,10 @@ pub use light_space::{Bias, MapParams, SampleView, ShadowCoord};
 pub use map2d::Map2D;
 pub use mesh::{Aabb, TriangleMesh};
 pub use receivers::Receivers;
+pub use registry::{Family, Registry, Technique, Tier};
 pub use technique::{
-    AnyMaps, Backend, Checked, Context, CostForm, DynTechnique, Generation, NoGpuMaps,
-    ShadowTechnique, TechniqueInfo,
+    AnyMaps, Backend, Checked, Context, CostForm, DeviceLimits, DynTechnique, Generation,
+    NoGpuMaps, ShadowTechnique, TechniqueInfo,
 };
 pub use view::{Camera, View};
 pub use views::{LightViews, Region, SeenDepth, Uncovered, ViewMaps};

@@ -16,6 +16,11 @@ impl GpuContext {
         match *self {}
     }
 
+    /// The limits that bound a map's side: never called, no context exists.
+    pub fn device_limits(&self) -> crate::technique::DeviceLimits {
+        match *self {}
+    }
+
     /// The memory budget: never called, no context exists.
     pub fn memory_budget(&self) -> u64 {
         match *self {}

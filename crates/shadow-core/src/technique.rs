@@ -213,11 +213,13 @@ pub trait TechniqueInfo: Send + Sync {
     fn validate(&self) -> Result<()> {
         Ok(())
     }
-    /// Largest map side on `backend`, where the device's largest texture side is `device_max`.
-    fn max_resolution(&self, backend: Backend, device_max: u32) -> u32 {
+    /// Largest map side on `backend`; on the GPU, within `device`'s limits (on the CPU they do
+    /// not count). Generation checks a side against it once, before any kernel runs, so
+    /// kernels hold no limit checks of their own.
+    fn max_resolution(&self, backend: Backend, device: DeviceLimits) -> u32 {
         match backend {
             Backend::Cpu => MAX_CPU_RESOLUTION,
-            Backend::Gpu => device_max,
+            Backend::Gpu => device.max_texture_side,
         }
     }
     /// Bytes one generation for `light` at `resolution` allocates (maps and scratch, about the
@@ -233,6 +235,43 @@ pub trait TechniqueInfo: Send + Sync {
     }
 }
 
+/// What bounds a map's side on a GPU ([`TechniqueInfo::max_resolution`]): the device's
+/// largest 2D texture side and its largest storage buffer binding, from its `wgpu::Limits`
+/// (`GpuContext::device_limits`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DeviceLimits {
+    /// `max_texture_dimension_2d`.
+    pub max_texture_side: u32,
+    /// `max_storage_buffer_binding_size`, in bytes.
+    pub max_storage_buffer_bytes: u64,
+}
+
+impl DeviceLimits {
+    /// The limits of a device with `limits`.
+    #[cfg(feature = "gpu")]
+    pub fn from_limits(limits: &wgpu::Limits) -> Self {
+        Self {
+            max_texture_side: limits.max_texture_dimension_2d,
+            max_storage_buffer_bytes: limits.max_storage_buffer_binding_size,
+        }
+    }
+
+    /// The largest side of a square of `bytes_per_texel`-byte texels that one storage buffer
+    /// binding holds.
+    pub fn storage_side(&self, bytes_per_texel: u64) -> u32 {
+        let texels = self.max_storage_buffer_bytes / bytes_per_texel.max(1);
+        let mut side = (texels as f64).sqrt() as u64;
+        // The float root may land one off either way.
+        while side * side > texels {
+            side -= 1;
+        }
+        while (side + 1) * (side + 1) <= texels {
+            side += 1;
+        }
+        side.min(u32::MAX as u64) as u32
+    }
+}
+
 /// The checks every generation passes before a kernel runs: parameters, light valid and
 /// modelled, resolution in range, memory estimate of every view within `budget`, geometry
 /// non-empty.
@@ -240,7 +279,7 @@ pub trait TechniqueInfo: Send + Sync {
 fn check<'a>(
     t: &(impl TechniqueInfo + ?Sized),
     backend: Backend,
-    device_max: u32,
+    device: DeviceLimits,
     budget: u64,
     geometry: &'a SceneGeometry,
     light: &'a Light,
@@ -255,7 +294,7 @@ fn check<'a>(
             light: light.kind().name(),
         });
     }
-    let max = t.max_resolution(backend, device_max);
+    let max = t.max_resolution(backend, device);
     if resolution == 0 || resolution > max {
         return Err(ShadowError::InvalidResolution {
             requested: resolution,
@@ -413,7 +452,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
         let input = check(
             self,
             Backend::Cpu,
-            0,
+            DeviceLimits::default(),
             cpu.memory_budget(),
             geometry,
             light,
@@ -472,7 +511,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
         let input = check(
             self,
             Backend::Gpu,
-            gpu.max_texture_size(),
+            gpu.device_limits(),
             gpu.memory_budget(),
             scene.geometry(),
             light,
@@ -837,6 +876,24 @@ pub trait DynTechnique: TechniqueInfo {
     /// See [`ShadowTechnique::VISIBILITY`].
     #[cfg(feature = "gpu")]
     fn visibility_shader(&self) -> &'static VisibilityShader;
+    /// A renderer's frame in one call: records the generation of `views` of `light` at
+    /// `resolution` from `scene` and `V` for every texel of the G-buffer `target` into `enc`,
+    /// then gives the maps back to `gpu`'s pool for the next frame's generation
+    /// ([`ShadowTechnique::record_gpu_in`], [`ShadowTechnique::maps_bind_group`],
+    /// [`ShadowTechnique::record_visibility`], [`ShadowTechnique::recycle_gpu`]). Nothing is
+    /// read back.
+    #[cfg(feature = "gpu")]
+    #[allow(clippy::too_many_arguments)]
+    fn record_frame(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        light: &Light,
+        views: &LightViews,
+        resolution: u32,
+        target: &ReceiverTextures,
+    ) -> Result<()>;
 }
 
 impl<T: ShadowTechnique> DynTechnique for T {
@@ -886,5 +943,23 @@ impl<T: ShadowTechnique> DynTechnique for T {
     #[cfg(feature = "gpu")]
     fn visibility_shader(&self) -> &'static VisibilityShader {
         T::VISIBILITY
+    }
+    #[cfg(feature = "gpu")]
+    fn record_frame(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        light: &Light,
+        views: &LightViews,
+        resolution: u32,
+        target: &ReceiverTextures,
+    ) -> Result<()> {
+        let maps = self.record_gpu_in(gpu, enc, scene, light, views, resolution)?;
+        let maps_bind = self.maps_bind_group(gpu, &maps)?;
+        self.record_visibility(gpu, enc, &maps_bind, target);
+        // Done reading the maps: their textures serve the next generation.
+        self.recycle_gpu(gpu, maps);
+        Ok(())
     }
 }

@@ -3,10 +3,9 @@
 //! Both use a reversed-Z projection (NDC depth 1 at the near plane, 0 at the far plane) so that an
 //! `f32` depth keeps its relative precision over depth ranges such as 1e-3..1e4.
 
-use crate::coverage::{Coverage, MARGIN};
+use crate::coverage::{Coverage, MARGIN, Region};
 use crate::light::{Light, LightPoint};
 use crate::mesh::Aabb;
-use crate::views::Region;
 use glam::{Mat4, Vec3, Vec4};
 
 /// Sentinel stored in a linear depth map where no surface was rasterized.

@@ -28,6 +28,7 @@
 //! The penumbra keeps its size across views: every technique sizes its penumbra from the
 //! light's world size (or angular diameter) and each view's own texel size.
 
+pub use crate::coverage::Region;
 use crate::coverage::{Coverage, MARGIN};
 use crate::error::Result;
 use crate::geometry::SceneGeometry;
@@ -73,39 +74,6 @@ pub const CASCADE_GAIN_MIN: f32 = 2.0;
 
 /// Share of each cascade's depth range, at its far end, that blends into the next cascade.
 pub const CASCADE_BLEND: f32 = 0.1;
-
-/// What one view covers, the region a technique fits its maps to.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[non_exhaustive]
-pub enum Region {
-    /// Everything the maps cover, in one frustum or window fitted around the casters
-    /// ([`View::fit_light`]).
-    Whole,
-    /// One face of a cube around a local light: a perspective view from each light point along
-    /// `axis`, its image's y axis along `up`, with a square window of half-angle `half_angle`
-    /// (radians).
-    Face {
-        /// Unit direction the face looks along.
-        axis: Vec3,
-        /// Unit direction of the image's y axis, perpendicular to `axis`.
-        up: Vec3,
-        /// Half-angle of the window, radians (45 degrees and the guard).
-        half_angle: f32,
-    },
-    /// One cascade of a distant light: an orthographic window in the light's basis, centred on
-    /// `center` (moved to whole texels of the map), `half_extent` wide, over the heights along
-    /// the direction to the light (`direction . p`) from `heights[0]`, the lowest receiver of
-    /// its slice, to `heights[1]`, the highest caster over its window: an 8-bit or 16-bit map
-    /// spends its steps on what this cascade holds.
-    Cascade {
-        /// The world point the window is centred on before snapping.
-        center: Vec3,
-        /// Half the side of the square window, world units.
-        half_extent: f32,
-        /// Lowest and highest `direction . p` the cascade's depth range must hold.
-        heights: [f32; 2],
-    },
-}
 
 /// What a camera sees, for cascades: its view and the depth range of the receivers it sees
 /// along its axis (a G-buffer's nearest and farthest depth).

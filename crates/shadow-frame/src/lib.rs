@@ -19,6 +19,7 @@ pub use stats::{FrameStats, TechniqueStats};
 use crate::scene::ShadowCaster;
 use bevy_ecs::prelude::*;
 use soft_shadow_core::technique::DynTechnique;
+use soft_shadow_core::{Family, Registry};
 use std::sync::Arc;
 use technique_system::{CasterQuery, LightQuery, run_technique};
 
@@ -73,21 +74,30 @@ impl FramePipeline {
         }
     }
 
-    /// Registers technique `name` with its instances: one system in [`TechniqueSet`]`(name)`
-    /// that runs only when a light uses it and the scene has casters.
-    pub fn add_technique(&mut self, name: &'static str, instances: Vec<Arc<dyn DynTechnique>>) {
-        self.registry.0.extend(instances);
+    /// Registers every family of `registry` ([`FramePipeline::add_family`]).
+    pub fn with_registry(mut self, registry: &Registry) -> Self {
+        for family in registry.families() {
+            self.add_family(family);
+        }
+        self
+    }
+
+    /// Registers `family`: its variants (what `Auto` may pick from, among the configurations
+    /// its profile holds, and what an explicit choice may name) and one system in
+    /// [`TechniqueSet`]`(name)` that runs only when a light uses it and the scene has casters.
+    /// A family marked [`Family::zero_size_path`] also becomes the technique lights of zero
+    /// size take.
+    pub fn add_family(&mut self, family: &Family) {
+        let name = family.name();
+        self.registry.0.extend(family.variants().cloned());
+        if family.is_zero_size_path() {
+            self.hard = HardShadowPath(Some(Arc::clone(family.default_variant())));
+        }
         if self.techniques.contains(&name) {
             return;
         }
         self.techniques.push(name);
         add_technique_system(&mut self.schedule, name);
-    }
-
-    /// The technique zero-size lights take (registered too).
-    pub fn set_hard_path(&mut self, t: Arc<dyn DynTechnique>) {
-        self.add_technique(t.name(), vec![Arc::clone(&t)]);
-        self.hard = HardShadowPath(Some(t));
     }
 
     /// The profile `Auto` picks from when the world holds no [`TechniqueProfile`]: the built-in

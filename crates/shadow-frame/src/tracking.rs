@@ -121,9 +121,12 @@ fn auto_pick(
             .find(|t| t.name() == name && t.variant() == variant && t.models(kind))
             .cloned()
     };
-    let device_max = backend.gpu.as_ref().map_or(0, |g| g.max_texture_size());
+    let device = backend
+        .gpu
+        .as_ref()
+        .map_or_else(Default::default, |g| g.device_limits());
     let p = profile.pick(kind, backend.backend, budget_ms, size, |n, v| {
-        find(n, v).map(|t| t.max_resolution(backend.backend, device_max))
+        find(n, v).map(|t| t.max_resolution(backend.backend, device))
     })?;
     let e = p.entry;
     let stand_in = if p.stand_in {

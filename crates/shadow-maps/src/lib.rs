@@ -18,8 +18,8 @@ use soft_shadow_core::gpu::GpuScene;
 use soft_shadow_core::gpu::shader::VisibilityShader;
 use soft_shadow_core::light_space::sample_views;
 use soft_shadow_core::{
-    Bias, Checked, CpuContext, Generation, Light, LightKind, Receivers, Result, ShadowError,
-    ShadowTechnique, TechniqueInfo,
+    Bias, Checked, CpuContext, Family, Generation, Light, LightKind, Receivers, Result,
+    ShadowError, ShadowTechnique, TechniqueInfo, Tier,
 };
 
 /// Which baseline filter.
@@ -271,18 +271,26 @@ impl ShadowTechnique for ShadowMapBaseline {
     }
 }
 
-/// Registers the baselines with a frame pipeline: the hard shadow map as the zero-size-light
-/// path, PCF, PCSS and accumulation of 4, 16 and 64 samples, each its own technique set
-/// (feature `frame`).
-#[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
-    use std::sync::Arc;
-    frame.set_hard_path(Arc::new(ShadowMapBaseline::new(Filter::Hard)));
-    for b in ShadowMapBaseline::standard_set(&[4, 16, 64]) {
-        let name = TechniqueInfo::name(&b);
-        frame.add_technique(
-            name,
-            vec![Arc::new(b) as Arc<dyn soft_shadow_core::DynTechnique>],
-        );
-    }
+/// The baselines for a [`Registry`](soft_shadow_core::Registry), each a family of its own: the
+/// hard shadow map (the frame pipeline's path for lights of zero size), PCF (radius 2; 1, 3
+/// and 4 offered), PCSS, and accumulation (16 samples; 4 and 64 in the full report, 256
+/// offered; each also in the [`SamplePattern::Rotated`] pattern but 256).
+pub fn families() -> Vec<Family> {
+    let new = ShadowMapBaseline::new;
+    let accumulate = |samples| new(Filter::Accumulate { samples });
+    let rotated = |samples| accumulate(samples).with_pattern(SamplePattern::Rotated);
+    vec![
+        Family::new(new(Filter::Hard), Tier::Quick).zero_size_path(),
+        Family::new(new(Filter::Pcf { radius: 2 }), Tier::Quick).with_all(
+            [1, 3, 4].map(|radius| new(Filter::Pcf { radius })),
+            Tier::Offered,
+        ),
+        Family::new(new(Filter::Pcss), Tier::Quick),
+        Family::new(accumulate(16), Tier::Quick)
+            .with_all([4, 64].map(accumulate), Tier::Report)
+            .with(accumulate(256), Tier::Offered)
+            .with(rotated(4), Tier::Report)
+            .with(rotated(16), Tier::Quick)
+            .with(rotated(64), Tier::Report),
+    ]
 }

@@ -6,13 +6,10 @@ use crate::attenuation::{AttenuationTable, FalloffKind};
 use crate::eval::EvalParams;
 use crate::gpu_jump_flood::GpuJumpFlood;
 use crate::params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, WidthMethod};
+use crate::shaders::{WIDTH, WidthParams};
 use crate::width::{cap, propagate};
-use bytemuck::{Pod, Zeroable};
 use soft_shadow_core::gpu::compute::{bind_group, depth_array_view};
 use soft_shadow_core::gpu::resources::storage_buffer;
-use soft_shadow_core::gpu::shader::{
-    DEPTH_ARRAY, Group, Library, Program, ShaderModule, VisibilityShader, storage, uniform,
-};
 use soft_shadow_core::gpu::{GpuRasterizer, GpuScene};
 use soft_shadow_core::raster::DepthPass;
 use soft_shadow_core::{Generation, GpuContext, Map2D, MapParams, Result, SampleView, ShadowError};
@@ -37,18 +34,6 @@ impl GpuWidthMaps {
         Map2D::from_vec(res, res, bytemuck::pod_collect_to_vec(&bytes))
             .ok_or_else(|| ShadowError::Gpu("width map readback size".into()))
     }
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct WidthParams {
-    map: MapParams,
-    res: u32,
-    step: u32,
-    neighbours: u32,
-    cap: f32,
-    /// `(dx, dy, distance, 0)` per neighbour of a propagation pass ([`propagate::offsets`]).
-    offsets: [[f32; 4]; 8],
 }
 
 struct WidthPipelines {
@@ -77,57 +62,6 @@ impl WidthPipelines {
         }
     }
 }
-
-/// The crate's WGSL: the width kernels and the visibility module.
-pub static SHADERS: Library = Library {
-    name: "shadow-width",
-    modules: &[
-        ShaderModule {
-            path: "shadow_width::width",
-            source: include_str!("width.wgsl"),
-        },
-        ShaderModule {
-            path: "shadow_width::visibility",
-            source: include_str!("visibility.wgsl"),
-        },
-        ShaderModule {
-            path: "shadow_width::jump_flood",
-            source: include_str!("jump_flood.wgsl"),
-        },
-    ],
-    depends: &[&soft_shadow_core::gpu::shader::SHADERS],
-    programs: &[&WIDTH, &crate::gpu_jump_flood::PROGRAM],
-};
-
-/// `width.wgsl`: parameters, the depth array, the float buffers (source, destination), the seed
-/// buffers (source, destination) and the envelope scratch (vertices, boundaries).
-static WIDTH: Program = Program {
-    library: &SHADERS,
-    module: "shadow_width::width",
-    defs: &[],
-    groups: &[Group::compute(&[
-        uniform::<WidthParams>(),
-        DEPTH_ARRAY,
-        storage::<f32>(true),
-        storage::<f32>(false),
-        storage::<u32>(true),
-        storage::<u32>(false),
-        storage::<u32>(false),
-        storage::<f32>(false),
-    ])],
-};
-
-/// `visibility()` over the parameters, the depth array, the width map and the attenuation table.
-pub static VISIBILITY: VisibilityShader = VisibilityShader {
-    library: &SHADERS,
-    module: "shadow_width::visibility",
-    maps: Group::compute(&[
-        uniform::<EvalParams>(),
-        DEPTH_ARRAY,
-        storage::<f32>(true),
-        storage::<f32>(true),
-    ]),
-};
 
 /// One dispatch of the width kernels: pipeline, step, and the buffers in bindings 2..=7.
 struct Dispatch<'a> {
@@ -194,13 +128,6 @@ pub(crate) fn generate(
     let view = SampleView::center(light, &input.coverage());
     let params = view.params(resolution);
     let texels = resolution as u64 * resolution as u64;
-    let limit = ctx.device.limits().max_storage_buffer_binding_size;
-    if texels * 4 * 2 > limit {
-        return Err(ShadowError::InvalidResolution {
-            requested: resolution,
-            max: ((limit / 8) as f64).sqrt() as u32,
-        });
-    }
     let tris = scene.casters();
     let mut passes = vec![DepthPass::NEAREST];
     if t.depth == DepthLayer::BackFaces {

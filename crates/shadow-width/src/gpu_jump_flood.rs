@@ -1,43 +1,21 @@
 //! Jump flooding on the GPU ([`crate::jump_flood`] on the CPU): floods a buffer of packed seeds
 //! so that every texel holds its nearest seed.
 
-use crate::gpu::SHADERS;
-use bytemuck::{Pod, Zeroable};
+use crate::shaders::{FloodParams, JUMP_FLOOD};
 use soft_shadow_core::GpuContext;
 use soft_shadow_core::gpu::Kernel;
 use soft_shadow_core::gpu::compute::bind_group;
-use soft_shadow_core::gpu::shader::{Group, Program, storage, uniform};
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct FloodParams {
-    res: u32,
-    step: u32,
-    _pad: [u32; 2],
-}
 
 /// The jump-flood pipeline; build once per context (`ctx.cached(GpuJumpFlood::new)`).
 pub(crate) struct GpuJumpFlood {
     kernel: Kernel,
 }
 
-/// `jump_flood.wgsl`: parameters, the source seeds, the destination.
-pub(crate) static PROGRAM: Program = Program {
-    library: &SHADERS,
-    module: "shadow_width::jump_flood",
-    defs: &[],
-    groups: &[Group::compute(&[
-        uniform::<FloodParams>(),
-        storage::<u32>(true),
-        storage::<u32>(false),
-    ])],
-};
-
 impl GpuJumpFlood {
     /// Builds the pipeline.
     pub(crate) fn new(ctx: &GpuContext) -> Self {
         Self {
-            kernel: Kernel::new(ctx, &PROGRAM, "jfa_step"),
+            kernel: Kernel::new(ctx, &JUMP_FLOOD, "jfa_step"),
         }
     }
 

@@ -10,6 +10,8 @@ mod gpu_jump_flood;
 mod jump_flood;
 mod occlusion;
 mod params;
+#[cfg(feature = "gpu")]
+mod shaders;
 #[cfg(test)]
 mod tests;
 mod width;
@@ -17,8 +19,10 @@ mod width;
 pub use attenuation::{Falloff, FalloffKind, TABLE_SIZE_RANGE};
 pub use cpu::CpuWidthMaps;
 #[cfg(feature = "gpu")]
-pub use gpu::{GpuWidthMaps, SHADERS, VISIBILITY};
+pub use gpu::GpuWidthMaps;
 pub use params::{DEFAULT_TABLE_SIZE, DepthLayer, Neighbours, ShadowWidth, Softness, WidthMethod};
+#[cfg(feature = "gpu")]
+pub use shaders::{SHADERS, VISIBILITY};
 
 #[cfg(feature = "gpu")]
 use soft_shadow_core::GpuContext;
@@ -26,7 +30,9 @@ use soft_shadow_core::GpuContext;
 use soft_shadow_core::gpu::GpuScene;
 #[cfg(feature = "gpu")]
 use soft_shadow_core::gpu::shader::VisibilityShader;
-use soft_shadow_core::{Checked, CpuContext, Generation, Receivers, Result, ShadowTechnique};
+use soft_shadow_core::{
+    Checked, CpuContext, Family, Generation, Receivers, Result, ShadowTechnique, Tier,
+};
 
 impl ShadowTechnique for ShadowWidth {
     type CpuMaps = cpu::CpuWidthMaps;
@@ -59,7 +65,7 @@ impl ShadowTechnique for ShadowWidth {
     }
 
     #[cfg(feature = "gpu")]
-    const VISIBILITY: &'static VisibilityShader = &gpu::VISIBILITY;
+    const VISIBILITY: &'static VisibilityShader = &shaders::VISIBILITY;
 
     #[cfg(feature = "gpu")]
     fn recycle_maps(&self, gpu: &GpuContext, maps: gpu::GpuWidthMaps) {
@@ -78,15 +84,12 @@ impl ShadowTechnique for ShadowWidth {
     }
 }
 
-/// Registers this technique with a frame pipeline: its system set (which runs only while a
-/// light uses it) and its standard variants, which `Auto` choices may pick (feature `frame`).
-#[cfg(feature = "frame")]
-pub fn add_to(frame: &mut shadow_frame::FramePipeline) {
-    frame.add_technique(
-        "shadow-width",
-        ShadowWidth::standard_set()
-            .into_iter()
-            .map(|t| std::sync::Arc::new(t) as std::sync::Arc<dyn soft_shadow_core::DynTechnique>)
-            .collect(),
-    );
+/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the
+/// default (the exact distance transform, `ShadowWidth::new(WidthMethod::Exact)`) first, then [`ShadowWidth::standard_set`], all run by the
+/// quick report and wider ([`Tier::Quick`]).
+pub fn families() -> Vec<Family> {
+    vec![
+        Family::new(ShadowWidth::new(WidthMethod::Exact), Tier::Quick)
+            .with_all(ShadowWidth::standard_set(), Tier::Quick),
+    ]
 }

@@ -2,7 +2,9 @@
 //! measured from, the softness and the attenuation.
 
 use crate::attenuation::FalloffKind;
-use soft_shadow_core::{Bias, Light, LightKind, Result, ShadowError, TechniqueInfo};
+use soft_shadow_core::{
+    Backend, Bias, DeviceLimits, Light, LightKind, Result, ShadowError, TechniqueInfo,
+};
 
 /// How the shadow-width map is built from the inverted occlusion map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -228,6 +230,14 @@ impl TechniqueInfo for ShadowWidth {
     /// Any light: one sample at its centre, softness from its size.
     fn models(&self, _kind: LightKind) -> bool {
         true
+    }
+
+    /// On the GPU, also a side whose two `f32` layers one storage buffer binding holds.
+    fn max_resolution(&self, backend: Backend, device: DeviceLimits) -> u32 {
+        match backend {
+            Backend::Cpu => soft_shadow_core::technique::MAX_CPU_RESOLUTION,
+            Backend::Gpu => device.max_texture_side.min(device.storage_side(8)),
+        }
     }
 
     /// Checks the parameters: `c_scale` and `c_bias` finite and non-negative,

@@ -3,14 +3,11 @@
 //! buffer-mapping callbacks polled once per frame.
 
 use crate::reference::{ReferenceKey, References};
-use crate::renderer::{
-    Frame, FrameSettings, FrameTechnique, PassTimes, Renderer, Shadow, TIMESTAMPS, ViewMode,
-};
+use crate::renderer::{Frame, FrameSettings, PassTimes, Renderer, Shadow, TIMESTAMPS, ViewMode};
 use crate::scene::{LoadedScene, SceneSource, load};
 use crate::state::{Choice, ViewState};
-use crate::techniques::{find, registry};
-use crate::ui::{Actions, Model, panel};
-use soft_shadow_core::LightKind;
+use crate::ui::{Actions, Model, PANEL_WIDTH, Stats, panel};
+use soft_shadow_core::{DeviceLimits, LightKind, Registry, Technique};
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -21,8 +18,6 @@ use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::window::{Window, WindowId};
 
-/// Width of the side panel, logical pixels.
-pub const PANEL_WIDTH: f32 = 300.0;
 /// Frame times the graph keeps.
 const HISTORY: usize = 240;
 
@@ -57,17 +52,24 @@ pub struct Options {
 /// drawn and the screenshot written). The scene is opened first: a file that cannot be read is
 /// an error before any window opens.
 pub fn run(options: Options) -> Result<(), String> {
-    let registry = registry();
+    run_with(options, soft_shadow_techniques::registry())
+}
+
+/// [`run`] offering the techniques of `registry` (the viewer's own is
+/// `soft_shadow_techniques::registry()`).
+pub fn run_with(options: Options, registry: Registry) -> Result<(), String> {
     let scene = load(&options.scene).map_err(|e| format!("cannot open the scene: {e}"))?;
     let mut shadow = Choice::new(&registry, &options.technique, options.resolution)
         .map_err(|e| e.to_string())?;
     if let Some(v) = &options.variant {
-        let e = find(&registry, &options.technique).map_err(|e| e.to_string())?;
+        let e = registry
+            .family(&options.technique)
+            .map_err(|e| e.to_string())?;
         if e.variant(v).is_none() {
-            let labels: Vec<String> = e.variants.iter().map(|t| t.variant()).collect();
+            let labels: Vec<String> = e.variants().map(|t| t.variant()).collect();
             return Err(format!(
                 "{} has no variant {v:?}; one of {}",
-                e.name,
+                e.name(),
                 labels.join(", ")
             ));
         }
@@ -87,7 +89,8 @@ pub fn run(options: Options) -> Result<(), String> {
             Some(Choice::new(&registry, name, options.resolution).map_err(|e| e.to_string())?);
     }
     for choice in std::iter::once(&state.shadow).chain(state.compare.as_ref()) {
-        find(&registry, choice.technique)
+        registry
+            .family(choice.technique)
             .map_err(|e| e.to_string())?
             .availability(state.light.kind)?;
     }
@@ -106,7 +109,10 @@ pub fn run(options: Options) -> Result<(), String> {
             reference_status: String::new(),
             lost: None,
             timestamps: false,
-            device_max: 8192,
+            device: DeviceLimits {
+                max_texture_side: 8192,
+                max_storage_buffer_bytes: 128 << 20,
+            },
         },
         scene,
         scene_id: 0,
@@ -124,20 +130,6 @@ pub fn run(options: Options) -> Result<(), String> {
         .run_app(&mut app)
         .map_err(|e| format!("the event loop failed: {e}"))?;
     app.status
-}
-
-/// Frame statistics for the panel and the command-line summary.
-#[derive(Clone, Debug, Default)]
-pub struct Stats {
-    /// Wall time between frames, milliseconds, newest last.
-    pub frame_ms: VecDeque<f32>,
-    /// CPU time recording each pass, last frame.
-    pub passes: PassTimes,
-    /// GPU time of each pass (G-buffer, technique, compared technique, shading), milliseconds,
-    /// from the latest timestamps read back.
-    pub gpu_ms: Option<[f64; 4]>,
-    /// Every frame's CPU pass times and GPU times, for the command-line summary.
-    pub log: Vec<(PassTimes, Option<[f64; 4]>)>,
 }
 
 struct Timestamps {
@@ -177,9 +169,9 @@ struct Gfx {
 /// The techniques, light and mode of one frame, owned.
 struct Shown {
     light: soft_shadow_core::Light,
-    technique: Arc<dyn FrameTechnique>,
+    technique: Technique,
     resolution: u32,
-    compare: Option<(Arc<dyn FrameTechnique>, u32, u32)>,
+    compare: Option<(Technique, u32, u32)>,
     mode: ViewMode,
 }
 
@@ -424,7 +416,7 @@ impl App {
             }
         });
         self.model.timestamps = timestamps.is_some();
-        self.model.device_max = device.limits().max_texture_dimension_2d;
+        self.model.device = DeviceLimits::from_limits(&device.limits());
         Ok(Gfx {
             window,
             surface,
@@ -494,8 +486,8 @@ impl App {
         }
     }
 
-    fn technique(&self, choice: &Choice) -> Option<Arc<dyn FrameTechnique>> {
-        let e = find(&self.model.registry, choice.technique).ok()?;
+    fn technique(&self, choice: &Choice) -> Option<Technique> {
+        let e = self.model.registry.family(choice.technique).ok()?;
         e.variant(&choice.variant).cloned()
     }
 

@@ -7,10 +7,11 @@
 //!
 //! `cargo run --release --bin viewer -- --scene bunny --technique occlusion-slices`
 //!
-//! - [`renderer`]: the passes, and [`renderer::FrameTechnique`], any technique behind one
-//!   object-safe call.
+//! - [`renderer`]: the passes; a technique is any entry of a
+//!   [`Registry`](soft_shadow_core::Registry) (`soft_shadow_techniques::registry()` by
+//!   default, [`app::run_with`] for another), recorded through
+//!   [`DynTechnique::record_frame`](soft_shadow_core::DynTechnique::record_frame).
 //! - [`shade`]: the shading, in WGSL and in Rust for the tests.
-//! - [`techniques`]: the techniques and variants the panel offers.
 //! - [`state`]: the camera, the light and the choices, as plain data.
 //! - [`scene`]: opening catalogue scenes, scene files and glTF models.
 //! - [`reference`](mod@reference): the ray-traced reference on a worker thread.
@@ -22,10 +23,9 @@ pub mod renderer;
 pub mod scene;
 pub mod shade;
 pub mod state;
-pub mod techniques;
 mod ui;
 
 pub use renderer::{
-    Frame, FrameSettings, FrameTechnique, PassTimes, Renderer, SHADERS, Shadow, ViewMode,
-    model_on_ground, moving_light, own_device, view_colour,
+    Frame, FrameSettings, PassTimes, Renderer, SHADERS, Shadow, ViewMode, model_on_ground,
+    moving_light, own_device, view_colour,
 };

@@ -1,9 +1,8 @@
 //! The renderer: its own device (wrapped in a [`GpuContext`]), G-buffer and shading passes, and
 //! any technique through the public drop-in API. Per frame it records into one encoder its
-//! G-buffer pass, each shown technique's generation for the light's views ([`ShadowTechnique::record_gpu_in`] from a
-//! [`GpuScene`] uploaded once) and visibility over the G-buffer
-//! ([`ShadowTechnique::record_visibility`]), and its own shading of the light times `V`; it
-//! never reads anything back to draw a frame.
+//! G-buffer pass, each shown technique's generation for the light's views and visibility over
+//! the G-buffer from a [`GpuScene`] uploaded once ([`DynTechnique::record_frame`]), and its own
+//! shading of the light times `V`; it never reads anything back to draw a frame.
 
 use crate::shade::ShadeUniform;
 use bytemuck::{Pod, Zeroable};
@@ -15,8 +14,7 @@ use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::gpu::{GpuContext, GpuScene};
 use soft_shadow_core::views::ViewSelect;
 use soft_shadow_core::{
-    Camera, Light, LightViews, Result, SceneGeometry, SeenDepth, ShadowError, ShadowTechnique,
-    TechniqueInfo,
+    Camera, DynTechnique, Light, LightViews, Result, SceneGeometry, SeenDepth, ShadowError,
 };
 use std::time::Instant;
 use wgpu::util::DeviceExt;
@@ -80,7 +78,7 @@ impl ViewMode {
 #[derive(Clone, Copy)]
 pub struct Shadow<'a> {
     /// The technique.
-    pub technique: &'a dyn FrameTechnique,
+    pub technique: &'a dyn DynTechnique,
     /// Side of its light-space maps.
     pub resolution: u32,
 }
@@ -470,14 +468,6 @@ impl Renderer {
         );
     }
 
-    fn visibility_targets(&self, k: usize) -> VisibilityTargets<'_> {
-        VisibilityTargets {
-            positions: &self.targets.position,
-            normals: &self.targets.normal,
-            visibility: &self.targets.visibility[k],
-        }
-    }
-
     /// The frame settings.
     pub fn settings(&self) -> FrameSettings {
         self.settings
@@ -579,7 +569,7 @@ impl Renderer {
             split,
             reference: self.reference.is_some() as u32,
             line,
-            // The views the techniques plan for this frame (`FrameTechnique::record`).
+            // The views the techniques plan for this frame (`encode_shadow`).
             views: LightViews::plan(frame.light, self.scene.geometry(), self.seen().as_ref())
                 .gpu_select(0),
         };
@@ -668,15 +658,31 @@ impl Renderer {
         shadow: &Shadow,
         k: usize,
     ) -> Result<()> {
-        shadow.technique.record(
-            &self.gpu,
+        let (gpu, scene, technique, resolution) =
+            (&self.gpu, &self.scene, shadow.technique, shadow.resolution);
+        let seen = self.seen();
+        let target = &self.targets.visibility[k];
+        let (width, height) = (target.width(), target.height());
+        let (positions, normals) = (view(&self.targets.position), view(&self.targets.normal));
+        let visibility = view(target);
+        // The light's views for this camera, then the technique, recorded into the renderer's
+        // encoder (the README's snippet).
+        let views = LightViews::plan(light, scene.geometry(), seen.as_ref());
+        technique.record_frame(
+            gpu,
             enc,
-            &self.scene,
+            scene,
             light,
-            self.seen().as_ref(),
-            shadow.resolution,
-            &self.visibility_targets(k),
-        )
+            &views,
+            resolution,
+            &ReceiverTextures {
+                positions: &positions,
+                normals: &normals,
+                visibility: &visibility,
+                size: (width, height),
+            },
+        )?;
+        Ok(())
     }
 
     /// What the camera can see of the scene, for cascades: its view, and the depths from its
@@ -771,74 +777,6 @@ impl Renderer {
         )?;
         image::RgbaImage::from_raw(self.settings.width, self.settings.height, bytes.concat())
             .ok_or_else(|| ShadowError::Gpu("frame readback size".into()))
-    }
-}
-
-/// A technique as the renderer records it: any [`ShadowTechnique`], behind one object-safe
-/// call, so that a renderer can switch techniques at run time.
-pub trait FrameTechnique: TechniqueInfo {
-    /// Records generation for the views of `light` (planned for what the camera sees, `seen`)
-    /// at `resolution` into `enc`, and `V` for every texel of the G-buffer into
-    /// `targets.visibility`.
-    #[allow(clippy::too_many_arguments)]
-    fn record(
-        &self,
-        gpu: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &GpuScene,
-        light: &Light,
-        seen: Option<&SeenDepth>,
-        resolution: u32,
-        targets: &VisibilityTargets,
-    ) -> Result<()>;
-}
-
-/// The textures a [`FrameTechnique`] reads and writes: the G-buffer's positions and normals
-/// (`Rgba32Float`, w > 0.5 where covered) and `V` (`R32Float`, storage).
-#[derive(Clone, Copy)]
-pub struct VisibilityTargets<'a> {
-    /// World positions.
-    pub positions: &'a wgpu::Texture,
-    /// Unit normals facing the camera.
-    pub normals: &'a wgpu::Texture,
-    /// `V` per texel, written.
-    pub visibility: &'a wgpu::Texture,
-}
-
-impl<T: ShadowTechnique> FrameTechnique for T {
-    fn record(
-        &self,
-        gpu: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &GpuScene,
-        light: &Light,
-        seen: Option<&SeenDepth>,
-        resolution: u32,
-        targets: &VisibilityTargets,
-    ) -> Result<()> {
-        let technique = self;
-        let (positions, normals) = (view(targets.positions), view(targets.normals));
-        let (width, height) = (targets.visibility.width(), targets.visibility.height());
-        let visibility = view(targets.visibility);
-        // The light's views for this camera, then the technique, recorded into the renderer's
-        // encoder (the README's snippet).
-        let views = LightViews::plan(light, scene.geometry(), seen);
-        let maps = technique.record_gpu_in(gpu, enc, scene, light, &views, resolution)?;
-        let maps_bind = technique.maps_bind_group(gpu, &maps)?;
-        technique.record_visibility(
-            gpu,
-            enc,
-            &maps_bind,
-            &ReceiverTextures {
-                positions: &positions,
-                normals: &normals,
-                visibility: &visibility,
-                size: (width, height),
-            },
-        );
-        // Done reading the maps: their textures serve the next frame's generation.
-        technique.recycle_gpu(gpu, maps);
-        Ok(())
     }
 }
 

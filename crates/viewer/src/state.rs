@@ -2,9 +2,10 @@
 //! edited light, the techniques chosen and the rules that keep them valid.
 
 use crate::renderer::ViewMode;
-use crate::techniques::{TechniqueEntry, find};
 use glam::Vec3;
-use soft_shadow_core::{Camera, DistantProfile, Light, LightKind, LightPoint, Result, ShadowError};
+use soft_shadow_core::{
+    Camera, DistantProfile, Light, LightKind, LightPoint, Registry, Result, ShadowError,
+};
 
 /// A camera orbiting a target: yaw and pitch around it at a distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -281,10 +282,10 @@ pub struct Choice {
 
 impl Choice {
     /// `name`'s default variant at `resolution`.
-    pub fn new(registry: &[TechniqueEntry], name: &str, resolution: u32) -> Result<Self> {
-        let e = find(registry, name)?;
+    pub fn new(registry: &Registry, name: &str, resolution: u32) -> Result<Self> {
+        let e = registry.family(name)?;
         Ok(Self {
-            technique: e.name,
+            technique: e.name(),
             variant: e.default_variant().variant(),
             resolution,
         })
@@ -346,18 +347,19 @@ impl ViewState {
 
     /// Changes the light's kind. A chosen technique that does not model it is replaced by the
     /// first that does, and each replacement is said in the returned lines.
-    pub fn set_light_kind(&mut self, kind: LightKind, registry: &[TechniqueEntry]) -> Vec<String> {
+    pub fn set_light_kind(&mut self, kind: LightKind, registry: &Registry) -> Vec<String> {
         if kind != self.light.kind {
             self.light.kind = kind;
             self.scene_light = None;
         }
         let mut said = Vec::new();
         let fallback = registry
+            .families()
             .iter()
             .find(|e| e.availability(kind).is_ok())
-            .map(|e| e.name);
+            .map(|e| e.name());
         for choice in std::iter::once(&mut self.shadow).chain(self.compare.as_mut()) {
-            let Ok(e) = find(registry, choice.technique) else {
+            let Ok(e) = registry.family(choice.technique) else {
                 continue;
             };
             if let (Err(why), Some(to)) = (e.availability(kind), fallback) {
@@ -376,9 +378,9 @@ impl ViewState {
         &mut self,
         second: bool,
         name: &str,
-        registry: &[TechniqueEntry],
+        registry: &Registry,
     ) -> std::result::Result<(), String> {
-        let e = find(registry, name).map_err(|e| e.to_string())?;
+        let e = registry.family(name).map_err(|e| e.to_string())?;
         e.availability(self.light.kind)?;
         let slot = if second {
             self.compare.get_or_insert_with(|| self.shadow.clone())
@@ -386,7 +388,7 @@ impl ViewState {
             &mut self.shadow
         };
         *slot = Choice {
-            technique: e.name,
+            technique: e.name(),
             variant: e.default_variant().variant(),
             resolution: slot.resolution,
         };

@@ -1,15 +1,30 @@
 //! The panel and the 3D view's input, egui 0.37: what the user edits ([`Model`]) and the
 //! widgets that edit it. Nothing here touches the GPU.
 
-use crate::app::{PANEL_WIDTH, Stats};
-use crate::renderer::ViewMode;
+use crate::renderer::{PassTimes, ViewMode};
 use crate::scene::SceneSource;
 use crate::state::{SIZE_RANGE, ViewState};
-use crate::techniques::{TechniqueEntry, find};
-use soft_shadow_core::{Backend, LightKind};
+use soft_shadow_core::{Backend, DeviceLimits, LightKind, Registry};
 use soft_shadow_reference::scenes::catalogue::SCENE_NAMES;
 use std::collections::VecDeque;
 use std::path::PathBuf;
+
+/// Width of the side panel, logical pixels.
+pub const PANEL_WIDTH: f32 = 300.0;
+
+/// Frame statistics for the panel and the command-line summary.
+#[derive(Clone, Debug, Default)]
+pub struct Stats {
+    /// Wall time between frames, milliseconds, newest last.
+    pub frame_ms: VecDeque<f32>,
+    /// CPU time recording each pass, last frame.
+    pub passes: PassTimes,
+    /// GPU time of each pass (G-buffer, technique, compared technique, shading), milliseconds,
+    /// from the latest timestamps read back.
+    pub gpu_ms: Option<[f64; 4]>,
+    /// Every frame's CPU pass times and GPU times, for the command-line summary.
+    pub log: Vec<(PassTimes, Option<[f64; 4]>)>,
+}
 
 /// Map sides the panel offers.
 const RESOLUTIONS: [u32; 8] = [128, 256, 512, 1024, 2048, 4096, 8192, 16384];
@@ -25,7 +40,7 @@ pub(crate) struct Actions {
 
 /// The state the panel edits (everything but the GPU objects).
 pub(crate) struct Model {
-    pub(crate) registry: Vec<TechniqueEntry>,
+    pub(crate) registry: Registry,
     pub(crate) state: ViewState,
     pub(crate) messages: VecDeque<String>,
     pub(crate) file_field: String,
@@ -39,8 +54,8 @@ pub(crate) struct Model {
     pub(crate) reference_status: String,
     pub(crate) lost: Option<String>,
     pub(crate) timestamps: bool,
-    /// The device's largest texture side.
-    pub(crate) device_max: u32,
+    /// The device's limits on a map's side.
+    pub(crate) device: DeviceLimits,
 }
 
 impl Model {
@@ -73,16 +88,16 @@ fn technique_controls(ui: &mut egui::Ui, m: &mut Model, second: bool) {
     egui::ComboBox::from_id_salt(("technique", salt))
         .selected_text(current.technique)
         .show_ui(ui, |ui| {
-            for e in &m.registry {
+            for e in m.registry.families() {
                 let ok = e.availability(kind);
                 let r = ui
                     .add_enabled(
                         ok.is_ok(),
-                        egui::Button::selectable(current.technique == e.name, e.name),
+                        egui::Button::selectable(current.technique == e.name(), e.name()),
                     )
                     .on_disabled_hover_text(ok.err().unwrap_or_default());
                 if r.clicked() {
-                    pick = Some(e.name);
+                    pick = Some(e.name());
                 }
             }
         });
@@ -93,6 +108,7 @@ fn technique_controls(ui: &mut egui::Ui, m: &mut Model, second: bool) {
     }
     let unavailable: Vec<String> = m
         .registry
+        .families()
         .iter()
         .filter_map(|e| e.availability(kind).err())
         .collect();
@@ -100,10 +116,10 @@ fn technique_controls(ui: &mut egui::Ui, m: &mut Model, second: bool) {
         ui.small(format!("Not offered: {}", unavailable.join("; ")))
             .on_hover_text("a technique is offered only for the light kinds it models");
     }
-    let Ok(entry) = find(&m.registry, current.technique) else {
+    let Ok(entry) = m.registry.family(current.technique) else {
         return;
     };
-    let labels: Vec<String> = entry.variants.iter().map(|v| v.variant()).collect();
+    let labels: Vec<String> = entry.variants().map(|v| v.variant()).collect();
     let mut variant = current.variant.clone();
     let mut resolution = current.resolution;
     ui.horizontal(|ui| {
@@ -124,11 +140,12 @@ fn technique_controls(ui: &mut egui::Ui, m: &mut Model, second: bool) {
     });
     let max = entry
         .default_variant()
-        .max_resolution(Backend::Gpu, m.device_max);
+        .max_resolution(Backend::Gpu, m.device);
     if resolution > max {
         m.say(format!(
             "{resolution}² maps are over this device's limit for {} ({max}²): keeping {}²",
-            entry.name, current.resolution
+            entry.name(),
+            current.resolution
         ));
         resolution = current.resolution;
     }

@@ -4,10 +4,10 @@
 
 use glam::Vec3;
 use soft_shadow_core::{Camera, Light, LightKind};
+use soft_shadow_techniques::registry;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use viewer::state::{Choice, LightEdit, OrbitCamera, SIZE_RANGE, ViewState};
-use viewer::techniques::registry;
 
 fn camera() -> Camera {
     Camera {
@@ -155,16 +155,16 @@ fn techniques_are_offered_only_for_the_lights_they_model() {
     assert_eq!(s.frame_light().unwrap().kind(), LightKind::Linear);
     assert_eq!(said.len(), 1, "{said:?}");
     assert!(said[0].contains("occlusion-slices models"), "{said:?}");
-    let shown = viewer::techniques::find(&reg, s.shadow.technique).unwrap();
+    let shown = reg.family(s.shadow.technique).unwrap();
     assert!(shown.availability(LightKind::Linear).is_ok());
     assert_eq!(s.shadow.resolution, 512);
     assert_eq!(s.compare.as_ref().unwrap().technique, "pcss");
-    assert!(viewer::techniques::find(&reg, "no-such").is_err());
-    for e in &reg {
+    assert!(reg.family("no-such").is_err());
+    for e in reg.families() {
         assert!(
             LightKind::ALL.iter().any(|&k| e.availability(k).is_ok()),
             "{}",
-            e.name
+            e.name()
         );
     }
     assert_eq!(s.split_column(200), Some(100));
@@ -271,11 +271,12 @@ fn a_window_screenshot_of_two_techniques_matches_the_offscreen_frame() {
     )
     .unwrap();
     let light = state.frame_light().unwrap();
-    let a = reg[4].default_variant().clone();
-    let pcss = viewer::techniques::find(&reg, "pcss")
+    let a = reg
+        .family("penumbra-limit")
         .unwrap()
         .default_variant()
         .clone();
+    let pcss = reg.family("pcss").unwrap().default_variant().clone();
     assert_eq!(a.name(), "penumbra-limit");
     let split = state.split_column(w).unwrap();
     let frame = |mode| viewer::Frame {

@@ -293,7 +293,7 @@ fn as_seen(s: &mut String, report: &Report) {
         }
         let _ = writeln!(
             s,
-            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nTop: the reference. Then one row each for {} (the first variant, at the side nearest 1024²): the frame, red where darker than the reference by 1/4 of the light, blue where lighter; beside it the FLIP map (magma: black is no visible difference). Full-size frames: `{}/`.\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | side | FLIP mean | FLIP p95 | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
+            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nTop: the reference. Then one row each for {} (its default variant, at the side nearest 1024²): the frame, red where darker than the reference by 1/4 of the light, blue where lighter; beside it the FLIP map (magma: black is no visible difference). Full-size frames: `{}/`.\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | side | FLIP mean | FLIP p95 | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
             super::seen::picture_file(scene),
             shown.join(", "),
             super::seen::frames_dir(scene),

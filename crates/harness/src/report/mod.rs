@@ -21,7 +21,9 @@ use crate::setup::PreparedScene;
 use json::{Machine, ReferenceInfo, Report, Run};
 pub use options::{BackendChoice, MemoryBudgets, ReportOptions, all_techniques};
 use progress::Progress;
-use soft_shadow_core::{Backend, Context, CpuContext, DynTechnique, GpuContext, ShadowError};
+use soft_shadow_core::{
+    Backend, Context, CpuContext, DynTechnique, GpuContext, ShadowError, Technique,
+};
 use soft_shadow_reference::ground_truth::GroundTruthSettings;
 use soft_shadow_reference::scenes::{SceneSpec, catalogue, scene_file};
 use std::collections::HashSet;
@@ -109,7 +111,7 @@ struct Job {
     relit_from: Option<String>,
 }
 
-fn jobs(specs: Vec<SceneSpec>, techniques: &[Box<dyn DynTechnique>]) -> Result<Vec<Job>> {
+fn jobs(specs: Vec<SceneSpec>, techniques: &[Technique]) -> Result<Vec<Job>> {
     let mut out = Vec::new();
     for spec in specs {
         let mut relit: Vec<Job> = Vec::new();
@@ -145,7 +147,7 @@ struct Runner<'a> {
     size: u32,
     settings: GroundTruthSettings,
     resolutions: Vec<u32>,
-    techniques: Vec<Box<dyn DynTechnique>>,
+    techniques: Vec<Technique>,
     backends: Vec<Backend>,
     cpu: CpuContext,
     gpu: Option<GpuContext>,
@@ -454,8 +456,8 @@ impl Runner<'_> {
     }
 }
 
-fn select_techniques(opts: &ReportOptions) -> Result<Vec<Box<dyn DynTechnique>>> {
-    let mut techniques = all_techniques(opts.quick);
+fn select_techniques(opts: &ReportOptions) -> Result<Vec<Technique>> {
+    let mut techniques = opts.registry.techniques(opts.tier());
     if let Some(names) = &opts.techniques {
         // `technique` selects every variant, `technique:variant` one.
         let selects = |n: &str, t: &dyn DynTechnique| match n.split_once(':') {

@@ -1,11 +1,6 @@
 //! What `report` runs: the CLI's options, their defaults, and every technique it knows.
 
-use linear_light::LinearLight;
-use occlusion_slices::OcclusionSlices;
-use penumbra_limit::PenumbraLimit;
-use shadow_maps::{Filter, SamplePattern, ShadowMapBaseline};
-use shadow_width::ShadowWidth;
-use soft_shadow_core::DynTechnique;
+use soft_shadow_core::{Registry, Technique, Tier};
 use std::path::PathBuf;
 
 /// Map resolutions of the full run: 16 to 2048.
@@ -16,10 +11,6 @@ pub const QUICK_RESOLUTIONS: [u32; 1] = [256];
 pub const FULL_SIZE: u32 = 256;
 /// G-buffer side of `--quick`.
 pub const QUICK_SIZE: u32 = 128;
-/// Accumulation sample counts of the full run.
-pub const FULL_ACCUMULATION: [u32; 3] = [4, 16, 64];
-/// Accumulation sample counts of `--quick`.
-pub const QUICK_ACCUMULATION: [u32; 1] = [16];
 
 /// Which backends to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,8 +43,11 @@ pub struct ReportOptions {
     pub out: PathBuf,
     /// `--scenes` (built-in names); `None` = all.
     pub scenes: Option<Vec<String>>,
-    /// `--techniques` (technique names); `None` = all.
+    /// `--techniques` (technique names); `None` = all of [`ReportOptions::registry`].
     pub techniques: Option<Vec<String>>,
+    /// The techniques the report knows: the variants of [`Tier::Report`] (quick:
+    /// [`Tier::Quick`]) of every family. The binary runs `soft_shadow_techniques::registry()`.
+    pub registry: Registry,
     /// `--resolutions`; `None` = [`FULL_RESOLUTIONS`] (quick: [`QUICK_RESOLUTIONS`]).
     pub resolutions: Option<Vec<u32>>,
     /// `--backend`.
@@ -91,39 +85,20 @@ impl ReportOptions {
             .into_iter()
             .min_by_key(|r| (*r as i64 - 512).abs())
     }
+
+    /// The tier of variants the report runs: [`Tier::Quick`] or [`Tier::Report`].
+    pub fn tier(&self) -> Tier {
+        tier(self.quick)
+    }
 }
 
-/// Every technique the report knows, for `--techniques`.
-pub fn all_techniques(quick: bool) -> Vec<Box<dyn DynTechnique>> {
-    let accumulation: &[u32] = if quick {
-        &QUICK_ACCUMULATION
-    } else {
-        &FULL_ACCUMULATION
-    };
-    // Accumulation in both sample patterns: the papers' grid and the rotated one engines use.
-    let rotated = accumulation.iter().map(|&samples| {
-        ShadowMapBaseline::new(Filter::Accumulate { samples }).with_pattern(SamplePattern::Rotated)
-    });
-    let baselines = ShadowMapBaseline::standard_set(accumulation)
-        .into_iter()
-        .chain(rotated)
-        .map(|b| Box::new(b) as Box<dyn DynTechnique>);
-    let shadow_width = ShadowWidth::standard_set()
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    let penumbra_limit = PenumbraLimit::standard_set()
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    let occlusion_slices = OcclusionSlices::standard_set()
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    let linear_light = LinearLight::standard_set()
-        .into_iter()
-        .map(|t| Box::new(t) as Box<dyn DynTechnique>);
-    baselines
-        .chain(shadow_width)
-        .chain(penumbra_limit)
-        .chain(occlusion_slices)
-        .chain(linear_light)
-        .collect()
+/// The tier of variants a report runs: [`Tier::Quick`] for `--quick`, else [`Tier::Report`].
+pub fn tier(quick: bool) -> Tier {
+    if quick { Tier::Quick } else { Tier::Report }
+}
+
+/// Every technique of `soft_shadow_techniques::registry()` a report runs (`quick`: the quick
+/// report's), each family's default first.
+pub fn all_techniques(quick: bool) -> Vec<Technique> {
+    soft_shadow_techniques::registry().techniques(tier(quick))
 }

@@ -7,7 +7,7 @@ use super::options::ReportOptions;
 use super::progress::Progress;
 use crate::as_seen::{artefacts, flip, frame, picture, shaded};
 use crate::error::Result;
-use soft_shadow_core::{Backend, Context, DynTechnique};
+use soft_shadow_core::{Backend, Context};
 use soft_shadow_reference::scenes::catalogue::{AS_SEEN_NAMES, build};
 
 /// The scenes measured as seen: the bunny and [`AS_SEEN_NAMES`] in the full report, the bunny
@@ -27,7 +27,11 @@ pub fn scene_names(opts: &ReportOptions) -> Vec<String> {
 
 /// How many steps [`measure`] counts on the progress bar with `techniques` on `backends`
 /// backends: a reference per scene and a step per configuration.
-pub fn steps(opts: &ReportOptions, techniques: &[Box<dyn DynTechnique>], backends: usize) -> u64 {
+pub fn steps(
+    opts: &ReportOptions,
+    techniques: &[soft_shadow_core::Technique],
+    backends: usize,
+) -> u64 {
     scene_names(opts)
         .iter()
         .filter_map(|n| build(n).ok())
@@ -56,13 +60,13 @@ pub fn frames_dir(scene: &str) -> String {
 /// Every technique of `techniques` that models the scene's light, at every map side of the
 /// report, on `backends`, over the frame of each scene of [`scene_names`]; a configuration that
 /// fails is recorded in `skipped` (and printed above `bar`). Per scene, [`picture_file`] in `opts.out` shows the reference's
-/// shaded frame, then for the first variant of each technique on the first backend, at the side
+/// shaded frame, then for the first variant of each technique on the first backend (its family's default where the registry runs it), at the side
 /// nearest 1024, its frame with the artefacts marked
 /// ([`crate::as_seen::picture`]) beside its FLIP map, at half size; [`frames_dir`] holds the
 /// full-size frames.
 pub fn measure(
     opts: &ReportOptions,
-    techniques: &[Box<dyn DynTechnique>],
+    techniques: &[soft_shadow_core::Technique],
     contexts: &[(Backend, Context<'_>)],
     bar: &mut Progress,
     skipped: &mut Vec<String>,

@@ -165,12 +165,10 @@ pub fn lines(report: &Report) -> Vec<Line> {
 /// the same budget (the best baseline where a paper technique wins, and by how much; the best
 /// paper technique where a baseline wins). A light kind no paper technique ran on is left out.
 pub fn choices(report: &Report, backend: &str, budgets: &[f64]) -> String {
-    let mut registry = super::options::all_techniques(false);
-    registry.extend(super::options::all_techniques(true));
+    let registry = soft_shadow_techniques::registry();
     let call = |technique: &str, variant: &str| {
         registry
-            .iter()
-            .find(|t| t.name() == technique && t.variant() == variant)
+            .find(technique, variant)
             .map_or_else(|| "–".to_string(), |t| format!("`{}`", t.call()))
     };
     // `technique variant at side²`, and the call.

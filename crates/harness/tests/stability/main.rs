@@ -49,7 +49,7 @@ use std::sync::OnceLock;
 pub const RESOLUTIONS: [u32; 3] = [16, 256, 2048];
 
 /// Every technique and variant the report runs (accumulation with 16 samples).
-pub fn techniques() -> Vec<Box<dyn DynTechnique>> {
+pub fn techniques() -> Vec<soft_shadow_core::Technique> {
     all_techniques(true)
 }
 

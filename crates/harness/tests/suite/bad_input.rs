@@ -253,6 +253,7 @@ fn technique_selection_and_scale_are_checked() {
             None
         },
         techniques: Some(vec![techniques.into()]),
+        registry: soft_shadow_techniques::registry(),
         resolutions: Some(vec![32]),
         backend: BackendChoice::Cpu,
         scene_files: files,

@@ -101,13 +101,14 @@ fn the_readme_commands_share_one_build() {
     );
 }
 
-/// The technique crates.
-const TECHNIQUE_CRATES: [&str; 5] = [
+/// The technique crates, and the registry of them all.
+const TECHNIQUE_CRATES: [&str; 6] = [
     "shadow-maps",
     "occlusion-slices",
     "penumbra-limit",
     "shadow-width",
     "linear-light",
+    "soft-shadow-techniques",
 ];
 
 /// A technique crate with its default features builds wgpu with no backend (the application

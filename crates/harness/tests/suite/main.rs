@@ -17,6 +17,7 @@ mod own_shader;
 mod papers;
 mod penumbra_limit;
 mod pool;
+mod registry;
 mod renderer;
 mod report;
 mod shadow_width;

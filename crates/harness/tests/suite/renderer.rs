@@ -20,7 +20,7 @@ fn scene() -> (SceneGeometry, soft_shadow_core::Camera) {
     model_on_ground(&model)
 }
 
-fn renderer(test: &str) -> Option<(Renderer, SceneGeometry)> {
+pub(crate) fn renderer(test: &str) -> Option<(Renderer, SceneGeometry)> {
     let ctx = gpu_for_test(test)?;
     let (geometry, camera) = scene();
     let settings = FrameSettings {
@@ -33,7 +33,10 @@ fn renderer(test: &str) -> Option<(Renderer, SceneGeometry)> {
 }
 
 /// The shaded frame of `t` under `light`.
-fn frame<'a>(t: &'a dyn viewer::FrameTechnique, light: &'a soft_shadow_core::Light) -> Frame<'a> {
+pub(crate) fn frame<'a>(
+    t: &'a dyn soft_shadow_core::DynTechnique,
+    light: &'a soft_shadow_core::Light,
+) -> Frame<'a> {
     Frame {
         light,
         shadow: Shadow {

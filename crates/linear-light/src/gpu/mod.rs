@@ -235,13 +235,6 @@ pub(crate) fn generate(
     let res = input.resolution;
     let n = t.samples;
     let layers = n * segments.len() as u32;
-    let limit = ctx.device.limits().max_storage_buffer_binding_size;
-    if 4 * (res as u64 - 1).pow(2) > limit {
-        return Err(ShadowError::InvalidResolution {
-            requested: res,
-            max: ((limit / 4) as f64).sqrt() as u32,
-        });
-    }
     let raster = ctx.cached(GpuRasterizer::new);
     let skin_pipe = ctx.cached(SkinPipeline::new);
     let comb = ctx.cached(CombineKernel::new);

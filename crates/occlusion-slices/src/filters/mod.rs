@@ -7,7 +7,6 @@ pub(crate) mod mipmap;
 pub(crate) mod nbuffer;
 pub(crate) mod sat;
 
-use crate::params::Prefilter;
 use glam::Vec2;
 pub(crate) use mipmap::Mipmap;
 pub(crate) use nbuffer::NBuffer;
@@ -15,6 +14,42 @@ use rayon::prelude::*;
 pub(crate) use sat::Sat;
 use soft_shadow_core::pool::Pool;
 use std::sync::Arc;
+
+/// How an occlusion texture is box-filtered (section 3.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Prefilter {
+    /// A mipmap pyramid (dyadic 2x2 means), read trilinearly at the kernel's level.
+    Mipmap,
+    /// N-Buffers: level `l` holds the normalised `2^l x 2^l` box filter at full resolution; a
+    /// kernel between two levels interpolates linearly in its size.
+    NBuffer,
+    /// A summed-area table of integer counts: the exact box filter of the binary slice.
+    Sat,
+}
+
+impl Prefilter {
+    /// Every filter.
+    pub const ALL: [Prefilter; 3] = [Prefilter::Mipmap, Prefilter::NBuffer, Prefilter::Sat];
+
+    /// Short name used in variant labels.
+    pub fn name(self) -> &'static str {
+        match self {
+            Prefilter::Mipmap => "mipmap",
+            Prefilter::NBuffer => "nbuffer",
+            Prefilter::Sat => "sat",
+        }
+    }
+
+    /// Index shared with the shaders (`FILTER_*` in `frame.wgsl`).
+    pub fn index(self) -> u32 {
+        match self {
+            Prefilter::Mipmap => 0,
+            Prefilter::NBuffer => 1,
+            Prefilter::Sat => 2,
+        }
+    }
+}
 
 /// Number of levels (mipmap or N-Buffer) of a `res`-wide slice: up to the first box of side
 /// `>= res`.

@@ -1,19 +1,9 @@
 //! The exact nearest-seed map on the GPU ([`crate::feature_transform`] on the CPU, step by step
 //! in the same integer arithmetic): every texel of a buffer of seeds gets its nearest seed.
 
-use super::pipelines::SHADERS;
-use bytemuck::{Pod, Zeroable};
+use super::pipelines::{FEATURE_TRANSFORM, FtParams};
 use soft_shadow_core::GpuContext;
 use soft_shadow_core::gpu::compute::bind_group;
-use soft_shadow_core::gpu::shader::{Group, Program, storage, uniform};
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct FtParams {
-    res: u32,
-    keyed: u32,
-    _pad: [u32; 2],
-}
 
 /// The feature-transform pipelines; build once per context
 /// (`ctx.cached(GpuFeatureTransform::new)`).
@@ -25,23 +15,10 @@ pub(crate) struct GpuFeatureTransform {
     no_keys: wgpu::Buffer,
 }
 
-/// `feature_transform.wgsl`: parameters, the seeds and the scratch buffer (`u32`), the keys.
-pub(crate) static PROGRAM: Program = Program {
-    library: &SHADERS,
-    module: "penumbra_limit::feature_transform",
-    defs: &[],
-    groups: &[Group::compute(&[
-        uniform::<FtParams>(),
-        storage::<u32>(false),
-        storage::<u32>(false),
-        storage::<f32>(true),
-    ])],
-};
-
 impl GpuFeatureTransform {
     /// Builds the pipelines.
     pub(crate) fn new(ctx: &GpuContext) -> Self {
-        let p = ctx.program(&PROGRAM);
+        let p = ctx.program(&FEATURE_TRANSFORM);
         Self {
             layout: p.layouts[0].clone(),
             columns: p.compute(ctx, "ft_columns"),

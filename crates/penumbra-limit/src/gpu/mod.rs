@@ -62,9 +62,13 @@ impl GpuPenumbraMaps {
                 .map(|t| t.map(|b| b as f32 / 255.0))
                 .collect(),
         };
-        let res = self.params.resolution;
-        Map2D::from_vec(res, res, raw.into_iter().map(Texel::decode).collect())
-            .ok_or_else(|| ShadowError::Gpu("penumbra map readback size".into()))
+        let resolution = self.params.resolution;
+        Map2D::from_vec(
+            resolution,
+            resolution,
+            raw.into_iter().map(Texel::decode).collect(),
+        )
+        .ok_or_else(|| ShadowError::Gpu("penumbra map readback size".into()))
     }
 }
 
@@ -74,7 +78,7 @@ impl GpuPenumbraMaps {
 pub(crate) struct GenParams {
     map: MapParams,
     warp: Warp,
-    res: u32,
+    resolution: u32,
     layer_gap: f32,
     transition_gap: f32,
     _pad: f32,
@@ -93,9 +97,9 @@ fn dispatch(
     enc: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::ComputePipeline,
     bind: &wgpu::BindGroup,
-    res: u32,
+    resolution: u32,
 ) {
-    let g = res.div_ceil(8);
+    let g = resolution.div_ceil(8);
     compute::dispatch(ctx, enc, "penumbra limit", pipeline, bind, (g, g, 1));
 }
 
@@ -164,7 +168,7 @@ fn encode_silhouette(
     geom: &wgpu::Buffer,
     edge: &wgpu::Texture,
     lower: &wgpu::Texture,
-    res: u32,
+    resolution: u32,
 ) -> Result<()> {
     let pipes = ctx.cached(SilhouettePipelines::new);
     let tris = scene.casters();
@@ -173,7 +177,7 @@ fn encode_silhouette(
     let depth = texture_2d(
         ctx,
         "penumbra ribbon depth",
-        res,
+        resolution,
         (1, 1),
         DEPTH_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT,
@@ -259,27 +263,21 @@ pub(crate) fn generate(
     scene: &GpuScene,
     input: &Generation,
 ) -> Result<GpuPenumbraMaps> {
-    let (light, res) = (input.light, input.resolution);
-    let texels = res as u64 * res as u64;
-    let limit = ctx.device.limits().max_storage_buffer_binding_size;
-    if texels * 4 > limit {
-        return Err(ShadowError::InvalidResolution {
-            requested: res,
-            max: ((limit / 4) as f64).sqrt() as u32,
-        });
-    }
+    let light = input.light;
+    let resolution = input.resolution;
+    let texels = resolution as u64 * resolution as u64;
     let raster = ctx.cached(GpuRasterizer::new);
     let di = ctx.cached(DepthImagePipelines::new);
     let comb = ctx.cached(CombinePipelines::new);
     let view = SampleView::center(light, &input.coverage());
-    let params = view.params(res);
+    let params = view.params(resolution);
     let warp = Warp::new(&params, light);
     let tris = scene.casters();
-    let depth = GpuRasterizer::depth_array(ctx, res, 1)?;
+    let depth = GpuRasterizer::depth_array(ctx, resolution, 1)?;
     let gen_params = GenParams {
         map: params,
         warp,
-        res,
+        resolution,
         layer_gap: t.layer_gap,
         transition_gap: t.transition_gap,
         _pad: 0.0,
@@ -295,7 +293,7 @@ pub(crate) fn generate(
     let edge = texture_2d(
         ctx,
         "penumbra edge",
-        res,
+        resolution,
         (1, 1),
         EDGE_FORMAT,
         layer_usage(),
@@ -303,7 +301,7 @@ pub(crate) fn generate(
     let lower = texture_2d(
         ctx,
         "penumbra lower",
-        res,
+        resolution,
         (1, 1),
         LOWER_FORMAT,
         layer_usage(),
@@ -311,7 +309,7 @@ pub(crate) fn generate(
     let map = texture_2d(
         ctx,
         "penumbra limit map",
-        res,
+        resolution,
         (1, 1),
         t.storage.texture_format(),
         wgpu::TextureUsages::STORAGE_BINDING
@@ -340,18 +338,36 @@ pub(crate) fn generate(
         )
     };
     raster.encode_depth_pass(ctx, enc, tris, &view.view, &depth, 0, DepthPass::NEAREST);
-    dispatch(ctx, enc, &di.geometry, &di_bind(&seeds[0], &seeds[1]), res);
+    dispatch(
+        ctx,
+        enc,
+        &di.geometry,
+        &di_bind(&seeds[0], &seeds[1]),
+        resolution,
+    );
     match t.generator {
         Generator::Silhouette => {
-            encode_silhouette(ctx, enc, scene, &uniform, &geom, &edge, &lower, res)?;
+            encode_silhouette(ctx, enc, scene, &uniform, &geom, &edge, &lower, resolution)?;
         }
         Generator::DepthImage => {
-            dispatch(ctx, enc, &di.seeds, &di_bind(&seeds[0], &seeds[1]), res);
+            dispatch(
+                ctx,
+                enc,
+                &di.seeds,
+                &di_bind(&seeds[0], &seeds[1]),
+                resolution,
+            );
             let ft = ctx.cached(GpuFeatureTransform::new);
             // Near-side ties to the nearer depth, as on the CPU.
-            ft.encode(ctx, enc, [&seeds[0], &seeds[2]], Some(&geom), res);
-            ft.encode(ctx, enc, [&seeds[1], &seeds[3]], None, res);
-            dispatch(ctx, enc, &di.limits, &di_bind(&seeds[0], &seeds[1]), res);
+            ft.encode(ctx, enc, [&seeds[0], &seeds[2]], Some(&geom), resolution);
+            ft.encode(ctx, enc, [&seeds[1], &seeds[3]], None, resolution);
+            dispatch(
+                ctx,
+                enc,
+                &di.limits,
+                &di_bind(&seeds[0], &seeds[1]),
+                resolution,
+            );
         }
     }
     let k = CombinePipelines::index(t.storage);
@@ -368,7 +384,7 @@ pub(crate) fn generate(
             wgpu::BindingResource::TextureView(&map_view),
         ],
     );
-    dispatch(ctx, enc, &comb.pipelines[k], &cb, res);
+    dispatch(ctx, enc, &comb.pipelines[k], &cb, resolution);
     // Scratch back to the pool: the passes recorded above still run first.
     for texture in [depth, edge, lower] {
         ctx.recycle_texture(texture);

@@ -7,6 +7,7 @@ use super::GenParams;
 use crate::eval::EvalParams;
 use crate::silhouette::Edge;
 use crate::storage::Storage;
+use bytemuck::{Pod, Zeroable};
 use soft_shadow_core::GpuContext;
 use soft_shadow_core::gpu::raster::DEPTH_FORMAT;
 use soft_shadow_core::gpu::shader::{
@@ -53,8 +54,30 @@ pub static SHADERS: Library = Library {
         &COMBINE[0],
         &COMBINE[1],
         &COMBINE[2],
-        &super::feature_transform::PROGRAM,
+        &FEATURE_TRANSFORM,
     ],
+};
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+/// The feature transform's parameters (`feature_transform.wgsl`).
+pub(crate) struct FtParams {
+    pub(crate) res: u32,
+    pub(crate) keyed: u32,
+    pub(crate) _pad: [u32; 2],
+}
+
+/// `feature_transform.wgsl`: parameters, the seeds and the scratch buffer (`u32`), the keys.
+pub(crate) static FEATURE_TRANSFORM: Program = Program {
+    library: &SHADERS,
+    module: "penumbra_limit::feature_transform",
+    defs: &[],
+    groups: &[Group::compute(&[
+        uniform::<FtParams>(),
+        storage::<u32>(false),
+        storage::<u32>(false),
+        storage::<f32>(true),
+    ])],
 };
 
 /// `silhouette.wgsl`: parameters, the edges (vertex stage), the edge layer (fragment stage),

@@ -207,6 +207,12 @@ impl GpuContext {
         self.device.limits().max_texture_dimension_2d
     }
 
+    /// The limits that bound a map's side on this device
+    /// ([`crate::TechniqueInfo::max_resolution`]).
+    pub fn device_limits(&self) -> crate::technique::DeviceLimits {
+        crate::technique::DeviceLimits::from_limits(&self.device.limits())
+    }
+
     /// Blocks until all submitted work has finished.
     pub fn wait(&self) -> Result<()> {
         self.device

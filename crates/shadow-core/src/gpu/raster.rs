@@ -4,24 +4,13 @@
 //! test, no culling, row 0 at the top. Tests check both against the CPU rasterizer.
 
 use super::GpuContext;
-use super::shader::{Group, Program, SHADERS, uniform};
+use super::shader::RASTER;
 use super::timer::PassSlot;
 use crate::error::{Result, ShadowError};
 use crate::map2d::Map2D;
 use crate::raster::{DepthPass, DepthTest, Faces, GBufferTexel, facing_normal};
 use crate::view::View;
 use glam::{Mat4, Vec3};
-
-/// `raster.wgsl`: the view-projection matrix, read by the vertex stage.
-pub(crate) static PROGRAM: Program = Program {
-    library: &SHADERS,
-    module: "soft_shadow_core::raster",
-    defs: &[],
-    groups: &[Group {
-        stages: wgpu::ShaderStages::VERTEX,
-        bindings: &[uniform::<[f32; 16]>()],
-    }],
-};
 
 /// Depth format of every light-space map.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -103,7 +92,7 @@ impl GpuRasterizer {
     /// Builds the pipelines.
     pub fn new(ctx: &GpuContext) -> Self {
         let device = &ctx.device;
-        let program = ctx.program(&PROGRAM);
+        let program = ctx.program(&RASTER);
         let (module, layout, pl) = (
             &program.module,
             program.layouts[0].clone(),

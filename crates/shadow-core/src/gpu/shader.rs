@@ -610,7 +610,18 @@ pub static SHADERS: Library = Library {
         },
     ],
     depends: &[],
-    programs: &[&super::raster::PROGRAM],
+    programs: &[&RASTER],
+};
+
+/// `raster.wgsl`: the view-projection matrix, read by the vertex stage.
+pub(crate) static RASTER: Program = Program {
+    library: &SHADERS,
+    module: "soft_shadow_core::raster",
+    defs: &[],
+    groups: &[Group {
+        stages: wgpu::ShaderStages::VERTEX,
+        bindings: &[uniform::<[f32; 16]>()],
+    }],
 };
 
 /// The library of [`NO_GPU_PATH`]: no modules.

@@ -6,6 +6,7 @@ mod casting;
 mod cpu_only;
 mod light_sampling;
 mod rasterizer;
+mod registry;
 mod view_fit;
 mod views;
 
