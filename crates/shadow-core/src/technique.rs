@@ -701,6 +701,22 @@ fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
     })
 }
 
+/// Brings `maps` to the views `planned`: those at `indices` made by `generate` (given the views
+/// to make; not called where there are none), the others kept. Returns the maps replaced.
+fn remade<M>(
+    maps: &mut ViewMaps<M>,
+    planned: &LightViews,
+    indices: &[usize],
+    generate: impl FnOnce(&LightViews) -> Result<ViewMaps<M>>,
+) -> Result<Vec<M>> {
+    if indices.is_empty() {
+        maps.splice(planned, &[], Vec::new());
+        return Ok(Vec::new());
+    }
+    let fresh = generate(&planned.only(indices))?;
+    Ok(maps.splice(planned, indices, fresh.into_maps()))
+}
+
 impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
     fn backend(&self) -> Backend {
         Backend::Cpu
@@ -717,19 +733,13 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
         resolution: u32,
         indices: &[usize],
     ) -> Result<()> {
-        if indices.is_empty() {
-            self.1.splice(planned, &[], Vec::new());
-            return Ok(());
-        }
-        let Context::Cpu(cpu) = ctx else {
-            return Err(ShadowError::MapsMismatch(
+        let Self(t, maps) = self;
+        remade(maps, planned, indices, |views| match ctx {
+            Context::Cpu(cpu) => t.generate_cpu_in(cpu, geometry, light, views, resolution),
+            _ => Err(ShadowError::MapsMismatch(
                 "CPU maps are made again on the CPU".into(),
-            ));
-        };
-        let fresh =
-            self.0
-                .generate_cpu_in(cpu, geometry, light, &planned.only(indices), resolution)?;
-        self.1.splice(planned, indices, fresh.into_maps());
+            )),
+        })?;
         Ok(())
     }
     fn evaluate(&self, _: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
@@ -755,21 +765,21 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
         resolution: u32,
         indices: &[usize],
     ) -> Result<()> {
-        if indices.is_empty() {
-            self.1.splice(planned, &[], Vec::new());
-            return Ok(());
-        }
         let Context::Gpu(gpu) = ctx else {
-            return Err(ShadowError::MapsMismatch(
-                "GPU maps are made again on the GPU".into(),
-            ));
+            return remade(&mut self.1, planned, indices, |_| {
+                Err(ShadowError::MapsMismatch(
+                    "GPU maps are made again on the GPU".into(),
+                ))
+            })
+            .map(drop);
         };
-        let scene = GpuScene::new(gpu, geometry)?;
-        let fresh =
-            self.0
-                .generate_gpu_on(gpu, &scene, light, &planned.only(indices), resolution)?;
-        for old in self.1.splice(planned, indices, fresh.into_maps()) {
-            self.0.recycle_maps(gpu, old);
+        let Self(t, maps) = self;
+        let replaced = remade(maps, planned, indices, |views| {
+            let scene = GpuScene::new(gpu, geometry)?;
+            t.generate_gpu_on(gpu, &scene, light, views, resolution)
+        })?;
+        for old in replaced {
+            t.recycle_maps(gpu, old);
         }
         Ok(())
     }
