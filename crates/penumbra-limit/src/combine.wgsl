@@ -37,18 +37,18 @@ fn quantize(v: f32) -> f32 {
 }
 
 fn edge_at(x: i32, y: i32) -> vec2<f32> {
-    let r = i32(gp.res) - 1;
+    let r = i32(gp.resolution) - 1;
     return textureLoad(edge_tex, vec2<i32>(clamp(x, 0, r), clamp(y, 0, r)), 0).xy;
 }
 
 @compute @workgroup_size(8, 8)
 fn combine(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= gp.res || gid.y >= gp.res {
+    if gid.x >= gp.resolution || gid.y >= gp.resolution {
         return;
     }
     let x = i32(gid.x);
     let y = i32(gid.y);
-    let g0 = geom[gid.y * gp.res + gid.x];
+    let g0 = geom[gid.y * gp.resolution + gid.x];
     let lower = textureLoad(lower_tex, vec2<i32>(x, y), 0).x;
     let e = edge_at(x, y);
     var t = vec4<f32>(g0, g0, lower, select(MAX_P, -MAX_P, g0 < NONE_DEPTH));

@@ -40,11 +40,11 @@ pub(crate) fn layers(
     view: &SampleView,
     warp: &Warp,
     tris: &[[glam::Vec3; 3]],
-    res: u32,
+    resolution: u32,
 ) -> Layers {
-    let params = view.params(res);
+    let params = view.params(resolution);
     let pool = cpu.pool();
-    let geom = depth_map_pass_then(pool, &view.view, res, tris, DepthPass::NEAREST, |z| {
+    let geom = depth_map_pass_then(pool, &view.view, resolution, tris, DepthPass::NEAREST, |z| {
         warp.normalized(z)
     });
     let (edge, lower) = match t.generator {

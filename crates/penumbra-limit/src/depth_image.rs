@@ -207,15 +207,15 @@ pub(crate) fn limits(
     warp: &Warp,
     layer_gap: f32,
 ) -> (Map2D<[f32; 2]>, Map2D<f32>) {
-    let res = geom.width();
+    let resolution = geom.width();
     let (a, b) = seeds(pool, geom, warp, layer_gap);
     // Ties between near-side seeds to the nearer depth (step 2); only the far side's distance
     // is read.
     let (a, b) = (
-        nearest(pool, a, res, Some(geom.data())),
-        nearest(pool, b, res, None),
+        nearest(pool, a, resolution, Some(geom.data())),
+        nearest(pool, b, resolution, None),
     );
-    let n = (res * res) as usize;
+    let n = (resolution * resolution) as usize;
     // Every texel is written below: no clearing pass.
     let (mut edge, mut lower) = (pool.overwrite(n, NO_EDGE), pool.overwrite(n, NONE_DEPTH));
     // Beyond the reach no texel is in a ribbon: skip the square roots and the depth reads there.
@@ -223,7 +223,7 @@ pub(crate) fn limits(
     // Row by row: a texel's coordinates come from its row and place in it, not from a
     // division of its index (a division per texel measured 18.6 ms against 11.3 for the whole
     // step on `torus` at 2048²).
-    let w = (res as usize).max(1);
+    let w = (resolution as usize).max(1);
     edge.par_chunks_mut(w)
         .zip(lower.par_chunks_mut(w))
         .enumerate()
@@ -242,10 +242,10 @@ pub(crate) fn limits(
     pool.give(a);
     pool.give(b);
     (
-        Map2D::from_vec(res, res, edge)
+        Map2D::from_vec(resolution, resolution, edge)
             .unwrap_or_else(|| Map2D::new(0, 0, NO_EDGE))
             .returning_to(pool),
-        Map2D::from_vec(res, res, lower)
+        Map2D::from_vec(resolution, resolution, lower)
             .unwrap_or_else(|| Map2D::new(0, 0, NONE_DEPTH))
             .returning_to(pool),
     )

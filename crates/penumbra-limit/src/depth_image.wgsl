@@ -19,25 +19,25 @@
 
 
 fn index(x: i32, y: i32) -> u32 {
-    return u32(y) * gp.res + u32(x);
+    return u32(y) * gp.resolution + u32(x);
 }
 
 fn geom_clamped(x: i32, y: i32) -> f32 {
-    let r = i32(gp.res) - 1;
+    let r = i32(gp.resolution) - 1;
     return geom[index(clamp(x, 0, r), clamp(y, 0, r))];
 }
 
 @compute @workgroup_size(8, 8)
 fn geometry(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= gp.res || gid.y >= gp.res {
+    if gid.x >= gp.resolution || gid.y >= gp.resolution {
         return;
     }
     let z = linear_from_ndc(gp.map, textureLoad(depth, vec2<i32>(gid.xy), 0, 0));
-    geom[gid.y * gp.res + gid.x] = normalized(gp.warp, z);
+    geom[gid.y * gp.resolution + gid.x] = normalized(gp.warp, z);
 }
 
 fn near_side(x: i32, y: i32, d: vec2<i32>) -> bool {
-    let r = i32(gp.res);
+    let r = i32(gp.resolution);
     let n = vec2<i32>(x, y) + d;
     if x < 0 || y < 0 || x >= r || y >= r || n.x < 0 || n.y < 0 || n.x >= r || n.y >= r {
         return false;
@@ -60,7 +60,7 @@ const NEIGHBOURS: array<vec2<i32>, 4> = array<vec2<i32>, 4>(
 
 @compute @workgroup_size(8, 8)
 fn seeds(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= gp.res || gid.y >= gp.res {
+    if gid.x >= gp.resolution || gid.y >= gp.resolution {
         return;
     }
     let x = i32(gid.x);
@@ -83,7 +83,7 @@ fn seed_distance(x: i32, y: i32, s: u32) -> f32 {
 
 @compute @workgroup_size(8, 8)
 fn limits(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= gp.res || gid.y >= gp.res {
+    if gid.x >= gp.resolution || gid.y >= gp.resolution {
         return;
     }
     let x = i32(gid.x);

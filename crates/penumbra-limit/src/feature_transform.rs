@@ -38,7 +38,7 @@ const NO_ROW: u16 = u16::MAX;
 #[derive(Clone, Copy)]
 struct Keys<'a> {
     keys: Option<&'a [f32]>,
-    res: usize,
+    resolution: usize,
 }
 
 impl Keys<'_> {
@@ -47,28 +47,28 @@ impl Keys<'_> {
     #[inline(always)]
     fn less(self, (x, a): (u32, u32), (y, b): (u32, u32)) -> bool {
         self.keys.is_some_and(|k| {
-            k[a as usize * self.res + x as usize] < k[b as usize * self.res + y as usize]
+            k[a as usize * self.resolution + x as usize] < k[b as usize * self.resolution + y as usize]
         })
     }
 }
 
-/// Step 1 over a `res`-wide square map: for every texel the row of the nearest seed of its
+/// Step 1 over a `resolution`-wide square map: for every texel the row of the nearest seed of its
 /// column ([`NO_ROW`] when the column has none; of two equally near the one of lesser key, else
 /// the upper one), as strips of [`STRIP`] columns, strip `s` holding columns `s * STRIP ..` (the
 /// last one narrower), row-major.
 fn columns(pool: &Pool, seeds: &[u32], keys: Keys) -> Vec<Vec<u16>> {
-    let res = keys.res;
-    (0..res.div_ceil(STRIP))
+    let resolution = keys.resolution;
+    (0..resolution.div_ceil(STRIP))
         .into_par_iter()
         .map(|s| {
             let x0 = s * STRIP;
-            let sw = STRIP.min(res - x0);
+            let sw = STRIP.min(resolution - x0);
             // The downward sweep writes every texel: no clearing pass.
-            let mut out = pool.overwrite(sw * res, NO_ROW);
+            let mut out = pool.overwrite(sw * resolution, NO_ROW);
             // Downwards: the nearest seed at or above.
             let mut above = [NO_ROW; STRIP];
             for (y, o) in out.chunks_exact_mut(sw).enumerate() {
-                let cells = &seeds[y * res + x0..y * res + x0 + sw];
+                let cells = &seeds[y * resolution + x0..y * resolution + x0 + sw];
                 for ((o, a), &c) in o.iter_mut().zip(&mut above).zip(cells) {
                     if c != NONE {
                         *a = y as u16;
@@ -80,7 +80,7 @@ fn columns(pool: &Pool, seeds: &[u32], keys: Keys) -> Vec<Vec<u16>> {
             // with a lesser key.
             let mut below = [NO_ROW; STRIP];
             for (y, o) in out.chunks_exact_mut(sw).enumerate().rev() {
-                let cells = &seeds[y * res + x0..y * res + x0 + sw];
+                let cells = &seeds[y * resolution + x0..y * resolution + x0 + sw];
                 let y = y as u16;
                 // Branch-free, so the sweep vectorizes; equally near seeds above and below
                 // (`tied`) are decided by their keys after it.
@@ -205,7 +205,7 @@ impl Envelope {
     }
 }
 
-/// The nearest seed of every texel of a `res`-wide square map, exactly: `seeds` holds one value
+/// The nearest seed of every texel of a `resolution`-wide square map, exactly: `seeds` holds one value
 /// per texel, a seed's own [`pack`]ed coordinates or [`NONE`] (only whether it is [`NONE`] is
 /// read); `keys`, where given, one per texel, decides between equally near seeds (the least
 /// wins; it is read at seeds only). The result holds the nearest seed's packed coordinates (of
@@ -215,12 +215,12 @@ impl Envelope {
 ///
 /// # Panics
 ///
-/// If `seeds` (or `keys`, where given) does not hold `res²` values, or `res` is 65536 or more
+/// If `seeds` (or `keys`, where given) does not hold `resolution²` values, or `resolution` is 65536 or more
 /// (beyond what [`pack`] holds).
-pub(crate) fn nearest(pool: &Pool, seeds: Vec<u32>, res: u32, keys: Option<&[f32]>) -> Vec<u32> {
-    let n = res as usize;
-    assert!(res < 1 << 16 && seeds.len() == n * n && keys.is_none_or(|k| k.len() == n * n));
-    let keys = Keys { keys, res: n };
+pub(crate) fn nearest(pool: &Pool, seeds: Vec<u32>, resolution: u32, keys: Option<&[f32]>) -> Vec<u32> {
+    let n = resolution as usize;
+    assert!(resolution < 1 << 16 && seeds.len() == n * n && keys.is_none_or(|k| k.len() == n * n));
+    let keys = Keys { keys, resolution: n };
     let strips = columns(pool, &seeds, keys);
     let mut out = seeds;
     out.par_chunks_mut(n.max(1))

@@ -18,7 +18,7 @@
 // of Sep is at most 2 * 32767^2 < 2^31 in magnitude (the CPU computes in i64).
 
 struct FtParams {
-    res: u32,
+    resolution: u32,
     keyed: u32,
     _pad_b: u32,
     _pad_c: u32,
@@ -36,13 +36,13 @@ fn ft_less(x: u32, r: u32, y: u32, s: u32) -> bool {
     if prm.keyed == 0u {
         return false;
     }
-    return keys[r * prm.res + x] < keys[s * prm.res + y];
+    return keys[r * prm.resolution + x] < keys[s * prm.resolution + y];
 }
 
 @compute @workgroup_size(64)
 fn ft_columns(@builtin(global_invocation_id) gid: vec3<u32>) {
     let x = gid.x;
-    let r = prm.res;
+    let r = prm.resolution;
     if x >= r {
         return;
     }
@@ -103,7 +103,7 @@ fn ft_floor_div(n: i32, d: i32) -> i32 {
 @compute @workgroup_size(64)
 fn ft_rows(@builtin(global_invocation_id) gid: vec3<u32>) {
     let y = gid.x;
-    let r = prm.res;
+    let r = prm.resolution;
     if y >= r {
         return;
     }

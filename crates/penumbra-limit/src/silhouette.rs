@@ -418,7 +418,7 @@ pub(crate) fn rasterize_ribbons(
     geom: &Map2D<f32>,
     ppt: f32,
 ) -> Map2D<[f32; 2]> {
-    let res = geom.width();
+    let resolution = geom.width();
     // Each quad as the GPU draws it: triangles (0, 1, 2) and (0, 2, 3), inner strip first.
     let tris: Vec<(usize, SnappedTri, f32)> = ribbons
         .iter()
@@ -436,17 +436,17 @@ pub(crate) fn rasterize_ribbons(
         .collect();
     let boxes: Vec<_> = tris.iter().map(|(_, t, _)| t.texel_box()).collect();
     // Each band clears its own rows (in cache) before its ribbons: no clearing pass.
-    let mut data = pool.overwrite(res as usize * res as usize, NO_EDGE);
-    let w = res as usize;
+    let mut data = pool.overwrite(resolution as usize * resolution as usize, NO_EDGE);
+    let w = resolution as usize;
     data.par_chunks_mut(w * BAND as usize)
         .enumerate()
         .for_each(|(band, rows)| {
             let y0 = band as u32 * BAND;
-            let y1 = (y0 + BAND).min(res);
+            let y1 = (y0 + BAND).min(resolution);
             rows.fill(NO_EDGE);
             let mut keys = vec![1.0f32; rows.len()];
             for ((i, t, sign), &(bx0, bx1, by0, by1)) in tris.iter().zip(&boxes) {
-                let (rx0, rx1) = (bx0.max(0), bx1.min(res as i64 - 1));
+                let (rx0, rx1) = (bx0.max(0), bx1.min(resolution as i64 - 1));
                 let (ry0, ry1) = (by0.max(y0 as i64), by1.min(y1 as i64 - 1));
                 for y in ry0..=ry1 {
                     let Some((sx0, sx1)) = t.span(y, rx0, rx1) else {
@@ -463,7 +463,7 @@ pub(crate) fn rasterize_ribbons(
                 }
             }
         });
-    Map2D::from_vec(res, res, data)
+    Map2D::from_vec(resolution, resolution, data)
         .unwrap_or_else(|| Map2D::new(0, 0, NO_EDGE))
         .returning_to(pool)
 }

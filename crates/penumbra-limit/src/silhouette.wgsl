@@ -34,8 +34,8 @@ fn project(p: vec3<f32>) -> Projected {
     var r: Projected;
     let clip = gp.map.view_proj * vec4<f32>(p, 1.0);
     r.ok = clip.w > 0.0;
-    let res = f32(gp.map.resolution);
-    r.q = vec2<f32>((clip.x / clip.w * 0.5 + 0.5) * res, (0.5 - clip.y / clip.w * 0.5) * res);
+    let resolution = f32(gp.map.resolution);
+    r.q = vec2<f32>((clip.x / clip.w * 0.5 + 0.5) * resolution, (0.5 - clip.y / clip.w * 0.5) * resolution);
     return r;
 }
 
@@ -54,11 +54,11 @@ const OUTLINE_PROBE: f32 = 1.5;
 
 // The geometry depth of the texel under `q` (texel coordinates); NONE_DEPTH outside the map.
 fn geom_at(q: vec2<f32>) -> f32 {
-    let r = f32(gp.res);
+    let r = f32(gp.resolution);
     if !(q.x >= 0.0 && q.y >= 0.0 && q.x < r && q.y < r) {
         return NONE_DEPTH;
     }
-    return geom[u32(q.y) * gp.res + u32(q.x)];
+    return geom[u32(q.y) * gp.resolution + u32(q.x)];
 }
 
 // Whether the map holds no caster `OUTLINE_PROBE` texels outside `q` along `o`, or one deeper
@@ -144,8 +144,8 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
         quad = array<vec2<f32>, 4>(sa - t * ha, sb + t * hb, sb + t * hb + o * hb, sa - t * ha + o * ha);
     }
     let q = quad[CORNERS[k % 6u]];
-    let res = f32(gp.map.resolution);
-    v.pos = vec4<f32>(q.x / res * 2.0 - 1.0, 1.0 - q.y / res * 2.0, 0.5, 1.0);
+    let resolution = f32(gp.map.resolution);
+    v.pos = vec4<f32>(q.x / resolution * 2.0 - 1.0, 1.0 - q.y / resolution * 2.0, 0.5, 1.0);
     v.a = sa;
     v.b = sb;
     v.c = vec2<f32>(ca, cb);
@@ -167,7 +167,7 @@ fn fs_ribbon(v: RibbonVarying) -> RibbonFragment {
     let c = v.c.x + (v.c.y - v.c.x) * t;
     let p = clamp(v.sign * dist * gp.warp.p_per_texel, -MAX_P, MAX_P);
     // An inner fragment lands only over a caster (past a corner, an inner strip's cap is outside).
-    if v.sign < 0.0 && geom[u32(q.y) * gp.res + u32(q.x)] >= NONE_DEPTH {
+    if v.sign < 0.0 && geom[u32(q.y) * gp.resolution + u32(q.x)] >= NONE_DEPTH {
         discard;
     }
     var f: RibbonFragment;

@@ -71,7 +71,7 @@ fn has_edge(e: vec2<f32>) -> bool {
 struct GenParams {
     map: MapView,
     warp: Warp,
-    res: u32,
+    resolution: u32,
     layer_gap: f32,
     transition_gap: f32,
     _pad_a: f32,

@@ -228,8 +228,8 @@ impl Runner<'_> {
         for &ti in &job.techniques {
             for ri in 0..self.resolutions.len() {
                 for bi in 0..self.backends.len() {
-                    let (res, backend) = (self.resolutions[ri], self.backends[bi]);
-                    if let Some(run) = self.run(ti, backend, res, &p, &reference, &mut strip)? {
+                    let (resolution, backend) = (self.resolutions[ri], self.backends[bi]);
+                    if let Some(run) = self.run(ti, backend, resolution, &p, &reference, &mut strip)? {
                         report.runs.push(run);
                     }
                     self.bar.inc();
@@ -247,7 +247,7 @@ impl Runner<'_> {
         &mut self,
         ti: usize,
         backend: Backend,
-        res: u32,
+        resolution: u32,
         p: &PreparedScene,
         reference: &[f32],
         strip: &mut Vec<StripColumn>,
@@ -255,7 +255,7 @@ impl Runner<'_> {
         let t = self.techniques[ti].as_ref();
         let name = &p.spec.name;
         self.bar.set_message(format!(
-            "{name}: {} {} {} {res}",
+            "{name}: {} {} {} {resolution}",
             t.name(),
             t.variant(),
             backend.name()
@@ -268,13 +268,13 @@ impl Runner<'_> {
         };
         // At the cost table's resolution the hard shadow map is timed just before every other
         // configuration: the denominator of its `x hard` ratios.
-        let beside = (res == self.resolutions.iter().copied().max().unwrap_or(res)
+        let beside = (resolution == self.resolutions.iter().copied().max().unwrap_or(resolution)
             && t.name() != cost::HARD)
             .then(|| self.techniques.iter().find(|h| h.name() == cost::HARD))
             .flatten()
             .map(|h| h.as_ref());
         let ctx = self.context(backend)?;
-        let m = match measure::measure(t, ctx, p, res, reps, warm_up, beside) {
+        let m = match measure::measure(t, ctx, p, resolution, reps, warm_up, beside) {
             Ok(m) => m,
             // A light the technique does not model, a resolution or memory need over the
             // backend's limits, or a GPU fault (out of memory, a lost device) on the GPU row:
@@ -291,7 +291,7 @@ impl Runner<'_> {
                     &self.bar,
                     &mut self.skipped,
                     format!(
-                        "{name} {} {} {} {res}",
+                        "{name} {} {} {} {resolution}",
                         t.name(),
                         t.variant(),
                         backend.name()
@@ -307,7 +307,7 @@ impl Runner<'_> {
             technique: t.name().to_string(),
             variant: t.variant(),
             backend: backend.name().to_string(),
-            resolution: res,
+            resolution,
             generate_ms: m.generate_ms,
             evaluate_ms: m.evaluate_ms,
             hard_generate_ms: m.beside_ms.map(|b| b.0),
@@ -321,7 +321,7 @@ impl Runner<'_> {
             .join("exr")
             .join(file_stem(name))
             .join(format!(
-                "{}-{}-{}-{res}.exr",
+                "{}-{}-{}-{resolution}.exr",
                 run.technique, run.variant, run.backend
             ));
         images::write_exr_scalar(
@@ -332,11 +332,11 @@ impl Runner<'_> {
         // The strip shows each variant once: its highest resolution, CPU on ties.
         let label = format!("{}/{}", run.technique, run.variant);
         match strip.iter_mut().find(|s| s.0 == label) {
-            Some(s) if (res, backend == Backend::Cpu) > (s.1, s.2 == Backend::Cpu) => {
-                *s = (label, res, backend, m.v)
+            Some(s) if (resolution, backend == Backend::Cpu) > (s.1, s.2 == Backend::Cpu) => {
+                *s = (label, resolution, backend, m.v)
             }
             Some(_) => {}
-            None => strip.push((label, res, backend, m.v)),
+            None => strip.push((label, resolution, backend, m.v)),
         }
         Ok(Some(run))
     }
@@ -344,7 +344,7 @@ impl Runner<'_> {
     /// `flicker_255` of every technique and backend at the flicker resolution, stored on the
     /// matching runs.
     fn flicker(&mut self, techniques: &[usize], p: &PreparedScene, runs: &mut [Run]) -> Result<()> {
-        let Some(res) = self.opts.flicker_resolution() else {
+        let Some(resolution) = self.opts.flicker_resolution() else {
             return Ok(());
         };
         self.bar
@@ -370,11 +370,11 @@ impl Runner<'_> {
                         && r.technique == t.name()
                         && r.variant == t.variant()
                         && r.backend == backend.name()
-                        && r.resolution == res
+                        && r.resolution == resolution
                 });
                 if let Some(run) = run {
                     run.flicker_255 =
-                        Some(flicker::measure(t, self.context(backend)?, p, res, &refs)?);
+                        Some(flicker::measure(t, self.context(backend)?, p, resolution, &refs)?);
                 }
                 self.bar.inc();
             }
@@ -427,19 +427,19 @@ impl Runner<'_> {
         );
         let tiles = strip
             .iter()
-            .map(|(label, res, backend, _)| {
+            .map(|(label, resolution, backend, _)| {
                 let (technique, variant) = label.split_once('/').unwrap_or((label, ""));
                 let run = scene_runs.iter().find(|r| {
                     r.technique == technique
                         && r.variant == variant
-                        && r.resolution == *res
+                        && r.resolution == *resolution
                         && r.backend == backend.name()
                 });
                 json::StripTile {
                     technique: technique.into(),
                     variant: variant.into(),
                     backend: backend.name().into(),
-                    resolution: *res,
+                    resolution: *resolution,
                     rms_255: run.map_or(f64::NAN, |r| r.errors.rms_255),
                     image_rms_255: run.map_or(f64::NAN, |r| r.errors.image_rms_255),
                 }

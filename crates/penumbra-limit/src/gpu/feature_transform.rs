@@ -41,7 +41,7 @@ impl GpuFeatureTransform {
         resolution: u32,
     ) {
         let prm = FtParams {
-            res: resolution,
+            resolution,
             keyed: keys.is_some() as u32,
             _pad: [0; 2],
         };

@@ -62,7 +62,7 @@ pub static SHADERS: Library = Library {
 #[derive(Clone, Copy, Pod, Zeroable)]
 /// The feature transform's parameters (`feature_transform.wgsl`).
 pub(crate) struct FtParams {
-    pub(crate) res: u32,
+    pub(crate) resolution: u32,
     pub(crate) keyed: u32,
     pub(crate) _pad: [u32; 2],
 }
