@@ -44,9 +44,14 @@ pub(crate) fn layers(
 ) -> Layers {
     let params = view.params(resolution);
     let pool = cpu.pool();
-    let geom = depth_map_pass_then(pool, &view.view, resolution, tris, DepthPass::NEAREST, |z| {
-        warp.normalized(z)
-    });
+    let geom = depth_map_pass_then(
+        pool,
+        &view.view,
+        resolution,
+        tris,
+        DepthPass::NEAREST,
+        |z| warp.normalized(z),
+    );
     let (edge, lower) = match t.generator {
         Generator::Silhouette => {
             let ribbons: Vec<_> = cpu

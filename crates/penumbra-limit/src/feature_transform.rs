@@ -47,7 +47,8 @@ impl Keys<'_> {
     #[inline(always)]
     fn less(self, (x, a): (u32, u32), (y, b): (u32, u32)) -> bool {
         self.keys.is_some_and(|k| {
-            k[a as usize * self.resolution + x as usize] < k[b as usize * self.resolution + y as usize]
+            k[a as usize * self.resolution + x as usize]
+                < k[b as usize * self.resolution + y as usize]
         })
     }
 }
@@ -217,10 +218,18 @@ impl Envelope {
 ///
 /// If `seeds` (or `keys`, where given) does not hold `resolution²` values, or `resolution` is 65536 or more
 /// (beyond what [`pack`] holds).
-pub(crate) fn nearest(pool: &Pool, seeds: Vec<u32>, resolution: u32, keys: Option<&[f32]>) -> Vec<u32> {
+pub(crate) fn nearest(
+    pool: &Pool,
+    seeds: Vec<u32>,
+    resolution: u32,
+    keys: Option<&[f32]>,
+) -> Vec<u32> {
     let n = resolution as usize;
     assert!(resolution < 1 << 16 && seeds.len() == n * n && keys.is_none_or(|k| k.len() == n * n));
-    let keys = Keys { keys, resolution: n };
+    let keys = Keys {
+        keys,
+        resolution: n,
+    };
     let strips = columns(pool, &seeds, keys);
     let mut out = seeds;
     out.par_chunks_mut(n.max(1))

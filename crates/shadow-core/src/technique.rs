@@ -687,6 +687,13 @@ trait ErasedMaps: Send + Sync {
         indices: &[usize],
     ) -> Result<()>;
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>>;
+    #[cfg(feature = "gpu")]
+    fn record_visibility(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        target: &ReceiverTextures,
+    ) -> Result<()>;
     fn recycle(self: Box<Self>, gpu: Option<&GpuContext>);
 }
 
@@ -745,6 +752,17 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
     fn evaluate(&self, _: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_cpu(&self.1, receivers)
     }
+    #[cfg(feature = "gpu")]
+    fn record_visibility(
+        &self,
+        _: &GpuContext,
+        _: &mut wgpu::CommandEncoder,
+        _: &ReceiverTextures,
+    ) -> Result<()> {
+        Err(ShadowError::MapsMismatch(
+            "CPU maps write no GPU texture: generate them on the GPU".into(),
+        ))
+    }
     fn recycle(self: Box<Self>, _: Option<&GpuContext>) {}
 }
 
@@ -785,6 +803,16 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
     }
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_gpu(need_gpu(gpu)?, &self.1, receivers)
+    }
+    fn record_visibility(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        target: &ReceiverTextures,
+    ) -> Result<()> {
+        let binding = self.0.maps_bind_group(gpu, &self.1)?;
+        self.0.record_visibility(gpu, enc, &binding, target);
+        Ok(())
     }
     fn recycle(self: Box<Self>, gpu: Option<&GpuContext>) {
         if let Some(gpu) = gpu {
@@ -835,6 +863,19 @@ impl AnyMaps {
     /// GPU maps).
     pub fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate(gpu, receivers)
+    }
+
+    /// Records `V` of every texel of the G-buffer `target` into `enc` from GPU maps
+    /// ([`ShadowTechnique::record_visibility`]); nothing is read back. CPU maps are
+    /// [`ShadowError::MapsMismatch`].
+    #[cfg(feature = "gpu")]
+    pub fn record_visibility(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        target: &ReceiverTextures,
+    ) -> Result<()> {
+        self.0.record_visibility(gpu, enc, target)
     }
 
     /// Gives GPU maps back to `gpu`'s pool ([`ShadowTechnique::recycle_gpu`]); CPU maps are

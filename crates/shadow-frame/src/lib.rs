@@ -3,6 +3,8 @@
 pub mod components;
 #[cfg(feature = "gltf")]
 pub mod gltf;
+#[cfg(feature = "gpu")]
+pub mod gpu_frame;
 pub mod profile;
 pub mod scene;
 pub mod stats;

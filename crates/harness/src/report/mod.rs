@@ -229,7 +229,9 @@ impl Runner<'_> {
             for ri in 0..self.resolutions.len() {
                 for bi in 0..self.backends.len() {
                     let (resolution, backend) = (self.resolutions[ri], self.backends[bi]);
-                    if let Some(run) = self.run(ti, backend, resolution, &p, &reference, &mut strip)? {
+                    if let Some(run) =
+                        self.run(ti, backend, resolution, &p, &reference, &mut strip)?
+                    {
                         report.runs.push(run);
                     }
                     self.bar.inc();
@@ -373,8 +375,13 @@ impl Runner<'_> {
                         && r.resolution == resolution
                 });
                 if let Some(run) = run {
-                    run.flicker_255 =
-                        Some(flicker::measure(t, self.context(backend)?, p, resolution, &refs)?);
+                    run.flicker_255 = Some(flicker::measure(
+                        t,
+                        self.context(backend)?,
+                        p,
+                        resolution,
+                        &refs,
+                    )?);
                 }
                 self.bar.inc();
             }

@@ -4,7 +4,7 @@
 use glam::{Mat4, Vec2, Vec3};
 use harness::animated::pipeline;
 use proptest::prelude::*;
-use shadow_frame::scene::Transform;
+use shadow_frame::scene::{LightSource, Transform};
 use shadow_frame::{
     FrameReceivers, FrameStats, LightState, ProfileEntry, ResolvedTechnique, ShadowConfig,
     TechniqueProfile,
@@ -859,4 +859,204 @@ fn switching_the_backend_makes_every_lights_maps_there() {
         assert_eq!(backend, Some(Backend::Gpu));
     }
     assert_eq!(p.run(&mut lab.scene.world).maps_reused, 3);
+}
+
+/// The GPU frame: after the pipeline runs on the GPU backend, every light's `V` over the
+/// renderer's G-buffer textures is recorded into the renderer's encoder, one layer of a texture
+/// it owns per light, with no buffer mapped for reading; each layer equals the `V` the pipeline
+/// evaluates for the same receivers (within the light's influence, where that `V` is
+/// evaluated; measured: equal to the last bit), and a second frame of a still scene makes no
+/// texture or buffer.
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
+    use shadow_frame::gpu_frame::{FrameTextures, VisibilityLayer, record_visibility};
+    let Some(ctx) = crate::common::gpu_for_test("the_gpu_frame") else {
+        return;
+    };
+    let gpu = Arc::new(ctx);
+    let mut lab = lab(5.0);
+    lab.scene
+        .world
+        .insert_resource(shadow_frame::FrameBackend::gpu(gpu.clone()));
+    // A fourth light that no caster reaches: no maps, its layer all lit.
+    let far = lab
+        .scene
+        .add_light(Light::Point {
+            position: Vec3::new(0.0, 2.5, -30.0),
+        })
+        .unwrap();
+    lab.scene.world.entity_mut(far).insert(
+        ShadowConfig::explicit(
+            Arc::new(shadow_maps::ShadowMapBaseline::new(
+                shadow_maps::Filter::Hard,
+            )),
+            128,
+        )
+        .with_range(3.0),
+    );
+    let lights = [lab.rect, lab.segment, lab.point];
+    for (k, e) in lights.iter().enumerate() {
+        lab.scene
+            .world
+            .entity_mut(*e)
+            .insert(VisibilityLayer(k as u32));
+    }
+    // The G-buffer: the lab's receivers, 60 x 40 texels.
+    let (w, h) = (60u32, 40u32);
+    let frame = lab.scene.world.resource::<FrameReceivers>().clone();
+    let texels = |v: &[Vec3]| -> Vec<[f32; 4]> { v.iter().map(|p| [p.x, p.y, p.z, 1.0]).collect() };
+    let texture = |label, format, layers, usage| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let upload = |label, data: &[[f32; 4]]| {
+        let t = texture(
+            label,
+            wgpu::TextureFormat::Rgba32Float,
+            1,
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        );
+        gpu.queue.write_texture(
+            t.as_image_copy(),
+            bytemuck::cast_slice(data),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(16 * w),
+                rows_per_image: Some(h),
+            },
+            t.size(),
+        );
+        t
+    };
+    let positions = upload("positions", &texels(&frame.positions));
+    let normals = upload("normals", &texels(&frame.normals));
+    let v_texture = texture(
+        "visibility",
+        wgpu::TextureFormat::R32Float,
+        4,
+        wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
+    );
+    let (pv, nv) = (
+        positions.create_view(&Default::default()),
+        normals.create_view(&Default::default()),
+    );
+    let targets = FrameTextures {
+        positions: &pv,
+        normals: &nv,
+        visibility: &v_texture,
+    };
+    let mut p = pipeline();
+    lab.scene.world.entity_mut(far).insert(VisibilityLayer(3));
+    let mut frame_once = |lab: &mut Lab| {
+        p.run(&mut lab.scene.world);
+        let maps_before = gpu.buffer_maps();
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let n = record_visibility(&mut lab.scene.world, &gpu, &mut enc, &targets).unwrap();
+        gpu.queue.submit([enc.finish()]);
+        gpu.wait().unwrap();
+        assert_eq!(n, 4);
+        assert_eq!(gpu.buffer_maps(), maps_before, "nothing is read back");
+    };
+    frame_once(&mut lab);
+    let made = (gpu.textures_created(), gpu.buffers_created());
+    frame_once(&mut lab);
+    assert_eq!(
+        (gpu.textures_created(), gpu.buffers_created()),
+        made,
+        "a still frame allocates nothing"
+    );
+    for (k, e) in lights.iter().enumerate() {
+        let got: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
+            &gpu,
+            &v_texture,
+            k as u32,
+            wgpu::TextureAspect::All,
+            4,
+        )
+        .unwrap();
+        let want = visibility(&lab, *e);
+        let light = lab.scene.world.get::<LightSource>(*e).unwrap().0;
+        let (c, r) = shadow_frame::influence(&light, 3.0);
+        let inside: Vec<usize> = (0..frame.positions.len())
+            .filter(|&i| frame.positions[i].distance(c) <= r)
+            .collect();
+        let worst = inside
+            .iter()
+            .map(|&i| (got[i] - want[i]).abs())
+            .fold(0.0f32, f32::max);
+        let shadowed = inside.iter().filter(|&&i| want[i] < 0.5).count();
+        let has_maps = lab
+            .scene
+            .world
+            .get::<LightState>(*e)
+            .unwrap()
+            .maps
+            .is_some();
+        println!(
+            "layer {k}: {} receivers in reach, {shadowed} shadowed, maps {has_maps}, worst {worst:e}",
+            inside.len()
+        );
+        // The rect and segment lights shadow a box each; the point light reaches no caster's
+        // shadow (its layer is all lit).
+        assert!(
+            shadowed > 10 || k == 2,
+            "layer {k}: the light casts a shadow"
+        );
+        assert!(worst < 1e-5, "layer {k}: worst difference {worst}");
+    }
+    let lit: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
+        &gpu,
+        &v_texture,
+        3,
+        wgpu::TextureAspect::All,
+        4,
+    )
+    .unwrap();
+    assert!(
+        lab.scene
+            .world
+            .get::<LightState>(far)
+            .unwrap()
+            .maps
+            .is_none()
+    );
+    assert!(
+        lit.iter().all(|&v| v == 1.0),
+        "the light that shadows nothing"
+    );
+    // A layer the texture lacks, and a texture of another format, are typed errors.
+    lab.scene
+        .world
+        .entity_mut(lab.point)
+        .insert(VisibilityLayer(4));
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    let err = record_visibility(&mut lab.scene.world, &gpu, &mut enc, &targets).unwrap_err();
+    assert!(
+        err.to_string().contains("layer 4 of a texture with 4"),
+        "{err}"
+    );
+    let wrong = FrameTextures {
+        visibility: &positions,
+        ..targets
+    };
+    let err = record_visibility(&mut lab.scene.world, &gpu, &mut enc, &wrong).unwrap_err();
+    assert!(err.to_string().contains("R32Float"), "{err}");
 }

@@ -1,0 +1,133 @@
+//! The GPU frame: after [`FramePipeline::run`](crate::FramePipeline::run) on the GPU backend,
+//! [`record_visibility`] records every light's `V` over your G-buffer into your command encoder,
+//! each light into its layer ([`VisibilityLayer`]) of a texture you own. Nothing is read back:
+//! the maps stay where the pipeline keeps them (made again only for stale lights), and `V` is the
+//! same function the CPU path evaluates for [`FrameReceivers`](crate::FrameReceivers).
+//!
+//! The frame's `FrameReceivers` still bound what a light's maps cover (a few points of your
+//! G-buffer, say its corners, or none where the casters' shadows fall within the casters'
+//! bounds): the maps are fitted to the casters and those receivers.
+
+use crate::components::LightState;
+use bevy_ecs::prelude::*;
+use soft_shadow_core::gpu::visibility::ReceiverTextures;
+use soft_shadow_core::{GpuContext, Result, ShadowError};
+
+/// The layer of [`FrameTextures::visibility`] a light's `V` is written to: a component of the
+/// light's entity. Lights without one are not recorded.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct VisibilityLayer(pub u32);
+
+/// Your G-buffer and the texture every light's `V` goes to.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameTextures<'a> {
+    /// World positions in xyz, w > 0.5 where a surface covers the texel (as
+    /// [`ReceiverTextures::positions`]).
+    pub positions: &'a wgpu::TextureView,
+    /// Unit normals facing the camera in xyz.
+    pub normals: &'a wgpu::TextureView,
+    /// `R32Float`, 2D with an array layer per [`VisibilityLayer`], usable as a storage binding
+    /// (and as a copy destination for lights that shadow nothing); its width and height are
+    /// the G-buffer's.
+    pub visibility: &'a wgpu::Texture,
+}
+
+/// Records `V` of every texel of `targets`' G-buffer, for every light with a
+/// [`VisibilityLayer`], into that layer of `targets.visibility`, into `enc`; returns how many
+/// lights were recorded. A light whose maps are on the GPU records its visibility pass; a light
+/// without maps (no caster reaches it, or its generation failed: see [`LightState::error`])
+/// gets `V = 1` in its layer (written through `gpu`'s queue, before `enc` runs). Maps made on
+/// the CPU backend, a texture of another format or without the layer, are
+/// [`ShadowError::InvalidParameter`] or [`ShadowError::MapsMismatch`].
+pub fn record_visibility(
+    world: &mut World,
+    gpu: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    targets: &FrameTextures,
+) -> Result<usize> {
+    let texture = targets.visibility;
+    if texture.format() != wgpu::TextureFormat::R32Float
+        || !texture
+            .usage()
+            .contains(wgpu::TextureUsages::STORAGE_BINDING)
+        || texture.dimension() != wgpu::TextureDimension::D2
+    {
+        return Err(ShadowError::InvalidParameter(format!(
+            "the visibility texture must be a 2D R32Float storage texture, not {:?} {:?} {:?}",
+            texture.dimension(),
+            texture.format(),
+            texture.usage()
+        )));
+    }
+    let size = (texture.width(), texture.height());
+    let layers = texture.depth_or_array_layers();
+    let mut query = world.query::<(&VisibilityLayer, &LightState)>();
+    let mut recorded = 0;
+    for (layer, state) in query.iter(world) {
+        if layer.0 >= layers {
+            return Err(ShadowError::InvalidParameter(format!(
+                "visibility layer {} of a texture with {layers}",
+                layer.0
+            )));
+        }
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("light visibility layer"),
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_array_layer: layer.0,
+            array_layer_count: Some(1),
+            ..Default::default()
+        });
+        match &state.maps {
+            Some(maps) => maps.record_visibility(
+                gpu,
+                enc,
+                &ReceiverTextures {
+                    positions: targets.positions,
+                    normals: targets.normals,
+                    visibility: &view,
+                    size,
+                },
+            )?,
+            None => unshadowed(gpu, texture, layer.0)?,
+        }
+        recorded += 1;
+    }
+    Ok(recorded)
+}
+
+/// `V = 1` in layer `layer` of `texture`.
+fn unshadowed(gpu: &GpuContext, texture: &wgpu::Texture, layer: u32) -> Result<()> {
+    if !texture.usage().contains(wgpu::TextureUsages::COPY_DST) {
+        return Err(ShadowError::InvalidParameter(
+            "a light that shadows nothing writes V = 1 by a copy: give the visibility texture \
+             COPY_DST"
+                .into(),
+        ));
+    }
+    let (w, h) = (texture.width(), texture.height());
+    let ones = vec![1.0f32; w as usize * h as usize];
+    gpu.queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
+            aspect: wgpu::TextureAspect::All,
+        },
+        bytemuck::cast_slice(&ones),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * w),
+            rows_per_image: Some(h),
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+    Ok(())
+}
