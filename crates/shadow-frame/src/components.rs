@@ -192,11 +192,19 @@ pub struct FrameSettings {
     /// Reuse maps when nothing that affects them changed (off: every light regenerates every
     /// frame, the baseline the caching is measured against).
     pub caching: bool,
+    /// Evaluate [`FrameReceivers`] into [`LightState::visibility`] (off: the maps are made and
+    /// kept, `visibility` is left empty and nothing is read back, for a renderer that takes
+    /// `V` from its own textures with [`crate::gpu_frame`]; the receivers still bound what the
+    /// maps cover).
+    pub evaluate_receivers: bool,
 }
 
 impl Default for FrameSettings {
     fn default() -> Self {
-        Self { caching: true }
+        Self {
+            caching: true,
+            evaluate_receivers: true,
+        }
     }
 }
 

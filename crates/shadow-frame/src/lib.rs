@@ -167,6 +167,7 @@ fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
                        frame: Res<FrameReceivers>,
                        receivers_error: Res<ReceiversError>,
                        backend: Res<FrameBackend>,
+                       settings: Res<FrameSettings>,
                        stats: ResMut<FrameStats>| {
         run_technique(
             name,
@@ -176,6 +177,7 @@ fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
             frame,
             receivers_error,
             backend,
+            settings,
             stats,
         )
     };

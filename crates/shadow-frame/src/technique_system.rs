@@ -82,6 +82,7 @@ pub fn run_technique(
     frame: Res<FrameReceivers>,
     receivers_error: Res<ReceiversError>,
     backend: Res<FrameBackend>,
+    settings: Res<FrameSettings>,
     mut stats: ResMut<FrameStats>,
 ) {
     let start = Instant::now();
@@ -102,7 +103,11 @@ pub fn run_technique(
             .collect();
         let positions: Vec<_> = inside.iter().map(|&i| frame.positions[i]).collect();
         let normals: Vec<_> = inside.iter().map(|&i| frame.normals[i]).collect();
-        state.visibility = vec![1.0; frame.positions.len()];
+        state.visibility = if settings.evaluate_receivers {
+            vec![1.0; frame.positions.len()]
+        } else {
+            Vec::new()
+        };
         state.evaluated = 0;
         let light_start = Instant::now();
         // A distant light seen by a camera has cascades, planned again in every frame whose
@@ -166,6 +171,14 @@ pub fn run_technique(
         let Some(maps) = state.maps.as_ref() else {
             continue;
         };
+        if !settings.evaluate_receivers {
+            state.visibility.clear();
+            if views_generated > 0 {
+                state.generated_ms = Some(light_start.elapsed().as_secs_f64() * 1e3);
+            }
+            stats.record(name, views_generated, 0);
+            continue;
+        }
         let recv = Receivers::new(&positions, &normals);
         match maps.evaluate(gpu, &recv) {
             Ok(v) => {

@@ -356,7 +356,10 @@ fn auto_steps_down_when_the_frames_run_over_its_budget() {
     lab.scene.world.insert_resource(profile);
     lab.scene
         .world
-        .insert_resource(shadow_frame::FrameSettings { caching: false });
+        .insert_resource(shadow_frame::FrameSettings {
+            caching: false,
+            ..Default::default()
+        });
     lab.scene
         .world
         .entity_mut(lab.rect)
@@ -1042,6 +1045,45 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
         lit.iter().all(|&v| v == 1.0),
         "the light that shadows nothing"
     );
+    // Without evaluating the receivers, a still frame reads nothing back at all, run and
+    // recording together, and writes the same layers.
+    let before: Vec<Vec<f32>> = (0..4)
+        .map(|k| {
+            soft_shadow_core::gpu::raster::read_texture(
+                &gpu,
+                &v_texture,
+                k,
+                wgpu::TextureAspect::All,
+                4,
+            )
+            .unwrap()
+        })
+        .collect();
+    lab.scene
+        .world
+        .insert_resource(shadow_frame::FrameSettings {
+            evaluate_receivers: false,
+            ..Default::default()
+        });
+    let maps_before = gpu.buffer_maps();
+    p.run(&mut lab.scene.world);
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    record_visibility(&mut lab.scene.world, &gpu, &mut enc, &targets).unwrap();
+    gpu.queue.submit([enc.finish()]);
+    gpu.wait().unwrap();
+    assert_eq!(gpu.buffer_maps(), maps_before, "a frame without readback");
+    assert!(visibility(&lab, lab.rect).is_empty());
+    for (k, want) in before.iter().enumerate() {
+        let got: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
+            &gpu,
+            &v_texture,
+            k as u32,
+            wgpu::TextureAspect::All,
+            4,
+        )
+        .unwrap();
+        assert_eq!(&got, want, "layer {k}");
+    }
     // A layer the texture lacks, and a texture of another format, are typed errors.
     lab.scene
         .world
