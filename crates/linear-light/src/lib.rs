@@ -82,9 +82,9 @@ impl ShadowTechnique for LinearLight {
     }
 }
 
-/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the
-/// default (the paper's 3 samples, `LinearLight::new(3)`) first, then [`LinearLight::standard_set`], all run by the
-/// quick report and wider ([`Tier::Quick`]).
+/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the default
+/// (the paper's 3 samples, `LinearLight::new(3)`) first, then [`LinearLight::standard_set`], all
+/// run by the quick report and wider ([`Tier::Quick`]).
 pub fn families() -> Vec<Family> {
     vec![
         Family::new(LinearLight::new(3), Tier::Quick)

@@ -82,9 +82,9 @@ impl ShadowTechnique for OcclusionSlices {
     }
 }
 
-/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the
-/// default (8 slices filtered by N-Buffers, `OcclusionSlices::new(8, Prefilter::NBuffer)`) first, then [`OcclusionSlices::standard_set`], all run by the
-/// quick report and wider ([`Tier::Quick`]).
+/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the default
+/// (8 slices filtered by N-Buffers, `OcclusionSlices::new(8, Prefilter::NBuffer)`) first, then
+/// [`OcclusionSlices::standard_set`], all run by the quick report and wider ([`Tier::Quick`]).
 pub fn families() -> Vec<Family> {
     vec![
         Family::new(OcclusionSlices::new(8, Prefilter::NBuffer), Tier::Quick)

@@ -88,9 +88,9 @@ impl ShadowTechnique for PenumbraLimit {
     }
 }
 
-/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the
-/// default (the silhouette generator, `PenumbraLimit::new(Generator::Silhouette)`) first, then [`PenumbraLimit::standard_set`], all run by the
-/// quick report and wider ([`Tier::Quick`]).
+/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the default
+/// (the silhouette generator, `PenumbraLimit::new(Generator::Silhouette)`) first, then
+/// [`PenumbraLimit::standard_set`], all run by the quick report and wider ([`Tier::Quick`]).
 pub fn families() -> Vec<Family> {
     vec![
         Family::new(PenumbraLimit::new(Generator::Silhouette), Tier::Quick)

@@ -215,7 +215,7 @@ pub trait TechniqueInfo: Send + Sync {
     }
     /// Largest map side on `backend`; on the GPU, within `device`'s limits (on the CPU they do
     /// not count). Generation checks a side against it once, before any kernel runs, so
-    /// kernels hold no limit checks of their own.
+    /// kernels do not check the side again.
     fn max_resolution(&self, backend: Backend, device: DeviceLimits) -> u32 {
         match backend {
             Backend::Cpu => MAX_CPU_RESOLUTION,

@@ -2,7 +2,9 @@
 //! [`record_visibility`] records every light's `V` over your G-buffer into your command encoder,
 //! each light into its layer ([`VisibilityLayer`]) of a texture you own. Nothing is read back:
 //! the maps stay where the pipeline keeps them (made again only for stale lights), and `V` is the
-//! same function the CPU path evaluates for [`FrameReceivers`](crate::FrameReceivers).
+//! same function the CPU path evaluates for [`FrameReceivers`](crate::FrameReceivers) within the
+//! light's influence; beyond it (`ShadowConfig::with_range`, where the light adds nothing) the
+//! texels get the maps' `V` too where the CPU path writes 1.
 //!
 //! The frame's `FrameReceivers` still bound what a light's maps cover (a few points of your
 //! G-buffer, say its corners, or none where the casters' shadows fall within the casters'
@@ -35,10 +37,12 @@ pub struct FrameTextures<'a> {
 /// Records `V` of every texel of `targets`' G-buffer, for every light with a
 /// [`VisibilityLayer`], into that layer of `targets.visibility`, into `enc`; returns how many
 /// lights were recorded. A light whose maps are on the GPU records its visibility pass; a light
-/// without maps (no caster reaches it, or its generation failed: see [`LightState::error`])
-/// gets `V = 1` in its layer (written through `gpu`'s queue, before `enc` runs). Maps made on
-/// the CPU backend, a texture of another format or without the layer, are
-/// [`ShadowError::InvalidParameter`] or [`ShadowError::MapsMismatch`].
+/// without usable maps (no caster reaches it, or the frame left it an error: see
+/// [`LightState::error`]) gets `V = 1` in its layer, written through `gpu`'s queue (a staging
+/// copy of the layer each frame, which runs before `enc`'s work). Checked before anything is
+/// recorded: the texture's format and usage, every layer within it and no layer given to two
+/// lights ([`ShadowError::InvalidParameter`]); maps made on the CPU backend are
+/// [`ShadowError::MapsMismatch`].
 pub fn record_visibility(
     world: &mut World,
     gpu: &GpuContext,
@@ -62,22 +66,33 @@ pub fn record_visibility(
     let size = (texture.width(), texture.height());
     let layers = texture.depth_or_array_layers();
     let mut query = world.query::<(&VisibilityLayer, &LightState)>();
-    let mut recorded = 0;
-    for (layer, state) in query.iter(world) {
-        if layer.0 >= layers {
+    let mut taken = vec![false; layers as usize];
+    for (layer, _) in query.iter(world) {
+        let Some(t) = taken.get_mut(layer.0 as usize) else {
             return Err(ShadowError::InvalidParameter(format!(
                 "visibility layer {} of a texture with {layers}",
                 layer.0
             )));
+        };
+        if std::mem::replace(t, true) {
+            return Err(ShadowError::InvalidParameter(format!(
+                "visibility layer {} is given to two lights",
+                layer.0
+            )));
         }
+    }
+    let mut recorded = 0;
+    for (layer, state) in query.iter(world) {
+        let usable = state.maps.as_ref().filter(|_| state.error.is_none());
         let view = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("light visibility layer"),
             dimension: Some(wgpu::TextureViewDimension::D2),
             base_array_layer: layer.0,
             array_layer_count: Some(1),
+            mip_level_count: Some(1),
             ..Default::default()
         });
-        match &state.maps {
+        match usable {
             Some(maps) => maps.record_visibility(
                 gpu,
                 enc,

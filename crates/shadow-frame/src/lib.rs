@@ -21,7 +21,7 @@ pub use stats::{FrameStats, TechniqueStats};
 use crate::scene::ShadowCaster;
 use bevy_ecs::prelude::*;
 use soft_shadow_core::technique::DynTechnique;
-use soft_shadow_core::{Family, Registry};
+use soft_shadow_core::{Family, Registry, Tier};
 use std::sync::Arc;
 use technique_system::{CasterQuery, LightQuery, run_technique};
 
@@ -84,14 +84,17 @@ impl FramePipeline {
         self
     }
 
-    /// Registers `family`: its variants (what `Auto` may pick from, among the configurations
-    /// its profile holds, and what an explicit choice may name) and one system in
+    /// Registers `family`: its variants of [`Tier::Report`] (what `Auto` may pick from, among
+    /// the configurations its profile holds; an explicit choice names any technique) and one
+    /// system in
     /// [`TechniqueSet`]`(name)` that runs only when a light uses it and the scene has casters.
     /// A family marked [`Family::zero_size_path`] also becomes the technique lights of zero
     /// size take.
     pub fn add_family(&mut self, family: &Family) {
         let name = family.name();
-        self.registry.0.extend(family.variants().cloned());
+        self.registry
+            .0
+            .extend(family.variants_in(Tier::Report).cloned());
         if family.is_zero_size_path() {
             self.hard = HardShadowPath(Some(Arc::clone(family.default_variant())));
         }

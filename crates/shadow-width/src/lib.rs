@@ -84,9 +84,9 @@ impl ShadowTechnique for ShadowWidth {
     }
 }
 
-/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the
-/// default (the exact distance transform, `ShadowWidth::new(WidthMethod::Exact)`) first, then [`ShadowWidth::standard_set`], all run by the
-/// quick report and wider ([`Tier::Quick`]).
+/// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the default
+/// (the exact distance transform, `ShadowWidth::new(WidthMethod::Exact)`) first, then
+/// [`ShadowWidth::standard_set`], all run by the quick report and wider ([`Tier::Quick`]).
 pub fn families() -> Vec<Family> {
     vec![
         Family::new(ShadowWidth::new(WidthMethod::Exact), Tier::Quick)

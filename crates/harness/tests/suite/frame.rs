@@ -1095,6 +1095,15 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
         err.to_string().contains("layer 4 of a texture with 4"),
         "{err}"
     );
+    lab.scene
+        .world
+        .entity_mut(lab.point)
+        .insert(VisibilityLayer(0));
+    let err = record_visibility(&mut lab.scene.world, &gpu, &mut enc, &targets).unwrap_err();
+    assert!(
+        err.to_string().contains("layer 0 is given to two lights"),
+        "{err}"
+    );
     let wrong = FrameTextures {
         visibility: &positions,
         ..targets

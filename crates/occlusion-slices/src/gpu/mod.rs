@@ -250,12 +250,6 @@ pub(crate) fn generate(
     let limits = ctx.device.limits();
     let levels = level_count(res);
     let groups = t.slices.div_ceil(4);
-    if res + 1 > limits.max_texture_dimension_2d {
-        return Err(ShadowError::InvalidResolution {
-            requested: res,
-            max: limits.max_texture_dimension_2d - 1,
-        });
-    }
     if levels * groups > limits.max_texture_array_layers {
         return Err(ShadowError::Gpu(format!(
             "{} N-Buffer layers exceed the device's {}",
