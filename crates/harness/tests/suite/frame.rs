@@ -986,15 +986,18 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
         made,
         "a still frame allocates nothing"
     );
-    for (k, e) in lights.iter().enumerate() {
-        let got: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
+    let read_layer = |k: u32| -> Vec<f32> {
+        soft_shadow_core::gpu::raster::read_texture(
             &gpu,
             &v_texture,
-            k as u32,
+            k,
             wgpu::TextureAspect::All,
             4,
         )
-        .unwrap();
+        .unwrap()
+    };
+    for (k, e) in lights.iter().enumerate() {
+        let got = read_layer(k as u32);
         let want = visibility(&lab, *e);
         let light = lab.scene.world.get::<LightSource>(*e).unwrap().0;
         let (c, r) = shadow_frame::influence(&light, 3.0);
@@ -1025,14 +1028,7 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
         );
         assert!(worst < 1e-5, "layer {k}: worst difference {worst}");
     }
-    let lit: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
-        &gpu,
-        &v_texture,
-        3,
-        wgpu::TextureAspect::All,
-        4,
-    )
-    .unwrap();
+    let lit = read_layer(3);
     assert!(
         lab.scene
             .world
@@ -1047,18 +1043,7 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
     );
     // Without evaluating the receivers, a still frame reads nothing back at all, run and
     // recording together, and writes the same layers.
-    let before: Vec<Vec<f32>> = (0..4)
-        .map(|k| {
-            soft_shadow_core::gpu::raster::read_texture(
-                &gpu,
-                &v_texture,
-                k,
-                wgpu::TextureAspect::All,
-                4,
-            )
-            .unwrap()
-        })
-        .collect();
+    let before: Vec<Vec<f32>> = (0..4).map(&read_layer).collect();
     lab.scene
         .world
         .insert_resource(shadow_frame::FrameSettings {
@@ -1074,14 +1059,7 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
     assert_eq!(gpu.buffer_maps(), maps_before, "a frame without readback");
     assert!(visibility(&lab, lab.rect).is_empty());
     for (k, want) in before.iter().enumerate() {
-        let got: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
-            &gpu,
-            &v_texture,
-            k as u32,
-            wgpu::TextureAspect::All,
-            4,
-        )
-        .unwrap();
+        let got = read_layer(k as u32);
         assert_eq!(&got, want, "layer {k}");
     }
     // A layer the texture lacks, and a texture of another format, are typed errors.
