@@ -185,3 +185,55 @@ impl Failures {
 pub fn rasterizes_as_the_cpu(ctx: &soft_shadow_core::GpuContext) -> bool {
     ctx.info.device_type == wgpu::DeviceType::Cpu
 }
+
+/// A `w x h` texture of `format` for `usage` (and copies from it).
+pub fn texture(
+    gpu: &soft_shadow_core::GpuContext,
+    label: &str,
+    (w, h, layers): (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: usage | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+/// A `w x h` float texture with `texels`, bound as a non-filterable `texture_2d<f32>`.
+pub fn upload(
+    gpu: &soft_shadow_core::GpuContext,
+    label: &str,
+    w: u32,
+    h: u32,
+    texels: &[[f32; 4]],
+) -> wgpu::Texture {
+    let tex = texture(
+        gpu,
+        label,
+        (w, h, 1),
+        wgpu::TextureFormat::Rgba32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
+    gpu.queue.write_texture(
+        tex.as_image_copy(),
+        bytemuck::cast_slice(texels),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(w * 16),
+            rows_per_image: Some(h),
+        },
+        tex.size(),
+    );
+    tex
+}

@@ -876,6 +876,7 @@ fn switching_the_backend_makes_every_lights_maps_there() {
     ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
 )]
 fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
+    use crate::common::upload;
     use shadow_frame::gpu_frame::{FrameTextures, VisibilityLayer, record_visibility};
     let Some(ctx) = crate::common::gpu_for_test("the_gpu_frame") else {
         return;
@@ -912,50 +913,14 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
     let (w, h) = (60u32, 40u32);
     let frame = lab.scene.world.resource::<FrameReceivers>().clone();
     let texels = |v: &[Vec3]| -> Vec<[f32; 4]> { v.iter().map(|p| [p.x, p.y, p.z, 1.0]).collect() };
-    let texture = |label, format, layers, usage| {
-        gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        })
-    };
-    let upload = |label, data: &[[f32; 4]]| {
-        let t = texture(
-            label,
-            wgpu::TextureFormat::Rgba32Float,
-            1,
-            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        );
-        gpu.queue.write_texture(
-            t.as_image_copy(),
-            bytemuck::cast_slice(data),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(16 * w),
-                rows_per_image: Some(h),
-            },
-            t.size(),
-        );
-        t
-    };
-    let positions = upload("positions", &texels(&frame.positions));
-    let normals = upload("normals", &texels(&frame.normals));
-    let v_texture = texture(
+    let positions = upload(&gpu, "positions", w, h, &texels(&frame.positions));
+    let normals = upload(&gpu, "normals", w, h, &texels(&frame.normals));
+    let v_texture = crate::common::texture(
+        &gpu,
         "visibility",
+        (w, h, 4),
         wgpu::TextureFormat::R32Float,
-        4,
-        wgpu::TextureUsages::STORAGE_BINDING
-            | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::COPY_DST,
+        wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST,
     );
     let (pv, nv) = (
         positions.create_view(&Default::default()),
@@ -1028,6 +993,26 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
         );
         assert!(worst < 1e-5, "layer {k}: worst difference {worst}");
     }
+    // The layers hold the CPU backend's V too, within the agreement every technique holds
+    // between CPU and GPU.
+    let mut cpu = self::lab(5.0);
+    pipeline().run(&mut cpu.scene.world);
+    let mut failures = crate::common::Failures::default();
+    for (k, (e, c)) in lights
+        .iter()
+        .zip([cpu.rect, cpu.segment, cpu.point])
+        .enumerate()
+    {
+        let light = lab.scene.world.get::<LightSource>(*e).unwrap().0;
+        let (centre, r) = shadow_frame::influence(&light, 3.0);
+        let inside: Vec<usize> = (0..frame.positions.len())
+            .filter(|&i| frame.positions[i].distance(centre) <= r)
+            .collect();
+        let (want, got) = (visibility(&cpu, c), read_layer(k as u32));
+        let pick = |v: &[f32]| inside.iter().map(|&i| v[i]).collect::<Vec<f32>>();
+        failures.agree(&format!("layer {k}"), &pick(&want), &pick(&got));
+    }
+    failures.assert_none();
     let lit = read_layer(3);
     assert!(
         lab.scene

@@ -5,7 +5,7 @@
 //! and must equal `record_visibility`'s compute pass over the same G-buffer and maps, for one
 //! variant of every technique type, on lavapipe in CI.
 
-use crate::common::gpu_for_test;
+use crate::common::{gpu_for_test, texture, upload};
 use glam::Vec3;
 use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue};
 use soft_shadow_core::gpu::raster::read_texture;
@@ -81,55 +81,9 @@ fn pasted<T: ShadowTechnique>() -> String {
     )
 }
 
-/// A `w x h` texture of `format` for `usage` (and copies from it).
-fn texture(
-    gpu: &GpuContext,
-    label: &str,
-    (w, h): (u32, u32),
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: usage | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    })
-}
-
-/// A `w x h` float texture with `texels`, bound as a non-filterable `texture_2d<f32>`.
-fn upload(gpu: &GpuContext, label: &str, w: u32, h: u32, texels: &[[f32; 4]]) -> wgpu::Texture {
-    let tex = texture(
-        gpu,
-        label,
-        (w, h),
-        wgpu::TextureFormat::Rgba32Float,
-        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-    );
-    gpu.queue.write_texture(
-        tex.as_image_copy(),
-        bytemuck::cast_slice(texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(w * 16),
-            rows_per_image: Some(h),
-        },
-        tex.size(),
-    );
-    tex
-}
-
 /// An `R32Float` target of `w x h` that a pass can write (`usage`) and the test can read.
 fn target(gpu: &GpuContext, w: u32, h: u32, usage: wgpu::TextureUsages) -> wgpu::Texture {
-    texture(gpu, "V", (w, h), wgpu::TextureFormat::R32Float, usage)
+    texture(gpu, "V", (w, h, 1), wgpu::TextureFormat::R32Float, usage)
 }
 
 /// `V` drawn by the renderer's own pipeline from `module`, with the maps bound at
