@@ -4,7 +4,7 @@
 
 use crate::storage::{Storage, Texel};
 use crate::table::IlluminationTable;
-use crate::visibility::clamped_visibility;
+use crate::visibility::{limited_visibility, lower_visibility};
 use crate::warp::{DEPTH_SPAN, Warp};
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
@@ -52,43 +52,62 @@ impl EvalParams {
     }
 }
 
-/// The four channels bilinearly interpolated at texel coordinate `st`, and the lower limit `b`
-/// the receiver takes: outside the silhouette (interpolated `p >= 0`), the mean of the taps
-/// outside it (`p_i >= 0`), weighted as bilinear interpolation weights them; inside it the
-/// interpolated `b`. An inner tap's `b` (a back face below its edge, or a covered texel's own
-/// geometry) would otherwise reach up to a texel outwards and clamp lit receivers beyond the
-/// hard edge to 0: false umbra a texel wide around every shadow where the map's texels are wider
-/// than the penumbra. The four taps are read once.
-pub(crate) fn bilinear_texel(map: &Map2D<Texel>, st: Vec2) -> (Texel, f32) {
-    let taps = map.bilinear_taps(st);
-    let t = taps.iter().fold(Texel::default(), |acc, (t, w)| Texel {
+/// The four channels bilinearly interpolated over `taps`.
+fn interpolate(taps: &[(&Texel, f32); 4]) -> Texel {
+    taps.iter().fold(Texel::default(), |acc, (t, w)| Texel {
         c: acc.c + t.c * w,
         g: acc.g + t.g * w,
         b: acc.b + t.b * w,
         p: acc.p + t.p * w,
-    });
-    if t.p < 0.0 {
-        return (t, t.b);
-    }
-    let (b, w) = taps
-        .iter()
-        .filter(|(t, _)| t.p >= 0.0)
-        .fold((0.0f32, 0.0f32), |(b, s), (t, w)| (b + t.b * w, s + w));
-    (t, if w > 0.0 { b / w } else { t.b })
+    })
 }
 
-/// The fraction `l_g` of the light's diameter visible from receiver `p` (normal `n`), before
-/// the table; 1 outside the map.
-pub(crate) fn visible_fraction(prm: &EvalParams, map: &Map2D<Texel>, p: Vec3, n: Vec3) -> f32 {
-    let Some(co) = shadow_coord(&prm.map, &prm.bias, p, n) else {
-        return 1.0;
-    };
-    let z = (prm.warp.receiver_depth(co.z) - prm.tolerance).min(DEPTH_SPAN);
-    let (t, b) = bilinear_texel(map, co.st);
-    clamped_visibility(z, t.c, t.g, b, t.p)
+/// Taps of [`lower_shadow`]: a Vogel spiral over its disc.
+pub(crate) const LOWER_TAPS: u32 = 32;
+
+/// The angle between successive taps of the spiral, `pi (3 - sqrt 5)`.
+pub(crate) const GOLDEN_ANGLE: f32 = 2.399_963;
+
+/// The soft shadow of a caster below the edge a receiver outside the silhouette reads (a
+/// leg under a body's outer penumbra, the lower blocker of `overlap`), which one edge per texel
+/// cannot hold: the fraction of [`LOWER_TAPS`] taps (nearest texels on a Vogel spiral) over the
+/// disc of radius `(z - b) / p_per_texel` texels around `st` whose texel holds no caster above
+/// the receiver's depth `z` (its geometry `g` inside a silhouette, its lower limit `b` outside
+/// it). That radius is the half-width of the penumbra an edge at the lower caster's depth `b`
+/// casts at `z` (equation 1), so this is the lower caster's penumbra as the light's area sees
+/// it, through both of a thin caster's sides; at least one texel.
+///
+/// The paper's step to 0 below `b` drew the lower caster's hard shadow: black blotches where a
+/// low-poly animal's thin legs stand under its body's outer penumbra, whose shadows on the ground
+/// are mostly penumbra.
+pub(crate) fn lower_shadow(map: &Map2D<Texel>, st: Vec2, z: f32, b: f32, ppt: f32) -> f32 {
+    let radius = ((z - b) / ppt.max(f32::MIN_POSITIVE)).clamp(1.0, map.width() as f32);
+    let lit = (0..LOWER_TAPS)
+        .filter(|&i| {
+            let r = radius * ((i as f32 + 0.5) / LOWER_TAPS as f32).sqrt();
+            let a = i as f32 * GOLDEN_ANGLE;
+            let q = st + Vec2::new(a.cos(), a.sin()) * r;
+            let t = map.get_clamped(q.x.floor() as i64, q.y.floor() as i64);
+            (if t.p < 0.0 { t.g } else { t.b }) >= z
+        })
+        .count();
+    lit as f32 / LOWER_TAPS as f32
 }
 
-/// `V` of one receiver: the visible fraction through the illumination table.
+/// `V` of one receiver `p` (normal `n`): the fraction `l_g` of the light's diameter it sees
+/// (equation 2) through the visibility-to-illumination table; 1 outside the map. The four
+/// channels are interpolated bilinearly; the lower limit is not:
+///
+/// - Inside the silhouette (interpolated `p_i < 0`), each tap's lower limit, weighted as the
+///   taps are. `b` interpolated between a back face and a tap with none (depth 1) put a lower
+///   limit a fraction of a texel above receivers along a contour where there is no surface:
+///   dotted dark lines around a low-poly body's shadow, 0 where the reference reads 0.3-0.6.
+/// - Outside it, the edge's `V`, no more than the [`lower_shadow`] of the casters below the
+///   edge that the taps outside the silhouette (`p_i >= 0`) hold above the receiver (their mean
+///   `b`, weighted as the taps are). An inner tap's `b` (a back face below its edge, or a
+///   covered texel's own geometry) would otherwise reach up to a texel outwards and clamp lit
+///   receivers beyond the hard edge: false umbra a texel wide around every shadow where the
+///   map's texels are wider than the penumbra.
 pub(crate) fn shade(
     prm: &EvalParams,
     map: &Map2D<Texel>,
@@ -96,5 +115,26 @@ pub(crate) fn shade(
     p: Vec3,
     n: Vec3,
 ) -> f32 {
-    table.lookup(visible_fraction(prm, map, p, n))
+    let Some(co) = shadow_coord(&prm.map, &prm.bias, p, n) else {
+        return table.lookup(1.0);
+    };
+    let z = (prm.warp.receiver_depth(co.z) - prm.tolerance).min(DEPTH_SPAN);
+    let taps = map.bilinear_taps(co.st);
+    let t = interpolate(&taps);
+    if t.p < 0.0 {
+        let lower = taps
+            .iter()
+            .map(|(x, w)| w * lower_visibility(z, x.b, t.p))
+            .sum();
+        return table.lookup(limited_visibility(z, t.c, t.g, t.p, lower));
+    }
+    let edge = table.lookup(limited_visibility(z, t.c, t.g, t.p, 1.0));
+    let (b, w) = taps
+        .iter()
+        .filter(|(x, _)| x.p >= 0.0 && x.b < z)
+        .fold((0.0f32, 0.0f32), |(b, s), (x, w)| (b + x.b * w, s + w));
+    if w > 0.0 && z >= t.g {
+        return edge.min(lower_shadow(map, co.st, z, b / w, prm.warp.p_per_texel));
+    }
+    edge
 }

@@ -57,11 +57,17 @@ pub fn clamped_visibility_piecewise(z: f32, c: f32, g: f32, b: f32, p: f32) -> f
 
 /// Equation 2: `sat(min(sat(l), l_b) + 4 (z < g) - 2 (z < c))`, with `l_b` the lower limit's
 /// [`lower_visibility`] where the paper has the step `(z <= b) - 1`.
+#[cfg(test)]
+pub(crate) fn clamped_visibility(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
+    limited_visibility(z, c, g, p, lower_visibility(z, b, p))
+}
+
+/// Equation 2 with the lower limit's visibility `l_b` given (the evaluation weighs each tap's).
 ///
 /// The step terms are summed first (an exact small integer `k`), so `sat(l + k)` is exactly
 /// `l`, 0 or 1 in floating point too: summed left to right, `l + 4` would round `l` away.
-pub(crate) fn clamped_visibility(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
+pub(crate) fn limited_visibility(z: f32, c: f32, g: f32, p: f32, l_b: f32) -> f32 {
     let step = |t: bool| t as u32 as f32;
     let k = 4.0 * step(z < g) - 2.0 * step(z < c);
-    sat(edge_visibility(z, c, p).min(lower_visibility(z, b, p)) + k)
+    sat(edge_visibility(z, c, p).min(l_b) + k)
 }

@@ -3,8 +3,8 @@
 #import penumbra_limit::warp::{DEPTH_SPAN, Warp, receiver_depth}
 
 // Evaluation as `visibility(world_pos, normal)`; mirrors penumbra_limit::eval: project the
-// receiver, bilinear (c, g, b, p_i),
-// equation 2, then the visibility-to-illumination table.
+// receiver, bilinear (c, g, p_i) and each tap's lower limit, equation 2, then the
+// visibility-to-illumination table.
 
 struct EvalParams {
     map: MapView,
@@ -26,40 +26,22 @@ fn texel(x: i32, y: i32) -> vec4<f32> {
     return vec4<f32>(raw.xyz, (raw.w - 0.5) * 4.0);
 }
 
-struct Interpolated {
-    // c, g, b, p_i bilinearly interpolated.
-    t: vec4<f32>,
-    // The lower limit the receiver takes; see penumbra_limit::eval::bilinear_texel.
-    lower: f32,
+// The four taps around st and their bilinear weights.
+struct Taps4 {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+    d: vec4<f32>,
+    w: vec4<f32>,
 };
 
-// The four channels bilinearly interpolated, and the lower limit a receiver outside the
-// silhouette takes (the mean b of the taps outside it); the taps are read once.
-fn bilinear(st: vec2<f32>) -> Interpolated {
+fn taps4(st: vec2<f32>) -> Taps4 {
     let taps = bilinear_taps(st);
     let f = taps.f;
     let x0 = taps.base.x;
     let y0 = taps.base.y;
-    let a = texel(x0, y0);
-    let b = texel(x0 + 1, y0);
-    let c = texel(x0, y0 + 1);
-    let d = texel(x0 + 1, y0 + 1);
     let w = vec4<f32>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
-    let t = a * w.x + b * w.y + c * w.z + d * w.w;
-    var out = Interpolated(t, t.z);
-    if t.w >= 0.0 {
-        let o = w * vec4<f32>(
-            select(0.0, 1.0, a.w >= 0.0),
-            select(0.0, 1.0, b.w >= 0.0),
-            select(0.0, 1.0, c.w >= 0.0),
-            select(0.0, 1.0, d.w >= 0.0),
-        );
-        let s = o.x + o.y + o.z + o.w;
-        if s > 0.0 {
-            out.lower = (a.z * o.x + b.z * o.y + c.z * o.z + d.z * o.w) / s;
-        }
-    }
-    return out;
+    return Taps4(texel(x0, y0), texel(x0 + 1, y0), texel(x0, y0 + 1), texel(x0 + 1, y0 + 1), w);
 }
 
 fn sat(x: f32) -> f32 {
@@ -78,11 +60,12 @@ fn lower_visibility(z: f32, b: f32, p: f32) -> f32 {
     return 0.0;
 }
 
-// Equation 2 with the lower limit's visibility; see penumbra_limit::visibility.
-fn clamped_visibility(z: f32, c: f32, g: f32, b: f32, p: f32) -> f32 {
+// Equation 2 with the lower limit's visibility l_b given; see
+// penumbra_limit::visibility::limited_visibility.
+fn limited_visibility(z: f32, c: f32, g: f32, p: f32, l_b: f32) -> f32 {
     let l = sat(0.5 + 0.5 * p / max(z - c, 1.0e-30));
     let k = 4.0 * f32(z < g) - 2.0 * f32(z < c);
-    return sat(min(l, lower_visibility(z, b, p)) + k);
+    return sat(min(l, l_b) + k);
 }
 
 fn lookup(l: f32) -> f32 {
@@ -93,13 +76,53 @@ fn lookup(l: f32) -> f32 {
     return table[i] * (1.0 - a) + table[i + 1u] * a;
 }
 
+const LOWER_TAPS: u32 = 32u;
+const GOLDEN_ANGLE: f32 = 2.399963;
+
+// The soft shadow of a caster below the edge a receiver outside the silhouette reads: the
+// fraction of LOWER_TAPS taps on a Vogel spiral over the disc of radius (z - b) / p_per_texel
+// texels whose texel holds no caster above z; see penumbra_limit::eval::lower_shadow.
+fn lower_shadow(st: vec2<f32>, z: f32, b: f32) -> f32 {
+    let radius = clamp((z - b) / max(prm.warp.p_per_texel, 1.17549435e-38), 1.0, f32(prm.map.resolution));
+    var lit = 0u;
+    for (var i = 0u; i < LOWER_TAPS; i = i + 1u) {
+        let r = radius * sqrt((f32(i) + 0.5) / f32(LOWER_TAPS));
+        let a = f32(i) * GOLDEN_ANGLE;
+        let q = floor(st + vec2<f32>(cos(a), sin(a)) * r);
+        let t = texel(i32(q.x), i32(q.y));
+        let depth = select(t.z, t.y, t.w < 0.0);
+        lit = lit + u32(depth >= z);
+    }
+    return f32(lit) / f32(LOWER_TAPS);
+}
+
 fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let co = shadow_coord(prm.map, prm.bias, p, n);
-    var l = 1.0;
-    if co.inside {
-        let z = min(receiver_depth(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
-        let t = bilinear(co.st);
-        l = clamped_visibility(z, t.t.x, t.t.y, t.lower, t.t.w);
+    if !co.inside {
+        return lookup(1.0);
     }
-    return lookup(l);
+    let z = min(receiver_depth(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
+    let q = taps4(co.st);
+    let t = q.a * q.w.x + q.b * q.w.y + q.c * q.w.z + q.d * q.w.w;
+    // Inside the silhouette: each tap's lower limit, weighted as the taps are.
+    if t.w < 0.0 {
+        let lower = q.w.x * lower_visibility(z, q.a.z, t.w) + q.w.y * lower_visibility(z, q.b.z, t.w)
+            + q.w.z * lower_visibility(z, q.c.z, t.w) + q.w.w * lower_visibility(z, q.d.z, t.w);
+        return lookup(limited_visibility(z, t.x, t.y, t.w, lower));
+    }
+    // Outside it: the edge's V, no more than the soft shadow of the casters below it that the
+    // taps outside the silhouette hold above the receiver (penumbra_limit::eval::shade).
+    let edge = lookup(limited_visibility(z, t.x, t.y, t.w, 1.0));
+    let o = q.w * vec4<f32>(
+        select(0.0, 1.0, q.a.w >= 0.0 && q.a.z < z),
+        select(0.0, 1.0, q.b.w >= 0.0 && q.b.z < z),
+        select(0.0, 1.0, q.c.w >= 0.0 && q.c.z < z),
+        select(0.0, 1.0, q.d.w >= 0.0 && q.d.z < z),
+    );
+    let s = o.x + o.y + o.z + o.w;
+    if s > 0.0 && z >= t.y {
+        let b = dot(o, vec4<f32>(q.a.z, q.b.z, q.c.z, q.d.z)) / s;
+        return min(edge, lower_shadow(co.st, z, b));
+    }
+    return edge;
 }

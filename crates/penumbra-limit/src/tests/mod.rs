@@ -1,5 +1,6 @@
 //! penumbra-limit against the paper's equations and closed forms (no GPU needed).
 
+mod as_seen;
 mod bunny;
 mod depth_image;
 mod feature_transform;
