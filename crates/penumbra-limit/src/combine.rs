@@ -11,23 +11,24 @@
 //!   Not at occluder transitions (below): there `b = g` makes everything below `g` umbra, and
 //!   `g = c` darkened lit ground beside a curved caster on `acne` at 16².
 //! - Outer texels over another caster (`p_i >= 0` and geometry deeper or nearer than `c` by more
-//!   than the transition gap): below that caster `b` is its depth, its hard shadow. The paper
+//!   than the transition gap): below that caster `b` is its depth, where its shadow begins. The paper
 //!   keeps one edge per texel ("highest penumbra limit wins"), so where one blocker's outer
 //!   ribbon wins over another blocker, the receivers under that other blocker read the edge's
 //!   outer penumbra, at least half lit: on `overlap` at 2048², the bottom blocker's top under a
 //!   higher edge (V rms 95.5 over 1650 receivers) and a lit streak on the ground inside the top
 //!   blocker's umbra under the middle one's edge (124 receivers of the 128² G-buffer at 256²,
-//!   V 0.69-0.81 against 0.00-0.05). Where the covering caster is thin (an ear), its own
-//!   penumbra reaches under the texel and this hard shadow is false umbra: thin dark spikes out
-//!   of Suzanne's ears' shadow under a disk light at 1280 x 720 (`harness::as_seen`), which
-//!   only the covering caster's own edge, not stored, could soften.
+//!   V 0.69-0.81 against 0.00-0.05). The evaluation gives receivers below it that caster's
+//!   soft shadow (`eval::lower_shadow`), not its hard shadow: where the covering caster is thin
+//!   (an ear, a leg) its own penumbra reaches under the texel, and the hard shadow was false
+//!   umbra (black blotches by a low-poly animal's feet at 1280 x 720).
 //! - Without one (beyond every ribbon): the hard shadow, lit above the geometry and umbra below
 //!   it: `c = g` and `p_i = -MAX_P` where there is geometry (so a receiver between the inner end
 //!   of a ribbon and such a texel interpolates towards umbra, not towards "outside"), `c` =
 //!   "none" and `p_i = MAX_P` where there is none.
 //! - Occluder transitions (Figure 7 C): where `c` jumps between 4-neighbours by more than the
-//!   transition gap, `b` is the geometry depth, which clamps the soft shadow away there (hard
-//!   shadow below the geometry). Not the raised `g` of an outer texel: where no geometry is,
+//!   transition gap, `b` is the geometry depth, which clamps the soft shadow away there (the
+//!   hard shadow below the geometry inside the silhouette; outside it the geometry's own soft
+//!   shadow, `eval::lower_shadow`). Not the raised `g` of an outer texel: where no geometry is,
 //!   there is no hard shadow, and `b = c + p_i` made every receiver below the outer limit
 //!   umbra, streaks of false umbra where ribbons of neighbouring edges meet (the bunny under a
 //!   disk light at 1024²).
@@ -95,7 +96,8 @@ fn texel(
         geom.min(c + p)
     };
     // An outer texel over another caster (geometry deeper or nearer than the edge by more than
-    // the gap): below that caster is its hard shadow, not this edge's outer penumbra.
+    // the gap): below that caster is its shadow (eval::lower_shadow), not this edge's outer
+    // penumbra.
     let covered = p >= 0.0 && geom < NONE_DEPTH && (geom - c).abs() > gap;
     Texel {
         c,

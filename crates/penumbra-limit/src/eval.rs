@@ -1,6 +1,8 @@
 //! Evaluation shared by both backends: the parameters `visibility.wgsl` reads and the per-receiver
 //! shading on the CPU, which the shader repeats line for line: project the receiver, sample the
-//! four channels bilinearly, equation 2, then the visibility-to-illumination table.
+//! four channels bilinearly, equation 2 with each tap's lower limit, then the
+//! visibility-to-illumination table; below a caster under another caster's edge, that caster's
+//! own soft shadow ([`lower_shadow`]).
 
 use crate::storage::{Storage, Texel};
 use crate::table::IlluminationTable;
@@ -62,15 +64,53 @@ fn interpolate(taps: &[(&Texel, f32); 4]) -> Texel {
     })
 }
 
-/// Taps of [`lower_shadow`]: a Vogel spiral over its disc.
-pub(crate) const LOWER_TAPS: u32 = 32;
+/// Taps of [`lower_shadow`].
+pub(crate) const LOWER_TAPS: usize = 32;
 
-/// The angle between successive taps of the spiral, `pi (3 - sqrt 5)`.
-pub(crate) const GOLDEN_ANGLE: f32 = 2.399_963;
+/// [`lower_shadow`]'s taps on a Vogel spiral: `(cos a, sin a, s)` of tap `i`, at the angle
+/// `a = i * 2.399963` (the golden angle, `pi (3 - sqrt 5)`) and the fraction `s = sqrt((i + 1/2)
+/// / 32)` of the radius, as `f32` computes them. `visibility.wgsl` holds the same table: a GPU's
+/// `cos` and `sin` of angles up to 74 radians differ from the CPU's by up to 2^-11, which moves a
+/// tap across a texel at a radius of a few hundred texels.
+#[rustfmt::skip]
+pub(crate) const LOWER_SPIRAL: [[f32; 3]; LOWER_TAPS] = [
+    [1.0, 0.0, 0.125],
+    [-0.73736864, 0.67549056, 0.21650635],
+    [0.087425075, -0.9961711, 0.2795085],
+    [0.6084396, 0.79360014, 0.3307189],
+    [-0.98471373, -0.17418066, 0.375],
+    [0.84375465, -0.53672904, 0.4145781],
+    [-0.2596024, 0.9657156, 0.4506939],
+    [-0.4609095, -0.8874472, 0.48412293],
+    [0.9393222, 0.34303617, 0.5153882],
+    [-0.9243446, 0.3815587, 0.5448624],
+    [0.4238439, -0.90573525, 0.572822],
+    [0.29928777, 0.9541629, 0.59947896],
+    [-0.86521316, -0.50140417, 0.625],
+    [0.976675, -0.21472313, 0.649519],
+    [-0.5751249, 0.81806564, 0.6731456],
+    [-0.12851603, -0.99170744, 0.69597054],
+    [0.7646524, 0.644443, 0.7180703],
+    [-0.99914587, 0.041322917, 0.73951],
+    [0.70882595, -0.7053834, 0.76034534],
+    [-0.046186656, 0.99893284, 0.78062475],
+    [-0.64071274, -0.7677807, 0.80039054],
+    [0.9910705, 0.13333875, 0.8196798],
+    [-0.82085365, 0.57113856, 0.8385255],
+    [0.21947356, -0.9756184, 0.85695684],
+    [0.4971877, 0.867643, 0.875],
+    [-0.95269513, -0.30392763, 0.89267856],
+    [0.907788, -0.4194294, 0.91001374],
+    [-0.38605073, 0.92247754, 0.9270248],
+    [-0.3384627, -0.9409798, 0.9437293],
+    [0.88519454, 0.46522108, 0.9601432],
+    [-0.9669673, 0.2549006, 0.9762812],
+    [0.54082876, -0.8411327, 0.99215674],
+];
 
 /// The soft shadow of a caster below the edge a receiver outside the silhouette reads (a
 /// leg under a body's outer penumbra, the lower blocker of `overlap`), which one edge per texel
-/// cannot hold: the fraction of [`LOWER_TAPS`] taps (nearest texels on a Vogel spiral) over the
+/// cannot hold: the fraction of [`LOWER_TAPS`] taps (nearest texels on [`LOWER_SPIRAL`]) over the
 /// disc of radius `(z - b) / p_per_texel` texels around `st` whose texel holds no caster above
 /// the receiver's depth `z` (its geometry `g` inside a silhouette, its lower limit `b` outside
 /// it). That radius is the half-width of the penumbra an edge at the lower caster's depth `b`
@@ -82,11 +122,10 @@ pub(crate) const GOLDEN_ANGLE: f32 = 2.399_963;
 /// are mostly penumbra.
 pub(crate) fn lower_shadow(map: &Map2D<Texel>, st: Vec2, z: f32, b: f32, ppt: f32) -> f32 {
     let radius = ((z - b) / ppt.max(f32::MIN_POSITIVE)).clamp(1.0, map.width() as f32);
-    let lit = (0..LOWER_TAPS)
-        .filter(|&i| {
-            let r = radius * ((i as f32 + 0.5) / LOWER_TAPS as f32).sqrt();
-            let a = i as f32 * GOLDEN_ANGLE;
-            let q = st + Vec2::new(a.cos(), a.sin()) * r;
+    let lit = LOWER_SPIRAL
+        .iter()
+        .filter(|&&[cos, sin, s]| {
+            let q = st + Vec2::new(cos, sin) * (radius * s);
             let t = map.get_clamped(q.x.floor() as i64, q.y.floor() as i64);
             (if t.p < 0.0 { t.g } else { t.b }) >= z
         })

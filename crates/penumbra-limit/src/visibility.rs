@@ -24,8 +24,9 @@ pub(crate) fn edge_visibility(z: f32, c: f32, p: f32) -> f32 {
 
 /// Below the lower limit `b`: inside the silhouette (`p < 0`) the lower layer casts the same
 /// inner penumbra from its own depth, `sat(1/2 + 1/2 p / (z - b))`, which is 0 at `b` and
-/// opens below it as the edge's own does; outside it (`p >= 0`), the hard shadow 0. At or above
-/// `b`, 1 (no limit).
+/// opens below it as the edge's own does; outside it (`p >= 0`), the hard shadow 0 (the
+/// evaluation does not take that branch: outside the silhouette it softens the lower caster's
+/// shadow, `eval::lower_shadow`). At or above `b`, 1 (no limit).
 ///
 /// The paper clamps every receiver below `b` to 0, which assumes that whatever lies below an
 /// occluder's back face is in its umbra. A thin occluder under a wide light breaks that: the

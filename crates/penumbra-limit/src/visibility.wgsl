@@ -48,8 +48,8 @@ fn sat(x: f32) -> f32 {
     return clamp(x, 0.0, 1.0);
 }
 
-// Below the lower limit: the lower layer's inner penumbra inside the silhouette, the hard
-// shadow outside it; see penumbra_limit::visibility::lower_visibility.
+// Below the lower limit inside the silhouette: the lower layer's inner penumbra (visibility()
+// calls it only there; outside, lower_shadow); see penumbra_limit::visibility::lower_visibility.
 fn lower_visibility(z: f32, b: f32, p: f32) -> f32 {
     if z <= b {
         return 1.0;
@@ -77,18 +77,54 @@ fn lookup(l: f32) -> f32 {
 }
 
 const LOWER_TAPS: u32 = 32u;
-const GOLDEN_ANGLE: f32 = 2.399963;
+
+// (cos a, sin a, s) of each tap of lower_shadow's Vogel spiral, as the CPU computes them:
+// penumbra_limit::eval::LOWER_SPIRAL, the same table.
+var<private> LOWER_SPIRAL: array<vec3<f32>, 32> = array<vec3<f32>, 32>(
+    vec3<f32>(1.0, 0.0, 0.125),
+    vec3<f32>(-0.73736864, 0.67549056, 0.21650635),
+    vec3<f32>(0.087425075, -0.9961711, 0.2795085),
+    vec3<f32>(0.6084396, 0.79360014, 0.3307189),
+    vec3<f32>(-0.98471373, -0.17418066, 0.375),
+    vec3<f32>(0.84375465, -0.53672904, 0.4145781),
+    vec3<f32>(-0.2596024, 0.9657156, 0.4506939),
+    vec3<f32>(-0.4609095, -0.8874472, 0.48412293),
+    vec3<f32>(0.9393222, 0.34303617, 0.5153882),
+    vec3<f32>(-0.9243446, 0.3815587, 0.5448624),
+    vec3<f32>(0.4238439, -0.90573525, 0.572822),
+    vec3<f32>(0.29928777, 0.9541629, 0.59947896),
+    vec3<f32>(-0.86521316, -0.50140417, 0.625),
+    vec3<f32>(0.976675, -0.21472313, 0.649519),
+    vec3<f32>(-0.5751249, 0.81806564, 0.6731456),
+    vec3<f32>(-0.12851603, -0.99170744, 0.69597054),
+    vec3<f32>(0.7646524, 0.644443, 0.7180703),
+    vec3<f32>(-0.99914587, 0.041322917, 0.73951),
+    vec3<f32>(0.70882595, -0.7053834, 0.76034534),
+    vec3<f32>(-0.046186656, 0.99893284, 0.78062475),
+    vec3<f32>(-0.64071274, -0.7677807, 0.80039054),
+    vec3<f32>(0.9910705, 0.13333875, 0.8196798),
+    vec3<f32>(-0.82085365, 0.57113856, 0.8385255),
+    vec3<f32>(0.21947356, -0.9756184, 0.85695684),
+    vec3<f32>(0.4971877, 0.867643, 0.875),
+    vec3<f32>(-0.95269513, -0.30392763, 0.89267856),
+    vec3<f32>(0.907788, -0.4194294, 0.91001374),
+    vec3<f32>(-0.38605073, 0.92247754, 0.9270248),
+    vec3<f32>(-0.3384627, -0.9409798, 0.9437293),
+    vec3<f32>(0.88519454, 0.46522108, 0.9601432),
+    vec3<f32>(-0.9669673, 0.2549006, 0.9762812),
+    vec3<f32>(0.54082876, -0.8411327, 0.99215674),
+);
 
 // The soft shadow of a caster below the edge a receiver outside the silhouette reads: the
-// fraction of LOWER_TAPS taps on a Vogel spiral over the disc of radius (z - b) / p_per_texel
-// texels whose texel holds no caster above z; see penumbra_limit::eval::lower_shadow.
+// fraction of LOWER_TAPS taps on a Vogel spiral (LOWER_SPIRAL) over the disc of radius
+// (z - b) / p_per_texel texels whose texel holds no caster above z; see
+// penumbra_limit::eval::lower_shadow.
 fn lower_shadow(st: vec2<f32>, z: f32, b: f32) -> f32 {
     let radius = clamp((z - b) / max(prm.warp.p_per_texel, 1.17549435e-38), 1.0, f32(prm.map.resolution));
     var lit = 0u;
     for (var i = 0u; i < LOWER_TAPS; i = i + 1u) {
-        let r = radius * sqrt((f32(i) + 0.5) / f32(LOWER_TAPS));
-        let a = f32(i) * GOLDEN_ANGLE;
-        let q = floor(st + vec2<f32>(cos(a), sin(a)) * r);
+        let tap = LOWER_SPIRAL[i];
+        let q = floor(st + tap.xy * (radius * tap.z));
         let t = texel(i32(q.x), i32(q.y));
         let depth = select(t.z, t.y, t.w < 0.0);
         lit = lit + u32(depth >= z);

@@ -1,17 +1,17 @@
-//! False umbra at the resolution a person looks at (the 1280 x 720 frames of
-//! `harness::as_seen`, 1024² maps) on the bunny and the catalogue's low-poly meshes: thin legs
-//! under a body, rocks, a sphere light over an animal and a boulder.
+//! Receivers drawn darker than the reference at the resolution a person looks at (the 1280 x 720
+//! frames of `harness::as_seen`, 1024² maps) on the bunny and the catalogue's low-poly meshes:
+//! thin legs under a body, rocks, a sphere light over an animal and a boulder.
 
 use crate::{Generator, PenumbraLimit};
 use harness::as_seen::{ARTEFACT_STEP, LIT_WEIGHT, frame};
-use soft_shadow_core::{CpuContext, ShadowTechnique};
+use harness::setup::PreparedScene;
+use soft_shadow_core::{CpuContext, ShadowTechnique, TechniqueInfo};
 use soft_shadow_reference::scenes::catalogue::{AS_SEEN_NAMES, build};
 
-/// Ground receivers the light lights (at least `LIT_WEIGHT` of its brightest) that `t` draws
-/// darker than the reference by more than `ARTEFACT_STEP` of the light, on the named scene's
-/// viewing frame with 1024² maps.
-fn darker_on_the_ground(t: &PenumbraLimit, name: &str) -> usize {
-    let scene = frame(build(name).unwrap()).unwrap();
+/// What `t` draws on `scene`'s frame with 1024² maps, among the receivers the light lights (at
+/// least `LIT_WEIGHT` of its brightest): `[ground, objects]` receivers darker than the reference
+/// by more than `ARTEFACT_STEP` of the light, and all receivers lighter by as much.
+fn differences(t: &PenumbraLimit, scene: &PreparedScene) -> ([usize; 2], usize) {
     let maps = t
         .generate_cpu_in(
             &CpuContext::new(),
@@ -23,44 +23,56 @@ fn darker_on_the_ground(t: &PenumbraLimit, name: &str) -> usize {
         .unwrap();
     let v = t.evaluate_cpu(&maps, &scene.receivers()).unwrap();
     let r = scene.reference_v();
-    (0..r.len())
-        .filter(|&k| !scene.shading.object[k] && scene.shading.weight[k] >= LIT_WEIGHT)
-        .filter(|&k| v[k] < r[k] - ARTEFACT_STEP)
-        .count()
+    let (mut darker, mut lighter) = ([0; 2], 0);
+    for k in (0..r.len()).filter(|&k| scene.shading.weight[k] >= LIT_WEIGHT) {
+        if v[k] < r[k] - ARTEFACT_STEP {
+            darker[usize::from(scene.shading.object[k])] += 1;
+        }
+        if v[k] > r[k] + ARTEFACT_STEP {
+            lighter += 1;
+        }
+    }
+    (darker, lighter)
 }
 
 /// At most this many ground receivers of a 1280 x 720 frame (0.02%) drawn darker than the
-/// reference by 1/4 of the light.
+/// reference by 1/4 of the light, and as many on the objects.
 const MAX_DARKER: usize = 200;
+
+/// At most this many receivers drawn lighter than the reference by 1/4 (the depth image's
+/// leaks under the low-poly animal: 1938 before the change below, 1951 after).
+const MAX_LIGHTER: usize = 2000;
 
 /// Below a caster under another's edge (a leg under the body's outer penumbra) the paper's
 /// lower limit drew that caster's hard shadow, and `b` interpolated between a back face and a
 /// texel with none put a false lower limit just above the ground along a contour: black
 /// blotches by the low-poly animal's feet and dotted dark outlines around its shadow, where the
-/// reference is penumbra. Receivers darker than the reference by 1/4, silhouette / depth image:
-/// before, bunny 290 / 168, low-poly-animal 624 / 663, low-poly-rocks 157 / 166,
-/// low-poly-sphere-light 3138 / 1081; after 37 / 13, 108 / 6, 0 / 0, 19 / 18.
+/// reference is penumbra. Ground receivers darker than the reference by 1/4, silhouette / depth
+/// image: before, bunny 290 / 168, low-poly-animal 624 / 663, low-poly-rocks 157 / 166,
+/// low-poly-sphere-light 3138 / 1081; after 37 / 13, 108 / 6, 0 / 0, 19 / 18; on the objects
+/// at most 112 before (the bunny, silhouette), 67 after. Receivers drawn lighter by 1/4 moved
+/// by -38 to +96 (the depth image on the bunny: 1730 -> 1826).
 #[test]
-fn no_false_umbra_on_low_poly_meshes_at_viewing_resolution() {
+fn no_dark_blotches_on_low_poly_meshes_at_viewing_resolution() {
     let mut failures = Vec::new();
     for name in std::iter::once("bunny").chain(AS_SEEN_NAMES) {
+        let scene = frame(build(name).unwrap()).unwrap();
         for generator in Generator::ALL {
             let t = PenumbraLimit::new(generator);
-            if !soft_shadow_core::TechniqueInfo::models(&t, build(name).unwrap().light.kind()) {
+            if !TechniqueInfo::models(&t, scene.spec.light.kind()) {
                 continue;
             }
-            let darker = darker_on_the_ground(&t, name);
-            println!(
-                "{name} {}: {darker} ground receivers darker by 1/4",
+            let ([ground, objects], lighter) = differences(&t, &scene);
+            let what = format!(
+                "{name} {}: darker by 1/4 {ground} on the ground, {objects} on objects; \
+                 lighter {lighter}",
                 generator.name()
             );
-            if darker > MAX_DARKER {
-                failures.push(format!("{name} {}: {darker}", generator.name()));
+            println!("{what}");
+            if ground > MAX_DARKER || objects > MAX_DARKER || lighter > MAX_LIGHTER {
+                failures.push(what);
             }
         }
     }
-    assert!(
-        failures.is_empty(),
-        "darker than the reference by 1/4: {failures:?}"
-    );
+    assert!(failures.is_empty(), "{failures:#?}");
 }

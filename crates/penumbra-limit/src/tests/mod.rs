@@ -518,3 +518,36 @@ fn bad_input_gets_typed_errors() {
         Err(ShadowError::InvalidReceivers(_))
     ));
 }
+
+/// `lower_shadow`'s spiral is the Vogel spiral its docs give, and the shader holds the same
+/// numbers, so that both backends read the same texels.
+#[test]
+fn the_lower_shadows_spiral_is_one_table_on_both_backends() {
+    use crate::eval::{LOWER_SPIRAL, LOWER_TAPS};
+    for (i, &[cos, sin, s]) in LOWER_SPIRAL.iter().enumerate() {
+        let a = i as f32 * 2.399_963;
+        assert_eq!([cos, sin], [a.cos(), a.sin()], "tap {i}");
+        assert_eq!(s, ((i as f32 + 0.5) / LOWER_TAPS as f32).sqrt(), "tap {i}");
+    }
+    let wgsl = include_str!("../visibility.wgsl");
+    let table = wgsl
+        .split("array<vec3<f32>, 32>(")
+        .nth(1)
+        .and_then(|t| t.split(");").next())
+        .expect("the shader's LOWER_SPIRAL");
+    let shader: Vec<[f32; 3]> = table
+        .split("vec3<f32>(")
+        .skip(1)
+        .map(|v| {
+            let n: Vec<f32> = v
+                .split(')')
+                .next()
+                .unwrap()
+                .split(',')
+                .map(|x| x.trim().parse().unwrap())
+                .collect();
+            [n[0], n[1], n[2]]
+        })
+        .collect();
+    assert_eq!(shader, LOWER_SPIRAL.to_vec());
+}
