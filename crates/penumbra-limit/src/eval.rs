@@ -108,18 +108,20 @@ pub(crate) const LOWER_SPIRAL: [[f32; 3]; LOWER_TAPS] = [
     [0.54082876, -0.8411327, 0.99215674],
 ];
 
-/// The soft shadow of a caster below the edge a receiver outside the silhouette reads (a
-/// leg under a body's outer penumbra, the lower blocker of `overlap`), which one edge per texel
-/// cannot hold: the fraction of [`LOWER_TAPS`] taps (nearest texels on [`LOWER_SPIRAL`]) over the
+/// The soft shadow of the casters below the edge a receiver reads (a leg under a body's outer
+/// penumbra, the lower blocker of `overlap`, a body under a head whose fold is the edge), which
+/// one edge per texel cannot hold: the fraction of [`LOWER_TAPS`] taps (nearest texels on [`LOWER_SPIRAL`]) over the
 /// disc of radius `(z - b) / p_per_texel` texels around `st` whose texel holds no caster above
 /// the receiver's depth `z` (its geometry `g` inside a silhouette, its lower limit `b` outside
 /// it). That radius is the half-width of the penumbra an edge at the lower caster's depth `b`
 /// casts at `z` (equation 1), so this is the lower caster's penumbra as the light's area sees
 /// it, through both of a thin caster's sides; at least one texel.
 ///
-/// The paper's step to 0 below `b` drew the lower caster's hard shadow: black blotches where a
-/// low-poly animal's thin legs stand under its body's outer penumbra, whose shadows on the ground
-/// are mostly penumbra.
+/// Outside the silhouette, the paper's step to 0 below `b` drew the lower caster's hard shadow:
+/// black blotches where a low-poly animal's thin legs stand under its body's outer penumbra,
+/// whose shadows on the ground are mostly penumbra. Inside it, the edge's inner penumbra alone
+/// let light through a body the edge does not outline: light facets in the bunny's umbra under
+/// the folds of its head and chest.
 pub(crate) fn lower_shadow(map: &Map2D<Texel>, st: Vec2, z: f32, b: f32, ppt: f32) -> f32 {
     let radius = ((z - b) / ppt.max(f32::MIN_POSITIVE)).clamp(1.0, map.width() as f32);
     let lit = LOWER_SPIRAL
@@ -141,12 +143,12 @@ pub(crate) fn lower_shadow(map: &Map2D<Texel>, st: Vec2, z: f32, b: f32, ppt: f3
 ///   taps are. `b` interpolated between a back face and a tap with none (depth 1) put a lower
 ///   limit a fraction of a texel above receivers along a contour where there is no surface:
 ///   dotted dark lines around a low-poly body's shadow, 0 where the reference reads 0.3-0.6.
-/// - Outside it, the edge's `V`, no more than the [`lower_shadow`] of the casters below the
-///   edge that the taps outside the silhouette (`p_i >= 0`) hold above the receiver (their mean
-///   `b`, weighted as the taps are). An inner tap's `b` (a back face below its edge, or a
-///   covered texel's own geometry) would otherwise reach up to a texel outwards and clamp lit
-///   receivers beyond the hard edge: false umbra a texel wide around every shadow where the
-///   map's texels are wider than the penumbra.
+/// - Then, where the edge leaves some light, no more than the [`lower_shadow`] of the casters
+///   below the edge that the taps hold above the receiver (their mean `b`, weighted as the taps
+///   are); outside the silhouette only the taps outside it (`p_i >= 0`) count: an inner tap's
+///   `b` (a back face below its edge, or a covered texel's own geometry) would otherwise reach
+///   up to a texel outwards and clamp lit receivers beyond the hard edge, false umbra a texel
+///   wide around every shadow where the map's texels are wider than the penumbra.
 pub(crate) fn shade(
     prm: &EvalParams,
     map: &Map2D<Texel>,
@@ -160,19 +162,22 @@ pub(crate) fn shade(
     let z = (prm.warp.receiver_depth(co.z) - prm.tolerance).min(DEPTH_SPAN);
     let taps = map.bilinear_taps(co.st);
     let t = interpolate(&taps);
-    if t.p < 0.0 {
+    let inside = t.p < 0.0;
+    let edge = if inside {
         let lower = taps
             .iter()
             .map(|(x, w)| w * lower_visibility(z, x.b, t.p))
             .sum();
-        return table.lookup(limited_visibility(z, t.c, t.g, t.p, lower));
-    }
-    let edge = table.lookup(limited_visibility(z, t.c, t.g, t.p, 1.0));
+        table.lookup(limited_visibility(z, t.c, t.g, t.p, lower))
+    } else {
+        table.lookup(limited_visibility(z, t.c, t.g, t.p, 1.0))
+    };
     let (b, w) = taps
         .iter()
-        .filter(|(x, _)| x.p >= 0.0 && x.b < z)
+        .filter(|(x, _)| (inside || x.p >= 0.0) && x.b < z)
         .fold((0.0f32, 0.0f32), |(b, s), (x, w)| (b + x.b * w, s + w));
-    if w > 0.0 && z >= t.g {
+    // Nothing to soften where the edge leaves no light (the umbra): no taps there.
+    if w > 0.0 && z >= t.g && edge > 0.0 {
         return edge.min(lower_shadow(map, co.st, z, b / w, prm.warp.p_per_texel));
     }
     edge

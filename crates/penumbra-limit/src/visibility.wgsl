@@ -141,22 +141,23 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let q = taps4(co.st);
     let t = q.a * q.w.x + q.b * q.w.y + q.c * q.w.z + q.d * q.w.w;
     // Inside the silhouette: each tap's lower limit, weighted as the taps are.
-    if t.w < 0.0 {
-        let lower = q.w.x * lower_visibility(z, q.a.z, t.w) + q.w.y * lower_visibility(z, q.b.z, t.w)
+    let inside = t.w < 0.0;
+    var lower = 1.0;
+    if inside {
+        lower = q.w.x * lower_visibility(z, q.a.z, t.w) + q.w.y * lower_visibility(z, q.b.z, t.w)
             + q.w.z * lower_visibility(z, q.c.z, t.w) + q.w.w * lower_visibility(z, q.d.z, t.w);
-        return lookup(limited_visibility(z, t.x, t.y, t.w, lower));
     }
-    // Outside it: the edge's V, no more than the soft shadow of the casters below it that the
-    // taps outside the silhouette hold above the receiver (penumbra_limit::eval::shade).
-    let edge = lookup(limited_visibility(z, t.x, t.y, t.w, 1.0));
+    // No more than the soft shadow of the casters below the edge that the taps (outside the
+    // silhouette: those outside it) hold above the receiver (penumbra_limit::eval::shade).
+    let edge = lookup(limited_visibility(z, t.x, t.y, t.w, lower));
     let o = q.w * vec4<f32>(
-        select(0.0, 1.0, q.a.w >= 0.0 && q.a.z < z),
-        select(0.0, 1.0, q.b.w >= 0.0 && q.b.z < z),
-        select(0.0, 1.0, q.c.w >= 0.0 && q.c.z < z),
-        select(0.0, 1.0, q.d.w >= 0.0 && q.d.z < z),
+        select(0.0, 1.0, (inside || q.a.w >= 0.0) && q.a.z < z),
+        select(0.0, 1.0, (inside || q.b.w >= 0.0) && q.b.z < z),
+        select(0.0, 1.0, (inside || q.c.w >= 0.0) && q.c.z < z),
+        select(0.0, 1.0, (inside || q.d.w >= 0.0) && q.d.z < z),
     );
     let s = o.x + o.y + o.z + o.w;
-    if s > 0.0 && z >= t.y {
+    if s > 0.0 && z >= t.y && edge > 0.0 {
         let b = dot(o, vec4<f32>(q.a.z, q.b.z, q.c.z, q.d.z)) / s;
         return min(edge, lower_shadow(co.st, z, b));
     }

@@ -133,7 +133,7 @@ const KNOWN: &[(&str, u32, &str)] = &[
     ),
     (
         "penumbra-limit",
-        23,
+        22,
         "of 64 cases: 14 at 16² (texels wider than the triangles' edges, ribbons of two texels \
          and more overlap into false umbra); 8 under the 100:1 rect a segment is recast as; \
          worst 14.3/255 of V above the hard map",

@@ -39,9 +39,9 @@ fn differences(t: &PenumbraLimit, scene: &PreparedScene) -> ([usize; 2], usize) 
 /// reference by 1/4 of the light, and as many on the objects.
 const MAX_DARKER: usize = 200;
 
-/// At most this many receivers drawn lighter than the reference by 1/4 (the depth image's
-/// leaks under the low-poly animal: 1938 before the change below, 1951 after).
-const MAX_LIGHTER: usize = 2000;
+/// At most this many receivers drawn lighter than the reference by 1/4, silhouette / depth
+/// image (light facets inside a body's umbra where a fold's inner penumbra let light through).
+const MAX_LIGHTER: [usize; 2] = [500, 1500];
 
 /// Below a caster under another's edge (a leg under the body's outer penumbra) the paper's
 /// lower limit drew that caster's hard shadow, and `b` interpolated between a back face and a
@@ -50,8 +50,14 @@ const MAX_LIGHTER: usize = 2000;
 /// reference is penumbra. Ground receivers darker than the reference by 1/4, silhouette / depth
 /// image: before, bunny 290 / 168, low-poly-animal 624 / 663, low-poly-rocks 157 / 166,
 /// low-poly-sphere-light 3138 / 1081; after 37 / 13, 108 / 6, 0 / 0, 19 / 18; on the objects
-/// at most 112 before (the bunny, silhouette), 67 after. Receivers drawn lighter by 1/4 moved
-/// by -38 to +96 (the depth image on the bunny: 1730 -> 1826).
+/// at most 112 before (the bunny, silhouette), 67 after.
+///
+/// Inside the silhouette, the edge's inner penumbra let light through whatever lies below the
+/// edge that the edge does not outline (the bunny's chest under its head): light facets inside
+/// the umbra. Receivers drawn lighter by 1/4, silhouette / depth image, before the lower caster
+/// limited them inside too: bunny 811 / 1826, low-poly-animal 730 / 1951, low-poly-rocks 23 /
+/// 1107, low-poly-sphere-light 1185 / 1421; after 408 / 1414, 37 / 1398, 8 / 765, 210 / 924
+/// (darker ones 38 / 13, 108 / 6, 0 / 0, 29 / 18).
 #[test]
 fn no_dark_blotches_on_low_poly_meshes_at_viewing_resolution() {
     let mut failures = Vec::new();
@@ -69,7 +75,8 @@ fn no_dark_blotches_on_low_poly_meshes_at_viewing_resolution() {
                 generator.name()
             );
             println!("{what}");
-            if ground > MAX_DARKER || objects > MAX_DARKER || lighter > MAX_LIGHTER {
+            let max_lighter = MAX_LIGHTER[usize::from(generator == Generator::DepthImage)];
+            if ground > MAX_DARKER || objects > MAX_DARKER || lighter > max_lighter {
                 failures.push(what);
             }
         }

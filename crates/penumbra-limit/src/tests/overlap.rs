@@ -12,8 +12,8 @@ use soft_shadow_reference::scenes::catalogue::build;
 /// outer texels over another caster clamped below it: 138 at 256² and 145 at 2048² (a lit
 /// streak on the ground inside the top blocker's umbra, under the middle blocker's edge), and
 /// before that the bottom blocker's top read at least half lit under the higher edges too. Now
-/// 60 and 72 (with the lower caster's shadow soft, `eval::lower_shadow`), the penumbrae's own
-/// edges.
+/// 43 and 70 (with the lower casters' shadow soft and limiting inside the silhouette too,
+/// `eval::lower_shadow`), the penumbrae's own edges.
 #[test]
 fn no_light_under_another_blocker() {
     let p = PreparedScene::new(
