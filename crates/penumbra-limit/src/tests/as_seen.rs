@@ -8,10 +8,8 @@ use harness::setup::PreparedScene;
 use soft_shadow_core::{CpuContext, ShadowTechnique, TechniqueInfo};
 use soft_shadow_reference::scenes::catalogue::{AS_SEEN_NAMES, build};
 
-/// What `t` draws on `scene`'s frame with 1024² maps, among the receivers the light lights (at
-/// least `LIT_WEIGHT` of its brightest): `[ground, objects]` receivers darker than the reference
-/// by more than `ARTEFACT_STEP` of the light, and all receivers lighter by as much.
-fn differences(t: &PenumbraLimit, scene: &PreparedScene) -> ([usize; 2], usize) {
+/// `V` of `t` over `scene`'s frame, from 1024² maps in the frame's views, on the CPU.
+pub(super) fn frame_v(t: &PenumbraLimit, scene: &PreparedScene) -> Vec<f32> {
     let maps = t
         .generate_cpu_in(
             &CpuContext::new(),
@@ -21,7 +19,14 @@ fn differences(t: &PenumbraLimit, scene: &PreparedScene) -> ([usize; 2], usize) 
             1024,
         )
         .unwrap();
-    let v = t.evaluate_cpu(&maps, &scene.receivers()).unwrap();
+    t.evaluate_cpu(&maps, &scene.receivers()).unwrap()
+}
+
+/// What `t` draws on `scene`'s frame with 1024² maps, among the receivers the light lights (at
+/// least `LIT_WEIGHT` of its brightest): `[ground, objects]` receivers darker than the reference
+/// by more than `ARTEFACT_STEP` of the light, and all receivers lighter by as much.
+fn differences(t: &PenumbraLimit, scene: &PreparedScene) -> ([usize; 2], usize) {
+    let v = frame_v(t, scene);
     let r = scene.reference_v();
     let (mut darker, mut lighter) = ([0; 2], 0);
     for k in (0..r.len()).filter(|&k| scene.shading.weight[k] >= LIT_WEIGHT) {

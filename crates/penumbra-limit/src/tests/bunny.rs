@@ -73,16 +73,7 @@ fn the_bunnys_shadow_has_no_false_umbra_streaks() {
 fn streaks(t: &PenumbraLimit) -> (usize, usize) {
     use harness::as_seen::{LIT_WEIGHT, frame};
     let scene = frame(soft_shadow_reference::scenes::catalogue::build("bunny").unwrap()).unwrap();
-    let maps = t
-        .generate_cpu_in(
-            &CpuContext::new(),
-            &scene.geometry,
-            &scene.spec.light,
-            &scene.views,
-            1024,
-        )
-        .unwrap();
-    let v = t.evaluate_cpu(&maps, &scene.receivers()).unwrap();
+    let v = super::as_seen::frame_v(t, &scene);
     let r = scene.reference_v();
     let ground = |k: &usize| !scene.shading.object[*k] && scene.shading.weight[*k] >= LIT_WEIGHT;
     let dark = (0..r.len())
