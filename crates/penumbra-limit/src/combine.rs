@@ -8,7 +8,8 @@
 //!   interpolated bilinearly, and `c + p_i` there would lift it above receivers less than half a
 //!   texel's penumbra depth below the edge, moving the edge of a contact shadow inwards by up to
 //!   a texel (Lawlor Fig. 10's triangle at 32²: 18.4 rms without receiver bias, 3.2 with this).
-//!   Not at occluder transitions (below): there `b = g` makes everything below `g` umbra, and
+//!   Not at occluder transitions (below): there `b = g` puts everything below `g` in that
+//!   geometry's shadow, and
 //!   `g = c` darkened lit ground beside a curved caster on `acne` at 16².
 //! - Outer texels over another caster (`p_i >= 0` and geometry deeper or nearer than `c` by more
 //!   than the transition gap): below that caster `b` is its depth, where its shadow begins. The paper
@@ -26,9 +27,10 @@
 //!   of a ribbon and such a texel interpolates towards umbra, not towards "outside"), `c` =
 //!   "none" and `p_i = MAX_P` where there is none.
 //! - Occluder transitions (Figure 7 C): where `c` jumps between 4-neighbours by more than the
-//!   transition gap, `b` is the geometry depth, which clamps the soft shadow away there (the
-//!   hard shadow below the geometry inside the silhouette; outside it the geometry's own soft
-//!   shadow, `eval::lower_shadow`). Not the raised `g` of an outer texel: where no geometry is,
+//!   transition gap, `b` is the geometry depth, which clamps the soft shadow there: below the
+//!   geometry the lower layer's inner penumbra inside the silhouette, and on both sides no
+//!   more than the geometry's own soft shadow (`eval::lower_shadow`). Not the raised `g` of an
+//!   outer texel: where no geometry is,
 //!   there is no hard shadow, and `b = c + p_i` made every receiver below the outer limit
 //!   umbra, streaks of false umbra where ribbons of neighbouring edges meet (the bunny under a
 //!   disk light at 1024²).

@@ -49,7 +49,8 @@ fn sat(x: f32) -> f32 {
 }
 
 // Below the lower limit inside the silhouette: the lower layer's inner penumbra (visibility()
-// calls it only there; outside, lower_shadow); see penumbra_limit::visibility::lower_visibility.
+// calls it only there; lower_shadow then limits both sides); see
+// penumbra_limit::visibility::lower_visibility.
 fn lower_visibility(z: f32, b: f32, p: f32) -> f32 {
     if z <= b {
         return 1.0;
@@ -115,7 +116,7 @@ var<private> LOWER_SPIRAL: array<vec3<f32>, 32> = array<vec3<f32>, 32>(
     vec3<f32>(0.54082876, -0.8411327, 0.99215674),
 );
 
-// The soft shadow of a caster below the edge a receiver outside the silhouette reads: the
+// The soft shadow of the casters below the edge a receiver reads: the
 // fraction of LOWER_TAPS taps on a Vogel spiral (LOWER_SPIRAL) over the disc of radius
 // (z - b) / p_per_texel texels whose texel holds no caster above z; see
 // penumbra_limit::eval::lower_shadow.

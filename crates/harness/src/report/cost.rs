@@ -18,7 +18,8 @@ pub const GENERATION_LIMIT: f64 = 4.0;
 /// The name of the technique every ratio is to.
 pub const HARD: &str = "hard-shadow-map";
 
-/// The goal for single-lookup evaluation (shadow-width, penumbra-limit) against the hard map's.
+/// The goal for evaluation by one lookup (shadow-width; penumbra-limit, one lookup plus its
+/// lower-limit taps) against the hard map's.
 pub const EVALUATION_LIMIT: f64 = 2.0;
 
 /// The hard map's generation within this many times [`write_once_ms`] is the goal; above it

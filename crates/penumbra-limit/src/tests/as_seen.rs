@@ -1,4 +1,4 @@
-//! Receivers drawn darker than the reference at the resolution a person looks at (the 1280 x 720
+//! Receivers drawn darker (and lighter) than the reference at the resolution a person looks at (the 1280 x 720
 //! frames of `harness::as_seen`, 1024² maps) on the bunny and the catalogue's low-poly meshes:
 //! thin legs under a body, rocks, a sphere light over an animal and a boulder.
 
