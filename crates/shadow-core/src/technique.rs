@@ -956,22 +956,19 @@ impl<T: ShadowTechnique> DynTechnique for T {
         views: &LightViews,
         resolution: u32,
     ) -> Result<AnyMaps> {
-        Ok(AnyMaps(match ctx {
-            Context::Cpu(cpu) => Box::new(CpuMapsOf(
+        match ctx {
+            Context::Cpu(cpu) => Ok(AnyMaps(Box::new(CpuMapsOf(
                 self.clone(),
                 self.generate_cpu_in(cpu, geometry, light, views, resolution)?,
-            )),
+            )))),
             #[cfg(feature = "gpu")]
             Context::Gpu(gpu) => {
                 let scene = GpuScene::new(gpu, geometry)?;
-                Box::new(GpuMapsOf(
-                    self.clone(),
-                    ShadowTechnique::generate_gpu_on(self, gpu, &scene, light, views, resolution)?,
-                ))
+                DynTechnique::generate_gpu_on(self, gpu, &scene, light, views, resolution)
             }
             #[cfg(not(feature = "gpu"))]
             Context::Gpu(gpu) => match *gpu {},
-        }))
+        }
     }
     #[cfg(feature = "gpu")]
     fn generate_gpu_on(
