@@ -16,7 +16,8 @@ pub enum TechniqueChoice {
     /// This technique, with these parameters.
     Explicit(Arc<dyn DynTechnique>),
     /// The configuration and map side with the lowest predicted image error whose predicted time
-    /// (generation + evaluation, for this scene's casters and receivers) fits `budget_ms`, from
+    /// (generation + evaluation, for the casters and receivers within the light's range) fits
+    /// `budget_ms`, from
     /// the pipeline's [`crate::TechniqueProfile`]; once frames are measured, a choice that runs
     /// over the budget for [`crate::tracking::STEP_DOWN_FRAMES`] frames steps down.
     Auto {

@@ -71,31 +71,47 @@ pub const STEP_DOWN_FRAMES: u32 = 3;
 /// just under it does not flip back and forth (hysteresis).
 pub const STEP_DOWN_MARGIN: f64 = 0.8;
 
-/// The casters of the scene, flattened to world space (what `Auto` sizes a scene by).
-type CasterMeshes<'w, 's> =
-    Query<'w, 's, (&'static MeshHandle, &'static Transform), With<ShadowCaster>>;
+/// The casters of the scene (what `Auto` sizes a scene by).
+pub(crate) type CasterMeshes<'w, 's> =
+    Query<'w, 's, (Entity, &'static MeshHandle, &'static Transform), With<ShadowCaster>>;
 
-/// The scene `light` sees, as predictions size it: the casters' triangles, the frame's
-/// receivers, those inside the light's map ([`SceneSize::of`]), and the light's views as the
-/// pipeline plans them (a distant light's cascades with the frame's camera).
-fn scene_size(
+/// The scene `light` sees within its influence radius `range`, as predictions size it: the
+/// triangles of the casters that reach it ([`caster_reaches`], what its maps render), the frame's
+/// receivers within its influence, those inside the light's map ([`SceneSize::of`]), and the
+/// light's views as the pipeline plans them (a distant light's cascades with the frame's camera).
+pub(crate) fn scene_size(
     casters: &CasterMeshes,
+    index: &CasterIndex,
     frame: &FrameReceivers,
     light: &soft_shadow_core::Light,
+    range: f32,
 ) -> SceneSize {
     let tris: Vec<[glam::Vec3; 3]> = casters
         .iter()
-        .flat_map(|(m, t)| m.0.world_triangles(t.0).collect::<Vec<_>>())
+        .filter(|(e, ..)| {
+            index
+                .bounds
+                .get(e)
+                .is_some_and(|b| caster_reaches(light, range, b))
+        })
+        .flat_map(|(_, m, t)| m.0.world_triangles(t.0).collect::<Vec<_>>())
+        .collect();
+    let (c, r) = influence(light, range);
+    let receivers: Vec<glam::Vec3> = frame
+        .positions
+        .iter()
+        .copied()
+        .filter(|p| !r.is_finite() || p.distance_squared(c) <= r * r)
         .collect();
     let geometry = soft_shadow_core::SceneGeometry::new(tris, Vec::new());
-    let size = SceneSize::of(&geometry, light, &frame.positions);
+    let size = SceneSize::of(&geometry, light, &receivers);
     if geometry.casters.is_empty() {
         return size;
     }
     // The views as the pipeline plans them: over the casters with the bounds grown by the
-    // receivers (`light_geometry`), every caster kept (a light's range only drops some).
+    // receivers (`light_geometry`).
     let mut planned = geometry;
-    for p in &frame.positions {
+    for p in &receivers {
         planned.bounds.grow(*p);
     }
     SceneSize {
@@ -106,7 +122,7 @@ fn scene_size(
 
 /// `Auto`'s pick for `kind` within `budget_ms`, as a resolved technique whose reason names the
 /// predicted time and error (`None`: nothing is predicted to fit).
-fn auto_pick(
+pub(crate) fn auto_pick(
     kind: soft_shadow_core::LightKind,
     budget_ms: f64,
     registry: &TechniqueRegistry,
@@ -226,6 +242,7 @@ pub fn resolve_techniques(
         Or<(Changed<LightSource>, Changed<ShadowConfig>)>,
     >,
     casters: CasterMeshes,
+    index: Res<CasterIndex>,
     frame: Res<FrameReceivers>,
     registry: Res<TechniqueRegistry>,
     profile: Res<TechniqueProfile>,
@@ -234,7 +251,9 @@ pub fn resolve_techniques(
 ) {
     for (e, light, config, state) in &mut lights {
         let size = match config.choice {
-            TechniqueChoice::Auto { .. } => scene_size(&casters, &frame, &light.0),
+            TechniqueChoice::Auto { .. } => {
+                scene_size(&casters, &index, &frame, &light.0, config.range)
+            }
             TechniqueChoice::Explicit(_) => SceneSize::default(),
         };
         let resolved = resolve_one(&light.0, config, &registry, &profile, &hard, &backend, size);
@@ -274,14 +293,20 @@ pub fn resolve_techniques(
 /// does not flip from frame to frame.
 #[allow(clippy::type_complexity)]
 pub fn keep_budgets(
-    mut lights: Query<(&LightSource, &mut ResolvedTechnique, &mut LightState)>,
+    mut lights: Query<(
+        &LightSource,
+        &ShadowConfig,
+        &mut ResolvedTechnique,
+        &mut LightState,
+    )>,
     casters: CasterMeshes,
+    index: Res<CasterIndex>,
     frame: Res<FrameReceivers>,
     registry: Res<TechniqueRegistry>,
     profile: Res<TechniqueProfile>,
     backend: Res<FrameBackend>,
 ) {
-    for (light, mut resolved, mut state) in &mut lights {
+    for (light, config, mut resolved, mut state) in &mut lights {
         let Some(measured) = state.generated_ms.take() else {
             continue;
         };
@@ -300,7 +325,7 @@ pub fn keep_budgets(
         }
         let scale = (measured / auto.time_ms.max(1e-6)).max(1.0);
         let target = auto.budget_ms * STEP_DOWN_MARGIN / scale;
-        let size = scene_size(&casters, &frame, &light.0);
+        let size = scene_size(&casters, &index, &frame, &light.0, config.range);
         let kind = light.0.kind();
         match auto_pick(kind, target, &registry, &profile, &backend, size) {
             Some(mut next) => {

@@ -340,6 +340,35 @@ fn auto_lights_say_what_they_picked_and_why() {
     );
 }
 
+/// `Auto` sizes a light with a range by what its maps render and what it evaluates: the
+/// casters that reach it (the ground and the box under it, not the box 10 m away) and the
+/// receivers within its range (not the whole frame's).
+#[test]
+fn auto_sizes_a_ranged_light_by_what_lies_in_its_range() {
+    let mut lab = lab(5.0);
+    lab.scene
+        .world
+        .entity_mut(lab.rect)
+        .insert(ShadowConfig::auto(10.0).with_range(3.0));
+    pipeline().run(&mut lab.scene.world);
+    let r = resolved(&lab, lab.rect);
+    let (c, range) = (Vec3::new(-5.0, 2.5, 0.0), 3.0f32);
+    let frame = lab.scene.world.resource::<FrameReceivers>();
+    let inside = frame
+        .positions
+        .iter()
+        .filter(|p| p.distance(c) <= range)
+        .count();
+    assert!(inside > 0 && inside < frame.positions.len());
+    // The ground's 2 triangles and the near box's 12.
+    assert!(
+        r.reason.contains("(14 triangles in ")
+            && r.reason.contains(&format!(" views, {inside} receivers")),
+        "{}",
+        r.reason
+    );
+}
+
 /// `Auto` replaces its prediction with what the frames measure: a pick predicted to fit that
 /// runs over the budget for three frames steps down to a cheaper one, and stays there.
 #[test]
