@@ -8,6 +8,7 @@ pub mod error;
 pub mod figure;
 mod files;
 pub mod metrics;
+pub mod night;
 pub mod papers;
 pub mod profile;
 pub mod report;

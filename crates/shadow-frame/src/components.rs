@@ -24,6 +24,12 @@ pub enum TechniqueChoice {
         /// Time budget per light and frame, milliseconds.
         budget_ms: f64,
     },
+    /// As `Auto`, within this light's part of the frame's [`crate::FrameBudget`], which follows
+    /// what the light adds to the image ([`crate::budget`]): a light that adds little gets a
+    /// cheaper configuration or a smaller map side, one that reaches nothing the camera sees
+    /// costs nothing. A light of zero size takes the hard path at
+    /// [`ShadowConfig::resolution`], outside the budget.
+    Shared,
 }
 
 /// Per-light settings of the frame pipeline; a light without it casts no shadows.
@@ -31,11 +37,16 @@ pub enum TechniqueChoice {
 pub struct ShadowConfig {
     /// The technique.
     pub choice: TechniqueChoice,
-    /// Map resolution (an `Auto` choice overrides it with the profile's).
+    /// Map resolution (an `Auto` or shared choice overrides it with the profile's).
     pub resolution: u32,
     /// Radius of the light's influence around its centre: casters and receivers beyond it are
     /// ignored. `f32::INFINITY` for none (distant lights always have none).
     pub range: f32,
+    /// How bright the light is, for its part of a [`crate::FrameBudget`] (only a
+    /// [`TechniqueChoice::Shared`] choice reads it): a local light's radiant intensity, a
+    /// distant light's irradiance at normal incidence, in any unit the frame's lights share
+    /// ([`crate::budget::irradiance_estimate`]). 1 by default.
+    pub intensity: f32,
 }
 
 impl ShadowConfig {
@@ -45,6 +56,7 @@ impl ShadowConfig {
             choice: TechniqueChoice::Explicit(t),
             resolution,
             range: f32::INFINITY,
+            intensity: 1.0,
         }
     }
 
@@ -54,7 +66,31 @@ impl ShadowConfig {
             choice: TechniqueChoice::Auto { budget_ms },
             resolution: 0,
             range: f32::INFINITY,
+            intensity: 1.0,
         }
+    }
+
+    /// An automatic choice within the light's part of the frame's [`crate::FrameBudget`]
+    /// ([`TechniqueChoice::Shared`]), intensity 1, unlimited range.
+    pub fn shared() -> Self {
+        Self {
+            choice: TechniqueChoice::Shared,
+            resolution: 0,
+            range: f32::INFINITY,
+            intensity: 1.0,
+        }
+    }
+
+    /// The same with an intensity ([`ShadowConfig::intensity`]).
+    pub fn with_intensity(mut self, intensity: f32) -> Self {
+        self.intensity = intensity;
+        self
+    }
+
+    /// Whether `light` takes a part of the frame's [`crate::FrameBudget`]: a
+    /// [`TechniqueChoice::Shared`] choice on a light of non-zero size.
+    pub fn shares_budget(&self, light: &Light) -> bool {
+        matches!(self.choice, TechniqueChoice::Shared) && light.size() > 0.0
     }
 
     /// The same with an influence radius.
@@ -86,6 +122,9 @@ pub struct AutoPrediction {
     pub time_ms: f64,
     /// Predicted image error, 1/255.
     pub error_255: f64,
+    /// The configuration's margin: the pick needs `time_ms * margin` of budget
+    /// ([`crate::ProfileEntry::margin`]).
+    pub margin: f64,
     /// The latest measured generation + evaluation, which replaces the prediction once known.
     pub measured_ms: Option<f64>,
     /// Consecutive measured frames over the budget.
@@ -108,6 +147,9 @@ pub struct LightState {
     /// Milliseconds of the last frame that generated this light's maps (generation and
     /// evaluation), until the budget check reads it.
     pub generated_ms: Option<f64>,
+    /// For a light that shares the [`crate::FrameBudget`]: its part (`None` before the first
+    /// share, and for other lights).
+    pub share: Option<crate::budget::LightShare>,
 }
 
 /// The points the frame shades (e.g. the camera G-buffer), with unit normals.

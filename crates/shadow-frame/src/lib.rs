@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+pub mod budget;
 pub mod components;
 #[cfg(feature = "gltf")]
 pub mod gltf;
@@ -13,10 +14,11 @@ pub mod technique_system;
 mod tests;
 pub mod tracking;
 
+pub use budget::{FrameBudget, LightShare};
 pub use components::*;
 pub use profile::{Pick, ProfileEntry, SceneSize, TechniqueProfile};
 pub use scene::{Scene, Shadows};
-pub use stats::{FrameStats, TechniqueStats};
+pub use stats::{FrameStats, LightStats, TechniqueStats};
 
 use crate::scene::ShadowCaster;
 use bevy_ecs::prelude::*;
@@ -138,8 +140,10 @@ impl FramePipeline {
             world.insert_resource(self.defaults.clone());
         }
         let frame = world.get_resource::<FrameStats>().map_or(0, |s| s.frame) + 1;
+        let budget_ms = world.get_resource::<FrameBudget>().map(|b| b.ms);
         world.insert_resource(FrameStats {
             frame,
+            budget_ms,
             ..Default::default()
         });
         self.schedule.run(world);
@@ -153,7 +157,11 @@ fn core_schedule() -> Schedule {
     schedule.configure_sets((CoreSet::Track, CoreSet::Resolve, CoreSet::Stale).chain());
     schedule.add_systems((
         (tracking::track_casters, tracking::check_receivers).in_set(CoreSet::Track),
-        (tracking::keep_budgets, tracking::resolve_techniques)
+        (
+            tracking::keep_budgets,
+            tracking::resolve_techniques,
+            budget::share_budget,
+        )
             .chain()
             .in_set(CoreSet::Resolve),
         tracking::mark_stale.in_set(CoreSet::Stale),

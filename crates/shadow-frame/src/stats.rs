@@ -21,6 +21,30 @@ pub struct TechniqueStats {
     pub ms: f64,
 }
 
+/// What one light cost in a frame: its technique, what it did, its measured time, and what
+/// `Auto` predicted and allowed where it chose.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightStats {
+    /// The light entity.
+    pub light: Entity,
+    /// Its technique's name and variant, `name variant`.
+    pub technique: String,
+    /// Map side.
+    pub resolution: u32,
+    /// Views it generated (0: its maps were reused).
+    pub views_generated: usize,
+    /// Receivers it evaluated.
+    pub receivers_evaluated: usize,
+    /// Measured milliseconds: its generation (when it generated) and its evaluation.
+    pub ms: f64,
+    /// What `Auto` predicted for a frame that generates (generation + evaluation), for an
+    /// automatic or shared choice.
+    pub predicted_ms: Option<f64>,
+    /// The budget that prediction had to fit (the light's own, or its part of the
+    /// [`crate::FrameBudget`]).
+    pub budget_ms: Option<f64>,
+}
+
 /// What the last frame did.
 #[derive(Resource, Clone, Debug, Default, PartialEq)]
 pub struct FrameStats {
@@ -38,25 +62,41 @@ pub struct FrameStats {
     pub techniques: BTreeMap<String, TechniqueStats>,
     /// Wall time per system, milliseconds.
     pub system_ms: BTreeMap<String, f64>,
+    /// Every light that ran a technique this frame, in the order they ran.
+    pub lights: Vec<LightStats>,
+    /// The [`crate::FrameBudget`] the shared lights split, milliseconds, when the world holds one.
+    pub budget_ms: Option<f64>,
 }
 
 impl FrameStats {
-    /// Adds one light's work to `technique`'s entry and the totals: the views it generated
-    /// (0: its maps were reused) and the receivers it evaluated.
-    pub fn record(&mut self, technique: &str, views_generated: usize, evaluated: usize) {
+    /// Adds one light's work to its technique's entry (`technique`, the technique's name) and
+    /// the totals, and keeps its line.
+    pub fn record(&mut self, technique: &str, light: LightStats) {
         let t = self.techniques.entry(technique.to_string()).or_default();
         t.lights += 1;
-        if views_generated > 0 {
+        if light.views_generated > 0 {
             t.maps_generated += 1;
             self.maps_generated += 1;
-            t.views_generated += views_generated;
-            self.views_generated += views_generated;
+            t.views_generated += light.views_generated;
+            self.views_generated += light.views_generated;
         } else {
             t.maps_reused += 1;
             self.maps_reused += 1;
         }
-        t.receivers_evaluated += evaluated;
-        self.receivers_evaluated += evaluated;
+        t.receivers_evaluated += light.receivers_evaluated;
+        self.receivers_evaluated += light.receivers_evaluated;
+        self.lights.push(light);
+    }
+
+    /// The measured milliseconds of every light this frame (generation and evaluation).
+    pub fn lights_ms(&self) -> f64 {
+        self.lights.iter().map(|l| l.ms).sum()
+    }
+
+    /// What `Auto` predicted for the lights it chose, summed: their time in a frame where all
+    /// of them generate.
+    pub fn predicted_ms(&self) -> f64 {
+        self.lights.iter().filter_map(|l| l.predicted_ms).sum()
     }
 
     /// One line for logs: `frame 3: 1 generated, 4 reused, 52133 receivers; pcf 0.41 ms, ...`.

@@ -4,7 +4,7 @@
 
 use crate::components::*;
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
-use crate::stats::FrameStats;
+use crate::stats::{FrameStats, LightStats};
 use bevy_ecs::prelude::*;
 use soft_shadow_core::mesh::Aabb;
 use soft_shadow_core::{LightPoint, LightViews, Receivers, SceneGeometry};
@@ -15,6 +15,7 @@ pub type LightQuery<'w, 's> = Query<
     'w,
     's,
     (
+        Entity,
         &'static LightSource,
         &'static ShadowConfig,
         &'static ResolvedTechnique,
@@ -72,6 +73,30 @@ fn light_geometry(
     }
 }
 
+/// One light's line of the frame's statistics.
+fn light_stats(
+    light: Entity,
+    resolved: &ResolvedTechnique,
+    views_generated: usize,
+    receivers_evaluated: usize,
+    start: Instant,
+) -> LightStats {
+    LightStats {
+        light,
+        technique: format!(
+            "{} {}",
+            resolved.technique.name(),
+            resolved.technique.variant()
+        ),
+        resolution: resolved.resolution,
+        views_generated,
+        receivers_evaluated,
+        ms: start.elapsed().as_secs_f64() * 1e3,
+        predicted_ms: resolved.auto.map(|a| a.time_ms),
+        budget_ms: resolved.auto.map(|a| a.budget_ms),
+    }
+}
+
 /// One frame of technique `name`.
 #[allow(clippy::too_many_arguments)]
 pub fn run_technique(
@@ -88,7 +113,7 @@ pub fn run_technique(
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
     let seen = frame.seen();
-    for (light, config, resolved, mut state) in &mut lights {
+    for (entity, light, config, resolved, mut state) in &mut lights {
         if resolved.technique.name() != name {
             continue;
         }
@@ -176,7 +201,8 @@ pub fn run_technique(
             if views_generated > 0 {
                 state.generated_ms = Some(light_start.elapsed().as_secs_f64() * 1e3);
             }
-            stats.record(name, views_generated, 0);
+            let line = light_stats(entity, resolved, views_generated, 0, light_start);
+            stats.record(name, line);
             continue;
         }
         let recv = Receivers::new(&positions, &normals);
@@ -192,8 +218,14 @@ pub fn run_technique(
         if views_generated > 0 {
             state.generated_ms = Some(light_start.elapsed().as_secs_f64() * 1e3);
         }
-        let evaluated = state.evaluated;
-        stats.record(name, views_generated, evaluated);
+        let line = light_stats(
+            entity,
+            resolved,
+            views_generated,
+            state.evaluated,
+            light_start,
+        );
+        stats.record(name, line);
     }
     let ms = start.elapsed().as_secs_f64() * 1e3;
     *stats.system_ms.entry(name.to_string()).or_default() += ms;

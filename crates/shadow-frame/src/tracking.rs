@@ -171,6 +171,7 @@ pub(crate) fn auto_pick(
             budget_ms,
             time_ms: p.time_ms,
             error_255: p.error_255,
+            margin: e.margin,
             measured_ms: None,
             frames_over: 0,
         }),
@@ -218,6 +219,9 @@ fn resolve_one(
                 auto: None,
             })
         }
+        TechniqueChoice::Shared => {
+            Err("a shared choice is resolved with the frame budget's shares".into())
+        }
         TechniqueChoice::Auto { budget_ms } => {
             auto_pick(kind, *budget_ms, registry, profile, backend, size).ok_or_else(|| {
                 format!(
@@ -250,23 +254,30 @@ pub fn resolve_techniques(
     backend: Res<FrameBackend>,
 ) {
     for (e, light, config, state) in &mut lights {
-        let size = match config.choice {
-            TechniqueChoice::Auto { .. } => {
-                scene_size(&casters, &index, &frame, &light.0, config.range)
-            }
-            TechniqueChoice::Explicit(_) => SceneSize::default(),
-        };
-        let resolved = resolve_one(&light.0, config, &registry, &profile, &hard, &backend, size);
-        let error = resolved.as_ref().err().cloned();
         let mut ec = commands.entity(e);
-        match resolved {
-            Ok(r) => {
-                ec.insert(r);
+        // A light that shares the frame budget is resolved by `share_budget`, after this.
+        let error = if config.shares_budget(&light.0) {
+            None
+        } else {
+            let size = match config.choice {
+                TechniqueChoice::Auto { .. } => {
+                    scene_size(&casters, &index, &frame, &light.0, config.range)
+                }
+                _ => SceneSize::default(),
+            };
+            let resolved =
+                resolve_one(&light.0, config, &registry, &profile, &hard, &backend, size);
+            let error = resolved.as_ref().err().cloned();
+            match resolved {
+                Ok(r) => {
+                    ec.insert(r);
+                }
+                Err(_) => {
+                    ec.remove::<ResolvedTechnique>();
+                }
             }
-            Err(_) => {
-                ec.remove::<ResolvedTechnique>();
-            }
-        }
+            error
+        };
         match state {
             Some(mut s) => {
                 s.stale = true;

@@ -6,6 +6,7 @@ mod bad_input;
 mod calls;
 mod dependencies;
 mod frame;
+mod frame_budget;
 mod fuzz;
 mod gpu_agreement;
 mod gpu_timer;

@@ -1,0 +1,418 @@
+//! One frame budget shared among lights: every light whose choice is
+//! [`TechniqueChoice::Shared`] gets a part of the [`FrameBudget`] that follows what it adds to
+//! the image, and `Auto` picks its configuration within that part.
+//!
+//! A light's *contribution* is the unshadowed irradiance it brings the frame's receivers
+//! ([`FrameReceivers`], what the camera sees) within its range, weighted by its
+//! [`ShadowConfig::intensity`] ([`irradiance_estimate`]). The budget buys configurations the
+//! way a knapsack is filled greedily: each light has a ladder of configurations worth buying
+//! (from the [`crate::TechniqueProfile`], as `Auto` picks: the cheapest, then each one with a
+//! lower predicted image error), and, while the budget lasts, the step bought next is the one
+//! (from a light's present configuration, or from no shadow, taken to cost [`NO_SHADOW_255`],
+//! to a better one) that takes the most predicted image error, weighted by the light's part of
+//! the frame's contribution, off per millisecond. A light that adds little gets a cheaper
+//! configuration or a smaller map side, or no shadow where the budget runs out first (it says
+//! so). The picks' predicted times (with their margins) never add up to more than the budget.
+//! A light that brings nothing to any receiver (out of view, out of range, behind every
+//! receiver) gets nothing and costs nothing: no maps, `V` = 1.
+//!
+//! Shares are kept while a light's proportional part stays within a factor
+//! [`SHARE_HYSTERESIS`] of the one its pick was made for, so a camera that moves a little does
+//! not make every light pick (and generate) again; a part that leaves that band, a changed
+//! budget, or a light added, changed or removed shares the whole budget again, and a light
+//! keeps its configuration and its maps while it fits its new part and predicts no more than
+//! [`KEEP_ERROR`] times the new pick's error. A pick measured over its part for
+//! [`crate::tracking::STEP_DOWN_FRAMES`] frames steps down as `Auto` does.
+
+use crate::TechniqueRegistry;
+use crate::components::*;
+use crate::profile::TechniqueProfile;
+use crate::scene::LightSource;
+use crate::tracking::{CasterMeshes, auto_pick, scene_size};
+use bevy_ecs::prelude::*;
+use glam::Vec3;
+use soft_shadow_core::{Light, LightPoint};
+
+/// The time one frame may spend on the shadows of the lights whose choice is
+/// [`TechniqueChoice::Shared`] (generation + evaluation as the profile predicts them), shared
+/// among them by what each adds to the image. Lights with their own choice are outside it.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct FrameBudget {
+    /// Milliseconds per frame.
+    pub ms: f64,
+}
+
+/// A shared light's part of the [`FrameBudget`], kept in its [`LightState::share`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LightShare {
+    /// Its part of the frame's contribution (of all shared lights), in `[0, 1]`.
+    pub contribution: f64,
+    /// The budget times that part when the budget was last shared, milliseconds: what the
+    /// hysteresis compares against.
+    pub proportional_ms: f64,
+    /// The budget its pick was made within (milliseconds; 0 for a light that contributes
+    /// nothing or that the budget could not afford): see the module's doc.
+    pub budget_ms: f64,
+}
+
+/// A proportional share that moves by less than this factor (up or down) from the one the
+/// budget was last shared with keeps every pick.
+pub const SHARE_HYSTERESIS: f64 = 1.25;
+
+/// When the budget is shared again, a light keeps its configuration (and its maps) while that
+/// still fits its new part and its predicted image error is at most this factor over the new
+/// pick's.
+pub const KEEP_ERROR: f64 = 1.1;
+
+/// Receivers a contribution reads at most (every `k`-th of the frame's, evenly spread): the
+/// shares need the frame's proportions, not every pixel.
+pub const CONTRIBUTION_SAMPLES: usize = 4096;
+
+/// The unshadowed irradiance `light` of `intensity` brings a receiver at `p` with unit normal
+/// `n`, as engines weigh lights: a local light as a point of radiant intensity `intensity` at
+/// its centre (`intensity cos / r²`, the distance kept at least the light's size so that a
+/// receiver at the light does not dominate; a one-sided light also weighted by the cosine at its
+/// emitting plane), a distant light as irradiance `intensity` at normal incidence
+/// (`intensity cos`). 0 where the light does not reach `p` ([`Light::reaches_any`]).
+pub fn irradiance_estimate(light: &Light, intensity: f32, p: Vec3, n: Vec3) -> f32 {
+    if !light.reaches_any(p, n) {
+        return 0.0;
+    }
+    match light.center() {
+        LightPoint::Direction(d) => intensity * n.dot(d).max(0.0),
+        LightPoint::Position(c) => {
+            let d = c - p;
+            let r2 = d
+                .length_squared()
+                .max(light.size() * light.size())
+                .max(1e-6);
+            let l = d / r2.sqrt();
+            let at_light = light
+                .front()
+                .map_or(1.0, |(_, front)| (-front.normalize().dot(l)).max(0.0));
+            intensity * n.dot(l).max(0.0) * at_light / r2
+        }
+    }
+}
+
+/// `light`'s contribution to the frame: [`irradiance_estimate`] summed over the frame's
+/// receivers within its influence (at most [`CONTRIBUTION_SAMPLES`] of them, evenly spread,
+/// scaled back to the whole frame).
+pub fn contribution(light: &Light, config: &ShadowConfig, frame: &FrameReceivers) -> f64 {
+    let n = frame.positions.len().min(frame.normals.len());
+    if n == 0 {
+        return 0.0;
+    }
+    let step = n.div_ceil(CONTRIBUTION_SAMPLES);
+    let (c, r) = influence(light, config.range);
+    let sum: f64 = (0..n)
+        .step_by(step)
+        .filter(|&i| !r.is_finite() || frame.positions[i].distance_squared(c) <= r * r)
+        .map(|i| {
+            f64::from(irradiance_estimate(
+                light,
+                config.intensity,
+                frame.positions[i],
+                frame.normals[i],
+            ))
+        })
+        .sum();
+    sum * step as f64
+}
+
+/// The image error a light without a shadow is taken to cost, 1/255: the median over the
+/// catalogue's scenes of the image error of `V` = 1 against the reference (64² G-buffers: 14.85;
+/// 1.8 to 62 by scene).
+pub const NO_SHADOW_255: f64 = 15.0;
+
+/// A shared light while the budget is shared.
+struct Pick {
+    entity: Entity,
+    kind: soft_shadow_core::LightKind,
+    size: crate::SceneSize,
+    proportional: f64,
+    within: f64,
+}
+
+/// The smallest budget in `[0, max]` for which `fits` holds (to 1e-6 of `max`), `None` where
+/// it does not hold at `max`; `fits` must hold for every budget above one where it holds.
+fn cheapest(fits: impl Fn(f64) -> bool, max: f64) -> Option<f64> {
+    if !fits(max) {
+        return None;
+    }
+    let (mut lo, mut hi) = (0.0, max);
+    while hi - lo > 1e-6 * max {
+        let mid = 0.5 * (lo + hi);
+        if fits(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(hi)
+}
+
+/// The lights [`share_budget`] reads and updates.
+type SharedLights<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        Ref<'static, LightSource>,
+        Ref<'static, ShadowConfig>,
+        Option<&'static ResolvedTechnique>,
+        &'static mut LightState,
+    ),
+>;
+
+/// Shares the [`FrameBudget`] among the lights whose choice is [`TechniqueChoice::Shared`] and
+/// picks each one's configuration within its part (see the module's doc): runs after
+/// [`crate::tracking::resolve_techniques`], which leaves shared lights to it.
+#[allow(clippy::too_many_arguments)]
+pub fn share_budget(
+    mut commands: Commands,
+    budget: Option<Res<FrameBudget>>,
+    mut lights: SharedLights,
+    mut removed: RemovedComponents<ShadowConfig>,
+    casters: CasterMeshes,
+    index: Res<CasterIndex>,
+    frame: Res<FrameReceivers>,
+    registry: Res<TechniqueRegistry>,
+    profile: Res<TechniqueProfile>,
+    backend: Res<FrameBackend>,
+    settings: Res<FrameSettings>,
+) {
+    let config_removed = removed.read().count() > 0;
+    let Some(budget) = budget else {
+        for (e, l, config, _, mut state) in &mut lights {
+            if config.shares_budget(&l.0) && state.share.is_none() && state.error.is_none() {
+                state.error = Some(
+                    "a shared choice takes its part of the FrameBudget resource, and the world \
+                     holds none"
+                        .into(),
+                );
+                commands.entity(e).remove::<ResolvedTechnique>();
+            }
+        }
+        return;
+    };
+    let idle_visibility = |state: &mut LightState| {
+        let n = if settings.evaluate_receivers {
+            frame.positions.len()
+        } else {
+            0
+        };
+        if state.visibility.len() != n || state.visibility.iter().any(|&v| v != 1.0) {
+            state.visibility = vec![1.0; n];
+        }
+        state.evaluated = 0;
+    };
+    // A changed config (or a new light) shares again; a light that only moved keeps its pick
+    // unless its part drifts out of the band (it makes its maps again all the same).
+    let changed_config = lights
+        .iter()
+        .any(|(_, l, c, ..)| c.shares_budget(&l.0) && c.is_changed());
+    let moved = lights
+        .iter()
+        .any(|(_, l, c, ..)| c.shares_budget(&l.0) && l.is_changed());
+    if !(budget.is_changed() || frame.is_changed() || changed_config || moved || config_removed) {
+        return;
+    }
+    let parts: Vec<(Entity, f64)> = lights
+        .iter()
+        .filter(|(_, l, c, ..)| c.shares_budget(&l.0))
+        .map(|(e, l, c, ..)| (e, contribution(&l.0, &c, &frame)))
+        .collect();
+    let total: f64 = parts.iter().map(|p| p.1).sum();
+    let part = |e: Entity| parts.iter().find(|p| p.0 == e).map_or(0.0, |p| p.1);
+    let fraction = |e: Entity| {
+        if total > 0.0 { part(e) / total } else { 0.0 }
+    };
+    // Whether every share must be made again: anything but the receivers changed, or some
+    // light's proportional share left its band (or it started or stopped contributing).
+    let drifted = lights.iter().any(|(e, l, c, _, s)| {
+        if !c.shares_budget(&l.0) {
+            return false;
+        }
+        let now = budget.ms * fraction(e);
+        match s.share {
+            None => true,
+            Some(sh) => {
+                (now > 0.0) != (sh.proportional_ms > 0.0)
+                    || now > sh.proportional_ms * SHARE_HYSTERESIS
+                    || now * SHARE_HYSTERESIS < sh.proportional_ms
+            }
+        }
+    });
+    if !(budget.is_changed() || changed_config || config_removed || drifted) {
+        for (e, l, c, _, mut s) in &mut lights {
+            if !c.shares_budget(&l.0) {
+                continue;
+            }
+            if let Some(sh) = s.share.as_mut() {
+                sh.contribution = fraction(e);
+            }
+            if s.share.is_some_and(|sh| sh.budget_ms == 0.0) {
+                idle_visibility(&mut s);
+            }
+        }
+        return;
+    }
+    let pick = |p: &Pick, ms: f64| auto_pick(p.kind, ms, &registry, &profile, &backend, p.size);
+    // The budget a pick needs: its predicted time and its margin (0 without a pick).
+    let needs = |r: &Option<ResolvedTechnique>| {
+        r.as_ref()
+            .and_then(|r| r.auto)
+            .map_or(0.0, |a| a.time_ms * a.margin.max(1.0))
+    };
+    let error =
+        |r: &Option<ResolvedTechnique>| r.as_ref().and_then(|r| r.auto).map(|a| a.error_255);
+    let mut picks: Vec<Pick> = Vec::new();
+    for (e, l, c, ..) in &lights {
+        if c.shares_budget(&l.0) && part(e) > 0.0 {
+            picks.push(Pick {
+                entity: e,
+                kind: l.0.kind(),
+                size: scene_size(&casters, &index, &frame, &l.0, c.range),
+                proportional: budget.ms * fraction(e),
+                within: 0.0,
+            });
+        }
+    }
+    // Each light's configurations worth buying, cheapest first: what the best pick within a
+    // budget needs, at every budget where that pick gets better.
+    let ladders: Vec<Vec<(f64, f64)>> = picks
+        .iter()
+        .map(|p| {
+            let mut ladder = Vec::new();
+            let mut at = cheapest(|ms| pick(p, ms).is_some(), budget.ms);
+            while let Some(ms) = at {
+                let r = pick(p, ms);
+                let (need, err) = (needs(&r), error(&r).unwrap_or(NO_SHADOW_255));
+                ladder.push((need, err));
+                at = cheapest(|x| error(&pick(p, x)).is_some_and(|e| e < err), budget.ms)
+                    .filter(|&x| x > ms);
+            }
+            ladder
+        })
+        .collect();
+    // Greedy: buy the step (from a light's present configuration, or none, to a better one)
+    // that takes the most image error, weighted by what the light brings, off per millisecond,
+    // while the budget lasts.
+    let mut at: Vec<Option<usize>> = vec![None; picks.len()];
+    let mut spent = 0.0;
+    loop {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for (i, ladder) in ladders.iter().enumerate() {
+            let (need, err) = at[i].map_or((0.0, NO_SHADOW_255), |k| ladder[k]);
+            let from = at[i].map_or(0, |k| k + 1);
+            for (m, &(n, e)) in ladder.iter().enumerate().skip(from) {
+                if spent - need + n > budget.ms {
+                    break;
+                }
+                let gain = part(picks[i].entity) * (err - e) / (n - need).max(1e-9);
+                if best.is_none_or(|b| gain > b.0) {
+                    best = Some((gain, i, m));
+                }
+            }
+        }
+        let Some((_, i, m)) = best else { break };
+        spent += ladders[i][m].0 - at[i].map_or(0.0, |k| ladders[i][k].0);
+        at[i] = Some(m);
+    }
+    for ((p, ladder), k) in picks.iter_mut().zip(&ladders).zip(&at) {
+        p.within = k.map_or(0.0, |k| ladder[k].0);
+    }
+    for (e, l, c, resolved, mut state) in &mut lights {
+        if !c.shares_budget(&l.0) {
+            continue;
+        }
+        let Some(&Pick {
+            kind,
+            size,
+            proportional,
+            within,
+            ..
+        }) = picks.iter().find(|p| p.entity == e)
+        else {
+            commands.entity(e).remove::<ResolvedTechnique>();
+            state.maps = None;
+            state.stale = false;
+            state.error = None;
+            state.share = Some(LightShare {
+                contribution: 0.0,
+                proportional_ms: 0.0,
+                budget_ms: 0.0,
+            });
+            idle_visibility(&mut state);
+            continue;
+        };
+        state.share = Some(LightShare {
+            contribution: fraction(e),
+            proportional_ms: proportional,
+            budget_ms: within,
+        });
+        // The present pick stays while it fits the new part and is nearly as good as the new
+        // pick: its maps are kept.
+        let proposed = auto_pick(kind, within, &registry, &profile, &backend, size);
+        let kept = resolved.filter(|r| {
+            let (Some(a), Some(b)) = (r.auto, proposed.as_ref().and_then(|p| p.auto)) else {
+                return false;
+            };
+            a.time_ms * a.margin.max(1.0) <= within && a.error_255 <= b.error_255 * KEEP_ERROR
+        });
+        match kept.cloned().or(proposed) {
+            Some(mut next) => {
+                let why = next
+                    .reason
+                    .split_once("; ")
+                    .map_or(next.reason.as_str(), |w| w.1);
+                next.reason = format!(
+                    "shared: {:.1}% of the frame's light, {within:.2} of the frame's {} ms; {}",
+                    100.0 * fraction(e),
+                    budget.ms,
+                    why.trim_start_matches("auto: ")
+                );
+                if let Some(a) = next.auto.as_mut() {
+                    a.budget_ms = within;
+                }
+                let same = resolved.is_some_and(|r| {
+                    r.technique.name() == next.technique.name()
+                        && r.technique.variant() == next.technique.variant()
+                        && r.resolution == next.resolution
+                });
+                if !same {
+                    state.stale = true;
+                    state.maps = None;
+                }
+                state.error = None;
+                commands.entity(e).insert(next);
+            }
+            None if within == 0.0 => {
+                commands.entity(e).remove::<ResolvedTechnique>();
+                state.maps = None;
+                state.error = Some(format!(
+                    "the frame's {} ms go to brighter lights before this one's cheapest \
+                     configuration ({:.2}% of the frame's light)",
+                    budget.ms,
+                    100.0 * fraction(e)
+                ));
+            }
+            None => {
+                commands.entity(e).remove::<ResolvedTechnique>();
+                state.maps = None;
+                state.error = Some(format!(
+                    "no configuration for {} lights on {} is predicted to fit its {within:.2} ms \
+                     of the frame's {} ms ({:.1}% of the frame's light; {} triangles, {} \
+                     receivers)",
+                    kind.name(),
+                    backend.backend.name(),
+                    budget.ms,
+                    100.0 * fraction(e),
+                    size.triangles,
+                    size.receivers
+                ));
+            }
+        }
+    }
+}
