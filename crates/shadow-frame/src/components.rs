@@ -37,7 +37,8 @@ pub enum TechniqueChoice {
 pub struct ShadowConfig {
     /// The technique.
     pub choice: TechniqueChoice,
-    /// Map resolution (an `Auto` or shared choice overrides it with the profile's).
+    /// Map resolution (an `Auto` or shared choice overrides it with the profile's; a zero-size
+    /// light takes it as is, or [`ZERO_SIZE_SIDE`] where it is 0).
     pub resolution: u32,
     /// Radius of the light's influence around its centre: casters and receivers beyond it are
     /// ignored. `f32::INFINITY` for none (distant lights always have none).
@@ -250,6 +251,10 @@ impl Default for FrameSettings {
         }
     }
 }
+
+/// The map side of a zero-size light whose config names none (an `Auto` or shared choice:
+/// zero-size lights take the hard path, which the profile does not size).
+pub const ZERO_SIZE_SIDE: u32 = 1024;
 
 /// The technique zero-size (point) lights take: a hard shadow map.
 #[derive(Resource, Clone, Default)]

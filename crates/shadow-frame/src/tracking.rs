@@ -197,7 +197,10 @@ fn resolve_one(
             .ok_or("a zero-size light needs the hard-shadow path, and none is registered")?;
         return Ok(ResolvedTechnique {
             technique: t,
-            resolution: config.resolution.max(1),
+            resolution: match config.resolution {
+                0 => ZERO_SIZE_SIDE,
+                side => side,
+            },
             reason: format!("{} light of zero size: hard shadow map", kind.name()),
             auto: None,
         });

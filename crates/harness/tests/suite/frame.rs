@@ -369,6 +369,46 @@ fn auto_sizes_a_ranged_light_by_what_lies_in_its_range() {
     );
 }
 
+/// A point light with an `Auto` choice takes the hard path at a usable side: a receiver under a
+/// box is in its shadow, one beside it is lit (the side was 1 texel, every receiver lit).
+#[test]
+fn an_auto_point_light_casts_a_hard_shadow() {
+    let mut scene = Scene::new();
+    scene
+        .add_mesh(
+            Arc::new(ground(8.0, 0.0, 1)),
+            Mat4::IDENTITY,
+            Shadows::RECEIVE_ONLY,
+        )
+        .unwrap();
+    scene
+        .add_mesh(
+            Arc::new(cuboid("box", Vec3::new(0.0, 1.0, 0.0), Vec3::splat(0.3))),
+            Mat4::IDENTITY,
+            Shadows::CAST_AND_RECEIVE,
+        )
+        .unwrap();
+    let light = scene
+        .add_light(Light::Point {
+            position: Vec3::new(0.0, 3.0, 0.0),
+        })
+        .unwrap();
+    scene
+        .world
+        .entity_mut(light)
+        .insert(ShadowConfig::auto(8.0));
+    scene.world.insert_resource(FrameReceivers {
+        positions: vec![Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0)],
+        normals: vec![Vec3::Y; 2],
+        camera: None,
+    });
+    pipeline().run(&mut scene.world);
+    let r = scene.world.get::<ResolvedTechnique>(light).unwrap();
+    assert_eq!(r.resolution, shadow_frame::ZERO_SIZE_SIDE, "{}", r.reason);
+    let v = &scene.world.get::<LightState>(light).unwrap().visibility;
+    assert_eq!(v, &[0.0, 1.0]);
+}
+
 /// `Auto` replaces its prediction with what the frames measure: a pick predicted to fit that
 /// runs over the budget for three frames steps down to a cheaper one, and stays there.
 #[test]
