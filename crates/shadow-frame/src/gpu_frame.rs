@@ -37,9 +37,10 @@ pub struct FrameTextures<'a> {
 /// Records `V` of every texel of `targets`' G-buffer, for every light with a
 /// [`VisibilityLayer`], into that layer of `targets.visibility`, into `enc`; returns how many
 /// lights were recorded. A light whose maps are on the GPU records its visibility pass; a light
-/// without usable maps (no caster reaches it, or the frame left it an error: see
-/// [`LightState::error`]) gets `V = 1` in its layer, written through `gpu`'s queue (a staging
-/// copy of the layer each frame, which runs before `enc`'s work). Checked before anything is
+/// without usable maps (no caster reaches it, it lights nothing the camera sees, or the frame
+/// left it an error: see [`LightState::error`]) gets `V = 1` in its layer, a copy recorded into
+/// `enc` from a buffer of ones the world keeps between frames (made once per texture size).
+/// Checked before anything is
 /// recorded: the texture's format and usage, every layer within it and no layer given to two
 /// lights ([`ShadowError::InvalidParameter`]); maps made on the CPU backend are
 /// [`ShadowError::MapsMismatch`].
@@ -81,6 +82,24 @@ pub fn record_visibility(
             )));
         }
     }
+    let needs_ones = query
+        .iter(world)
+        .any(|(_, s)| s.maps.is_none() || s.error.is_some());
+    if needs_ones {
+        if !texture.usage().contains(wgpu::TextureUsages::COPY_DST) {
+            return Err(ShadowError::InvalidParameter(
+                "a light that shadows nothing writes V = 1 by a copy: give the visibility \
+                 texture COPY_DST"
+                    .into(),
+            ));
+        }
+        if world.get_resource::<Ones>().is_none_or(|o| o.size != size) {
+            let ones = Ones::new(gpu, size);
+            world.insert_resource(ones);
+        }
+    }
+    let ones = world.get_resource::<Ones>().map(|o| o.buffer.clone());
+    let mut query = world.query::<(&VisibilityLayer, &LightState)>();
     let mut recorded = 0;
     for (layer, state) in query.iter(world) {
         let usable = state.maps.as_ref().filter(|_| state.error.is_none());
@@ -103,25 +122,60 @@ pub fn record_visibility(
                     size,
                 },
             )?,
-            None => unshadowed(gpu, texture, layer.0)?,
+            None => match &ones {
+                Some(buffer) => unshadowed(enc, buffer, texture, layer.0),
+                None => unreachable!("a light without maps made the buffer of ones"),
+            },
         }
         recorded += 1;
     }
     Ok(recorded)
 }
 
-/// `V = 1` in layer `layer` of `texture`.
-fn unshadowed(gpu: &GpuContext, texture: &wgpu::Texture, layer: u32) -> Result<()> {
-    if !texture.usage().contains(wgpu::TextureUsages::COPY_DST) {
-        return Err(ShadowError::InvalidParameter(
-            "a light that shadows nothing writes V = 1 by a copy: give the visibility texture \
-             COPY_DST"
-                .into(),
-        ));
+/// A buffer of `V = 1` texels the size of the visibility texture, its rows padded to the copy
+/// alignment, kept in the world between frames.
+#[derive(Resource)]
+struct Ones {
+    /// The texture's width and height.
+    size: (u32, u32),
+    /// The ones.
+    buffer: wgpu::Buffer,
+}
+
+impl Ones {
+    /// Bytes per padded row of `width` texels.
+    fn row_bytes(width: u32) -> u32 {
+        (4 * width).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
     }
+
+    fn new(gpu: &GpuContext, size: (u32, u32)) -> Self {
+        let ones = vec![1.0f32; (Self::row_bytes(size.0) / 4 * size.1) as usize];
+        let buffer = gpu.buffer_with(
+            "visibility ones",
+            bytemuck::cast_slice(&ones),
+            wgpu::BufferUsages::COPY_SRC,
+        );
+        Self { size, buffer }
+    }
+}
+
+/// Records `V = 1` into layer `layer` of `texture`, copied from `ones` ([`Ones`]).
+fn unshadowed(
+    enc: &mut wgpu::CommandEncoder,
+    ones: &wgpu::Buffer,
+    texture: &wgpu::Texture,
+    layer: u32,
+) {
     let (w, h) = (texture.width(), texture.height());
-    let ones = vec![1.0f32; w as usize * h as usize];
-    gpu.queue.write_texture(
+    enc.copy_buffer_to_texture(
+        wgpu::TexelCopyBufferInfo {
+            buffer: ones,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(Ones::row_bytes(w)),
+                rows_per_image: Some(h),
+            },
+        },
         wgpu::TexelCopyTextureInfo {
             texture,
             mip_level: 0,
@@ -132,17 +186,10 @@ fn unshadowed(gpu: &GpuContext, texture: &wgpu::Texture, layer: u32) -> Result<(
             },
             aspect: wgpu::TextureAspect::All,
         },
-        bytemuck::cast_slice(&ones),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(4 * w),
-            rows_per_image: Some(h),
-        },
         wgpu::Extent3d {
             width: w,
             height: h,
             depth_or_array_layers: 1,
         },
     );
-    Ok(())
 }
