@@ -223,7 +223,7 @@ pub fn can_shadow(light: &Light, caster: &Aabb, p: Vec3, radius: f32) -> bool {
 }
 
 /// The radius of a sphere around `c` (a local light's centre) holding every point of `light`.
-pub(crate) fn light_radius(light: &Light, c: Vec3) -> f32 {
+pub fn light_radius(light: &Light, c: Vec3) -> f32 {
     match *light {
         Light::Sphere { radius, .. } => radius,
         _ => light

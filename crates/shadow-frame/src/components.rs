@@ -151,6 +151,10 @@ pub struct LightState {
     /// For a light that shares the [`crate::FrameBudget`]: its part (`None` before the first
     /// share, and for other lights).
     pub share: Option<crate::budget::LightShare>,
+    /// Regions of casters that changed within the light's range where they could shadow
+    /// nothing the camera saw ([`crate::tracking::mark_stale`]): the maps are made again when
+    /// the camera brings one into play.
+    pub unseen_changes: Vec<Aabb>,
 }
 
 /// The points the frame shades (e.g. the camera G-buffer), with unit normals.

@@ -163,6 +163,8 @@ pub fn run_technique(
         }
         let generated = state.stale || state.maps.is_none() || planned.is_some();
         if generated {
+            // The maps are made from the casters as they are: nothing waits any more.
+            state.unseen_changes.clear();
             let (g, views) = planned.unwrap_or_else(|| {
                 let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
                 let views = LightViews::plan(&light.0, &g, seen.as_ref());

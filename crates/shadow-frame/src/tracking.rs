@@ -374,13 +374,20 @@ pub fn keep_budgets(
     }
 }
 
-/// Marks stale every light that a changed caster region reaches ([`caster_reaches`]; every
-/// light, with caching off or when the frame's backend changed: maps are made where the frame
-/// runs).
+/// Marks stale every light that a changed caster region reaches ([`caster_reaches`]) where it
+/// can shadow what the camera sees; every light, with caching off or when the frame's backend
+/// changed (maps are made where the frame runs).
+///
+/// A local light's change counts only where the region meets [`seen_hull`]: the box around the
+/// light and the frame's receivers within its range (a caster can shadow a receiver only
+/// between the two). A change outside it waits in [`LightState::unseen_changes`] until a frame
+/// whose receivers bring it into the hull (the camera turned towards it) or the light's maps
+/// are made again. Distant lights take every change in range.
 pub fn mark_stale(
     index: Res<CasterIndex>,
     settings: Res<FrameSettings>,
     backend: Res<FrameBackend>,
+    frame: Res<FrameReceivers>,
     mut lights: Query<(&LightSource, &ShadowConfig, &mut LightState)>,
 ) {
     let everything = !settings.caching || backend.is_changed();
@@ -389,12 +396,62 @@ pub fn mark_stale(
             state.stale = true;
             continue;
         }
-        if index
+        let state = &mut *state;
+        let changed = index
             .changed
             .iter()
-            .any(|b| caster_reaches(&light.0, config.range, b))
-        {
+            .filter(|b| caster_reaches(&light.0, config.range, b));
+        if matches!(light.0.center(), soft_shadow_core::LightPoint::Direction(_)) {
+            if changed.count() > 0 {
+                state.stale = true;
+            }
+            continue;
+        }
+        let before = state.unseen_changes.len();
+        state.unseen_changes.extend(changed);
+        let fresh = state.unseen_changes.len() > before;
+        if state.unseen_changes.len() > UNSEEN_CHANGES {
+            // A caster that keeps moving out of view: one box over its regions.
+            let mut all = Aabb::EMPTY;
+            for b in state.unseen_changes.drain(..) {
+                all.grow(b.min);
+                all.grow(b.max);
+            }
+            state.unseen_changes.push(all);
+        }
+        if state.unseen_changes.is_empty() || !(fresh || frame.is_changed()) {
+            continue;
+        }
+        let hull = seen_hull(&light.0, config.range, &frame.positions);
+        if state.unseen_changes.iter().any(|b| boxes_meet(b, &hull)) {
             state.stale = true;
+            state.unseen_changes.clear();
         }
     }
+}
+
+/// Regions [`LightState::unseen_changes`] keeps before it merges them into one box.
+pub const UNSEEN_CHANGES: usize = 8;
+
+/// The box around a local light (the sphere around its centre that holds it,
+/// [`soft_shadow_core::coverage::light_radius`]) and the `receivers` within its influence
+/// radius `range`: a caster that shadows one of them meets the segment from it to a light
+/// point, so lies in this box.
+pub fn seen_hull(light: &soft_shadow_core::Light, range: f32, receivers: &[glam::Vec3]) -> Aabb {
+    let (c, r) = influence(light, range);
+    let reach = glam::Vec3::splat(soft_shadow_core::coverage::light_radius(light, c));
+    let mut hull = Aabb::EMPTY;
+    hull.grow(c - reach);
+    hull.grow(c + reach);
+    for p in receivers {
+        if !r.is_finite() || p.distance_squared(c) <= r * r {
+            hull.grow(*p);
+        }
+    }
+    hull
+}
+
+/// Whether two boxes overlap (touching counts).
+fn boxes_meet(a: &Aabb, b: &Aabb) -> bool {
+    a.min.cmple(b.max).all() && b.min.cmple(a.max).all()
 }

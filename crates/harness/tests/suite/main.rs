@@ -7,6 +7,7 @@ mod calls;
 mod dependencies;
 mod frame;
 mod frame_budget;
+mod frame_seen;
 mod fuzz;
 mod gpu_agreement;
 mod gpu_timer;

@@ -1,0 +1,106 @@
+//! Culling by what the camera sees (`shadow_frame::tracking::mark_stale`): a caster that moves
+//! where it can shadow nothing in view leaves a lamp's maps alone until the camera turns to
+//! where it can.
+
+use glam::{Mat4, Vec3};
+use harness::animated::pipeline;
+use shadow_frame::scene::Transform;
+use shadow_frame::{FrameReceivers, FrameSettings, LightState, Scene, ShadowConfig, Shadows};
+use soft_shadow_core::{DynTechnique, Light};
+use soft_shadow_reference::scenes::shapes::{cuboid, ground};
+use std::sync::Arc;
+
+/// Receivers on a 1 m ground patch from `min` (x, z), 10 x 10.
+fn patch(min: (f32, f32)) -> FrameReceivers {
+    let positions: Vec<Vec3> = (0..100)
+        .map(|i| {
+            Vec3::new(
+                min.0 + (i % 10) as f32 * 0.1,
+                0.0,
+                min.1 + (i / 10) as f32 * 0.1,
+            )
+        })
+        .collect();
+    FrameReceivers {
+        normals: vec![Vec3::Y; positions.len()],
+        positions,
+        camera: None,
+    }
+}
+
+/// A rect lamp 3 m up with a 5 m range over a box; the camera sees a patch on one side. A
+/// second box moves on the other side, within the lamp's range but where it can shadow nothing
+/// in view: the lamp keeps its maps (the region waits in `unseen_changes`). The camera turns to
+/// the moved box's shadow: the maps are made again, and `V` there equals a frame made from
+/// scratch (the box's shadow is there).
+#[test]
+fn a_caster_out_of_view_waits_until_the_camera_sees_where_it_shadows() {
+    let mut scene = Scene::new();
+    scene
+        .add_mesh(
+            Arc::new(ground(12.0, 0.0, 1)),
+            Mat4::IDENTITY,
+            Shadows::RECEIVE_ONLY,
+        )
+        .unwrap();
+    let block = Arc::new(cuboid("box", Vec3::ZERO, Vec3::splat(0.3)));
+    scene
+        .add_mesh(
+            block.clone(),
+            Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0)),
+            Shadows::CAST_AND_RECEIVE,
+        )
+        .unwrap();
+    let mover = scene
+        .add_mesh(
+            block,
+            Mat4::from_translation(Vec3::new(2.5, 0.5, 2.5)),
+            Shadows::CAST_AND_RECEIVE,
+        )
+        .unwrap();
+    let lamp = scene
+        .add_light(Light::Rect {
+            center: Vec3::new(0.0, 3.0, 0.0),
+            u_half: Vec3::X * 0.3,
+            v_half: Vec3::Z * 0.3,
+        })
+        .unwrap();
+    let pcf: Arc<dyn DynTechnique> = Arc::new(shadow_maps::ShadowMapBaseline::new(
+        shadow_maps::Filter::Pcf { radius: 2 },
+    ));
+    scene
+        .world
+        .entity_mut(lamp)
+        .insert(ShadowConfig::explicit(pcf, 256).with_range(5.0));
+    scene.world.insert_resource(patch((-1.5, -1.5)));
+    let mut p = pipeline();
+    assert_eq!(p.run(&mut scene.world).maps_generated, 1);
+
+    let moved = Mat4::from_translation(Vec3::new(2.5, 0.5, 2.0));
+    scene.world.get_mut::<Transform>(mover).unwrap().0 = moved;
+    let s = p.run(&mut scene.world);
+    assert_eq!((s.maps_generated, s.maps_reused), (0, 1), "{}", s.summary());
+    let state = scene.world.get::<LightState>(lamp).unwrap();
+    assert_eq!(state.unseen_changes.len(), 2, "old and new bounds wait");
+
+    // The moved box's shadow falls about (3, 0, 2.4): the camera turns there.
+    scene.world.insert_resource(patch((2.5, 1.9)));
+    let s = p.run(&mut scene.world);
+    assert_eq!(s.maps_generated, 1, "{}", s.summary());
+    let state = scene.world.get::<LightState>(lamp).unwrap();
+    assert!(state.unseen_changes.is_empty());
+    let culled = state.visibility.clone();
+    assert!(
+        culled.iter().filter(|&&v| v < 0.5).count() > 10,
+        "the box's shadow is in view"
+    );
+    scene.world.insert_resource(FrameSettings {
+        caching: false,
+        ..Default::default()
+    });
+    p.run(&mut scene.world);
+    assert_eq!(
+        scene.world.get::<LightState>(lamp).unwrap().visibility,
+        culled
+    );
+}
