@@ -28,7 +28,7 @@ use crate::TechniqueRegistry;
 use crate::components::*;
 use crate::profile::TechniqueProfile;
 use crate::scene::LightSource;
-use crate::tracking::{CasterMeshes, auto_pick, scene_size};
+use crate::tracking::{CasterMeshes, auto_pick, max_side, scene_size};
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 use soft_shadow_core::{Light, LightPoint};
@@ -132,24 +132,6 @@ struct Pick {
     size: crate::SceneSize,
     proportional: f64,
     within: f64,
-}
-
-/// The smallest budget in `[0, max]` for which `fits` holds (to 1e-6 of `max`), `None` where
-/// it does not hold at `max`; `fits` must hold for every budget above one where it holds.
-fn cheapest(fits: impl Fn(f64) -> bool, max: f64) -> Option<f64> {
-    if !fits(max) {
-        return None;
-    }
-    let (mut lo, mut hi) = (0.0, max);
-    while hi - lo > 1e-6 * max {
-        let mid = 0.5 * (lo + hi);
-        if fits(mid) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Some(hi)
 }
 
 /// The lights [`share_budget`] reads and updates.
@@ -258,15 +240,6 @@ pub fn share_budget(
         }
         return;
     }
-    let pick = |p: &Pick, ms: f64| auto_pick(p.kind, ms, &registry, &profile, &backend, p.size);
-    // The budget a pick needs: its predicted time and its margin (0 without a pick).
-    let needs = |r: &Option<ResolvedTechnique>| {
-        r.as_ref()
-            .and_then(|r| r.auto)
-            .map_or(0.0, |a| a.time_ms * a.margin.max(1.0))
-    };
-    let error =
-        |r: &Option<ResolvedTechnique>| r.as_ref().and_then(|r| r.auto).map(|a| a.error_255);
     let mut picks: Vec<Pick> = Vec::new();
     for (e, l, c, ..) in &lights {
         if c.shares_budget(&l.0) && part(e) > 0.0 {
@@ -279,21 +252,22 @@ pub fn share_budget(
             });
         }
     }
-    // Each light's configurations worth buying, cheapest first: what the best pick within a
-    // budget needs, at every budget where that pick gets better.
+    // Each light's configurations worth buying, cheapest first: every pick `Auto` makes at
+    // some budget, with the budget it needs.
     let ladders: Vec<Vec<(f64, f64)>> = picks
         .iter()
         .map(|p| {
-            let mut ladder = Vec::new();
-            let mut at = cheapest(|ms| pick(p, ms).is_some(), budget.ms);
-            while let Some(ms) = at {
-                let r = pick(p, ms);
-                let (need, err) = (needs(&r), error(&r).unwrap_or(NO_SHADOW_255));
-                ladder.push((need, err));
-                at = cheapest(|x| error(&pick(p, x)).is_some_and(|e| e < err), budget.ms)
-                    .filter(|&x| x > ms);
-            }
-            ladder
+            profile
+                .frontier(
+                    p.kind,
+                    backend.backend,
+                    p.size,
+                    max_side(p.kind, &registry, &backend),
+                )
+                .iter()
+                .filter(|o| o.needs_ms() <= budget.ms)
+                .map(|o| (o.needs_ms(), o.error_255))
+                .collect()
         })
         .collect();
     // Greedy: buy the step (from a light's present configuration, or none, to a better one)

@@ -139,6 +139,13 @@ pub struct Pick<'a> {
     pub stand_in: bool,
 }
 
+impl Pick<'_> {
+    /// The budget the pick needs: its predicted time times its configuration's margin.
+    pub fn needs_ms(&self) -> f64 {
+        self.time_ms * self.entry.margin.max(1.0)
+    }
+}
+
 /// A profile: every measured configuration.
 #[derive(bevy_ecs::resource::Resource, Clone, Debug, Default, PartialEq)]
 pub struct TechniqueProfile {
@@ -180,19 +187,17 @@ impl TechniqueProfile {
         })
     }
 
-    /// The configuration and map side with the lowest predicted image error under a light of
-    /// `kind` whose predicted time for a scene of `size` fits `budget_ms`, among those
-    /// `max_side(technique, variant)` accepts (its largest side, `None`: not available); ties
-    /// go to the faster. `None` when nothing is predicted to fit.
-    pub fn pick(
+    /// Every configuration and map side that `max_side(technique, variant)` accepts (its
+    /// largest side, `None`: not available) with a predicted image error under a light of
+    /// `kind`, with its predicted time for a scene of `size`, in the profile's order.
+    pub fn options(
         &self,
         kind: LightKind,
         backend: Backend,
-        budget_ms: f64,
         size: SceneSize,
         max_side: impl Fn(&str, &str) -> Option<u32>,
-    ) -> Option<Pick<'_>> {
-        let mut best: Option<Pick> = None;
+    ) -> Vec<Pick<'_>> {
+        let mut out = Vec::new();
         for (e, stand_in) in self.candidates(backend) {
             let Some(max) = max_side(&e.technique, &e.variant) else {
                 continue;
@@ -204,28 +209,63 @@ impl TechniqueProfile {
                 let Some(error_255) = e.predict_error(kind, side) else {
                     continue;
                 };
-                let time_ms = e.predict_ms(size, side);
-                if time_ms * e.margin.max(1.0) > budget_ms {
-                    continue;
-                }
-                let better = best.as_ref().is_none_or(|b| {
-                    error_255
-                        .total_cmp(&b.error_255)
-                        .then(time_ms.total_cmp(&b.time_ms))
-                        .is_lt()
+                out.push(Pick {
+                    entry: e,
+                    resolution: side,
+                    time_ms: e.predict_ms(size, side),
+                    error_255,
+                    stand_in,
                 });
-                if better {
-                    best = Some(Pick {
-                        entry: e,
-                        resolution: side,
-                        time_ms,
-                        error_255,
-                        stand_in,
-                    });
-                }
             }
         }
-        best
+        out
+    }
+
+    /// The configuration and map side with the lowest predicted image error under a light of
+    /// `kind` whose predicted time for a scene of `size` fits `budget_ms` ([`Pick::needs_ms`]),
+    /// among [`TechniqueProfile::options`]; ties go to the faster. `None` when nothing is
+    /// predicted to fit.
+    pub fn pick(
+        &self,
+        kind: LightKind,
+        backend: Backend,
+        budget_ms: f64,
+        size: SceneSize,
+        max_side: impl Fn(&str, &str) -> Option<u32>,
+    ) -> Option<Pick<'_>> {
+        self.options(kind, backend, size, max_side)
+            .into_iter()
+            .filter(|p| p.needs_ms() <= budget_ms)
+            .min_by(|a, b| {
+                a.error_255
+                    .total_cmp(&b.error_255)
+                    .then(a.time_ms.total_cmp(&b.time_ms))
+            })
+    }
+
+    /// Every pick [`TechniqueProfile::pick`] makes at some budget, cheapest first: the options
+    /// whose predicted error is below that of every option that needs less budget.
+    pub fn frontier(
+        &self,
+        kind: LightKind,
+        backend: Backend,
+        size: SceneSize,
+        max_side: impl Fn(&str, &str) -> Option<u32>,
+    ) -> Vec<Pick<'_>> {
+        let mut all = self.options(kind, backend, size, max_side);
+        all.sort_by(|a, b| {
+            a.needs_ms()
+                .total_cmp(&b.needs_ms())
+                .then(a.error_255.total_cmp(&b.error_255))
+                .then(a.time_ms.total_cmp(&b.time_ms))
+        });
+        let mut best = f64::INFINITY;
+        all.retain(|p| {
+            let better = p.error_255 < best;
+            best = best.min(p.error_255);
+            better
+        });
+        all
     }
 
     /// The profile as text, one configuration a line:

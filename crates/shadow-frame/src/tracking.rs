@@ -120,6 +120,36 @@ pub(crate) fn scene_size(
     }
 }
 
+/// The largest map side each configuration of `registry` that models `kind` takes on
+/// `backend` (`None`: not registered, or not for `kind`): what `Auto` picks among.
+pub(crate) fn max_side<'a>(
+    kind: soft_shadow_core::LightKind,
+    registry: &'a TechniqueRegistry,
+    backend: &'a FrameBackend,
+) -> impl Fn(&str, &str) -> Option<u32> + 'a {
+    let device = backend
+        .gpu
+        .as_ref()
+        .map_or_else(Default::default, |g| g.device_limits());
+    move |name: &str, variant: &str| {
+        find(registry, kind, name, variant).map(|t| t.max_resolution(backend.backend, device))
+    }
+}
+
+/// The registered configuration `name variant` that models `kind`.
+fn find(
+    registry: &TechniqueRegistry,
+    kind: soft_shadow_core::LightKind,
+    name: &str,
+    variant: &str,
+) -> Option<Arc<dyn soft_shadow_core::DynTechnique>> {
+    registry
+        .0
+        .iter()
+        .find(|t| t.name() == name && t.variant() == variant && t.models(kind))
+        .cloned()
+}
+
 /// `Auto`'s pick for `kind` within `budget_ms`, as a resolved technique whose reason names the
 /// predicted time and error (`None`: nothing is predicted to fit).
 pub(crate) fn auto_pick(
@@ -130,20 +160,13 @@ pub(crate) fn auto_pick(
     backend: &FrameBackend,
     size: SceneSize,
 ) -> Option<ResolvedTechnique> {
-    let find = |name: &str, variant: &str| {
-        registry
-            .0
-            .iter()
-            .find(|t| t.name() == name && t.variant() == variant && t.models(kind))
-            .cloned()
-    };
-    let device = backend
-        .gpu
-        .as_ref()
-        .map_or_else(Default::default, |g| g.device_limits());
-    let p = profile.pick(kind, backend.backend, budget_ms, size, |n, v| {
-        find(n, v).map(|t| t.max_resolution(backend.backend, device))
-    })?;
+    let p = profile.pick(
+        kind,
+        backend.backend,
+        budget_ms,
+        size,
+        max_side(kind, registry, backend),
+    )?;
     let e = p.entry;
     let stand_in = if p.stand_in {
         " (GPU time: a CPU measurement standing in, the profile has no GPU row)"
@@ -151,7 +174,7 @@ pub(crate) fn auto_pick(
         ""
     };
     Some(ResolvedTechnique {
-        technique: find(&e.technique, &e.variant)?,
+        technique: find(registry, kind, &e.technique, &e.variant)?,
         resolution: p.resolution,
         reason: format!(
             "auto: {} {} at {}² predicts image error {:.2}/255 in {:.2} ms{stand_in} <= {budget_ms} \

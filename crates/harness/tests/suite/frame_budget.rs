@@ -326,3 +326,50 @@ fn walking_down_the_night_street_remakes_few_maps() {
     // 20 measured (5 in the first frame); 45 without the rule that keeps a pick that still fits.
     assert!(total <= 24, "{remade:?}");
 }
+
+proptest::proptest! {
+    /// The frontier the shared budget buys from holds every pick `Auto` makes: at any budget,
+    /// the pick's predicted error is that of the frontier's last option the budget affords, and
+    /// the frontier's errors fall as the budget it needs grows.
+    #[test]
+    fn the_frontier_holds_every_pick(
+        rows in proptest::collection::vec(
+            (0.1f64..50.0, 0.0f64..100.0, 1.0f64..3.0, 0.0f64..2.0),
+            1..20,
+        ),
+        budget in 0.0f64..120.0,
+    ) {
+        use shadow_frame::{ProfileEntry, SceneSize, TechniqueProfile};
+        use soft_shadow_core::{Backend, LightKind};
+        let profile = TechniqueProfile {
+            entries: rows
+                .iter()
+                .enumerate()
+                .map(|(i, &(t, e, m, slope))| ProfileEntry {
+                    technique: format!("t{i}"),
+                    variant: "v".into(),
+                    backend: Backend::Cpu,
+                    form: soft_shadow_core::CostForm::Texels,
+                    generate: [t, 0.0, 0.0, 0.0],
+                    evaluate: [0.0; 3],
+                    error: vec![(LightKind::Rect, [e, -slope])],
+                    sides: (128, 2048),
+                    margin: m,
+                })
+                .collect(),
+        };
+        let any = |_: &str, _: &str| Some(2048);
+        let size = SceneSize::default();
+        let frontier = profile.frontier(LightKind::Rect, Backend::Cpu, size, any);
+        for w in frontier.windows(2) {
+            proptest::prop_assert!(w[0].needs_ms() <= w[1].needs_ms());
+            proptest::prop_assert!(w[1].error_255 < w[0].error_255);
+        }
+        let pick = profile.pick(LightKind::Rect, Backend::Cpu, budget, size, any);
+        let affordable = frontier.iter().rfind(|o| o.needs_ms() <= budget);
+        proptest::prop_assert_eq!(
+            pick.map(|p| p.error_255),
+            affordable.map(|o| o.error_255)
+        );
+    }
+}
