@@ -7,6 +7,7 @@ pub mod as_seen;
 pub mod error;
 pub mod figure;
 mod files;
+pub mod frames;
 pub mod metrics;
 pub mod night;
 pub mod papers;

@@ -109,6 +109,29 @@ enum Command {
     },
     /// Fit the frame pipeline's `Auto` profile (cost and error models per configuration) from a
     /// report of this machine, and write it for `TechniqueProfile::parse`.
+    /// The frame pipeline over a camera path down a street at night: each frame's time against
+    /// one frame budget shared by every lamp, and every lamp's image error against the
+    /// reference.
+    Frames {
+        /// Lamps along the street.
+        #[arg(long, default_value_t = 16)]
+        lamps: usize,
+        /// The frame budget, milliseconds.
+        #[arg(long, default_value_t = 16.0)]
+        budget_ms: f64,
+        /// Frames of the path.
+        #[arg(long, default_value_t = 8)]
+        frames: u32,
+        /// Metres the camera walks a frame.
+        #[arg(long, default_value_t = 0.5)]
+        step: f32,
+        /// The G-buffer's width and height.
+        #[arg(long, default_value = "320x180")]
+        size: String,
+        /// Output file (Markdown).
+        #[arg(long, default_value = "report/frames.md")]
+        out: PathBuf,
+    },
     Profile {
         /// The report.json to fit (a full run: two or more map sides).
         #[arg(long, default_value = "report/report.json")]
@@ -290,6 +313,14 @@ fn main() -> ExitCode {
             }
             Ok(line)
         }),
+        Command::Frames {
+            lamps,
+            budget_ms,
+            frames,
+            step,
+            size,
+            out,
+        } => harness::frames::run(lamps, budget_ms, frames, step, &size, &out),
         Command::Choose {
             report,
             backend,

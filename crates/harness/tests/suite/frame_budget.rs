@@ -373,3 +373,50 @@ proptest::proptest! {
         );
     }
 }
+
+/// `harness frames` measures the frame as a whole against the reference: every lamp that casts
+/// a shadow is closer to the reference than with none, the frame's summed lighting too; bad
+/// arguments are named, not panicked on, and nothing is written for them.
+#[test]
+fn the_frames_measurement_reports_every_lamps_error() {
+    use soft_shadow_reference::ground_truth::GroundTruthSettings;
+    let mut street = harness::night::NightStreet::new(4, 96, 54, 16.0).unwrap();
+    let settings = GroundTruthSettings {
+        strata_side: 4,
+        replicates: 2,
+        ..Default::default()
+    };
+    let frames = harness::frames::walk(&mut street, &mut pipeline(), 2, 0.5, &settings).unwrap();
+    assert_eq!(frames.len(), 2);
+    for f in &frames {
+        assert_eq!(f.lamps.len(), 4);
+        assert!(f.predicted_ms <= 16.0 && f.ms > 0.0);
+        assert!(f.image_255 < f.no_shadow_255, "{f:?}");
+        let shadowed: Vec<_> = f
+            .lamps
+            .iter()
+            .filter(|l| !l.pick.starts_with("none"))
+            .collect();
+        assert!(!shadowed.is_empty());
+        for l in shadowed {
+            assert!(l.image_255 < l.no_shadow_255, "{l:?}");
+        }
+    }
+    let text = harness::frames::markdown(&frames, 16.0);
+    assert_eq!(
+        text.lines().filter(|l| l.starts_with("| ")).count(),
+        2 + 1 + 4 + 1
+    );
+
+    let out = std::env::temp_dir().join("frames-bad-input/frames.md");
+    for (lamps, budget, size, says) in [
+        (0, 16.0, "96x54", "--lamps"),
+        (4, -1.0, "96x54", "--budget-ms"),
+        (4, 16.0, "96", "--size"),
+        (4, 16.0, "0x54", "--size"),
+    ] {
+        let e = harness::frames::run(lamps, budget, 1, 0.5, size, &out).unwrap_err();
+        assert!(e.to_string().contains(says), "{e}");
+    }
+    assert!(!out.exists());
+}

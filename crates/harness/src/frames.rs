@@ -1,0 +1,239 @@
+//! The frame as a whole over a camera path (`harness frames`): the night street's lamps
+//! ([`crate::night`]) sharing one frame budget, each frame's measured time against the budget
+//! and the picks' prediction, and every lamp's image error against the ray-traced reference,
+//! beside the error it would have with no shadow at all and the error of the frame's summed
+//! lighting.
+//!
+//! A lamp's image error weighs each receiver by the lamp's unshadowed irradiance there over its
+//! largest in the frame ([`crate::metrics::image_rms_255`], the report's image error); the
+//! frame's sums every lamp's `intensity x E0 x V` per receiver and weighs by the largest sum.
+
+use crate::error::Result;
+use crate::metrics::image_rms_255;
+use crate::night::NightStreet;
+use shadow_frame::scene::LightSource;
+use shadow_frame::{FramePipeline, FrameReceivers, LightState, ResolvedTechnique, ShadowConfig};
+use soft_shadow_reference::ground_truth::irradiance::irradiance;
+use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
+use std::fmt::Write as _;
+
+/// One lamp in one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LampFrame {
+    /// The lamp's kind.
+    pub kind: &'static str,
+    /// Its pick (`name variant side²`), or why it casts no shadow.
+    pub pick: String,
+    /// Its part of the frame's light, in `[0, 1]`.
+    pub contribution: f64,
+    /// Its image error against the reference, 1/255.
+    pub image_255: f64,
+    /// The image error `V` = 1 would have, 1/255.
+    pub no_shadow_255: f64,
+}
+
+/// One frame of the path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameMeasure {
+    /// Measured milliseconds of the frame pipeline's run (wall time, every system).
+    pub ms: f64,
+    /// The picks' predicted milliseconds for a frame where every lamp makes its maps.
+    pub predicted_ms: f64,
+    /// Maps made in the frame.
+    pub maps_generated: usize,
+    /// Every lamp.
+    pub lamps: Vec<LampFrame>,
+    /// The image error of the frame's summed lighting, 1/255.
+    pub image_255: f64,
+    /// The same with no shadow at all, 1/255.
+    pub no_shadow_255: f64,
+}
+
+/// Walks the camera down `street` by `step` metres a frame for `frames` frames (the first
+/// frame where it stands), runs `pipeline` on each and measures it against the reference
+/// traced with `settings`.
+pub fn walk(
+    street: &mut NightStreet,
+    pipeline: &mut FramePipeline,
+    frames: u32,
+    step: f32,
+    settings: &GroundTruthSettings,
+) -> Result<Vec<FrameMeasure>> {
+    let casters = street.scene.geometry().casters;
+    let truth = RayTracer::new(&casters);
+    let mut out = Vec::new();
+    for f in 0..frames {
+        if f > 0 {
+            street.walk(step);
+        }
+        let start = std::time::Instant::now();
+        let stats = pipeline.run(&mut street.scene.world);
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        let world = &street.scene.world;
+        let frame = world.resource::<FrameReceivers>().clone();
+        let n = frame.positions.len();
+        let (mut lit, mut shadowed, mut reference) = (vec![0.0f32; n], vec![0.0; n], vec![0.0; n]);
+        let mut lamps = Vec::new();
+        for &e in &street.lamps {
+            let light = world.get::<LightSource>(e).expect("a lamp").0;
+            let config = world.get::<ShadowConfig>(e).expect("a lamp's config");
+            let state = world.get::<LightState>(e).expect("a lamp's state");
+            let e0: Vec<f32> = (0..n)
+                .map(|i| irradiance(&light, frame.positions[i], frame.normals[i]))
+                .collect();
+            let (c, r) = shadow_frame::influence(&light, config.range);
+            let inside: Vec<usize> = (0..n)
+                .filter(|&i| e0[i] > 0.0 && frame.positions[i].distance_squared(c) <= r * r)
+                .collect();
+            let pos: Vec<_> = inside.iter().map(|&i| frame.positions[i]).collect();
+            let nor: Vec<_> = inside.iter().map(|&i| frame.normals[i]).collect();
+            let refs = truth.references(&light, &pos, &nor, settings);
+            let v = |i: usize| state.visibility.get(i).copied().unwrap_or(1.0);
+            let max = inside.iter().map(|&i| e0[i]).fold(0.0f32, f32::max);
+            let (mut got, mut want, mut w) = (Vec::new(), Vec::new(), Vec::new());
+            for (&i, r) in inside.iter().zip(&refs) {
+                let Some(r) = r else { continue };
+                got.push(v(i));
+                want.push(r.visibility);
+                w.push(e0[i] / max);
+                let k = config.intensity * e0[i];
+                lit[i] += k;
+                shadowed[i] += k * v(i);
+                reference[i] += k * r.visibility;
+            }
+            let ones = vec![1.0; want.len()];
+            let pick = match (world.get::<ResolvedTechnique>(e), &state.error) {
+                (Some(r), _) => format!(
+                    "{} {} {}²",
+                    r.technique.name(),
+                    r.technique.variant(),
+                    r.resolution
+                ),
+                (None, Some(why)) => format!("none: {why}"),
+                (None, None) => "none: lights nothing in view".into(),
+            };
+            lamps.push(LampFrame {
+                kind: light.kind().name(),
+                pick,
+                contribution: state.share.map_or(0.0, |s| s.contribution),
+                image_255: image_rms_255(&got, &want, &w),
+                no_shadow_255: image_rms_255(&ones, &want, &w),
+            });
+        }
+        let max = lit
+            .iter()
+            .copied()
+            .fold(0.0f32, f32::max)
+            .max(f32::MIN_POSITIVE);
+        let weights = vec![1.0; n];
+        let scale = |x: &[f32]| x.iter().map(|y| y / max).collect::<Vec<f32>>();
+        out.push(FrameMeasure {
+            ms,
+            predicted_ms: stats.predicted_ms(),
+            maps_generated: stats.maps_generated,
+            image_255: image_rms_255(&scale(&shadowed), &scale(&reference), &weights),
+            no_shadow_255: image_rms_255(&scale(&lit), &scale(&reference), &weights),
+            lamps,
+        });
+    }
+    Ok(out)
+}
+
+/// The measurement as Markdown: one line per frame, then every lamp of the first frame.
+pub fn markdown(frames: &[FrameMeasure], budget_ms: f64) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| frame | measured ms | predicted ms | budget ms | maps made | frame image error | with no shadow |\n|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    for (k, f) in frames.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "| {k} | {:.2} | {:.2} | {budget_ms} | {} | {:.2} | {:.2} |",
+            f.ms, f.predicted_ms, f.maps_generated, f.image_255, f.no_shadow_255
+        );
+    }
+    if let Some(first) = frames.first() {
+        let _ = writeln!(
+            s,
+            "\n| lamp | kind | part of the light | pick | image error | with no shadow |\n|---:|---|---:|---|---:|---:|"
+        );
+        for (i, l) in first.lamps.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "| {i} | {} | {:.1}% | {} | {:.2} | {:.2} |",
+                l.kind,
+                100.0 * l.contribution,
+                l.pick,
+                l.image_255,
+                l.no_shadow_255
+            );
+        }
+    }
+    s
+}
+
+/// `harness frames`: the night street with `lamps` lamps under a `budget_ms` frame budget, a
+/// `size` (`WxH`) G-buffer, walked `frames` frames of `step` metres, measured against the
+/// reference (8² strata x 2 replicates a receiver) and written as Markdown to `out`; returns
+/// the line to print.
+pub fn run(
+    lamps: usize,
+    budget_ms: f64,
+    frames: u32,
+    step: f32,
+    size: &str,
+    out: &std::path::Path,
+) -> Result<String> {
+    use crate::error::HarnessError::Usage;
+    let bad = |what: String| Err(Usage(what));
+    if !(1..=256).contains(&lamps) {
+        return bad(format!("--lamps must be in 1..=256, got {lamps}"));
+    }
+    if !(budget_ms.is_finite() && budget_ms > 0.0) {
+        return bad(format!(
+            "--budget-ms must be a positive number of milliseconds, got {budget_ms}"
+        ));
+    }
+    if !(1..=1000).contains(&frames) {
+        return bad(format!("--frames must be in 1..=1000, got {frames}"));
+    }
+    if !step.is_finite() || step.abs() > 100.0 {
+        return bad(format!(
+            "--step must be a number of metres within 100, got {step}"
+        ));
+    }
+    let parsed = size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| (1..=4096).contains(&w) && (1..=4096).contains(&h));
+    let Some((w, h)) = parsed else {
+        return bad(format!(
+            "--size must be WIDTHxHEIGHT, each in 1..=4096 (such as 320x180), got {size:?}"
+        ));
+    };
+    let mut street = NightStreet::new(lamps, w, h, budget_ms)?;
+    let mut pipeline = crate::animated::pipeline();
+    let settings = GroundTruthSettings {
+        strata_side: 8,
+        replicates: 2,
+        ..Default::default()
+    };
+    let measured = walk(&mut street, &mut pipeline, frames, step, &settings)?;
+    let text = format!(
+        "# The night street, {lamps} lamps, one {budget_ms} ms frame budget\n\n\
+         `harness frames --lamps {lamps} --budget-ms {budget_ms} --frames {frames} --step {step} \
+         --size {w}x{h}` (CPU). Image errors in 1/255 against the reference (8² strata x 2 \
+         replicates a receiver).\n\n{}",
+        markdown(&measured, budget_ms)
+    );
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        crate::files::create_dir(dir)?;
+    }
+    crate::files::write_text(out, &text)?;
+    let over = measured.iter().filter(|f| f.ms > budget_ms).count();
+    Ok(format!(
+        "wrote {} ({frames} frames, {over} over the {budget_ms} ms budget)",
+        out.display()
+    ))
+}
