@@ -107,8 +107,6 @@ enum Command {
         #[arg(long, value_delimiter = ',', default_value = "4,16,64")]
         budgets: Vec<f64>,
     },
-    /// Fit the frame pipeline's `Auto` profile (cost and error models per configuration) from a
-    /// report of this machine, and write it for `TechniqueProfile::parse`.
     /// The frame pipeline over a camera path down a street at night: each frame's time against
     /// one frame budget shared by every lamp, and every lamp's image error against the
     /// reference.
@@ -132,6 +130,8 @@ enum Command {
         #[arg(long, default_value = "report/frames.md")]
         out: PathBuf,
     },
+    /// Fit the frame pipeline's `Auto` profile (cost and error models per configuration) from a
+    /// report of this machine, and write it for `TechniqueProfile::parse`.
     Profile {
         /// The report.json to fit (a full run: two or more map sides).
         #[arg(long, default_value = "report/report.json")]

@@ -97,27 +97,35 @@ pub fn irradiance_estimate(light: &Light, intensity: f32, p: Vec3, n: Vec3) -> f
 
 /// `light`'s contribution to the frame: [`irradiance_estimate`] summed over the frame's
 /// receivers within its influence (at most [`CONTRIBUTION_SAMPLES`] of them, evenly spread,
-/// scaled back to the whole frame).
+/// scaled back to the whole frame; every receiver where those samples read 0, so that a light
+/// on a small patch is not taken for one that lights nothing).
 pub fn contribution(light: &Light, config: &ShadowConfig, frame: &FrameReceivers) -> f64 {
     let n = frame.positions.len().min(frame.normals.len());
     if n == 0 {
         return 0.0;
     }
-    let step = n.div_ceil(CONTRIBUTION_SAMPLES);
     let (c, r) = influence(light, config.range);
-    let sum: f64 = (0..n)
-        .step_by(step)
-        .filter(|&i| !r.is_finite() || frame.positions[i].distance_squared(c) <= r * r)
-        .map(|i| {
-            f64::from(irradiance_estimate(
-                light,
-                config.intensity,
-                frame.positions[i],
-                frame.normals[i],
-            ))
-        })
-        .sum();
-    sum * step as f64
+    let sum = |step: usize| -> f64 {
+        (0..n)
+            .step_by(step)
+            .filter(|&i| !r.is_finite() || frame.positions[i].distance_squared(c) <= r * r)
+            .map(|i| {
+                f64::from(irradiance_estimate(
+                    light,
+                    config.intensity,
+                    frame.positions[i],
+                    frame.normals[i],
+                ))
+            })
+            .sum::<f64>()
+            * step as f64
+    };
+    let step = n.div_ceil(CONTRIBUTION_SAMPLES);
+    match sum(step) {
+        // A light that lights a patch the samples step over still counts: every receiver.
+        0.0 if step > 1 => sum(1),
+        s => s,
+    }
 }
 
 /// The image error a light without a shadow is taken to cost, 1/255: the median over the
@@ -128,6 +136,8 @@ pub const NO_SHADOW_255: f64 = 15.0;
 /// A shared light while the budget is shared.
 struct Pick {
     entity: Entity,
+    /// Its contribution.
+    part: f64,
     kind: soft_shadow_core::LightKind,
     size: crate::SceneSize,
     proportional: f64,
@@ -167,12 +177,14 @@ pub fn share_budget(
     let config_removed = removed.read().count() > 0;
     let Some(budget) = budget else {
         for (e, l, config, _, mut state) in &mut lights {
-            if config.shares_budget(&l.0) && state.share.is_none() && state.error.is_none() {
+            if config.shares_budget(&l.0) && (state.share.is_some() || state.error.is_none()) {
                 state.error = Some(
                     "a shared choice takes its part of the FrameBudget resource, and the world \
                      holds none"
                         .into(),
                 );
+                state.share = None;
+                state.maps = None;
                 commands.entity(e).remove::<ResolvedTechnique>();
             }
         }
@@ -189,11 +201,20 @@ pub fn share_budget(
         }
         state.evaluated = 0;
     };
+    // A light that left the share (another choice, or zero size) hands its part back.
+    let mut left_share = false;
+    for (_, l, c, _, mut s) in &mut lights {
+        if s.share.is_some() && !c.shares_budget(&l.0) {
+            s.share = None;
+            left_share = true;
+        }
+    }
     // A changed config (or a new light) shares again; a light that only moved keeps its pick
     // unless its part drifts out of the band (it makes its maps again all the same).
-    let changed_config = lights
-        .iter()
-        .any(|(_, l, c, ..)| c.shares_budget(&l.0) && c.is_changed());
+    let changed_config = left_share
+        || lights
+            .iter()
+            .any(|(_, l, c, ..)| c.shares_budget(&l.0) && c.is_changed());
     let moved = lights
         .iter()
         .any(|(_, l, c, ..)| c.shares_budget(&l.0) && l.is_changed());
@@ -245,6 +266,7 @@ pub fn share_budget(
         if c.shares_budget(&l.0) && part(e) > 0.0 {
             picks.push(Pick {
                 entity: e,
+                part: part(e),
                 kind: l.0.kind(),
                 size: scene_size(&casters, &index, &frame, &l.0, c.range),
                 proportional: budget.ms * fraction(e),
@@ -284,8 +306,8 @@ pub fn share_budget(
                 if spent - need + n > budget.ms {
                     break;
                 }
-                let gain = part(picks[i].entity) * (err - e) / (n - need).max(1e-9);
-                if best.is_none_or(|b| gain > b.0) {
+                let gain = picks[i].part * (err - e) / (n - need).max(1e-9);
+                if gain > 0.0 && best.is_none_or(|b| gain > b.0) {
                     best = Some((gain, i, m));
                 }
             }
@@ -329,13 +351,33 @@ pub fn share_budget(
         // The present pick stays while it fits the new part and is nearly as good as the new
         // pick: its maps are kept.
         let proposed = auto_pick(kind, within, &registry, &profile, &backend, size);
-        let kept = resolved.filter(|r| {
-            let (Some(a), Some(b)) = (r.auto, proposed.as_ref().and_then(|p| p.auto)) else {
-                return false;
-            };
-            a.time_ms * a.margin.max(1.0) <= within && a.error_255 <= b.error_255 * KEEP_ERROR
+        let proposed_error = proposed.as_ref().and_then(|p| p.auto).map(|a| a.error_255);
+        // The present pick, predicted again for the scene as it is now.
+        let kept = resolved.and_then(|r| {
+            let o = profile
+                .options(
+                    kind,
+                    backend.backend,
+                    size,
+                    max_side(kind, &registry, &backend),
+                )
+                .into_iter()
+                .find(|o| {
+                    o.entry.technique == r.technique.name()
+                        && o.entry.variant == r.technique.variant()
+                        && o.resolution == r.resolution
+                })?;
+            let fits = o.needs_ms() <= within
+                && proposed_error.is_some_and(|b| o.error_255 <= b * KEEP_ERROR);
+            fits.then(|| {
+                let mut r = r.clone();
+                if let Some(a) = r.auto.as_mut() {
+                    (a.time_ms, a.error_255) = (o.time_ms, o.error_255);
+                }
+                r
+            })
         });
-        match kept.cloned().or(proposed) {
+        match kept.or(proposed) {
             Some(mut next) => {
                 let why = next
                     .reason
@@ -365,6 +407,7 @@ pub fn share_budget(
             None if within == 0.0 => {
                 commands.entity(e).remove::<ResolvedTechnique>();
                 state.maps = None;
+                idle_visibility(&mut state);
                 state.error = Some(format!(
                     "the frame's {} ms go to brighter lights before this one's cheapest \
                      configuration ({:.2}% of the frame's light)",
@@ -375,6 +418,7 @@ pub fn share_budget(
             None => {
                 commands.entity(e).remove::<ResolvedTechnique>();
                 state.maps = None;
+                idle_visibility(&mut state);
                 state.error = Some(format!(
                     "no configuration for {} lights on {} is predicted to fit its {within:.2} ms \
                      of the frame's {} ms ({:.1}% of the frame's light; {} triangles, {} \

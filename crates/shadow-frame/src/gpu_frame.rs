@@ -39,7 +39,8 @@ pub struct FrameTextures<'a> {
 /// lights were recorded. A light whose maps are on the GPU records its visibility pass; a light
 /// without usable maps (no caster reaches it, it lights nothing the camera sees, or the frame
 /// left it an error: see [`LightState::error`]) gets `V = 1` in its layer, a copy recorded into
-/// `enc` from a buffer of ones the world keeps between frames (made once per texture size).
+/// `enc` from a buffer of ones the world keeps between frames (made once per texture size and
+/// device).
 /// Checked before anything is
 /// recorded: the texture's format and usage, every layer within it and no layer given to two
 /// lights ([`ShadowError::InvalidParameter`]); maps made on the CPU backend are
@@ -93,7 +94,10 @@ pub fn record_visibility(
                     .into(),
             ));
         }
-        if world.get_resource::<Ones>().is_none_or(|o| o.size != size) {
+        if world
+            .get_resource::<Ones>()
+            .is_none_or(|o| o.size != size || o.device != gpu.device)
+        {
             let ones = Ones::new(gpu, size);
             world.insert_resource(ones);
         }
@@ -136,6 +140,8 @@ pub fn record_visibility(
 /// alignment, kept in the world between frames.
 #[derive(Resource)]
 struct Ones {
+    /// The device it lives on.
+    device: wgpu::Device,
     /// The texture's width and height.
     size: (u32, u32),
     /// The ones.
@@ -155,7 +161,11 @@ impl Ones {
             bytemuck::cast_slice(&ones),
             wgpu::BufferUsages::COPY_SRC,
         );
-        Self { size, buffer }
+        Self {
+            device: gpu.device.clone(),
+            size,
+            buffer,
+        }
     }
 }
 

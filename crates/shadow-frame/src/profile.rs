@@ -243,8 +243,10 @@ impl TechniqueProfile {
             })
     }
 
-    /// Every pick [`TechniqueProfile::pick`] makes at some budget, cheapest first: the options
-    /// whose predicted error is below that of every option that needs less budget.
+    /// The options whose predicted error is below that of every option that needs less budget
+    /// ([`Pick::needs_ms`]), cheapest first: at any budget, [`TechniqueProfile::pick`]'s error
+    /// is that of the last one the budget affords (where two options tie in error, the pick
+    /// may be the other one).
     pub fn frontier(
         &self,
         kind: LightKind,

@@ -37,11 +37,11 @@ pub struct LightStats {
     pub receivers_evaluated: usize,
     /// Measured milliseconds: its generation (when it generated) and its evaluation.
     pub ms: f64,
-    /// What `Auto` predicted for a frame that generates (generation + evaluation), for an
-    /// automatic or shared choice.
+    /// What `Auto` predicted for a frame that generates (generation + evaluation, before the
+    /// configuration's margin), for an automatic or shared choice.
     pub predicted_ms: Option<f64>,
-    /// The budget that prediction had to fit (the light's own, or its part of the
-    /// [`crate::FrameBudget`]).
+    /// The budget that prediction times its margin had to fit (the light's own, or its part of
+    /// the [`crate::FrameBudget`]).
     pub budget_ms: Option<f64>,
 }
 
@@ -93,8 +93,8 @@ impl FrameStats {
         self.lights.iter().map(|l| l.ms).sum()
     }
 
-    /// What `Auto` predicted for the lights it chose, summed: their time in a frame where all
-    /// of them generate.
+    /// What `Auto` predicted for the lights it chose, summed (before their margins): their
+    /// time in a frame where all of them generate.
     pub fn predicted_ms(&self) -> f64 {
         self.lights.iter().filter_map(|l| l.predicted_ms).sum()
     }

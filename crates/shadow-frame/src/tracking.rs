@@ -304,11 +304,15 @@ pub fn resolve_techniques(
             }
             error
         };
+        let shared = config.shares_budget(&light.0);
         match state {
             Some(mut s) => {
                 s.stale = true;
                 s.maps = None;
-                s.error = error;
+                // A shared light's error is the budget's to set (it shares again after this).
+                if !shared {
+                    s.error = error;
+                }
                 s.generated_ms = None;
             }
             None => {
@@ -401,11 +405,14 @@ pub fn keep_budgets(
 /// can shadow what the camera sees; every light, with caching off or when the frame's backend
 /// changed (maps are made where the frame runs).
 ///
-/// A local light's change counts only where the region meets [`seen_hull`]: the box around the
-/// light and the frame's receivers within its range (a caster can shadow a receiver only
-/// between the two). A change outside it waits in [`LightState::unseen_changes`] until a frame
-/// whose receivers bring it into the hull (the camera turned towards it) or the light's maps
-/// are made again. Distant lights take every change in range.
+/// With [`FrameSettings::evaluate_receivers`] on (the frame's receivers are what the camera
+/// sees), a local light's change counts only where the region meets [`seen_hull`]: the box
+/// around the light and the frame's receivers within its range, padded (a caster can shadow a
+/// receiver only between the two; the padding holds the filters' footprints, as an
+/// approximation: a filter wider than it near the hull's edge could read a change beyond it).
+/// A change outside waits in [`LightState::unseen_changes`] until a frame whose receivers bring
+/// it into the hull (the camera turned towards it) or the light's maps are made again. Distant
+/// lights, and every light when the receivers are not evaluated, take every change in range.
 pub fn mark_stale(
     index: Res<CasterIndex>,
     settings: Res<FrameSettings>,
@@ -424,7 +431,10 @@ pub fn mark_stale(
             .changed
             .iter()
             .filter(|b| caster_reaches(&light.0, config.range, b));
-        if matches!(light.0.center(), soft_shadow_core::LightPoint::Direction(_)) {
+        // Without evaluated receivers (the GPU frame's G-buffer is the view) the frame's
+        // receivers need not be what the camera sees: every change in range counts.
+        let distant = matches!(light.0.center(), soft_shadow_core::LightPoint::Direction(_));
+        if distant || !settings.evaluate_receivers {
             if changed.count() > 0 {
                 state.stale = true;
             }
@@ -458,8 +468,8 @@ pub const UNSEEN_CHANGES: usize = 8;
 
 /// The box around a local light (the sphere around its centre that holds it,
 /// [`soft_shadow_core::coverage::light_radius`]) and the `receivers` within its influence
-/// radius `range`: a caster that shadows one of them meets the segment from it to a light
-/// point, so lies in this box.
+/// radius `range` (a caster that shadows one of them meets the segment from it to a light
+/// point, so lies in this box), grown by a tenth of its diagonal on every side.
 pub fn seen_hull(light: &soft_shadow_core::Light, range: f32, receivers: &[glam::Vec3]) -> Aabb {
     let (c, r) = influence(light, range);
     let reach = glam::Vec3::splat(soft_shadow_core::coverage::light_radius(light, c));
@@ -471,6 +481,11 @@ pub fn seen_hull(light: &soft_shadow_core::Light, range: f32, receivers: &[glam:
             hull.grow(*p);
         }
     }
+    // Filters read around a receiver's point (PCF's kernel, PCSS's blocker search, the width
+    // and limit maps): a tenth of the diagonal more on every side.
+    let pad = glam::Vec3::splat(0.1 * (hull.max - hull.min).length());
+    hull.grow(hull.min - pad);
+    hull.grow(hull.max + pad);
     hull
 }
 

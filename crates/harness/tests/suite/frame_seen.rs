@@ -103,4 +103,16 @@ fn a_caster_out_of_view_waits_until_the_camera_sees_where_it_shadows() {
         scene.world.get::<LightState>(lamp).unwrap().visibility,
         culled
     );
+
+    // Without evaluated receivers (a GPU frame's G-buffer is the view, the frame's receivers
+    // may be a few points), every change in range makes the maps again.
+    scene.world.insert_resource(patch((-1.5, -1.5)));
+    scene.world.insert_resource(FrameSettings {
+        evaluate_receivers: false,
+        ..Default::default()
+    });
+    p.run(&mut scene.world);
+    scene.world.get_mut::<Transform>(mover).unwrap().0 =
+        Mat4::from_translation(Vec3::new(2.5, 0.5, 2.5));
+    assert_eq!(p.run(&mut scene.world).maps_generated, 1);
 }
