@@ -221,10 +221,24 @@ pub fn share_budget(
     if !(budget.is_changed() || frame.is_changed() || changed_config || moved || config_removed) {
         return;
     }
+    // The receivers' bounds: a light whose influence misses them brings nothing, unread.
+    let mut seen = soft_shadow_core::mesh::Aabb::EMPTY;
+    frame.positions.iter().for_each(|p| seen.grow(*p));
     let parts: Vec<(Entity, f64)> = lights
         .iter()
         .filter(|(_, l, c, ..)| c.shares_budget(&l.0))
-        .map(|(e, l, c, ..)| (e, contribution(&l.0, &c, &frame)))
+        .map(|(e, l, c, ..)| {
+            let (centre, r) = influence(&l.0, c.range);
+            let near = !seen.is_empty() && box_in_sphere(&seen, centre, r);
+            (
+                e,
+                if near {
+                    contribution(&l.0, &c, &frame)
+                } else {
+                    0.0
+                },
+            )
+        })
         .collect();
     let total: f64 = parts.iter().map(|p| p.1).sum();
     let part = |e: Entity| parts.iter().find(|p| p.0 == e).map_or(0.0, |p| p.1);
