@@ -24,11 +24,9 @@
 //! [`KEEP_ERROR`] times the new pick's error. A pick measured over its part for
 //! [`crate::tracking::STEP_DOWN_FRAMES`] frames steps down as `Auto` does.
 
-use crate::TechniqueRegistry;
 use crate::components::*;
-use crate::profile::TechniqueProfile;
 use crate::scene::LightSource;
-use crate::tracking::{CasterMeshes, auto_pick, max_side, scene_size};
+use crate::tracking::AutoInputs;
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 use soft_shadow_core::{Light, LightPoint};
@@ -166,14 +164,10 @@ pub fn share_budget(
     budget: Option<Res<FrameBudget>>,
     mut lights: SharedLights,
     mut removed: RemovedComponents<ShadowConfig>,
-    casters: CasterMeshes,
-    index: Res<CasterIndex>,
-    frame: Res<FrameReceivers>,
-    registry: Res<TechniqueRegistry>,
-    profile: Res<TechniqueProfile>,
-    backend: Res<FrameBackend>,
+    inputs: AutoInputs,
     settings: Res<FrameSettings>,
 ) {
+    let frame = &inputs.frame;
     let config_removed = removed.read().count() > 0;
     let Some(budget) = budget else {
         for (e, l, config, _, mut state) in &mut lights {
@@ -233,7 +227,7 @@ pub fn share_budget(
             (
                 e,
                 if near {
-                    contribution(&l.0, &c, &frame)
+                    contribution(&l.0, &c, frame)
                 } else {
                     0.0
                 },
@@ -282,7 +276,7 @@ pub fn share_budget(
                 entity: e,
                 part: part(e),
                 kind: l.0.kind(),
-                size: scene_size(&casters, &index, &frame, &l.0, c.range),
+                size: inputs.size(&l.0, c.range),
                 proportional: budget.ms * fraction(e),
                 within: 0.0,
             });
@@ -293,13 +287,8 @@ pub fn share_budget(
     let ladders: Vec<Vec<(f64, f64)>> = picks
         .iter()
         .map(|p| {
-            profile
-                .frontier(
-                    p.kind,
-                    backend.backend,
-                    p.size,
-                    max_side(p.kind, &registry, &backend),
-                )
+            inputs
+                .frontier(p.kind, p.size)
                 .iter()
                 .filter(|o| o.needs_ms() <= budget.ms)
                 .map(|o| (o.needs_ms(), o.error_255))
@@ -364,23 +353,15 @@ pub fn share_budget(
         });
         // The present pick stays while it fits the new part and is nearly as good as the new
         // pick: its maps are kept.
-        let proposed = auto_pick(kind, within, &registry, &profile, &backend, size);
+        let proposed = inputs.pick(kind, within, size);
         let proposed_error = proposed.as_ref().and_then(|p| p.auto).map(|a| a.error_255);
         // The present pick, predicted again for the scene as it is now.
         let kept = resolved.and_then(|r| {
-            let o = profile
-                .options(
-                    kind,
-                    backend.backend,
-                    size,
-                    max_side(kind, &registry, &backend),
-                )
-                .into_iter()
-                .find(|o| {
-                    o.entry.technique == r.technique.name()
-                        && o.entry.variant == r.technique.variant()
-                        && o.resolution == r.resolution
-                })?;
+            let o = inputs.options(kind, size).into_iter().find(|o| {
+                o.entry.technique == r.technique.name()
+                    && o.entry.variant == r.technique.variant()
+                    && o.resolution == r.resolution
+            })?;
             let fits = o.needs_ms() <= within
                 && proposed_error.is_some_and(|b| o.error_255 <= b * KEEP_ERROR);
             fits.then(|| {
@@ -438,7 +419,7 @@ pub fn share_budget(
                      of the frame's {} ms ({:.1}% of the frame's light; {} triangles, {} \
                      receivers)",
                     kind.name(),
-                    backend.backend.name(),
+                    inputs.backend.backend.name(),
                     budget.ms,
                     100.0 * fraction(e),
                     size.triangles,

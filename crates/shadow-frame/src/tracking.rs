@@ -72,14 +72,14 @@ pub const STEP_DOWN_FRAMES: u32 = 3;
 pub const STEP_DOWN_MARGIN: f64 = 0.8;
 
 /// The casters of the scene (what `Auto` sizes a scene by).
-pub(crate) type CasterMeshes<'w, 's> =
+pub type CasterMeshes<'w, 's> =
     Query<'w, 's, (Entity, &'static MeshHandle, &'static Transform), With<ShadowCaster>>;
 
 /// The scene `light` sees within its influence radius `range`, as predictions size it: the
 /// triangles of the casters that reach it ([`caster_reaches`], what its maps render), the frame's
 /// receivers within its influence, those inside the light's map ([`SceneSize::of`]), and the
 /// light's views as the pipeline plans them (a distant light's cascades with the frame's camera).
-pub(crate) fn scene_size(
+fn scene_size(
     casters: &CasterMeshes,
     index: &CasterIndex,
     frame: &FrameReceivers,
@@ -122,7 +122,7 @@ pub(crate) fn scene_size(
 
 /// The largest map side each configuration of `registry` that models `kind` takes on
 /// `backend` (`None`: not registered, or not for `kind`): what `Auto` picks among.
-pub(crate) fn max_side<'a>(
+fn max_side<'a>(
     kind: soft_shadow_core::LightKind,
     registry: &'a TechniqueRegistry,
     backend: &'a FrameBackend,
@@ -152,7 +152,7 @@ fn find(
 
 /// `Auto`'s pick for `kind` within `budget_ms`, as a resolved technique whose reason names the
 /// predicted time and error (`None`: nothing is predicted to fit).
-pub(crate) fn auto_pick(
+fn auto_pick(
     kind: soft_shadow_core::LightKind,
     budget_ms: f64,
     registry: &TechniqueRegistry,
@@ -201,16 +201,84 @@ pub(crate) fn auto_pick(
     })
 }
 
+/// What `Auto` reads to size a light's scene and pick its configuration: the casters, their
+/// bounds, the frame's receivers, the registered techniques, the profile and the backend, as
+/// one system parameter.
+#[derive(bevy_ecs::system::SystemParam)]
+pub struct AutoInputs<'w, 's> {
+    casters: CasterMeshes<'w, 's>,
+    index: Res<'w, CasterIndex>,
+    /// The frame's receivers.
+    pub frame: Res<'w, FrameReceivers>,
+    registry: Res<'w, TechniqueRegistry>,
+    profile: Res<'w, TechniqueProfile>,
+    /// Where the frame runs.
+    pub backend: Res<'w, FrameBackend>,
+}
+
+impl AutoInputs<'_, '_> {
+    /// The scene `light` with influence radius `range` sees, as predictions size it
+    /// (the casters that reach it, the receivers within it, its views).
+    pub fn size(&self, light: &soft_shadow_core::Light, range: f32) -> SceneSize {
+        scene_size(&self.casters, &self.index, &self.frame, light, range)
+    }
+
+    /// `Auto`'s pick for `kind` within `budget_ms` on a scene of `size`, its reason naming the
+    /// predicted time and error (`None`: nothing is predicted to fit).
+    pub fn pick(
+        &self,
+        kind: soft_shadow_core::LightKind,
+        budget_ms: f64,
+        size: SceneSize,
+    ) -> Option<ResolvedTechnique> {
+        auto_pick(
+            kind,
+            budget_ms,
+            &self.registry,
+            &self.profile,
+            &self.backend,
+            size,
+        )
+    }
+
+    /// Every configuration and side `Auto` may pick for `kind` on a scene of `size`
+    /// ([`TechniqueProfile::options`] over the registered techniques).
+    pub fn options(
+        &self,
+        kind: soft_shadow_core::LightKind,
+        size: SceneSize,
+    ) -> Vec<crate::profile::Pick<'_>> {
+        self.profile.options(
+            kind,
+            self.backend.backend,
+            size,
+            max_side(kind, &self.registry, &self.backend),
+        )
+    }
+
+    /// The options of [`AutoInputs::options`] worth buying, cheapest first
+    /// ([`TechniqueProfile::frontier`]).
+    pub fn frontier(
+        &self,
+        kind: soft_shadow_core::LightKind,
+        size: SceneSize,
+    ) -> Vec<crate::profile::Pick<'_>> {
+        self.profile.frontier(
+            kind,
+            self.backend.backend,
+            size,
+            max_side(kind, &self.registry, &self.backend),
+        )
+    }
+}
+
 /// The technique of a light: the hard path for a zero-size light, the explicit one, or the
-/// profile's pick within the budget for a scene of `size`.
+/// profile's pick within the budget for the light's scene.
 fn resolve_one(
     light: &soft_shadow_core::Light,
     config: &ShadowConfig,
-    registry: &TechniqueRegistry,
-    profile: &TechniqueProfile,
+    inputs: &AutoInputs,
     hard: &HardShadowPath,
-    backend: &FrameBackend,
-    size: SceneSize,
 ) -> Result<ResolvedTechnique, String> {
     let kind = light.kind();
     if light.size() == 0.0 {
@@ -249,12 +317,13 @@ fn resolve_one(
             Err("a shared choice is resolved with the frame budget's shares".into())
         }
         TechniqueChoice::Auto { budget_ms } => {
-            auto_pick(kind, *budget_ms, registry, profile, backend, size).ok_or_else(|| {
+            let size = inputs.size(light, config.range);
+            inputs.pick(kind, *budget_ms, size).ok_or_else(|| {
                 format!(
                     "no configuration for {} lights on {} is predicted to fit {budget_ms} ms \
                      ({} triangles, {} receivers)",
                     kind.name(),
-                    backend.backend.name(),
+                    inputs.backend.backend.name(),
                     size.triangles,
                     size.receivers
                 )
@@ -271,13 +340,8 @@ pub fn resolve_techniques(
         (Entity, &LightSource, &ShadowConfig, Option<&mut LightState>),
         Or<(Changed<LightSource>, Changed<ShadowConfig>)>,
     >,
-    casters: CasterMeshes,
-    index: Res<CasterIndex>,
-    frame: Res<FrameReceivers>,
-    registry: Res<TechniqueRegistry>,
-    profile: Res<TechniqueProfile>,
+    inputs: AutoInputs,
     hard: Res<HardShadowPath>,
-    backend: Res<FrameBackend>,
 ) {
     for (e, light, config, state) in &mut lights {
         let mut ec = commands.entity(e);
@@ -285,14 +349,7 @@ pub fn resolve_techniques(
         let error = if config.shares_budget(&light.0) {
             None
         } else {
-            let size = match config.choice {
-                TechniqueChoice::Auto { .. } => {
-                    scene_size(&casters, &index, &frame, &light.0, config.range)
-                }
-                _ => SceneSize::default(),
-            };
-            let resolved =
-                resolve_one(&light.0, config, &registry, &profile, &hard, &backend, size);
+            let resolved = resolve_one(&light.0, config, &inputs, &hard);
             let error = resolved.as_ref().err().cloned();
             match resolved {
                 Ok(r) => {
@@ -340,12 +397,7 @@ pub fn keep_budgets(
         &mut ResolvedTechnique,
         &mut LightState,
     )>,
-    casters: CasterMeshes,
-    index: Res<CasterIndex>,
-    frame: Res<FrameReceivers>,
-    registry: Res<TechniqueRegistry>,
-    profile: Res<TechniqueProfile>,
-    backend: Res<FrameBackend>,
+    inputs: AutoInputs,
 ) {
     for (light, config, mut resolved, mut state) in &mut lights {
         let Some(measured) = state.generated_ms.take() else {
@@ -366,9 +418,9 @@ pub fn keep_budgets(
         }
         let scale = (measured / auto.time_ms.max(1e-6)).max(1.0);
         let target = auto.budget_ms * STEP_DOWN_MARGIN / scale;
-        let size = scene_size(&casters, &index, &frame, &light.0, config.range);
+        let size = inputs.size(&light.0, config.range);
         let kind = light.0.kind();
-        match auto_pick(kind, target, &registry, &profile, &backend, size) {
+        match inputs.pick(kind, target, size) {
             Some(mut next) => {
                 let from = format!(
                     "{} {} at {}²",
