@@ -103,7 +103,13 @@ pub fn walk(
             }
             let ones = vec![1.0; want.len()];
             let pick = match (world.get::<ResolvedTechnique>(e), &state.error) {
-                (Some(r), _) => format!(
+                (Some(r), Some(why)) => format!(
+                    "{} {} {}², failed: {why}",
+                    r.technique.name(),
+                    r.technique.variant(),
+                    r.resolution
+                ),
+                (Some(r), None) => format!(
                     "{} {} {}²",
                     r.technique.name(),
                     r.technique.variant(),
