@@ -307,3 +307,42 @@ pub fn box_in_sphere(b: &Aabb, c: Vec3, r: f32) -> bool {
     let q = c.clamp(b.min, b.max);
     q.distance_squared(c) <= r * r
 }
+
+/// The part of triangle `t` inside the box `b`, as triangles (a fan over the clipped polygon;
+/// none when the triangle misses the box, `t` itself when it lies inside).
+pub fn clip_to_box(t: &[Vec3; 3], b: &Aabb) -> Vec<[Vec3; 3]> {
+    let inside = |p: &Vec3| p.cmpge(b.min).all() && p.cmple(b.max).all();
+    if t.iter().all(inside) {
+        return vec![*t];
+    }
+    let mut poly: Vec<Vec3> = t.to_vec();
+    for axis in 0..3 {
+        for (bound, keep_below) in [(b.max[axis], true), (b.min[axis], false)] {
+            let keep = |p: &Vec3| {
+                if keep_below {
+                    p[axis] <= bound
+                } else {
+                    p[axis] >= bound
+                }
+            };
+            let mut out = Vec::with_capacity(poly.len() + 1);
+            for i in 0..poly.len() {
+                let (a, c) = (poly[i], poly[(i + 1) % poly.len()]);
+                if keep(&a) {
+                    out.push(a);
+                }
+                if keep(&a) != keep(&c) {
+                    let s = (bound - a[axis]) / (c[axis] - a[axis]);
+                    out.push(a + (c - a) * s);
+                }
+            }
+            poly = out;
+            if poly.len() < 3 {
+                return Vec::new();
+            }
+        }
+    }
+    (1..poly.len() - 1)
+        .map(|i| [poly[0], poly[i], poly[i + 1]])
+        .collect()
+}

@@ -36,8 +36,8 @@ pub type CasterQuery<'w, 's> = Query<
     With<ShadowCaster>,
 >;
 
-/// The casters that reach `light` ([`caster_reaches`]), flattened in spawn order, and their bounds grown by the
-/// receivers in range.
+/// The casters that reach `light` ([`caster_reaches`]), flattened in spawn order and clipped
+/// to the box around its influence sphere, and their bounds grown by the receivers in range.
 fn light_geometry(
     casters: &CasterQuery,
     index: &CasterIndex,
@@ -56,9 +56,24 @@ fn light_geometry(
         .map(|(e, m, t, o)| ((o.map_or(u64::MAX, |o| o.0), e), m, t))
         .collect();
     items.sort_by_key(|(k, ..)| *k);
+    // Within a range, only the casters' parts inside the influence sphere's box can shadow a
+    // receiver the light reaches (every point between the two lies within the range): a ground
+    // that stretches 100 m past a 9 m lamp does not stretch its maps' depth range with it.
+    let (c, r) = influence(light, range);
+    let reach = Aabb {
+        min: c - glam::Vec3::splat(r),
+        max: c + glam::Vec3::splat(r),
+    };
     let casters: Vec<[glam::Vec3; 3]> = items
         .iter()
         .flat_map(|(_, m, t)| m.0.world_triangles(t.0).collect::<Vec<_>>())
+        .flat_map(|t| {
+            if r.is_finite() {
+                clip_to_box(&t, &reach)
+            } else {
+                vec![t]
+            }
+        })
         .collect();
     let mut bounds = Aabb::of_triangles(&casters);
     if !casters.is_empty() {

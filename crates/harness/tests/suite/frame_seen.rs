@@ -116,3 +116,89 @@ fn a_caster_out_of_view_waits_until_the_camera_sees_where_it_shadows() {
         Mat4::from_translation(Vec3::new(2.5, 0.5, 2.5));
     assert_eq!(p.run(&mut scene.world).maps_generated, 1);
 }
+
+/// A lamp 3.6 m up with a 9 m range beside a car on a 200 m ground that casts (the night
+/// street's): its maps hold only what lies within its range (the ground clipped to the range's
+/// box), so the car's long shadow is drawn by penumbra-limit as by the reference (with the
+/// whole ground in its maps, their depth range ran 100 m and most of the shadow was lost).
+#[test]
+fn a_lamps_maps_hold_only_what_lies_within_its_range() {
+    const LAMP: Vec3 = Vec3::new(-4.0, 3.6, 4.35);
+    use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
+    let mut scene = Scene::new();
+    scene
+        .add_mesh(
+            Arc::new(ground(200.0, 0.0, 1)),
+            Mat4::IDENTITY,
+            Shadows::CAST_AND_RECEIVE,
+        )
+        .unwrap();
+    scene
+        .add_mesh(
+            Arc::new(cuboid(
+                "car",
+                Vec3::new(-1.5, 0.7, 3.2),
+                Vec3::new(2.0, 0.7, 0.9),
+            )),
+            Mat4::IDENTITY,
+            Shadows::CAST_AND_RECEIVE,
+        )
+        .unwrap();
+    let lamp = scene
+        .add_light(Light::Sphere {
+            center: LAMP,
+            radius: 0.15,
+        })
+        .unwrap();
+    let pl: Arc<dyn DynTechnique> = Arc::new(penumbra_limit::PenumbraLimit::new(
+        penumbra_limit::Generator::Silhouette,
+    ));
+    scene
+        .world
+        .entity_mut(lamp)
+        .insert(ShadowConfig::explicit(pl, 1024).with_range(9.0));
+    // Ground receivers beyond the car, in the lamp's range.
+    let positions: Vec<Vec3> = (0..50 * 30)
+        .map(|i| Vec3::new(0.5 + (i % 50) as f32 * 0.08, 0.0, (i / 50) as f32 * 0.1))
+        .filter(|p| p.distance(LAMP) <= 9.0)
+        .collect();
+    let normals = vec![Vec3::Y; positions.len()];
+    scene.world.insert_resource(FrameReceivers {
+        positions: positions.clone(),
+        normals: normals.clone(),
+        camera: None,
+    });
+    pipeline().run(&mut scene.world);
+    let v = scene
+        .world
+        .get::<LightState>(lamp)
+        .unwrap()
+        .visibility
+        .clone();
+    let light = scene
+        .world
+        .get::<shadow_frame::scene::LightSource>(lamp)
+        .unwrap()
+        .0;
+    let truth = RayTracer::new(&scene.geometry().casters);
+    let settings = GroundTruthSettings {
+        strata_side: 4,
+        replicates: 2,
+        ..Default::default()
+    };
+    let refs = truth.references(&light, &positions, &normals, &settings);
+    let dark: Vec<usize> = (0..positions.len())
+        .filter(|&i| refs[i].is_some_and(|r| r.visibility < 0.25))
+        .collect();
+    let drawn = dark.iter().filter(|&&i| v[i] < 0.5).count();
+    assert!(
+        dark.len() > 50,
+        "{} receivers in the car's umbra",
+        dark.len()
+    );
+    assert!(
+        drawn * 10 >= dark.len() * 9,
+        "{drawn} of {} receivers in the car's umbra read dark",
+        dark.len()
+    );
+}
