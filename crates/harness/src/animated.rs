@@ -14,6 +14,31 @@ use soft_shadow_core::{Camera, DynTechnique, Light, Map2D, Result};
 use soft_shadow_reference::scenes::shapes::{cuboid, ground, torus};
 use std::sync::Arc;
 
+/// Sets `scene`'s camera, rasterizes its receivers' `width x height` G-buffer on the CPU and
+/// inserts the covered texels as the frame's receivers ([`FrameReceivers`], with the camera's
+/// view); returns the G-buffer and the indices of its covered texels.
+pub fn look(
+    scene: &mut Scene,
+    camera: Camera,
+    width: u32,
+    height: u32,
+) -> (Map2D<GBufferTexel>, Vec<usize>) {
+    scene.set_camera(camera);
+    let geo = scene.geometry();
+    let view = camera.view(width, height);
+    let pool = Arc::new(soft_shadow_core::pool::Pool::new(0));
+    let gb = gbuffer(&pool, &view, camera.eye, width, height, &geo.receivers);
+    let pixels: Vec<usize> = (0..gb.data().len())
+        .filter(|&i| gb.data()[i].covered)
+        .collect();
+    scene.world.insert_resource(FrameReceivers {
+        positions: pixels.iter().map(|&i| gb.data()[i].position).collect(),
+        normals: pixels.iter().map(|&i| gb.data()[i].normal).collect(),
+        camera: Some(view),
+    });
+    (gb, pixels)
+}
+
 /// A frame pipeline with every technique of `soft_shadow_techniques::registry()` registered.
 pub fn pipeline() -> FramePipeline {
     FramePipeline::new().with_registry(&soft_shadow_techniques::registry())
@@ -114,24 +139,7 @@ impl AnimatedScene {
             near: 0.1,
             far: 50.0,
         };
-        scene.set_camera(camera);
-        let geo = scene.geometry();
-        let gb = gbuffer(
-            &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
-            &camera.view(size, size),
-            camera.eye,
-            size,
-            size,
-            &geo.receivers,
-        );
-        let pixels: Vec<usize> = (0..gb.data().len())
-            .filter(|&i| gb.data()[i].covered)
-            .collect();
-        scene.world.insert_resource(FrameReceivers {
-            positions: pixels.iter().map(|&i| gb.data()[i].position).collect(),
-            normals: pixels.iter().map(|&i| gb.data()[i].normal).collect(),
-            camera: Some(camera.view(size, size)),
-        });
+        let (gb, pixels) = look(&mut scene, camera, size, size);
         Ok(Self {
             scene,
             lights: ids,

@@ -8,8 +8,7 @@ use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::entity::Entity;
 use glam::{Mat4, Vec3};
 use shadow_frame::scene::LightSource;
-use shadow_frame::{FrameBudget, FrameReceivers, Scene, ShadowConfig, Shadows};
-use soft_shadow_core::raster::gbuffer;
+use shadow_frame::{FrameBudget, Scene, ShadowConfig, Shadows};
 use soft_shadow_core::{Camera, Light, LightPoint, Result};
 use soft_shadow_reference::scenes::shapes::{cuboid, ground};
 use std::sync::Arc;
@@ -142,21 +141,10 @@ impl NightStreet {
         Ok(street)
     }
 
-    /// Puts the camera at `camera` and the receivers it sees in [`FrameReceivers`].
+    /// Puts the camera at `camera` and the receivers it sees in the frame's receivers.
     fn look(&mut self, camera: Camera) {
         self.camera = camera;
-        self.scene.set_camera(camera);
-        let (width, height) = self.size;
-        let geo = self.scene.geometry();
-        let view = camera.view(width, height);
-        let pool = Arc::new(soft_shadow_core::pool::Pool::new(0));
-        let gb = gbuffer(&pool, &view, camera.eye, width, height, &geo.receivers);
-        let seen: Vec<_> = gb.data().iter().filter(|t| t.covered).collect();
-        self.scene.world.insert_resource(FrameReceivers {
-            positions: seen.iter().map(|t| t.position).collect(),
-            normals: seen.iter().map(|t| t.normal).collect(),
-            camera: Some(view),
-        });
+        crate::animated::look(&mut self.scene, camera, self.size.0, self.size.1);
     }
 
     /// Walks the camera `metres` down the street (its G-buffer, and so the frame's receivers,
