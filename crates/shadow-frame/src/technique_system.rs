@@ -127,7 +127,10 @@ pub fn run_technique(
 ) {
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
-    let seen = frame.seen();
+    // What the camera sees, for distant lights' cascades: computed once, and only when one
+    // is served.
+    let seen = std::cell::OnceCell::new();
+    let seen = || seen.get_or_init(|| frame.seen()).as_ref();
     for (entity, light, config, resolved, mut state) in &mut lights {
         if resolved.technique.name() != name {
             continue;
@@ -154,14 +157,14 @@ pub fn run_technique(
         // receivers or camera changed: they follow the camera. Maps whose plan allows it follow
         // the planned cascades, making again only the views whose windows moved (to other
         // texels); others regenerate.
-        let cascaded = matches!(light.0.center(), LightPoint::Direction(_))
-            && seen.is_some()
-            && frame.is_changed();
+        let distant = matches!(light.0.center(), LightPoint::Direction(_));
+        let seen = || if distant { seen() } else { None };
+        let cascaded = distant && seen().is_some() && frame.is_changed();
         let mut planned = None;
         let mut views_generated = 0;
         if let (true, false, Some(maps)) = (cascaded, state.stale, state.maps.as_mut()) {
             let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
-            let views = LightViews::plan(&light.0, &g, seen.as_ref());
+            let views = LightViews::plan(&light.0, &g, seen());
             let followed = backend.context().and_then(|ctx| {
                 maps.follow(ctx, &g, &light.0, &views, resolved.resolution)
                     .map_err(|e| e.to_string())
@@ -182,7 +185,7 @@ pub fn run_technique(
             state.unseen_changes.clear();
             let (g, views) = planned.unwrap_or_else(|| {
                 let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
-                let views = LightViews::plan(&light.0, &g, seen.as_ref());
+                let views = LightViews::plan(&light.0, &g, seen());
                 (g, views)
             });
             state.maps = None;

@@ -114,8 +114,13 @@ fn scene_size(
     for p in &receivers {
         planned.bounds.grow(*p);
     }
+    // Only a distant light's views read what the camera sees (its cascades).
+    let seen = match light.center() {
+        soft_shadow_core::LightPoint::Direction(_) => frame.seen(),
+        soft_shadow_core::LightPoint::Position(_) => None,
+    };
     SceneSize {
-        views: soft_shadow_core::LightViews::plan(light, &planned, frame.seen().as_ref()).len(),
+        views: soft_shadow_core::LightViews::plan(light, &planned, seen.as_ref()).len(),
         ..size
     }
 }
