@@ -33,7 +33,9 @@ use soft_shadow_core::{Light, LightPoint};
 
 /// The time one frame may spend on the shadows of the lights whose choice is
 /// [`TechniqueChoice::Shared`] (generation + evaluation as the profile predicts them), shared
-/// among them by what each adds to the image. Lights with their own choice are outside it.
+/// among them by what each adds to the image. Lights with their own choice are outside it, and
+/// so is the pipeline's own work (tracking, sharing, staleness), which
+/// [`crate::FrameStats::core`] reports.
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]
 pub struct FrameBudget {
     /// Milliseconds per frame.

@@ -18,7 +18,7 @@ pub use budget::{FrameBudget, LightShare};
 pub use components::*;
 pub use profile::{Pick, ProfileEntry, SceneSize, TechniqueProfile};
 pub use scene::{Scene, Shadows};
-pub use stats::{FrameStats, LightStats, TechniqueStats};
+pub use stats::{CoreStats, FrameStats, LightStats, TechniqueStats};
 
 use crate::scene::ShadowCaster;
 use bevy_ecs::prelude::*;
@@ -146,6 +146,7 @@ impl FramePipeline {
             budget_ms,
             ..Default::default()
         });
+        world.insert_resource(CoreClock(std::time::Instant::now()));
         self.schedule.run(world);
         world.resource::<FrameStats>().clone()
     }
@@ -166,7 +167,36 @@ fn core_schedule() -> Schedule {
             .in_set(CoreSet::Resolve),
         tracking::mark_stale.in_set(CoreSet::Stale),
     ));
+    // The core sets' own wall time, in `FrameStats::core` (the pipeline's cost beyond the
+    // techniques' systems).
+    schedule.add_systems((
+        core_clock::<0>
+            .in_set(CoreSet::Track)
+            .after(tracking::track_casters)
+            .after(tracking::check_receivers),
+        core_clock::<1>
+            .in_set(CoreSet::Resolve)
+            .after(budget::share_budget),
+        core_clock::<2>
+            .in_set(CoreSet::Stale)
+            .after(tracking::mark_stale),
+    ));
     schedule
+}
+
+/// When the last core set ended (or the frame's schedule started).
+#[derive(Resource)]
+struct CoreClock(std::time::Instant);
+
+/// Records the wall time since the last core set ended (or the schedule started) as core set
+/// `SET`'s ([`CoreSet`]'s order) in [`FrameStats::core`].
+fn core_clock<const SET: usize>(clock: Option<ResMut<CoreClock>>, mut stats: ResMut<FrameStats>) {
+    let Some(mut clock) = clock else { return };
+    let now = std::time::Instant::now();
+    let ms = (now - clock.0).as_secs_f64() * 1e3;
+    let core = &mut stats.core;
+    *[&mut core.track_ms, &mut core.resolve_ms, &mut core.stale_ms][SET] += ms;
+    clock.0 = now;
 }
 
 /// Technique `name`'s system in its set, after the core sets, run only when used.

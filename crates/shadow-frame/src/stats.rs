@@ -45,6 +45,26 @@ pub struct LightStats {
     pub budget_ms: Option<f64>,
 }
 
+/// The wall time of the pipeline's core sets in a frame, milliseconds: what the frame costs
+/// beyond its techniques' systems.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CoreStats {
+    /// Caster tracking and the receivers' check ([`crate::CoreSet::Track`]).
+    pub track_ms: f64,
+    /// Resolving choices, keeping budgets and sharing the frame budget
+    /// ([`crate::CoreSet::Resolve`]).
+    pub resolve_ms: f64,
+    /// Staleness ([`crate::CoreSet::Stale`]).
+    pub stale_ms: f64,
+}
+
+impl CoreStats {
+    /// The three sets together.
+    pub fn total_ms(&self) -> f64 {
+        self.track_ms + self.resolve_ms + self.stale_ms
+    }
+}
+
 /// What the last frame did.
 #[derive(Resource, Clone, Debug, Default, PartialEq)]
 pub struct FrameStats {
@@ -60,8 +80,10 @@ pub struct FrameStats {
     pub receivers_evaluated: usize,
     /// Per technique name; a technique whose systems did not run is absent.
     pub techniques: BTreeMap<String, TechniqueStats>,
-    /// Wall time per system, milliseconds.
+    /// Wall time per technique system, milliseconds.
     pub system_ms: BTreeMap<String, f64>,
+    /// Wall time of the core sets.
+    pub core: CoreStats,
     /// Every light that ran a technique this frame, in the order they ran.
     pub lights: Vec<LightStats>,
     /// The [`crate::FrameBudget`] the shared lights split, milliseconds, when the world holds one.
@@ -99,7 +121,8 @@ impl FrameStats {
         self.lights.iter().filter_map(|l| l.predicted_ms).sum()
     }
 
-    /// One line for logs: `frame 3: 1 generated, 4 reused, 52133 receivers; pcf 0.41 ms, ...`.
+    /// One line for logs: `frame 3: 1 generated, 4 reused, 52133 receivers; pcf 0.41 ms, ...;
+    /// core 0.80 ms`.
     pub fn summary(&self) -> String {
         let systems: Vec<String> = self
             .system_ms
@@ -107,12 +130,13 @@ impl FrameStats {
             .map(|(k, v)| format!("{k} {v:.2} ms"))
             .collect();
         format!(
-            "frame {}: {} generated, {} reused, {} receivers; {}",
+            "frame {}: {} generated, {} reused, {} receivers; {}; core {:.2} ms",
             self.frame,
             self.maps_generated,
             self.maps_reused,
             self.receivers_evaluated,
-            systems.join(", ")
+            systems.join(", "),
+            self.core.total_ms()
         )
     }
 }

@@ -479,3 +479,32 @@ fn the_frames_measurement_reports_every_lamps_error() {
     }
     assert!(!out.exists());
 }
+
+/// A frame reports its core sets' wall time beside its technique systems' (what the frame costs
+/// beyond its techniques): each set ran and took some time, and the parts add up to no more
+/// than the frame.
+#[test]
+fn a_frame_reports_its_core_sets_time() {
+    let mut street = harness::night::NightStreet::new(16, 160, 90, 16.0).unwrap();
+    let mut p = pipeline();
+    for _ in 0..2 {
+        let start = std::time::Instant::now();
+        let s = p.run(&mut street.scene.world);
+        let wall = start.elapsed().as_secs_f64() * 1e3;
+        let c = s.core;
+        assert!(
+            c.track_ms > 0.0 && c.resolve_ms > 0.0 && c.stale_ms > 0.0,
+            "{c:?}"
+        );
+        let techniques: f64 = s.system_ms.values().sum();
+        assert!(
+            c.total_ms() + techniques <= wall,
+            "{c:?} {techniques} {wall}"
+        );
+        assert!(
+            s.summary()
+                .ends_with(&format!("core {:.2} ms", c.total_ms()))
+        );
+        street.walk(0.5);
+    }
+}
