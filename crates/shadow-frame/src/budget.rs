@@ -17,7 +17,8 @@
 //! receiver) gets nothing and costs nothing: no maps, `V` = 1.
 //!
 //! Shares are kept while a light's proportional part stays within a factor
-//! [`SHARE_HYSTERESIS`] of the one its pick was made for, so a camera that moves a little does
+//! [`SHARE_HYSTERESIS`] of the one its pick was made for, or within [`SHARE_FLOOR`] of the
+//! budget of it, so a camera that moves a little does
 //! not make every light pick (and generate) again; a part that leaves that band, a changed
 //! budget, or a light added, changed or removed shares the whole budget again, and a light
 //! keeps its configuration and its maps while it fits its new part and predicts no more than
@@ -58,6 +59,12 @@ pub struct LightShare {
 /// A proportional share that moves by less than this factor (up or down) from the one the
 /// budget was last shared with keeps every pick.
 pub const SHARE_HYSTERESIS: f64 = 1.25;
+
+/// A proportional share that moves by no more than this part of the budget keeps every pick,
+/// whatever the factor (a lamp the camera walks past, its part falling from 0.3 to 0.2 ms of
+/// 16, buys nothing a re-share would change, and re-sharing costs the frame ~1.3 ms at 16
+/// lamps).
+pub const SHARE_FLOOR: f64 = 1.0 / 64.0;
 
 /// When the budget is shared again, a light keeps its configuration (and its maps) while that
 /// still fits its new part and its predicted image error is at most this factor over the new
@@ -251,9 +258,10 @@ pub fn share_budget(
         match s.share {
             None => true,
             Some(sh) => {
-                (now > 0.0) != (sh.proportional_ms > 0.0)
+                let out_of_band = (now > 0.0) != (sh.proportional_ms > 0.0)
                     || now > sh.proportional_ms * SHARE_HYSTERESIS
-                    || now * SHARE_HYSTERESIS < sh.proportional_ms
+                    || now * SHARE_HYSTERESIS < sh.proportional_ms;
+                out_of_band && (now - sh.proportional_ms).abs() > budget.ms * SHARE_FLOOR
             }
         }
     });
