@@ -155,6 +155,19 @@ fn technique_crates_stay_light_with_and_without_the_gpu() {
     }
 }
 
+/// The ground truth is for measuring any technique, on any machine: the reference crate builds
+/// no GPU stack (no wgpu, naga or naga_oil), nor the harness's report and command-line weight.
+#[test]
+fn the_reference_builds_no_gpu_stack() {
+    let tree = cargo_tree(&["-e", "normal", "-p", "soft-shadow-reference"]).join("\n");
+    for heavy in ["wgpu", "naga", "naga_oil", "pollster", "clap", "plotters", "image"] {
+        assert!(
+            !tree.contains(&format!(" {heavy} v")),
+            "soft-shadow-reference depends on {heavy}:\n{tree}"
+        );
+    }
+}
+
 /// The CPU-only build of every technique crate compiles (`cargo check`, in a target folder of
 /// its own so the workspace's artifacts are left alone), without a warning.
 #[test]
