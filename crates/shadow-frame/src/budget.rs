@@ -43,19 +43,6 @@ pub struct FrameBudget {
     pub ms: f64,
 }
 
-/// A shared light's part of the [`FrameBudget`], kept in its [`LightState::share`].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LightShare {
-    /// Its part of the frame's contribution (of all shared lights), in `[0, 1]`.
-    pub contribution: f64,
-    /// The budget times that part when the budget was last shared, milliseconds: what the
-    /// hysteresis compares against.
-    pub proportional_ms: f64,
-    /// The budget its pick was made within (milliseconds; 0 for a light that contributes
-    /// nothing or that the budget could not afford): see the module's doc.
-    pub budget_ms: f64,
-}
-
 /// A proportional share that moves by less than this factor (up or down) from the one the
 /// budget was last shared with keeps every pick.
 pub const SHARE_HYSTERESIS: f64 = 1.25;

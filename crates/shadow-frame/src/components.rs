@@ -150,11 +150,24 @@ pub struct LightState {
     pub generated_ms: Option<f64>,
     /// For a light that shares the [`crate::FrameBudget`]: its part (`None` before the first
     /// share, and for other lights).
-    pub share: Option<crate::budget::LightShare>,
+    pub share: Option<LightShare>,
     /// Regions of casters that changed within the light's range where they could shadow
     /// nothing the camera saw ([`crate::tracking::mark_stale`]): the maps are made again when
     /// the camera brings one into play.
     pub unseen_changes: Vec<Aabb>,
+}
+
+/// A shared light's part of the [`crate::FrameBudget`], kept in its [`LightState::share`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LightShare {
+    /// Its part of the frame's contribution (of all shared lights), in `[0, 1]`.
+    pub contribution: f64,
+    /// The budget times that part when the budget was last shared, milliseconds: what the
+    /// hysteresis compares against.
+    pub proportional_ms: f64,
+    /// The budget its pick was made within (milliseconds; 0 for a light that contributes
+    /// nothing or that the budget could not afford): see [`crate::budget`].
+    pub budget_ms: f64,
 }
 
 /// The points the frame shades (e.g. the camera G-buffer), with unit normals.

@@ -14,7 +14,7 @@ pub mod technique_system;
 mod tests;
 pub mod tracking;
 
-pub use budget::{FrameBudget, LightShare};
+pub use budget::FrameBudget;
 pub use components::*;
 pub use profile::{Pick, ProfileEntry, SceneSize, TechniqueProfile};
 pub use scene::{Scene, Shadows};
