@@ -90,10 +90,9 @@ fn frame_caching(c: &mut Criterion) {
         group.bench_function(id, |b| {
             b.iter(|| {
                 let mut lab = AnimatedScene::new(96, 128).expect("animated scene");
-                lab.scene.world.insert_resource(FrameSettings {
-                    caching,
-                    ..Default::default()
-                });
+                lab.scene
+                    .world
+                    .insert_resource(FrameSettings::default().with_caching(caching));
                 let mut p = animated::pipeline();
                 for f in 0..100 {
                     lab.step(f, 100);

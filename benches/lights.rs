@@ -42,10 +42,10 @@ fn lights(c: &mut Criterion) {
                         .world
                         .insert_resource(FrameBackend::gpu(Arc::clone(g)));
                 }
-                street.scene.world.insert_resource(FrameSettings {
-                    caching,
-                    ..Default::default()
-                });
+                street
+                    .scene
+                    .world
+                    .insert_resource(FrameSettings::default().with_caching(caching));
                 let mut p = pipeline();
                 let first = p.run(&mut street.scene.world);
                 if !caching {

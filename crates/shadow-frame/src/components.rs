@@ -249,6 +249,7 @@ impl FrameBackend {
 
 /// Frame settings.
 #[derive(Resource, Clone, Copy)]
+#[non_exhaustive]
 pub struct FrameSettings {
     /// Reuse maps when nothing that affects them changed (off: every light regenerates every
     /// frame, the baseline the caching is measured against).
@@ -266,6 +267,20 @@ impl Default for FrameSettings {
             caching: true,
             evaluate_receivers: true,
         }
+    }
+}
+
+impl FrameSettings {
+    /// With [`FrameSettings::caching`] set.
+    pub fn with_caching(mut self, caching: bool) -> Self {
+        self.caching = caching;
+        self
+    }
+
+    /// With [`FrameSettings::evaluate_receivers`] set.
+    pub fn with_evaluate_receivers(mut self, evaluate: bool) -> Self {
+        self.evaluate_receivers = evaluate;
+        self
     }
 }
 

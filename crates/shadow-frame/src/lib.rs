@@ -33,6 +33,7 @@ pub struct TechniqueRegistry(pub Vec<Arc<dyn DynTechnique>>);
 
 /// The core sets, in order; technique sets run after [`CoreSet::Stale`].
 #[derive(SystemSet, Debug, Clone, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum CoreSet {
     /// Caster tracking.
     Track,

@@ -160,7 +160,9 @@ fn technique_crates_stay_light_with_and_without_the_gpu() {
 #[test]
 fn the_reference_builds_no_gpu_stack() {
     let tree = cargo_tree(&["-e", "normal", "-p", "soft-shadow-reference"]).join("\n");
-    for heavy in ["wgpu", "naga", "naga_oil", "pollster", "clap", "plotters", "image"] {
+    for heavy in [
+        "wgpu", "naga", "naga_oil", "pollster", "clap", "plotters", "image",
+    ] {
         assert!(
             !tree.contains(&format!(" {heavy} v")),
             "soft-shadow-reference depends on {heavy}:\n{tree}"

@@ -425,10 +425,7 @@ fn auto_steps_down_when_the_frames_run_over_its_budget() {
     lab.scene.world.insert_resource(profile);
     lab.scene
         .world
-        .insert_resource(shadow_frame::FrameSettings {
-            caching: false,
-            ..Default::default()
-        });
+        .insert_resource(shadow_frame::FrameSettings::default().with_caching(false));
     lab.scene
         .world
         .entity_mut(lab.rect)
@@ -1100,10 +1097,7 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
     let before: Vec<Vec<f32>> = (0..4).map(&read_layer).collect();
     lab.scene
         .world
-        .insert_resource(shadow_frame::FrameSettings {
-            evaluate_receivers: false,
-            ..Default::default()
-        });
+        .insert_resource(shadow_frame::FrameSettings::default().with_evaluate_receivers(false));
     let maps_before = gpu.buffer_maps();
     p.run(&mut lab.scene.world);
     let mut enc = gpu.device.create_command_encoder(&Default::default());

@@ -94,10 +94,9 @@ fn a_caster_out_of_view_waits_until_the_camera_sees_where_it_shadows() {
         culled.iter().filter(|&&v| v < 0.5).count() > 10,
         "the box's shadow is in view"
     );
-    scene.world.insert_resource(FrameSettings {
-        caching: false,
-        ..Default::default()
-    });
+    scene
+        .world
+        .insert_resource(FrameSettings::default().with_caching(false));
     p.run(&mut scene.world);
     assert_eq!(
         scene.world.get::<LightState>(lamp).unwrap().visibility,
@@ -107,10 +106,9 @@ fn a_caster_out_of_view_waits_until_the_camera_sees_where_it_shadows() {
     // Without evaluated receivers (a GPU frame's G-buffer is the view, the frame's receivers
     // may be a few points), every change in range makes the maps again.
     scene.world.insert_resource(patch((-1.5, -1.5)));
-    scene.world.insert_resource(FrameSettings {
-        evaluate_receivers: false,
-        ..Default::default()
-    });
+    scene
+        .world
+        .insert_resource(FrameSettings::default().with_evaluate_receivers(false));
     p.run(&mut scene.world);
     scene.world.get_mut::<Transform>(mover).unwrap().0 =
         Mat4::from_translation(Vec3::new(2.5, 0.5, 2.5));

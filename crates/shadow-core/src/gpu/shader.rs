@@ -57,6 +57,7 @@ pub struct Library {
 
 /// What one binding holds.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Binding {
     /// `var<uniform>` of a Rust struct of `size` bytes ([`uniform`]).
     Uniform {

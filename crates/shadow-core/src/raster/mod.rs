@@ -71,6 +71,7 @@ impl Nearest {
 
 /// Which fragment a depth pass keeps per texel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
 pub enum DepthTest {
     /// The surface nearest the view (`Greater` in reversed Z; cleared to the far plane).
     #[default]
@@ -82,6 +83,7 @@ pub enum DepthTest {
 
 /// Which triangles a depth pass rasterizes, by their orientation in the view.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
 pub enum Faces {
     /// Every triangle (no culling).
     #[default]
