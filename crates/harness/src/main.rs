@@ -60,6 +60,12 @@ enum Command {
         /// G-buffer side in pixels [default: 256; with --quick: 128]
         #[arg(long)]
         size: Option<u32>,
+        /// Scenes to draw and measure as a person sees them, 1280 x 720 with FLIP (comma
+        /// separated: built-in names or the names of --scene-file scenes; `none` for none)
+        /// [default: bunny and the low-poly meshes; with --quick: bunny; with --scenes: those of
+        /// them named; none with --scene-file alone]
+        #[arg(long = "as-seen", value_delimiter = ',')]
+        as_seen: Option<Vec<String>>,
     },
     /// Rebuild each paper's own experiment and write papers.json, papers.md and papers.html.
     Papers {
@@ -199,6 +205,7 @@ fn main() -> ExitCode {
             backend,
             scene_file,
             size,
+            as_seen,
             ..
         } => {
             let opts = ReportOptions {
@@ -215,6 +222,7 @@ fn main() -> ExitCode {
                 },
                 scene_files: scene_file,
                 size,
+                as_seen: as_seen.map(|v| v.into_iter().filter(|n| n != "none").collect()),
                 memory: MemoryBudgets {
                     cpu: budget_from_env("SHADOW_CPU_MEMORY_BUDGET"),
                     gpu: budget_from_env("SHADOW_GPU_MEMORY_BUDGET"),

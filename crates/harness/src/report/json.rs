@@ -57,6 +57,10 @@ pub struct SeenRun {
     pub flip_mean: f32,
     /// 95th percentile of FLIP over the frame's receivers.
     pub flip_p95: f32,
+    /// The report's image error over the frame's receivers (`image_rms_255`, 1/255), beside
+    /// FLIP (0 in reports written before it was measured).
+    #[serde(default)]
+    pub image_rms_255: f64,
     /// Wall time of the frame's reference, milliseconds.
     pub reference_ms: f64,
 }

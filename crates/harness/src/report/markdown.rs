@@ -293,7 +293,7 @@ fn as_seen(s: &mut String, report: &Report) {
         }
         let _ = writeln!(
             s,
-            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nTop: the reference. Then one row each for {} (its default variant, at the side nearest 1024²): the frame, red where darker than the reference by 1/4 of the light, blue where lighter; beside it the FLIP map (magma: black is no visible difference). Full-size frames: `{}/`.\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | side | FLIP mean | FLIP p95 | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|",
+            "\n### {scene} as seen\n\n![{scene} as seen]({})\n\nTop: the reference. Then one row each for {} (its default variant, at the side nearest 1024²): the frame, red where darker than the reference by 1/4 of the light, blue where lighter; beside it the FLIP map (magma: black is no visible difference). Full-size frames: `{}/`.\n\n{} receivers; reference {:.1} s.\n\n| technique | variant | backend | side | FLIP mean | FLIP p95 | image /255 | darkened (px) | false umbra /M | leaks /M | on objects /M |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
             super::seen::picture_file(scene),
             shown.join(", "),
             super::seen::frames_dir(scene),
@@ -311,7 +311,7 @@ fn as_seen(s: &mut String, report: &Report) {
             let worse = hard(&r.backend, r.resolution).is_some_and(|h| r.flip_mean > h);
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {}² | {:.4}{} | {:.3} | {} | {:.0} | {:.0} | {:.0} |",
+                "| {} | {} | {} | {}² | {:.4}{} | {:.3} | {:.2} | {} | {:.0} | {:.0} | {:.0} |",
                 r.technique,
                 r.variant,
                 r.backend,
@@ -319,6 +319,7 @@ fn as_seen(s: &mut String, report: &Report) {
                 r.flip_mean,
                 if worse { " (worse than hard)" } else { "" },
                 r.flip_p95,
+                r.image_rms_255,
                 r.darkened,
                 r.false_umbra_per_million,
                 r.leaks_per_million,

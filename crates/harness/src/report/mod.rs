@@ -574,6 +574,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
             .into());
         }
     }
+    let seen_scenes = seen::specs(opts)?;
     create_dir(&opts.out)?;
     let mut runner = Runner {
         opts,
@@ -592,7 +593,12 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         skipped: Vec::new(),
     };
     let total: u64 = jobs.iter().map(|j| runner.runs_per_scene(j)).sum::<u64>()
-        + seen::steps(opts, &runner.techniques, runner.backends.len());
+        + seen::steps(
+            opts,
+            &seen_scenes,
+            &runner.techniques,
+            runner.backends.len(),
+        );
     runner.bar = Progress::new(total);
     let mut report = Report {
         version: 1,
@@ -623,6 +629,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
             .collect();
         report.as_seen = seen::measure(
             opts,
+            seen_scenes,
             &runner.techniques,
             &contexts,
             &mut runner.bar,

@@ -54,6 +54,10 @@ pub struct ReportOptions {
     pub backend: BackendChoice,
     /// `--scene-file`, repeatable.
     pub scene_files: Vec<PathBuf>,
+    /// `--as-seen`: the scenes drawn and measured as a person sees them (catalogue names or
+    /// the names of [`ReportOptions::scene_files`]' scenes; empty: none); `None` = the default
+    /// of [`crate::report::seen::scene_names`].
+    pub as_seen: Option<Vec<String>>,
     /// `--size`: G-buffer side; `None` = [`FULL_SIZE`] (quick: [`QUICK_SIZE`]).
     pub size: Option<u32>,
     /// Memory budgets (the binary reads `SHADOW_CPU_MEMORY_BUDGET` and

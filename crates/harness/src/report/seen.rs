@@ -6,13 +6,18 @@ use super::json::SeenRun;
 use super::options::ReportOptions;
 use super::progress::Progress;
 use crate::as_seen::{artefacts, flip, frame, picture, shaded};
-use crate::error::Result;
+use crate::error::{HarnessError, Result};
 use soft_shadow_core::{Backend, Context};
 use soft_shadow_reference::scenes::catalogue::{AS_SEEN_NAMES, build};
+use soft_shadow_reference::scenes::{SceneSpec, scene_file};
 
-/// The scenes measured as seen: the bunny and [`AS_SEEN_NAMES`] in the full report, the bunny
-/// with `--quick`; with `--scenes`, those of them named; none for scene files alone.
+/// The scenes measured as seen: those `--as-seen` names (any catalogue scene or scene file);
+/// without it, the bunny and [`AS_SEEN_NAMES`] in the full report, the bunny with `--quick`;
+/// with `--scenes`, those of them named; none for scene files alone.
 pub fn scene_names(opts: &ReportOptions) -> Vec<String> {
+    if let Some(asked) = &opts.as_seen {
+        return asked.clone();
+    }
     let meshes = std::iter::once("bunny").chain(AS_SEEN_NAMES);
     match &opts.scenes {
         Some(asked) => meshes
@@ -25,16 +30,16 @@ pub fn scene_names(opts: &ReportOptions) -> Vec<String> {
     }
 }
 
-/// How many steps [`measure`] counts on the progress bar with `techniques` on `backends`
-/// backends: a reference per scene and a step per configuration.
+/// How many steps [`measure`] counts on the progress bar for `scenes` with `techniques` on
+/// `backends` backends: a reference per scene and a step per configuration.
 pub fn steps(
     opts: &ReportOptions,
+    scenes: &[SceneSpec],
     techniques: &[soft_shadow_core::Technique],
     backends: usize,
 ) -> u64 {
-    scene_names(opts)
+    scenes
         .iter()
-        .filter_map(|n| build(n).ok())
         .map(|spec| {
             let modelled = techniques
                 .iter()
@@ -43,6 +48,32 @@ pub fn steps(
             1 + (modelled * opts.resolutions().len() * backends) as u64
         })
         .sum()
+}
+
+/// The scenes of [`scene_names`]: a scene file's of that name, else the catalogue's; a name
+/// that is neither is an error that names it and what it may be.
+pub fn specs(opts: &ReportOptions) -> Result<Vec<SceneSpec>> {
+    let names = scene_names(opts);
+    let files = if opts.as_seen.is_some() {
+        opts.scene_files
+            .iter()
+            .map(|f| scene_file::load(f))
+            .collect::<std::result::Result<Vec<_>, _>>()?
+    } else {
+        Vec::new()
+    };
+    names
+        .iter()
+        .map(|n| match files.iter().find(|s| &s.name == n) {
+            Some(spec) => Ok(spec.clone()),
+            None => build(n).map_err(|_| {
+                HarnessError::Usage(format!(
+                    "--as-seen: no scene named {n:?} (a built-in scene, `report --list`, or the \
+                     name of a --scene-file's scene)"
+                ))
+            }),
+        })
+        .collect()
 }
 
 /// The file of a scene's picture in the output folder: `as-seen-<scene>.png`.
@@ -58,7 +89,7 @@ pub fn frames_dir(scene: &str) -> String {
 }
 
 /// Every technique of `techniques` that models the scene's light, at every map side of the
-/// report, on `backends`, over the frame of each scene of [`scene_names`]; a configuration that
+/// report, on `backends`, over the frame of each of `scenes` ([`specs`]); a configuration that
 /// fails is recorded in `skipped` (and printed above `bar`). Per scene, [`picture_file`] in `opts.out` shows the reference's
 /// shaded frame, then for the first variant of each technique on the first backend (its family's default where the registry runs it), at the side
 /// nearest 1024, its frame with the artefacts marked
@@ -66,15 +97,17 @@ pub fn frames_dir(scene: &str) -> String {
 /// full-size frames.
 pub fn measure(
     opts: &ReportOptions,
+    scenes: Vec<SceneSpec>,
     techniques: &[soft_shadow_core::Technique],
     contexts: &[(Backend, Context<'_>)],
     bar: &mut Progress,
     skipped: &mut Vec<String>,
 ) -> Result<Vec<SeenRun>> {
     let mut runs = Vec::new();
-    for name in scene_names(opts) {
+    for spec in scenes {
+        let name = spec.name.clone();
         bar.set_message(format!("{name} as seen: reference"));
-        let scene = frame(build(&name)?)?;
+        let scene = frame(spec)?;
         super::refuse_uncovered(&name, &scene)?;
         bar.inc();
         let light = &scene.spec.light;
@@ -144,6 +177,11 @@ pub fn measure(
                         object_leaks_per_million: a.per_million(a.object_leaks),
                         flip_mean: score.mean,
                         flip_p95: score.p95,
+                        image_rms_255: crate::metrics::image_rms_255(
+                            &v,
+                            &reference,
+                            &scene.shading.weight,
+                        ),
                         reference_ms: scene.reference_ms,
                     });
                 }

@@ -257,6 +257,7 @@ fn technique_selection_and_scale_are_checked() {
         resolutions: Some(vec![32]),
         backend: BackendChoice::Cpu,
         scene_files: files,
+        as_seen: None,
         size: Some(16),
         memory: Default::default(),
     };

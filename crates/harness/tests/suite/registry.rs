@@ -92,6 +92,7 @@ fn a_technique_added_with_one_line_is_in_the_report() {
         resolutions: Some(vec![64]),
         backend: BackendChoice::Cpu,
         scene_files: Vec::new(),
+        as_seen: None,
         size: Some(32),
         memory: Default::default(),
     };

@@ -15,6 +15,7 @@ fn quick_report_writes_the_contract() {
         resolutions: Some(vec![64, 256, 512]),
         backend: BackendChoice::Cpu,
         scene_files: Vec::new(),
+        as_seen: None,
         size: Some(64),
         memory: Default::default(),
     };
@@ -284,6 +285,7 @@ fn report_recasts_hard_cases_and_measures_flicker() {
         resolutions: Some(vec![64]),
         backend: BackendChoice::Cpu,
         scene_files: Vec::new(),
+        as_seen: None,
         size: Some(48),
         memory: Default::default(),
     };
@@ -448,4 +450,49 @@ fn cpu_timings_follow_an_unmeasured_generation() {
     );
     let (g, e) = m.beside_ms.expect("times of the technique beside");
     assert!(g >= 0.0 && e >= 0.0);
+}
+
+/// `--as-seen` measures any scene asked for at viewing resolution, built-in or from a scene
+/// file (here a scene file alone, which measures none by default), with its image error beside
+/// FLIP; a name that is no scene is a usage error that names it, and nothing is written.
+#[test]
+fn as_seen_measures_any_scene_asked_for() {
+    let dir = std::env::temp_dir().join(format!("harness-report-seen-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/suzanne.toml");
+    let spec = soft_shadow_reference::scenes::scene_file::load(&file).unwrap();
+    let opts = |as_seen: Vec<String>| ReportOptions {
+        quick: true,
+        out: dir.clone(),
+        scenes: None,
+        techniques: Some(vec!["pcss".into()]),
+        registry: soft_shadow_techniques::registry(),
+        resolutions: Some(vec![128]),
+        backend: BackendChoice::Cpu,
+        scene_files: vec![file.clone()],
+        as_seen: Some(as_seen),
+        size: Some(32),
+        memory: Default::default(),
+    };
+    let report = run(&opts(vec![spec.name.clone()])).expect("report runs");
+    assert_eq!(report.as_seen.len(), 1, "{:?}", report.as_seen);
+    let r = &report.as_seen[0];
+    assert_eq!(
+        (r.scene.as_str(), r.technique.as_str()),
+        (spec.name.as_str(), "pcss")
+    );
+    assert!(r.receivers > 100_000, "{r:?}");
+    // PCSS at 128² is not the reference: an error, but a small one.
+    assert!(r.image_rms_255 > 0.0 && r.image_rms_255 < 20.0, "{r:?}");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains(&format!("### {} as seen", spec.name)), "{md}");
+    assert!(
+        dir.join(harness::report::seen::picture_file(&spec.name))
+            .is_file()
+    );
+
+    let _ = std::fs::remove_dir_all(&dir);
+    let e = run(&opts(vec!["no-such-scene".into()])).expect_err("an unknown name");
+    assert!(e.to_string().contains("\"no-such-scene\""), "{e}");
+    assert!(!dir.exists(), "nothing is written");
 }
