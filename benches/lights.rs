@@ -12,7 +12,7 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harness::animated::pipeline;
-use harness::night::NightStreet;
+
 use shadow_benches::gpu;
 use shadow_frame::{FrameBackend, FrameSettings, LightState};
 use soft_shadow_core::GpuContext;
@@ -35,7 +35,8 @@ fn lights(c: &mut Criterion) {
     for (backend, g) in backends {
         for n in LIGHTS {
             for caching in [false, true] {
-                let mut street = NightStreet::new(n, 320, 180, BUDGET_MS).expect("night street");
+                let mut street =
+                    harness::night::street(n, 320, 180, BUDGET_MS).expect("night street");
                 if let Some(g) = &g {
                     street
                         .scene

@@ -1,5 +1,5 @@
-//! The frame as a whole over a camera path (`harness frames`): the night street's lamps
-//! ([`crate::night`]) sharing one frame budget, each frame's measured time against the budget
+//! The frame as a whole over a camera path (`harness frames`): the lamps of the night street
+//! ([`crate::night`]) or of the room ([`crate::room`]) sharing one frame budget, each frame's measured time against the budget
 //! and the picks' prediction, and every lamp's image error against the ray-traced reference,
 //! beside the error it would have with no shadow at all and the error of the frame's summed
 //! lighting.
@@ -9,8 +9,8 @@
 //! frame's sums every lamp's `intensity x E0 x V` per receiver and weighs by the largest sum.
 
 use crate::error::Result;
+use crate::lamps::Lamps;
 use crate::metrics::image_rms_255;
-use crate::night::NightStreet;
 use shadow_frame::scene::LightSource;
 use shadow_frame::{FramePipeline, FrameReceivers, LightState, ResolvedTechnique, ShadowConfig};
 use soft_shadow_reference::ground_truth::irradiance::irradiance;
@@ -52,11 +52,11 @@ pub struct FrameMeasure {
     pub no_shadow_255: f64,
 }
 
-/// Walks the camera down `street` by `step` metres a frame for `frames` frames (the first
-/// frame where it stands), runs `pipeline` on each and measures it against the reference
-/// traced with `settings`.
+/// Walks the camera of `street` by `step` metres a frame for `frames` frames (the first frame
+/// where it stands), runs `pipeline` on each and measures it against the reference traced with
+/// `settings`.
 pub fn walk(
-    street: &mut NightStreet,
+    street: &mut Lamps,
     pipeline: &mut FramePipeline,
     frames: u32,
     step: f32,
@@ -191,12 +191,23 @@ pub fn markdown(frames: &[FrameMeasure], budget_ms: f64) -> String {
     s
 }
 
-/// `harness frames`: the night street with `lamps` lamps under a `budget_ms` frame budget, a
-/// `size` (`WxH`) G-buffer, walked `frames` frames of `step` metres, measured against the
-/// reference (8² strata x 2 replicates a receiver) and written as Markdown to `out`; returns
-/// the line to print.
+/// The scenes `harness frames` walks through.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FramesScene {
+    /// [`crate::night::street`], with any number of lamps.
+    Street,
+    /// [`crate::room::room`]: three lamps.
+    Room,
+}
+
+/// `harness frames`: `scene` (the street with `lamps` lamps, 16 when `None`; the room with its
+/// three) under a `budget_ms` frame budget, a `size` (`WxH`) G-buffer, walked `frames` frames
+/// of `step` metres, measured against the reference (8² strata x 2 replicates a receiver) and
+/// written as Markdown to `out`; returns the line to print.
+#[allow(clippy::too_many_arguments)]
 pub fn run(
-    lamps: usize,
+    scene: FramesScene,
+    lamps: Option<usize>,
     budget_ms: f64,
     frames: u32,
     step: f32,
@@ -205,6 +216,13 @@ pub fn run(
 ) -> Result<String> {
     use crate::error::HarnessError::Usage;
     let bad = |what: String| Err(Usage(what));
+    let lamps = match (scene, lamps) {
+        (FramesScene::Street, n) => n.unwrap_or(16),
+        (FramesScene::Room, None | Some(3)) => 3,
+        (FramesScene::Room, Some(n)) => {
+            return bad(format!("--lamps: the room has 3 lamps, got {n}"));
+        }
+    };
     if !(1..=256).contains(&lamps) {
         return bad(format!("--lamps must be in 1..=256, got {lamps}"));
     }
@@ -230,7 +248,13 @@ pub fn run(
             "--size must be WIDTHxHEIGHT, each in 1..=4096 (such as 320x180), got {size:?}"
         ));
     };
-    let mut street = NightStreet::new(lamps, w, h, budget_ms)?;
+    let (mut street, flag) = match scene {
+        FramesScene::Street => (
+            crate::night::street(lamps, w, h, budget_ms)?,
+            format!("--lamps {lamps}"),
+        ),
+        FramesScene::Room => (crate::room::room(w, h, budget_ms)?, "--scene room".into()),
+    };
     let mut pipeline = crate::animated::pipeline();
     let settings = GroundTruthSettings {
         strata_side: 8,
@@ -238,11 +262,14 @@ pub fn run(
         ..Default::default()
     };
     let measured = walk(&mut street, &mut pipeline, frames, step, &settings)?;
+    let title = street.title.clone();
     let text = format!(
-        "# The night street, {lamps} lamps, one {budget_ms} ms frame budget\n\n\
-         `harness frames --lamps {lamps} --budget-ms {budget_ms} --frames {frames} --step {step} \
+        "# {}{}, {lamps} lamps, one {budget_ms} ms frame budget\n\n\
+         `harness frames {flag} --budget-ms {budget_ms} --frames {frames} --step {step} \
          --size {w}x{h}` (CPU). Image errors in 1/255 against the reference (8² strata x 2 \
          replicates a receiver).\n\n{}",
+        title[..1].to_uppercase(),
+        &title[1..],
         markdown(&measured, budget_ms)
     );
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {

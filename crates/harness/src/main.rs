@@ -25,6 +25,14 @@ enum BackendArg {
     All,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum FramesSceneArg {
+    /// The night street (`--lamps` lamps).
+    Street,
+    /// The room with three lamps.
+    Room,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Measure every technique on every scene and write report.json, report.md and pictures.
@@ -117,9 +125,12 @@ enum Command {
     /// one frame budget shared by every lamp, and every lamp's image error against the
     /// reference.
     Frames {
-        /// Lamps along the street.
-        #[arg(long, default_value_t = 16)]
-        lamps: usize,
+        /// The scene: the night street, or the room with three lamps.
+        #[arg(long, value_enum, default_value = "street")]
+        scene: FramesSceneArg,
+        /// Lamps along the street [default: 16; the room has 3]
+        #[arg(long)]
+        lamps: Option<usize>,
         /// The frame budget, milliseconds.
         #[arg(long, default_value_t = 16.0)]
         budget_ms: f64,
@@ -322,13 +333,25 @@ fn main() -> ExitCode {
             Ok(line)
         }),
         Command::Frames {
+            scene,
             lamps,
             budget_ms,
             frames,
             step,
             size,
             out,
-        } => harness::frames::run(lamps, budget_ms, frames, step, &size, &out),
+        } => harness::frames::run(
+            match scene {
+                FramesSceneArg::Street => harness::frames::FramesScene::Street,
+                FramesSceneArg::Room => harness::frames::FramesScene::Room,
+            },
+            lamps,
+            budget_ms,
+            frames,
+            step,
+            &size,
+            &out,
+        ),
         Command::Choose {
             report,
             backend,

@@ -309,7 +309,7 @@ fn a_lights_contribution_is_its_irradiance_on_the_receivers() {
 /// only its own maps again, frame after frame, while every other pick stays.
 #[test]
 fn a_night_street_shares_one_budget_and_a_swinging_lamp_remakes_only_its_maps() {
-    let mut street = harness::night::NightStreet::new(16, 160, 90, 16.0).unwrap();
+    let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
     let mut p = pipeline();
     let first = p.run(&mut street.scene.world);
     let world = &street.scene.world;
@@ -367,7 +367,7 @@ fn a_night_street_shares_one_budget_and_a_swinging_lamp_remakes_only_its_maps() 
 /// fits or is more than 10% worse than the new one; every frame's picks fit the budget.
 #[test]
 fn walking_down_the_night_street_remakes_few_maps() {
-    let mut street = harness::night::NightStreet::new(16, 160, 90, 16.0).unwrap();
+    let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
     let mut p = pipeline();
     p.run(&mut street.scene.world);
     let lamps = street.lamps.clone();
@@ -470,7 +470,7 @@ proptest::proptest! {
 #[test]
 fn the_frames_measurement_reports_every_lamps_error() {
     use soft_shadow_reference::ground_truth::GroundTruthSettings;
-    let mut street = harness::night::NightStreet::new(4, 96, 54, 16.0).unwrap();
+    let mut street = harness::night::street(4, 96, 54, 16.0).unwrap();
     let settings = GroundTruthSettings {
         strata_side: 4,
         replicates: 2,
@@ -499,13 +499,15 @@ fn the_frames_measurement_reports_every_lamps_error() {
     );
 
     let out = std::env::temp_dir().join("frames-bad-input/frames.md");
-    for (lamps, budget, size, says) in [
-        (0, 16.0, "96x54", "--lamps"),
-        (4, -1.0, "96x54", "--budget-ms"),
-        (4, 16.0, "96", "--size"),
-        (4, 16.0, "0x54", "--size"),
+    use harness::frames::FramesScene::{Room, Street};
+    for (scene, lamps, budget, size, says) in [
+        (Street, 0, 16.0, "96x54", "--lamps"),
+        (Street, 4, -1.0, "96x54", "--budget-ms"),
+        (Street, 4, 16.0, "96", "--size"),
+        (Street, 4, 16.0, "0x54", "--size"),
+        (Room, 4, 16.0, "96x54", "--lamps: the room has 3 lamps"),
     ] {
-        let e = harness::frames::run(lamps, budget, 1, 0.5, size, &out).unwrap_err();
+        let e = harness::frames::run(scene, Some(lamps), budget, 1, 0.5, size, &out).unwrap_err();
         assert!(e.to_string().contains(says), "{e}");
     }
     assert!(!out.exists());
@@ -516,7 +518,7 @@ fn the_frames_measurement_reports_every_lamps_error() {
 /// than the frame.
 #[test]
 fn a_frame_reports_its_core_sets_time() {
-    let mut street = harness::night::NightStreet::new(16, 160, 90, 16.0).unwrap();
+    let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
     let mut p = pipeline();
     for _ in 0..2 {
         let start = std::time::Instant::now();

@@ -1,0 +1,96 @@
+//! A scene lit by several lamps that share one frame budget ([`crate::night`]'s street,
+//! [`crate::room`]'s room): the ECS scene, its lamps (each a [`shadow_frame::ShadowConfig::shared`]
+//! choice), the camera whose G-buffer gives the frame's receivers, a walk for the camera and
+//! one lamp that can swing.
+
+use bevy_ecs::change_detection::DetectChangesMut;
+use bevy_ecs::entity::Entity;
+use glam::Vec3;
+use shadow_frame::scene::LightSource;
+use shadow_frame::{FrameBudget, Scene};
+use soft_shadow_core::{Camera, Light};
+
+/// The scene, its lamps and the camera's receivers.
+pub struct Lamps {
+    /// The ECS scene (frame receivers and the frame budget already inserted).
+    pub scene: Scene,
+    /// What the scene is, for titles (`"the night street"`).
+    pub title: String,
+    /// The lamp entities.
+    pub lamps: Vec<Entity>,
+    /// The lamps' lights as built (the swinging one moves from its own).
+    pub lights: Vec<Light>,
+    /// The lamp [`Lamps::swing`] moves.
+    pub swinging: usize,
+    /// The camera.
+    pub camera: Camera,
+    /// The unit direction [`Lamps::walk`] moves the camera along.
+    walk: Vec3,
+    /// The G-buffer's width and height.
+    size: (u32, u32),
+}
+
+impl Lamps {
+    /// `scene` with its `lamps` (entities, and their `lights` as built) under a frame budget of
+    /// `budget_ms`, seen by `camera` through a `width x height` G-buffer; the camera walks along
+    /// `walk` (normalised) and lamp `swinging` swings.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        mut scene: Scene,
+        title: &str,
+        lamps: Vec<Entity>,
+        lights: Vec<Light>,
+        swinging: usize,
+        camera: Camera,
+        walk: Vec3,
+        (width, height): (u32, u32),
+        budget_ms: f64,
+    ) -> Self {
+        scene.world.insert_resource(FrameBudget { ms: budget_ms });
+        let mut lit = Self {
+            scene,
+            title: title.to_string(),
+            lamps,
+            lights,
+            swinging,
+            camera,
+            walk: walk.normalize_or_zero(),
+            size: (width, height),
+        };
+        lit.look(camera);
+        lit
+    }
+
+    /// Puts the camera at `camera` and the receivers it sees in the frame's receivers.
+    fn look(&mut self, camera: Camera) {
+        self.camera = camera;
+        crate::animated::look(&mut self.scene, camera, self.size.0, self.size.1);
+    }
+
+    /// Walks the camera `metres` along its walk (its G-buffer, and so the frame's receivers,
+    /// made again).
+    pub fn walk(&mut self, metres: f32) {
+        let step = self.walk * metres;
+        let c = self.camera;
+        self.look(Camera {
+            eye: c.eye + step,
+            target: c.target + step,
+            ..c
+        });
+    }
+
+    /// Frame `f` of the swinging lamp's swing ([`Lamps::swinging`]): it moves along x on a
+    /// 30 cm arc (the other lamps stay), so that lamp alone makes its maps again.
+    pub fn swing(&mut self, f: u32) {
+        let (Some(&e), Some(&light)) = (
+            self.lamps.get(self.swinging),
+            self.lights.get(self.swinging),
+        ) else {
+            return;
+        };
+        let offset = Vec3::X * 0.3 * (f as f32 * 0.7).sin();
+        if let Some(mut l) = self.scene.world.get_mut::<LightSource>(e) {
+            l.set_if_neq(LightSource(light.translated(offset)));
+        }
+    }
+}
