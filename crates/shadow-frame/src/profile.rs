@@ -54,7 +54,8 @@ pub struct SceneSize {
     pub triangles: usize,
     /// Receivers evaluated per frame.
     pub receivers: usize,
-    /// Of those, the receivers inside the light's central map (the others return at once).
+    /// Of those, the receivers a view covers (the others return at once): see
+    /// [`SceneSize::with_views`].
     pub covered: usize,
     /// The light's views ([`LightViews`]: one frustum, cube faces or cascades), each generated
     /// in full: generation is predicted per view and multiplied by them (0 counts as 1).
@@ -63,17 +64,36 @@ pub struct SceneSize {
 }
 
 impl SceneSize {
-    /// The size of `geometry` lit by `light` with `receivers`: its caster triangles, how many
-    /// receivers fall inside the map a light's centre would render of what casts, and how many
-    /// views the light's maps over `geometry` take ([`LightViews::plan`] without a camera).
+    /// The size of `geometry` lit by `light` with `receivers`, its views planned over
+    /// `geometry` without a camera ([`LightViews::plan`]): [`SceneSize::with_views`].
     pub fn of(geometry: &SceneGeometry, light: &Light, receivers: &[Vec3]) -> Self {
-        let views = if geometry.casters.is_empty() {
-            1
-        } else {
-            LightViews::plan(light, geometry, None).len()
-        };
-        let covered = if geometry.casters.is_empty() {
+        Self::with_views(
+            geometry,
+            light,
+            receivers,
+            &LightViews::plan(light, geometry, None),
+        )
+    }
+
+    /// The size of `geometry` lit by `light` with `receivers` and the light's `views`: its
+    /// caster triangles, its views (1 without casters), and how many receivers a view covers:
+    /// with one view, those inside the map the light's centre renders of what casts; with
+    /// cube faces, those in the direction of a face (a direction whose face holds no caster
+    /// returns at once); with cascades, every one.
+    pub fn with_views(
+        geometry: &SceneGeometry,
+        light: &Light,
+        receivers: &[Vec3],
+        views: &LightViews,
+    ) -> Self {
+        let empty = geometry.casters.is_empty();
+        let covered = if empty {
             0
+        } else if views.len() > 1 {
+            receivers
+                .iter()
+                .filter(|p| views.total_weight(**p) > 0.0)
+                .count()
         } else {
             let view = SampleView::center(light, &Coverage::new(geometry, light));
             let map = view.params(1);
@@ -89,7 +109,7 @@ impl SceneSize {
             triangles: geometry.casters.len(),
             receivers: receivers.len(),
             covered,
-            views,
+            views: if empty { 1 } else { views.len() },
         }
     }
 }

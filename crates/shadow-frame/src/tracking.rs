@@ -77,7 +77,7 @@ pub type CasterMeshes<'w, 's> =
 
 /// The scene `light` sees within its influence radius `range`, as predictions size it: the
 /// triangles of the casters that reach it ([`caster_reaches`], what its maps render), the frame's
-/// receivers within its influence, those inside the light's map ([`SceneSize::of`]), and the
+/// receivers within its influence, those its views cover ([`SceneSize::with_views`]), and the
 /// light's views as the pipeline plans them (a distant light's cascades with the frame's camera).
 fn scene_size(
     casters: &CasterMeshes,
@@ -104,25 +104,22 @@ fn scene_size(
         .filter(|p| !r.is_finite() || p.distance_squared(c) <= r * r)
         .collect();
     let geometry = soft_shadow_core::SceneGeometry::new(tris, Vec::new());
-    let size = SceneSize::of(&geometry, light, &receivers);
     if geometry.casters.is_empty() {
-        return size;
+        return SceneSize::of(&geometry, light, &receivers);
     }
     // The views as the pipeline plans them: over the casters with the bounds grown by the
-    // receivers (`light_geometry`).
-    let mut planned = geometry;
+    // receivers (`light_geometry`); only a distant light's read what the camera sees (its
+    // cascades).
+    let mut planned = geometry.clone();
     for p in &receivers {
         planned.bounds.grow(*p);
     }
-    // Only a distant light's views read what the camera sees (its cascades).
     let seen = match light.center() {
         soft_shadow_core::LightPoint::Direction(_) => frame.seen(),
         soft_shadow_core::LightPoint::Position(_) => None,
     };
-    SceneSize {
-        views: soft_shadow_core::LightViews::plan(light, &planned, seen.as_ref()).len(),
-        ..size
-    }
+    let views = soft_shadow_core::LightViews::plan(light, &planned, seen.as_ref());
+    SceneSize::with_views(&geometry, light, &receivers, &views)
 }
 
 /// The largest map side each configuration of `registry` that models `kind` takes on

@@ -139,7 +139,9 @@ pub struct ReferenceInfo {
     /// Triangles that cast shadows (what the cost model's triangle term counts).
     #[serde(default)]
     pub caster_triangles: usize,
-    /// Receivers inside the map of the light's centre (the others are evaluated at once).
+    /// Receivers a view of the light covers (the others are evaluated at once):
+    /// [`shadow_frame::SceneSize::with_views`]. Reports before cube faces and cascades counted
+    /// those of the central view for every light.
     #[serde(default)]
     pub covered_receivers: usize,
     /// Covered G-buffer pixels no light point reaches (visibility v2: unlit, in no metric).

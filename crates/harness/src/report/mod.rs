@@ -208,10 +208,11 @@ impl Runner<'_> {
             max_std_error_255: p.max_std_error_255(),
             receivers: p.positions.len(),
             caster_triangles: p.geometry.casters.len(),
-            covered_receivers: shadow_frame::SceneSize::of(
+            covered_receivers: shadow_frame::SceneSize::with_views(
                 &p.geometry,
                 &p.spec.light,
                 &p.positions,
+                &p.views,
             )
             .covered,
             unlit_receivers: p.unlit_pixels.len(),
