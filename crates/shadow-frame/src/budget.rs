@@ -136,6 +136,9 @@ struct Pick {
     size: crate::SceneSize,
     proportional: f64,
     within: f64,
+    /// Its cheapest configuration, `name variant side²`, and the budget it needs (with its
+    /// margin), where it needs more than the whole frame budget.
+    over_budget: Option<(String, f64)>,
 }
 
 /// The lights [`share_budget`] reads and updates.
@@ -276,16 +279,29 @@ pub fn share_budget(
                 size: inputs.size(&l.0, c.range),
                 proportional: budget.ms * fraction(e),
                 within: 0.0,
+                over_budget: None,
             });
         }
     }
     // Each light's configurations worth buying, cheapest first: every pick `Auto` makes at
     // some budget, with the budget it needs.
     let ladders: Vec<Vec<(f64, f64)>> = picks
-        .iter()
+        .iter_mut()
         .map(|p| {
-            inputs
-                .frontier(p.kind, p.size)
+            let frontier = inputs.frontier(p.kind, p.size);
+            p.over_budget = frontier
+                .first()
+                .filter(|o| o.needs_ms() > budget.ms)
+                .map(|o| {
+                    (
+                        format!(
+                            "{} {} {}²",
+                            o.entry.technique, o.entry.variant, o.resolution
+                        ),
+                        o.needs_ms(),
+                    )
+                });
+            frontier
                 .iter()
                 .filter(|o| o.needs_ms() <= budget.ms)
                 .map(|o| (o.needs_ms(), o.error_255))
@@ -328,6 +344,7 @@ pub fn share_budget(
             size,
             proportional,
             within,
+            ref over_budget,
             ..
         }) = picks.iter().find(|p| p.entity == e)
         else {
@@ -400,12 +417,24 @@ pub fn share_budget(
                 commands.entity(e).remove::<ResolvedTechnique>();
                 state.maps = None;
                 idle_visibility(&mut state);
-                state.error = Some(format!(
-                    "the frame's {} ms go to brighter lights before this one's cheapest \
-                     configuration ({:.2}% of the frame's light)",
-                    budget.ms,
-                    100.0 * fraction(e)
-                ));
+                state.error = Some(match over_budget {
+                    Some((cheapest, needs)) => format!(
+                        "its cheapest configuration, {cheapest}, is predicted to need \
+                         {needs:.2} ms with its margin, over the frame's whole {} ms \
+                         ({:.2}% of the frame's light; {} triangles in {} views, {} receivers)",
+                        budget.ms,
+                        100.0 * fraction(e),
+                        size.triangles,
+                        size.views,
+                        size.receivers
+                    ),
+                    None => format!(
+                        "the frame's {} ms go to brighter lights before this one's cheapest \
+                         configuration ({:.2}% of the frame's light)",
+                        budget.ms,
+                        100.0 * fraction(e)
+                    ),
+                });
             }
             None => {
                 commands.entity(e).remove::<ResolvedTechnique>();

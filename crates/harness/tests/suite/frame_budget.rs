@@ -541,3 +541,25 @@ fn a_frame_reports_its_core_sets_time() {
         street.walk(0.5);
     }
 }
+
+/// A lamp whose cheapest configuration needs more than the whole frame budget says so, naming
+/// that configuration, instead of blaming brighter lamps: the room with three lamps under 2 ms,
+/// where no lamp's cheapest fits.
+#[test]
+fn a_lamp_no_configuration_of_fits_the_whole_budget_says_so() {
+    let mut room = harness::room::room(160, 90, 2.0).unwrap();
+    pipeline().run(&mut room.scene.world);
+    for &e in &room.lamps {
+        let world = &room.scene.world;
+        assert!(world.get::<ResolvedTechnique>(e).is_none());
+        let st = world.get::<LightState>(e).unwrap();
+        assert_eq!(st.share.unwrap().budget_ms, 0.0);
+        let why = st.error.as_deref().unwrap_or_default();
+        assert!(
+            why.starts_with("its cheapest configuration, ")
+                && why.contains("over the frame's whole 2 ms"),
+            "{why}"
+        );
+        assert!(st.maps.is_none() && st.visibility.iter().all(|&v| v == 1.0));
+    }
+}
