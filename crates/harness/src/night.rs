@@ -32,8 +32,8 @@ fn lamp(i: usize, at: Vec3) -> Light {
         },
         2 => Light::Rect {
             center: at,
-            u_half: Vec3::Z * 0.1,
-            v_half: Vec3::X * 0.3,
+            u_half: Vec3::X * 0.3,
+            v_half: Vec3::Z * 0.1,
         },
         3 => Light::Linear {
             a: at - Vec3::X * 0.4,

@@ -35,8 +35,8 @@ pub fn room(width: u32, height: u32, budget_ms: f64) -> Result<Lamps> {
         (
             Light::Rect {
                 center: Vec3::new(0.2, 2.9, -0.4),
-                u_half: Vec3::Z * 0.3,
-                v_half: Vec3::X * 0.3,
+                u_half: Vec3::X * 0.3,
+                v_half: Vec3::Z * 0.3,
             },
             3.0,
         ),

@@ -409,10 +409,9 @@ fn walking_down_the_night_street_remakes_few_maps() {
         before = now;
     }
     let total: usize = remade.iter().sum();
-    // Measured: 11 maps and 21 shares; 21 maps and 36 shares without the floor, 45 maps without
-    // the rule that keeps a pick that still fits.
+    // Measured: 20 maps and 23 shares; 29 maps and 38 shares without the floor.
     assert!(
-        total <= 14 && shared_again <= 26,
+        total <= 22 && shared_again <= 26,
         "{remade:?}, {shared_again} shares"
     );
 }
@@ -562,4 +561,20 @@ fn a_lamp_no_configuration_of_fits_the_whole_budget_says_so() {
         );
         assert!(st.maps.is_none() && st.visibility.iter().all(|&v| v == 1.0));
     }
+}
+
+/// The street's and the room's one-sided lamps face down, onto what they light (a rect's front
+/// is `u_half x v_half`: a panel built with them the other way round lit the ceiling).
+#[test]
+fn one_sided_lamps_face_down() {
+    let street = harness::night::street(16, 32, 18, 16.0).unwrap();
+    let room = harness::room::room(32, 18, 16.0).unwrap();
+    let mut one_sided = 0;
+    for light in street.lights.iter().chain(&room.lights) {
+        if let Some((_, normal)) = light.front() {
+            assert!(normal.normalize().y < -0.99, "{light:?} faces {normal}");
+            one_sided += 1;
+        }
+    }
+    assert!(one_sided >= 10, "{one_sided}");
 }
