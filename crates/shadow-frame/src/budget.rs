@@ -48,7 +48,7 @@ pub struct FrameBudget {
 pub const SHARE_HYSTERESIS: f64 = 1.25;
 
 /// A proportional share that moves by no more than this part of the budget keeps every pick,
-/// whatever the factor (a lamp the camera walks past, its part falling from 0.3 to 0.2 ms of
+/// whatever the factor, unless it starts or stops being 0 (a lamp the camera walks past, its part falling from 0.3 to 0.2 ms of
 /// 16, buys nothing a re-share would change, and re-sharing costs the frame ~1.3 ms at 16
 /// lamps).
 pub const SHARE_FLOOR: f64 = 1.0 / 64.0;
@@ -248,10 +248,13 @@ pub fn share_budget(
         match s.share {
             None => true,
             Some(sh) => {
-                let out_of_band = (now > 0.0) != (sh.proportional_ms > 0.0)
-                    || now > sh.proportional_ms * SHARE_HYSTERESIS
+                // A light that starts or stops bringing anything shares again, however
+                // little: one that stopped must cost nothing.
+                let started_or_stopped = (now > 0.0) != (sh.proportional_ms > 0.0);
+                let out_of_band = now > sh.proportional_ms * SHARE_HYSTERESIS
                     || now * SHARE_HYSTERESIS < sh.proportional_ms;
-                out_of_band && (now - sh.proportional_ms).abs() > budget.ms * SHARE_FLOOR
+                started_or_stopped
+                    || (out_of_band && (now - sh.proportional_ms).abs() > budget.ms * SHARE_FLOOR)
             }
         }
     });

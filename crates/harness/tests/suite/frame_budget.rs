@@ -394,10 +394,12 @@ fn walking_down_the_night_street_remakes_few_maps() {
         if now != before {
             shared_again += 1;
         } else {
-            // Kept: every part is within the band of the one shared, or within the floor.
+            // Kept: every part is within the band of the one shared, or within the floor, and
+            // a lamp brings something now where it did then.
             for &e in &lamps {
                 let sh = world.get::<LightState>(e).unwrap().share.unwrap();
                 let part = 16.0 * sh.contribution;
+                assert_eq!(part > 0.0, sh.proportional_ms > 0.0, "{sh:?}");
                 let band = part <= sh.proportional_ms * shadow_frame::budget::SHARE_HYSTERESIS
                     && part * shadow_frame::budget::SHARE_HYSTERESIS >= sh.proportional_ms;
                 assert!(
@@ -577,4 +579,35 @@ fn one_sided_lamps_face_down() {
         }
     }
     assert!(one_sided >= 10, "{one_sided}");
+}
+
+/// A lamp that stops bringing anything to the receivers (the camera turned away from it) shares
+/// the budget again however small its part was: it keeps no pick and no maps, and costs
+/// nothing.
+#[test]
+fn a_lamp_that_stops_lighting_the_view_costs_nothing_however_small_its_part() {
+    let mut s = street(100.0, 1.0);
+    s.scene.world.insert_resource(FrameBudget { ms: 40.0 });
+    let mut p = pipeline();
+    p.run(&mut s.scene.world);
+    let sh = state(&s, s.dim).share.unwrap();
+    assert!(
+        sh.proportional_ms > 0.0 && sh.proportional_ms < 40.0 * shadow_frame::budget::SHARE_FLOOR,
+        "{sh:?}"
+    );
+    assert!(
+        resolved(&s, s.dim).is_some(),
+        "the dim lamp has a pick: {sh:?}"
+    );
+    // The receivers move 10 m towards the bright lamp: none is within the dim lamp's range.
+    s.scene.world.insert_resource(receivers(-10.0));
+    let stats = p.run(&mut s.scene.world);
+    assert!(resolved(&s, s.dim).is_none());
+    let st = state(&s, s.dim);
+    assert!(
+        st.maps.is_none() && st.share.unwrap().budget_ms == 0.0,
+        "{:?}",
+        st.share
+    );
+    assert!(stats.lights.iter().all(|l| l.light != s.dim));
 }
