@@ -147,6 +147,9 @@ impl FramePipeline {
             budget_ms,
             ..Default::default()
         });
+        // Built before the clock starts (a new schedule, technique or world rebuilds it), so the
+        // core sets' times hold only their systems. A build error is `run`'s to report.
+        let _ = self.schedule.initialize(world);
         world.insert_resource(CoreClock(std::time::Instant::now()));
         self.schedule.run(world);
         world.resource::<FrameStats>().clone()
