@@ -437,6 +437,12 @@ impl LightViews {
         self.regions.is_empty()
     }
 
+    /// Whether this is one view of the whole coverage ([`LightViews::single`]), not cube faces
+    /// or cascades (of which there may also be one).
+    pub fn is_single(&self) -> bool {
+        matches!(self.select, Select::One)
+    }
+
     /// `"single"`, `"cube"` or `"cascades"`, as in reports.
     pub fn kind_name(&self) -> &'static str {
         match self.select {

@@ -77,9 +77,9 @@ impl SceneSize {
 
     /// The size of `geometry` lit by `light` with `receivers` and the light's `views`: its
     /// caster triangles, its views (1 without casters), and how many receivers a view covers:
-    /// with one view, those inside the map the light's centre renders of what casts; with
-    /// cube faces, those in the direction of a face (a direction whose face holds no caster
-    /// returns at once); with cascades, every one.
+    /// with one view of the whole coverage, those inside the map the light's centre renders of
+    /// what casts; with cube faces (however many), those in the direction of a face (a
+    /// direction whose face holds no caster returns at once); with cascades, every one.
     pub fn with_views(
         geometry: &SceneGeometry,
         light: &Light,
@@ -89,7 +89,7 @@ impl SceneSize {
         let empty = geometry.casters.is_empty();
         let covered = if empty {
             0
-        } else if views.len() > 1 {
+        } else if !views.is_single() {
             receivers
                 .iter()
                 .filter(|p| views.total_weight(**p) > 0.0)
