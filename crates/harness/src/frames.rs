@@ -1,5 +1,5 @@
-//! The frame as a whole over a camera path (`harness frames`): the lamps of the night street
-//! ([`crate::night`]) or of the room ([`crate::room`]) sharing one frame budget, each frame's measured time against the budget
+//! The frame as a whole over a camera path (`harness frames`): the lamps of the night
+//! street ([`crate::night`]) or of the room ([`crate::room`]) sharing one frame budget, each frame's measured time against the budget
 //! and the picks' prediction, and every lamp's image error against the ray-traced reference,
 //! beside the error it would have with no shadow at all and the error of the frame's summed
 //! lighting.
@@ -52,32 +52,32 @@ pub struct FrameMeasure {
     pub no_shadow_255: f64,
 }
 
-/// Walks the camera of `street` by `step` metres a frame for `frames` frames (the first frame
+/// Walks the camera of `walked` by `step` metres a frame for `frames` frames (the first frame
 /// where it stands), runs `pipeline` on each and measures it against the reference traced with
 /// `settings`.
 pub fn walk(
-    street: &mut Lamps,
+    walked: &mut Lamps,
     pipeline: &mut FramePipeline,
     frames: u32,
     step: f32,
     settings: &GroundTruthSettings,
 ) -> Result<Vec<FrameMeasure>> {
-    let casters = street.scene.geometry().casters;
+    let casters = walked.scene.geometry().casters;
     let truth = RayTracer::new(&casters);
     let mut out = Vec::new();
     for f in 0..frames {
         if f > 0 {
-            street.walk(step);
+            walked.walk(step);
         }
         let start = std::time::Instant::now();
-        let stats = pipeline.run(&mut street.scene.world);
+        let stats = pipeline.run(&mut walked.scene.world);
         let ms = start.elapsed().as_secs_f64() * 1e3;
-        let world = &street.scene.world;
+        let world = &walked.scene.world;
         let frame = world.resource::<FrameReceivers>().clone();
         let n = frame.positions.len();
         let (mut lit, mut shadowed, mut reference) = (vec![0.0f32; n], vec![0.0; n], vec![0.0; n]);
         let mut lamps = Vec::new();
-        for &e in &street.lamps {
+        for &e in &walked.lamps {
             let light = world.get::<LightSource>(e).expect("a lamp").0;
             let config = world.get::<ShadowConfig>(e).expect("a lamp's config");
             let state = world.get::<LightState>(e).expect("a lamp's state");
@@ -248,7 +248,7 @@ pub fn run(
             "--size must be WIDTHxHEIGHT, each in 1..=4096 (such as 320x180), got {size:?}"
         ));
     };
-    let (mut street, flag) = match scene {
+    let (mut lit, flag) = match scene {
         FramesScene::Street => (
             crate::night::street(lamps, w, h, budget_ms)?,
             format!("--lamps {lamps}"),
@@ -261,8 +261,8 @@ pub fn run(
         replicates: 2,
         ..Default::default()
     };
-    let measured = walk(&mut street, &mut pipeline, frames, step, &settings)?;
-    let title = street.title.clone();
+    let measured = walk(&mut lit, &mut pipeline, frames, step, &settings)?;
+    let title = lit.title.clone();
     let text = format!(
         "# {}{}, {lamps} lamps, one {budget_ms} ms frame budget\n\n\
          `harness frames {flag} --budget-ms {budget_ms} --frames {frames} --step {step} \

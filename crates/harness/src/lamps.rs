@@ -14,7 +14,7 @@ use soft_shadow_core::{Camera, Light};
 pub struct Lamps {
     /// The ECS scene (frame receivers and the frame budget already inserted).
     pub scene: Scene,
-    /// What the scene is, for titles (`"the night street"`).
+    /// What the scene is, for titles (`"the night street"`, `"the room"`).
     pub title: String,
     /// The lamp entities.
     pub lamps: Vec<Entity>,

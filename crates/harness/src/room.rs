@@ -65,7 +65,7 @@ pub fn room(width: u32, height: u32, budget_ms: f64) -> Result<Lamps> {
     let walk = (camera.target - camera.eye) * Vec3::new(1.0, 0.0, 1.0);
     Ok(Lamps::new(
         scene,
-        "the room with three lamps",
+        "the room",
         ids,
         lights,
         0,

@@ -16,7 +16,13 @@ use soft_shadow_reference::scenes::{SceneSpec, scene_file};
 /// with `--scenes`, those of them named; none for scene files alone.
 pub fn scene_names(opts: &ReportOptions) -> Vec<String> {
     if let Some(asked) = &opts.as_seen {
-        return asked.clone();
+        let mut names: Vec<String> = Vec::new();
+        for n in asked {
+            if !names.contains(n) {
+                names.push(n.clone());
+            }
+        }
+        return names;
     }
     let meshes = std::iter::once("bunny").chain(AS_SEEN_NAMES);
     match &opts.scenes {
