@@ -7,8 +7,8 @@ use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::entity::Entity;
 use glam::Vec3;
 use shadow_frame::scene::LightSource;
-use shadow_frame::{FrameBudget, Scene};
-use soft_shadow_core::{Camera, Light};
+use shadow_frame::{FrameBudget, Scene, ShadowConfig};
+use soft_shadow_core::{Camera, Light, Result};
 
 /// The scene, its lamps and the camera's receivers.
 pub struct Lamps {
@@ -93,4 +93,21 @@ impl Lamps {
             l.set_if_neq(LightSource(light.translated(offset)));
         }
     }
+}
+
+/// Adds `light` to `scene` as a lamp: a [`ShadowConfig::shared`] choice with influence radius
+/// `range` and radiant intensity `intensity`.
+pub(crate) fn add_lamp(
+    scene: &mut Scene,
+    light: Light,
+    range: f32,
+    intensity: f32,
+) -> Result<Entity> {
+    let e = scene.add_light(light)?;
+    scene.world.entity_mut(e).insert(
+        ShadowConfig::shared()
+            .with_range(range)
+            .with_intensity(intensity),
+    );
+    Ok(e)
 }

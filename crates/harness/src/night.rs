@@ -4,9 +4,9 @@
 //! down the street (from 8 lamps on, some stand behind it and light nothing it sees), as
 //! [`Lamps`]. One lamp can swing.
 
-use crate::lamps::Lamps;
+use crate::lamps::{Lamps, add_lamp};
 use glam::{Mat4, Vec3};
-use shadow_frame::{Scene, ShadowConfig, Shadows};
+use shadow_frame::{Scene, Shadows};
 use soft_shadow_core::{Camera, Light, LightPoint, Result};
 use soft_shadow_reference::scenes::shapes::{cuboid, ground};
 use std::sync::Arc;
@@ -87,15 +87,9 @@ pub fn street(lamps: usize, width: u32, height: u32, budget_ms: f64) -> Result<L
             Shadows::CAST_AND_RECEIVE,
         )?;
         let light = lamp(i, Vec3::new(x, 3.6, side * 4.4));
-        let e = scene.add_light(light)?;
         // Brightness varies from lamp to lamp, as a street's old and new lamps do.
         let intensity = [1.0, 0.4, 2.0, 0.7][i % 4];
-        scene.world.entity_mut(e).insert(
-            ShadowConfig::shared()
-                .with_range(RANGE)
-                .with_intensity(intensity),
-        );
-        ids.push(e);
+        ids.push(add_lamp(&mut scene, light, RANGE, intensity)?);
         lights.push(light);
     }
     let eye = Vec3::new(-2.0, 1.7, 0.5);

@@ -4,9 +4,8 @@
 //! desk, every lamp a [`ShadowConfig::shared`] choice with its own brightness, and a camera in
 //! a corner of the room walking towards its middle, as [`Lamps`]. The table lamp can swing.
 
-use crate::lamps::Lamps;
+use crate::lamps::{Lamps, add_lamp};
 use glam::Vec3;
-use shadow_frame::{ShadowConfig, Shadows};
 use soft_shadow_core::{Light, Result};
 use soft_shadow_reference::scenes::catalogue;
 
@@ -18,16 +17,7 @@ pub const RANGE: f32 = 9.0;
 pub fn room(width: u32, height: u32, budget_ms: f64) -> Result<Lamps> {
     let spec = catalogue::build("room-lamp-corner")?;
     let mut scene = shadow_frame::Scene::new();
-    for m in &spec.meshes {
-        scene.add_mesh(
-            m.mesh.clone(),
-            m.transform,
-            Shadows {
-                casts: m.caster,
-                receives: m.receiver,
-            },
-        )?;
-    }
+    spec.add_meshes(&mut scene)?;
     let lamps = [
         // The table lamp, `room-lamp`'s own.
         (spec.light, 1.0),
@@ -52,13 +42,7 @@ pub fn room(width: u32, height: u32, budget_ms: f64) -> Result<Lamps> {
     ];
     let (mut ids, mut lights) = (Vec::new(), Vec::new());
     for (light, intensity) in lamps {
-        let e = scene.add_light(light)?;
-        scene.world.entity_mut(e).insert(
-            ShadowConfig::shared()
-                .with_range(RANGE)
-                .with_intensity(intensity),
-        );
-        ids.push(e);
+        ids.push(add_lamp(&mut scene, light, RANGE, intensity)?);
         lights.push(light);
     }
     let camera = spec.camera;

@@ -52,6 +52,15 @@ impl SceneSpec {
     /// Builds the ECS scene (validating meshes and the light).
     pub fn to_scene(&self) -> Result<Scene> {
         let mut scene = Scene::new();
+        self.add_meshes(&mut scene)?;
+        scene.add_light(self.light)?;
+        scene.set_camera(self.camera);
+        Ok(scene)
+    }
+
+    /// Adds its meshes, casting and receiving as they do here, to `scene` (validating them):
+    /// the scene without its light and camera, for lights of your own.
+    pub fn add_meshes(&self, scene: &mut Scene) -> Result<()> {
         for m in &self.meshes {
             scene.add_mesh(
                 m.mesh.clone(),
@@ -62,9 +71,7 @@ impl SceneSpec {
                 },
             )?;
         }
-        scene.add_light(self.light)?;
-        scene.set_camera(self.camera);
-        Ok(scene)
+        Ok(())
     }
 
     /// The region its light's maps cover for its camera, which a recast light
