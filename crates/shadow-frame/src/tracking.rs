@@ -103,22 +103,25 @@ fn scene_size(
         .copied()
         .filter(|p| !r.is_finite() || p.distance_squared(c) <= r * r)
         .collect();
-    let geometry = soft_shadow_core::SceneGeometry::new(tris, Vec::new());
+    let mut geometry = soft_shadow_core::SceneGeometry::new(tris, Vec::new());
     if geometry.casters.is_empty() {
         return SceneSize::of(&geometry, light, &receivers);
     }
     // The views as the pipeline plans them: over the casters with the bounds grown by the
     // receivers (`light_geometry`); only a distant light's read what the camera sees (its
     // cascades).
-    let mut planned = geometry.clone();
+    // (The same geometry with its bounds grown, then given back: the single view's count is
+    // over the casters' own bounds.)
+    let bounds = geometry.bounds;
     for p in &receivers {
-        planned.bounds.grow(*p);
+        geometry.bounds.grow(*p);
     }
     let seen = match light.center() {
         soft_shadow_core::LightPoint::Direction(_) => frame.seen(),
         soft_shadow_core::LightPoint::Position(_) => None,
     };
-    let views = soft_shadow_core::LightViews::plan(light, &planned, seen.as_ref());
+    let views = soft_shadow_core::LightViews::plan(light, &geometry, seen.as_ref());
+    geometry.bounds = bounds;
     SceneSize::with_views(&geometry, light, &receivers, &views)
 }
 
