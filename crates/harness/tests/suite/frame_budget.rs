@@ -611,3 +611,68 @@ fn a_lamp_that_stops_lighting_the_view_costs_nothing_however_small_its_part() {
     );
     assert!(stats.lights.iter().all(|l| l.light != s.dim));
 }
+
+/// The room's lamps (cube faces over 7,500 triangles, one budget) agree between the CPU and
+/// the GPU frame: the same picks and maps, and every lamp's `V` within the agreement the
+/// techniques hold.
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn the_rooms_lamps_agree_between_cpu_and_gpu() {
+    let Some(ctx) = crate::common::gpu_for_test("the_rooms_lamps_agree_between_cpu_and_gpu") else {
+        return;
+    };
+    let mut cpu = harness::room::room(96, 54, 40.0).unwrap();
+    let sc = pipeline().run(&mut cpu.scene.world);
+    let mut gpu = harness::room::room(96, 54, 40.0).unwrap();
+    gpu.scene
+        .world
+        .insert_resource(shadow_frame::FrameBackend::gpu(Arc::new(ctx)));
+    let sg = pipeline().run(&mut gpu.scene.world);
+    assert!(sc.maps_generated > 0, "{}", sc.summary());
+    assert_eq!(
+        (sc.maps_generated, sc.receivers_evaluated),
+        (sg.maps_generated, sg.receivers_evaluated)
+    );
+    let mut failures = crate::common::Failures::default();
+    for (i, (&a, &b)) in cpu.lamps.iter().zip(&gpu.lamps).enumerate() {
+        let pick = |w: &bevy_ecs::world::World, e| {
+            w.get::<ResolvedTechnique>(e).map(|r| {
+                format!(
+                    "{} {} {}",
+                    r.technique.name(),
+                    r.technique.variant(),
+                    r.resolution
+                )
+            })
+        };
+        let (pa, pb) = (pick(&cpu.scene.world, a), pick(&gpu.scene.world, b));
+        assert_eq!(pa, pb, "lamp {i}");
+        let backend = |w: &bevy_ecs::world::World, e| {
+            w.get::<LightState>(e)
+                .unwrap()
+                .maps
+                .as_ref()
+                .map(|m| m.backend())
+        };
+        if pa.is_some() {
+            assert_eq!(
+                (backend(&cpu.scene.world, a), backend(&gpu.scene.world, b)),
+                (
+                    Some(soft_shadow_core::Backend::Cpu),
+                    Some(soft_shadow_core::Backend::Gpu)
+                ),
+                "lamp {i}"
+            );
+        }
+        let v = |w: &bevy_ecs::world::World, e| w.get::<LightState>(e).unwrap().visibility.clone();
+        failures.agree(
+            &format!("lamp {i} {pa:?}"),
+            &v(&cpu.scene.world, a),
+            &v(&gpu.scene.world, b),
+        );
+    }
+    failures.assert_none();
+}
