@@ -3,7 +3,8 @@
 //! (`harness::as_seen`; flat facets and interpenetrating parts, disk, rect and sphere lights):
 //! receivers the reference sees at least half lit that a technique draws at less than half of
 //! it, at most PCSS's count plus 0.1% of the frame's pixels, on both backends, which agree; and
-//! their mean FLIP is no worse than the hard shadow map's.
+//! their mean FLIP is no worse than the hard shadow map's, and their light leaks stay within
+//! [`LEAKS_OVER_PCSS`] of PCSS's.
 
 use super::{gpu, techniques};
 use harness::as_seen::{HEIGHT, WIDTH, artefacts, flip, frame};
@@ -16,6 +17,17 @@ const CHECKED: [(&str, &str); 3] = [
     ("penumbra-limit", "silhouette-f32"),
     ("penumbra-limit", "depth-image-f32"),
     ("occlusion-slices", "nbuffer-8"),
+];
+
+/// Light leaks (receivers lighter than the reference by 1/4 of the light where it is umbra all
+/// around, per million receivers) a checked configuration may draw beyond PCSS's on a scene:
+/// 100 for the viewer's default, and for the two that leak today their worst measured, so
+/// that they do not grow (penumbra-limit's depth image: 819 on the bunny, holes of light in the
+/// umbra under it; occlusion-slices: 1035, the ring under the body, its slices' slab).
+const LEAKS_OVER_PCSS: [(&str, &str, f64); 3] = [
+    ("penumbra-limit", "silhouette-f32", 100.0),
+    ("penumbra-limit", "depth-image-f32", 800.0),
+    ("occlusion-slices", "nbuffer-8", 1000.0),
 ];
 
 #[test]
@@ -55,16 +67,27 @@ fn no_more_dark_blotches_than_pcss_at_viewing_resolution() {
                 a.per_million(a.leaks),
                 a.per_million(a.object_leaks),
             );
-            Some((a.darkened, score.mean))
+            Some((a.darkened, score.mean, a.per_million(a.leaks)))
         };
-        let baseline = darkened(pcss.as_ref(), Backend::Cpu).unwrap().0;
+        let (baseline, _, pcss_leaks) = darkened(pcss.as_ref(), Backend::Cpu).unwrap();
         let hard_flip = darkened(hard.as_ref(), Backend::Cpu).unwrap().1;
         for (t, v) in CHECKED {
             let t = find(t, v);
             if !t.models(light.kind()) {
                 continue;
             }
-            let (cpu, cpu_flip) = darkened(t.as_ref(), Backend::Cpu).unwrap();
+            let (cpu, cpu_flip, leaks) = darkened(t.as_ref(), Backend::Cpu).unwrap();
+            let over = LEAKS_OVER_PCSS
+                .iter()
+                .find(|(n, w, _)| *n == t.name() && *w == t.variant())
+                .map_or(100.0, |l| l.2);
+            if leaks > pcss_leaks + over {
+                failures.push(format!(
+                    "{name} {} {}: {leaks:.0} leaks per million against PCSS's {pcss_leaks:.0}",
+                    t.name(),
+                    t.variant()
+                ));
+            }
             if cpu_flip > hard_flip {
                 failures.push(format!(
                     "{name} {} {}: mean FLIP {cpu_flip:.4} against the hard map's {hard_flip:.4}",
@@ -79,7 +102,7 @@ fn no_more_dark_blotches_than_pcss_at_viewing_resolution() {
                     t.variant()
                 ));
             }
-            if let Some((gpu, _)) = darkened(t.as_ref(), Backend::Gpu)
+            if let Some((gpu, ..)) = darkened(t.as_ref(), Backend::Gpu)
                 && gpu.abs_diff(cpu) > allowance / 10
             {
                 failures.push(format!(
