@@ -15,7 +15,11 @@
 //! 3. **Limits.** `c = D(A)`, `p_i = w s r` (`s r` = [`Warp::p_per_texel`]) where `|w|` is within
 //!    the edge's ribbon ([`Warp::ribbon_texels`]), and the lower limit is the geometry itself
 //!    (plus `layer_gap` texels) where it lies deeper than `c` by more than the gap: a surface
-//!    below the occluder hides what is under it.
+//!    below the occluder hides what is under it. Inside the silhouette, where the edge's far
+//!    side `B` is geometry deeper than `c` (an edge of a body over its own farther surface),
+//!    the lower limit is `D(B)` (plus the gap): the far surface hides what lies below it too,
+//!    so the ribbon's inner half does not light the ground under both (holes of light in the
+//!    umbra under the bunny at 1280 x 720).
 
 use crate::combine::NO_EDGE;
 use crate::feature_transform::nearest;
@@ -192,8 +196,14 @@ pub(crate) fn texel_limits(
     }
     let p = (w * warp.p_per_texel).clamp(-MAX_P, MAX_P);
     let d = *geom.get(x, y);
-    let lower = if d < NONE_DEPTH && d > c + warp.depth_gap(warp.linear(c), layer_gap) {
+    let far_d = *geom.get(far & 0xffff, far >> 16);
+    let gap_c = warp.depth_gap(warp.linear(c), layer_gap);
+    let lower = if d < NONE_DEPTH && d > c + gap_c {
         (d + warp.depth_gap(warp.linear(d), layer_gap)).min(NONE_DEPTH)
+    } else if w < 0.0 && far_d < NONE_DEPTH && far_d > c + gap_c {
+        // Inside an edge whose far side is geometry too (a body over its own farther surface):
+        // what lies below that far surface is hidden by it as well.
+        (far_d + warp.depth_gap(warp.linear(far_d), layer_gap)).min(NONE_DEPTH)
     } else {
         NONE_DEPTH
     };

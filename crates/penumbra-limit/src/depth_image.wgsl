@@ -103,8 +103,17 @@ fn limits(@builtin(global_invocation_id) gid: vec3<u32>) {
         if abs(w) <= ribbon_texels(gp.warp, c) {
             edge = vec2<f32>(c, clamp(w * gp.warp.p_per_texel, -MAX_P, MAX_P));
             let d = geom[index(x, y)];
-            if d < NONE_DEPTH && d > c + depth_gap(gp.warp, linear(gp.warp, c), gp.layer_gap) {
+            let far_d = geom[index(i32(b & 0xffffu), i32(b >> 16u))];
+            let gap_c = depth_gap(gp.warp, linear(gp.warp, c), gp.layer_gap);
+            if d < NONE_DEPTH && d > c + gap_c {
                 lower = min(d + depth_gap(gp.warp, linear(gp.warp, d), gp.layer_gap), NONE_DEPTH);
+            } else if w < 0.0 && far_d < NONE_DEPTH && far_d > c + gap_c {
+                // Inside an edge whose far side is geometry too: what lies below that far
+                // surface is hidden by it as well.
+                lower = min(
+                    far_d + depth_gap(gp.warp, linear(gp.warp, far_d), gp.layer_gap),
+                    NONE_DEPTH,
+                );
             }
         }
     }
