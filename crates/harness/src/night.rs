@@ -1,8 +1,8 @@
 //! A street at night for the frame pipeline's shared budget: lamps of five kinds on posts along
 //! both sides of a street, a parked car and a bench under each, every lamp a
-//! [`ShadowConfig::shared`] choice with its own brightness, and a camera at eye height looking
-//! down the street (from 8 lamps on, some stand behind it and light nothing it sees), as
-//! [`Lamps`]. One lamp can swing.
+//! [`shadow_frame::ShadowConfig::shared`] choice with its own brightness, and a camera at eye
+//! height looking down the street (from 8 lamps on, some stand behind it and light nothing it
+//! sees), as [`Lamps`]. One lamp can swing.
 
 use crate::lamps::{Lamps, add_lamp};
 use glam::{Mat4, Vec3};

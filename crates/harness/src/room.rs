@@ -1,8 +1,9 @@
 //! A room lit by three lamps for the frame pipeline's shared budget: `room-lamp`'s closed 6 m
 //! room and furniture (a cabinet, a shelf, a desk, a crate, a teapot and Suzanne), lit by its
 //! sphere lamp at table height, a rect panel under the ceiling and a small disk lamp over the
-//! desk, every lamp a [`ShadowConfig::shared`] choice with its own brightness, and a camera in
-//! a corner of the room walking towards its middle, as [`Lamps`]. The table lamp can swing.
+//! desk, every lamp a [`shadow_frame::ShadowConfig::shared`] choice with its own brightness,
+//! and a camera in a corner of the room walking towards its middle, as [`Lamps`]. The table
+//! lamp can swing.
 
 use crate::lamps::{Lamps, add_lamp};
 use glam::Vec3;
