@@ -5,7 +5,7 @@ use crate::eval::visibility;
 use crate::filters::Filtered;
 use crate::frame::Frame;
 use crate::params::OcclusionSlices;
-use crate::slicing::slice;
+use crate::slicing::{MAX_SLICES, Slices, slice};
 use rayon::prelude::*;
 use soft_shadow_core::{CpuContext, Generation, Map2D, Receivers};
 
@@ -16,6 +16,8 @@ pub struct CpuSliceMaps {
     pub(crate) frame: Frame,
     /// The binary slices packed per texel: bit `k` is slice `k` ([`crate::slicing::slice`]).
     pub(crate) masks: Map2D<u32>,
+    /// Per texel and slice, the topmost fragment's [`Frame::top_code`].
+    pub(crate) tops: Map2D<[u8; MAX_SLICES]>,
     /// The filtered form the evaluation reads.
     pub(crate) filtered: Filtered,
 }
@@ -24,11 +26,12 @@ pub struct CpuSliceMaps {
 pub(crate) fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation) -> CpuSliceMaps {
     let (geometry, res) = (input.geometry, input.resolution);
     let frame = Frame::fit(input.light, geometry, t, res, input.region);
-    let masks = slice(cpu.pool(), &frame, geometry);
+    let Slices { masks, tops } = slice(cpu.pool(), &frame, geometry);
     let filtered = Filtered::build(cpu.pool(), t.filter, res, masks.data(), frame.slices);
     CpuSliceMaps {
         frame,
         masks,
+        tops,
         filtered,
     }
 }
@@ -47,6 +50,24 @@ pub(crate) fn evaluate(t: &OcclusionSlices, maps: &CpuSliceMaps, r: &Receivers) 
     r.positions
         .par_iter()
         .zip(r.normals.par_iter())
-        .map(|(&p, &n)| visibility(t, &maps.frame, p, n, |k, c, s| maps.filtered.mean(k, c, s)))
+        .map(|(&p, &n)| {
+            let top = |k: usize, x: i64, y: i64| {
+                let r = maps.frame.resolution as i64;
+                let inside = (0..r).contains(&x) && (0..r).contains(&y);
+                if inside {
+                    maps.tops.get(x as u32, y as u32)[k]
+                } else {
+                    0
+                }
+            };
+            visibility(
+                t,
+                &maps.frame,
+                p,
+                n,
+                |k, c, s| maps.filtered.mean(k, c, s),
+                top,
+            )
+        })
         .collect()
 }

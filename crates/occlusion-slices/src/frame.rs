@@ -21,6 +21,10 @@ use soft_shadow_core::{Light, LightPoint, Region, SceneGeometry};
 /// depths carry rounding; a surface exactly on a plane must not flicker between two slices).
 pub(crate) const SLICE_TOLERANCE: f32 = 1e-3;
 
+/// The steps a slab's depth is kept in per texel ([`Frame::top_code`]): codes 1 to 255 in the
+/// 8-bit channels the GPU slices are drawn into.
+pub(crate) const TOP_STEPS: f32 = 254.0;
+
 /// Casters nearer the light's plane than this fraction of the farthest caster do not widen the
 /// frustum (a wall through the light's plane would otherwise ask for a 180-degree field of view);
 /// the penumbra they throw from this depth on does (the casters' box clipped to it).
@@ -311,6 +315,27 @@ impl Frame {
         t + ((t as f32) < v) as u32
     }
 
+    /// The top code of a fragment at depth `h` in slice `k`: where in the slab it lies, 255 at
+    /// the slab's upper plane `p_k - t` down to 1 at its lower plane `p_k` (0 is an empty
+    /// texel), rounded down the slab so that [`Frame::top_depth`] never puts a surface nearer
+    /// the light than it is. The larger of two codes is the nearer fragment: the slicing pass's
+    /// `Max` blend keeps each texel's topmost fragment per slice.
+    pub(crate) fn top_code(&self, k: u32, h: f32) -> u8 {
+        let u = ((h - (self.plane(k) - self.spacing)) / self.spacing).clamp(0.0, 1.0);
+        // `u` NaN (a NaN depth): the top of the slab, as the thin-occluder fix marks.
+        let steps = (u * TOP_STEPS).ceil();
+        if steps.is_nan() {
+            255
+        } else {
+            255 - steps as u8
+        }
+    }
+
+    /// The depth a [`Frame::top_code`] of slice `k` stands for (at or below the fragment's).
+    pub(crate) fn top_depth(&self, k: u32, code: u8) -> f32 {
+        self.plane(k) - self.spacing + (255 - code) as f32 / TOP_STEPS * self.spacing
+    }
+
     /// A world point in light coordinates.
     pub(crate) fn light_coord(&self, p: Vec3) -> LightCoord {
         let q = p - Vec3::from_slice(&self.center[..3]);
@@ -318,6 +343,27 @@ impl Frame {
             x: q.dot(Vec3::from_slice(&self.axis_x[..3])),
             y: q.dot(Vec3::from_slice(&self.axis_y[..3])),
             h: q.dot(Vec3::from_slice(&self.normal[..3])),
+        }
+    }
+
+    /// A world direction in light coordinates (`x, y, h` as [`LightCoord`]).
+    pub(crate) fn direction(&self, v: Vec3) -> Vec3 {
+        Vec3::new(
+            v.dot(Vec3::from_slice(&self.axis_x[..3])),
+            v.dot(Vec3::from_slice(&self.axis_y[..3])),
+            v.dot(Vec3::from_slice(&self.normal[..3])),
+        )
+    }
+
+    /// The point at depth `h` that the COP projects to continuous texel position `t` (the
+    /// inverse of [`Frame::kernel`]'s centre), in light coordinates.
+    pub(crate) fn texel_point(&self, t: Vec2, h: f32) -> LightCoord {
+        let res = self.resolution as f32;
+        let scale = 2.0 * (self.d + h) / self.d;
+        LightCoord {
+            x: (t.x / res - 0.5) * scale * self.half_x,
+            y: (0.5 - t.y / res) * scale * self.half_y,
+            h,
         }
     }
 

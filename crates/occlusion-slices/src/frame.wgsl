@@ -37,6 +37,19 @@ fn plane(f: Frame, k: u32) -> f32 {
     return f.near + f32(k) * f.spacing;
 }
 
+const TOP_STEPS: f32 = 254.0;
+
+// Frame::top_code: 255 at slice k's upper plane down to 1 at its lower plane.
+fn top_code(f: Frame, k: u32, h: f32) -> u32 {
+    let u = clamp((h - (plane(f, k) - f.spacing)) / f.spacing, 0.0, 1.0);
+    return 255u - u32(ceil(u * TOP_STEPS));
+}
+
+// Frame::top_depth.
+fn top_depth(f: Frame, k: u32, code: u32) -> f32 {
+    return plane(f, k) - f.spacing + f32(255u - code) / TOP_STEPS * f.spacing;
+}
+
 // Frame::fade, with len = fade_length(f, h).
 fn fade(f: Frame, k: u32, h: f32, len: f32) -> f32 {
     let beyond = h - plane(f, k);
@@ -49,6 +62,13 @@ fn fade(f: Frame, k: u32, h: f32, len: f32) -> f32 {
 // Frame::fade_length.
 fn fade_length(f: Frame, h: f32) -> f32 {
     return min(f.spacing, f.fade_texels * texel_size(f, max(h, 0.0)));
+}
+
+// Frame::texel_point: the point at depth h the COP projects to texel position t.
+fn texel_point(f: Frame, t: vec2<f32>, h: f32) -> vec3<f32> {
+    let res = f32(f.resolution);
+    let scale = 2.0 * (f.d + h) / f.d;
+    return vec3<f32>((t.x / res - 0.5) * scale * f.half_x, (0.5 - t.y / res) * scale * f.half_y, h);
 }
 
 // Frame::texel_size.

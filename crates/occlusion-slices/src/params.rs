@@ -61,10 +61,10 @@ pub struct OcclusionSlices {
     /// How far beyond a slice's lower plane its contribution fades in (section 3.4: "we linearly
     /// fade out the contribution of a slice depending on the distance of the shaded point to
     /// the slice's lower clipping plane"; the paper gives no distance), in texels of the slice
-    /// frustum at the receiver's depth, and never more than one slice. The fade keeps a surface
-    /// that crosses a plane from a step in its shadow; over a whole slice it also dropped the
-    /// occluders within a slice of a receiver, a light ring under a body resting on the ground.
-    /// 0 is a step at the plane.
+    /// frustum at the receiver's depth, and never more than one slice. While a slice fades in,
+    /// the rest of its weight reads it unfiltered and depth-tested, as the receiver's own slice
+    /// is read (`eval::slab_occlusion`), so a surface that crosses a plane has no step in its
+    /// shadow. 0 is a step at the plane.
     pub fade_texels: f32,
 }
 
@@ -205,7 +205,8 @@ impl TechniqueInfo for OcclusionSlices {
     }
 
     /// Per slice: its occupancy, the summed-area table and its row pass, and the prefiltered
-    /// levels (one byte per level for N-Buffers, 4/3 for mipmaps).
+    /// levels (one byte per level for N-Buffers, 4/3 for mipmaps); per texel, the CPU's 16 top
+    /// codes.
     fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
         let levels = match self.filter {
             Prefilter::NBuffer => crate::filters::level_count(resolution) as u64,
@@ -218,6 +219,7 @@ impl TechniqueInfo for OcclusionSlices {
             Prefilter::Sat => 0,
         };
         soft_shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
+            + soft_shadow_core::memory::maps(1, resolution, crate::slicing::MAX_SLICES as u64)
     }
 
     /// N-Buffers write one full-resolution level per doubling of the box.

@@ -26,7 +26,7 @@ fn sat_rows(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var i = 0u; i < res; i++) {
         if r > 0u {
             let o = textureLoad(occupancy, vec2<u32>(i, r - 1u), g, 0);
-            s += vec4<u32>(o > vec4<f32>(0.5));
+            s += vec4<u32>(o > vec4<f32>(0.0));
         }
         textureStore(rows_out, vec2<u32>(i + 1u, r), g, s);
     }

@@ -18,7 +18,7 @@ use soft_shadow_core::{Map2D, SceneGeometry};
 use std::sync::Arc;
 
 /// Most slices a frame has ([`crate::params::SLICE_RANGE`]).
-const MAX_SLICES: usize = 16;
+pub(crate) const MAX_SLICES: usize = 16;
 
 /// The slice of a fragment from its NDC depth `z` (reversed Z), equal to
 /// `frame.slice_of(view.linear_depth_from_ndc(z))` for every `f32`.
@@ -84,38 +84,64 @@ impl NdcSlicer {
     }
 }
 
-/// The slice masks of `geometry`: `res²` texels, bit `k` set where slice `k` is occupied.
-pub(crate) fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -> Map2D<u32> {
+/// The sliced casters: per texel, which slices are occupied and how high in each slab.
+#[derive(Clone, Debug)]
+pub(crate) struct Slices {
+    /// Bit `k` set where slice `k` is occupied.
+    pub masks: Map2D<u32>,
+    /// Per slice, the [`Frame::top_code`] of the texel's topmost fragment in it (0: empty).
+    pub tops: Map2D<[u8; MAX_SLICES]>,
+}
+
+/// The slices of `geometry`: `res²` texels, each with its occupied slices and the topmost depth
+/// of each.
+pub(crate) fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -> Slices {
     let res = frame.resolution;
     let n = frame.slices;
     if frame.occupied == 0 {
-        return Map2D::pooled(pool, res, res, 0);
+        return Slices {
+            masks: Map2D::pooled(pool, res, res, 0),
+            tops: Map2D::pooled(pool, res, res, [0; MAX_SLICES]),
+        };
     }
     let view = frame.view();
-    // The bits a fragment of slice k sets: k, and with the thin-occluder fix k + 1 as well.
-    let bits: [u32; 32] = std::array::from_fn(|k| {
-        let next = frame.thin_fix != 0 && (k as u32) + 1 < n;
-        (1u32 << k) | if next { 1 << (k + 1) } else { 0 }
-    });
-    let mark = move |mask: &mut u32, k: u32| *mask |= bits[k as usize & 31];
-    match NdcSlicer::new(frame, &view) {
-        // The slice is monotone in NDC depth, so a span whose ends share a slice lies in it.
+    // A fragment of slice k keeps its top code in k, and with the thin-occluder fix marks the
+    // top of k + 1 as well (the sheet lies above all of it).
+    let thin = frame.thin_fix != 0;
+    let mark = move |tops: &mut [u8; MAX_SLICES], k: u32, code: u8| {
+        let k = k as usize & (MAX_SLICES - 1);
+        tops[k] = tops[k].max(code);
+        if thin && (k as u32) + 1 < n {
+            tops[k + 1] = 255;
+        }
+    };
+    let h = move |z: f32| view.linear_depth_from_ndc(z) - frame.d;
+    let tops = match NdcSlicer::new(frame, &view) {
+        // The slice and the code are monotone in NDC depth, so a span whose ends share both
+        // holds them throughout.
         Some(slicer) => rasterize_fold(
             pool,
             &view,
             res,
             &geometry.casters,
-            0u32,
-            |masks, depths| {
-                let Some(last) = masks.len().checked_sub(1) else {
+            [0u8; MAX_SLICES],
+            |tops, depths| {
+                let Some(last) = tops.len().checked_sub(1) else {
                     return;
                 };
-                let first = slicer.slice(depths.at(0));
-                if depths.monotone() && slicer.slice(depths.at(last)) == first {
-                    let b = bits[first as usize & 31];
-                    masks.iter_mut().for_each(|m| *m |= b);
+                let (z0, z1) = (depths.at(0), depths.at(last));
+                let first = slicer.slice(z0);
+                let code = frame.top_code(first, h(z0));
+                if depths.monotone()
+                    && slicer.slice(z1) == first
+                    && frame.top_code(first, h(z1)) == code
+                {
+                    tops.iter_mut().for_each(|t| mark(t, first, code));
                 } else {
-                    depths.each(masks, |m, z| mark(m, slicer.slice(z)));
+                    depths.each(tops, |t, z| {
+                        let k = slicer.slice(z);
+                        mark(t, k, frame.top_code(k, h(z)))
+                    });
                 }
             },
         ),
@@ -124,14 +150,21 @@ pub(crate) fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -
             &view,
             res,
             &geometry.casters,
-            0u32,
-            |masks, depths| {
-                depths.each(masks, |m, z| {
-                    mark(m, frame.slice_of(view.linear_depth_from_ndc(z)))
+            [0u8; MAX_SLICES],
+            |tops, depths| {
+                depths.each(tops, |t, z| {
+                    let k = frame.slice_of(h(z) + frame.d);
+                    mark(t, k, frame.top_code(k, h(z)))
                 })
             },
         ),
-    }
+    };
+    let masks = tops.map(|t| {
+        t.iter()
+            .enumerate()
+            .fold(0u32, |m, (k, &c)| m | (((c != 0) as u32) << k))
+    });
+    Slices { masks, tops }
 }
 
 /// Slice `k` of `masks` as one flag per texel, row-major (tests and images).
@@ -205,7 +238,7 @@ mod tests {
                     })
                 },
             );
-            let masks = slice(&pool, &frame, &geometry);
+            let masks = slice(&pool, &frame, &geometry).masks;
             let marked: u32 = expected.data().iter().map(|m| m.count_ones()).sum();
             let used: u32 = expected.data().iter().fold(0, |a, m| a | m);
             assert!(

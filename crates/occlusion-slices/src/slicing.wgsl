@@ -1,9 +1,10 @@
 #define_import_path occlusion_slices::slicing
-#import occlusion_slices::frame::{Frame, slice_of}
+#import occlusion_slices::frame::{Frame, slice_of, top_code}
 
-// The slicing pass (section 3.4): casters drawn once from the COP; each fragment sets the channel
-// of its slice (and of the next with the thin-occluder fix) in one of four RGBA8 targets,
-// blended with Max: a bitwise OR of the slices. Mirrors slicing.rs.
+// The slicing pass (section 3.4): casters drawn once from the COP; each fragment writes its top
+// code (where in the slab it lies, 1 to 255; 0 is empty) into the channel of its slice (and the
+// top of the next with the thin-occluder fix) in one of four RGBA8 targets, blended with Max:
+// per slice, the texel's topmost fragment. Mirrors slicing.rs.
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
@@ -27,7 +28,7 @@ fn fs_slice(@builtin(position) pos: vec4<f32>) -> Targets {
     let z = n * f / (pos.z * (f - n) + n);
     let k = slice_of(frame, z);
     var m = array<vec4<f32>, 4>();
-    m[k / 4u][k % 4u] = 1.0;
+    m[k / 4u][k % 4u] = f32(top_code(frame, k, z - frame.d)) / 255.0;
     if frame.thin_fix != 0u && k + 1u < frame.slices {
         m[(k + 1u) / 4u][(k + 1u) % 4u] = 1.0;
     }

@@ -1,5 +1,5 @@
 #define_import_path occlusion_slices::visibility
-#import occlusion_slices::frame::{Frame, fade, fade_length, kernel, light_coord, plane, texel_size}
+#import occlusion_slices::frame::{Frame, TOP_STEPS, fade, fade_length, kernel, light_coord, plane, texel_size, texel_point, top_depth}
 
 // Evaluation (sections 3.3-3.5) as `visibility(world_pos, normal)`: eval.rs, combine.rs and the
 // lookups of filters/*.rs, operation for operation.
@@ -26,6 +26,7 @@ const COMBINE_MAX: u32 = 2u;
 @group(#{MAPS_GROUP}) @binding(1) var<uniform> ep: EvalParams;
 @group(#{MAPS_GROUP}) @binding(2) var sat: texture_2d_array<u32>;
 @group(#{MAPS_GROUP}) @binding(3) var levels: texture_2d_array<f32>;
+@group(#{MAPS_GROUP}) @binding(4) var tops: texture_2d_array<f32>;
 
 // --- summed-area table (filters/sat.rs)
 
@@ -167,6 +168,77 @@ fn filtered_mean(k: u32, c: vec2<f32>, size: f32) -> f32 {
     }
 }
 
+// --- eval.rs::slab_occlusion: the own slab read unfiltered, depth-tested
+
+const TAPS: u32 = 8u;
+const SLAB_BIAS_TEXELS: f32 = 1.0;
+
+// Texel (x, y)'s top code in slice k, 0 outside the map.
+fn top_at(k: u32, x: i32, y: i32) -> u32 {
+    let r = i32(frame.resolution);
+    if x < 0 || y < 0 || x >= r || y >= r {
+        return 0u;
+    }
+    let v = textureLoad(tops, vec2<i32>(x, y), i32(k / 4u), 0)[k % 4u];
+    return u32(round(v * 255.0));
+}
+
+// eval.rs::Receiver: c and n in light coordinates, and the margin.
+struct Receiver {
+    c: vec3<f32>,
+    n: vec3<f32>,
+    margin: f32,
+};
+
+// Receiver::hidden_by.
+fn hidden_by(r: Receiver, q: vec3<f32>) -> bool {
+    return q.z < r.c.z - r.margin && dot(r.n, q - r.c) > r.margin;
+}
+
+fn slab_occlusion(r: Receiver, k: u32) -> f32 {
+    let c = r.c;
+    let upper = max(plane(frame, k) - frame.spacing, 0.0);
+    let limit = c.z - r.margin;
+    if !(limit > upper && c.z > 0.0) {
+        return 0.0;
+    }
+    let a = kernel(frame, c, upper);
+    let b = kernel(frame, c, limit);
+    let lo = min(a.center - vec2<f32>(0.5 * a.size), b.center - vec2<f32>(0.5 * b.size));
+    let hi = max(a.center + vec2<f32>(0.5 * a.size), b.center + vec2<f32>(0.5 * b.size));
+    let extent = hi - lo;
+    if !(abs(extent.x) <= 3.0e38 && abs(extent.y) <= 3.0e38) {
+        return 0.0;
+    }
+    let nx = min(u32(max(ceil(extent.x), 1.0)), TAPS);
+    let ny = min(u32(max(ceil(extent.y), 1.0)), TAPS);
+    let step = extent / vec2<f32>(f32(nx), f32(ny));
+    var sum = 0.0;
+    for (var j = 0u; j < ny; j++) {
+        for (var i = 0u; i < nx; i++) {
+            let t0 = lo + step * vec2<f32>(f32(i), f32(j));
+            let centre = t0 + 0.5 * step;
+            let code = top_at(k, i32(floor(centre.x)), i32(floor(centre.y)));
+            if code == 0u {
+                continue;
+            }
+            let z = top_depth(frame, k, code);
+            if !hidden_by(r, texel_point(frame, centre, z)) {
+                continue;
+            }
+            let ker = kernel(frame, c, z);
+            if !(ker.size > 0.0) {
+                continue;
+            }
+            let hs = 0.5 * ker.size;
+            let ox = max(min(t0.x + step.x, ker.center.x + hs) - max(t0.x, ker.center.x - hs), 0.0);
+            let oy = max(min(t0.y + step.y, ker.center.y + hs) - max(t0.y, ker.center.y - hs), 0.0);
+            sum += ox * oy / (ker.size * ker.size);
+        }
+    }
+    return min(sum, 1.0);
+}
+
 // --- eval.rs::visibility with combine.rs::Accumulator
 
 fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
@@ -178,13 +250,21 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let c = light_coord(frame, p + n * offset);
     var acc = select(0.0, 1.0, ep.combination == COMBINE_PRODUCT);
     let len = fade_length(frame, c.z);
+    var r: Receiver;
+    r.c = c;
+    r.n = vec3<f32>(dot(n, frame.axis_x.xyz), dot(n, frame.axis_y.xyz), dot(n, frame.normal.xyz));
+    r.margin = SLAB_BIAS_TEXELS * texel_size(frame, max(c.z, 0.0)) + frame.spacing / TOP_STEPS;
     for (var k = 0u; k < frame.slices; k++) {
         let w = fade(frame, k, c.z, len);
-        if w <= 0.0 {
-            break;
+        var occ = 0.0;
+        if w > 0.0 {
+            let ker = kernel(frame, c, plane(frame, k));
+            occ = w * filtered_mean(k, ker.center, ker.size);
         }
-        let ker = kernel(frame, c, plane(frame, k));
-        let i = clamp(w * filtered_mean(k, ker.center, ker.size), 0.0, 1.0);
+        if w < 1.0 {
+            occ += (1.0 - w) * slab_occlusion(r, k);
+        }
+        let i = clamp(occ, 0.0, 1.0);
         switch ep.combination {
             case COMBINE_PRODUCT: {
                 acc *= 1.0 - i;
@@ -195,6 +275,9 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
             default: {
                 acc = max(acc, i);
             }
+        }
+        if w <= 0.0 {
+            break;
         }
     }
     if ep.combination == COMBINE_PRODUCT {

@@ -91,8 +91,8 @@ const PCF_16: &str = "the fixed 5x5 kernel of 16² texels spans 5/16 of the map:
       hard map's 23.3, torus 20.4 vs 17.0, triangle light 9.8 vs 9.2 (image error)";
 
 /// Why occlusion-slices' `sat-8-max` fails, on each scene it names.
-const SAT_8_MAX: &str = "the max of the slices' occlusion ignores that the slices add up: foliage image 25.5-27.7 \
-      vs the hard map's 24.9-26.1";
+const SAT_8_MAX: &str =
+    "the max of the slices' occlusion ignores that the slices add up (section 3.3)";
 
 /// The configurations allowed to lose to the hard shadow map or to the no-shadow image. Each
 /// names its scenes, so that an entry that no longer excuses anything on a scene it names fails
@@ -293,30 +293,6 @@ const EXCUSED: &[Excuse] = &[
         why: PCF_16,
     },
     Excuse {
-        scene: "bunny",
-        technique: "occlusion-slices",
-        variant: "*-4",
-        resolution: 0,
-        worst: Worst {
-            image: 5.79,
-            v: 18.50,
-        },
-        why: "four slices over the bunny's depth: where neighbouring slices' cross-sections of the body \
-      meet, two half-covered kernels combine to a quarter of the light (section 3.3), at 2048² \
-      image 5.46-5.79 vs the hard map's 5.26, V 18.3-18.5 vs 16.6; 8 and 16 slices pass",
-    },
-    Excuse {
-        scene: "foliage",
-        technique: "occlusion-slices",
-        variant: "sat-8-max",
-        resolution: 0,
-        worst: Worst {
-            image: 27.72,
-            v: 93.68,
-        },
-        why: SAT_8_MAX,
-    },
-    Excuse {
         scene: "grazing",
         technique: "occlusion-slices",
         variant: "sat-8-max",
@@ -326,18 +302,6 @@ const EXCUSED: &[Excuse] = &[
             v: 9.99,
         },
         why: SAT_8_MAX,
-    },
-    Excuse {
-        scene: "foliage",
-        technique: "occlusion-slices",
-        variant: "*-4",
-        resolution: 0,
-        worst: Worst {
-            image: 26.70,
-            v: 54.35,
-        },
-        why: "four slices over 3000 leaves: each slice's coverage is one average at one depth (N-Buffers \
-      and SAT image 25.8-26.7 vs the hard map's 24.9-26.1; V rms 52-54 against its 92-95)",
     },
     Excuse {
         scene: "foliage",
@@ -426,23 +390,6 @@ const EXCUSED: &[Excuse] = &[
         },
         why: "two 16² depth maps at the segment's ends: their umbrae overlap nowhere near the contact, \
          so the strip between them reads lit (14.5 vs the hard map's 8.1; n3 and n5 pass)",
-    },
-    Excuse {
-        scene: "light-plane",
-        technique: "occlusion-slices",
-        variant: "*-4",
-        resolution: 0,
-        worst: Worst {
-            image: 2.81,
-            v: 25.30,
-        },
-        why: "the wall crosses the light's plane and shadows the ground behind it; each of four slices \
-      holds a band of the wall that covers part of a receiver's kernel, and their product (section \
-      3.3) lets light through: at 256² V rms 25.2-25.4 vs the hard map's 23.5 (image 2.8 vs 5.0), \
-      at 2048² 26.4 vs 23.3 (2.8 vs 4.9): the hard map's V, from the cube faces around the \
-      light, lost the 163-degree frustum's coarse texels at 256². On the report's 128² G-buffer \
-      the ground behind the wall is 81% of the squared error (V rms 114.6 over its 518 receivers; \
-      8 slices 64.6)",
     },
     Excuse {
         scene: "street-sun",

@@ -33,7 +33,8 @@ pub struct GpuSliceMaps {
     pub(crate) groups: u32,
     /// Mipmap or N-Buffer levels.
     pub(crate) levels: u32,
-    /// The binary slices: `groups` RGBA8 layers.
+    /// The slices: `groups` RGBA8 layers, each channel a slice's top codes
+    /// ([`Frame::top_code`] / 255; 0 where empty).
     pub(crate) occupancy: wgpu::Texture,
     /// The summed-area table (`res + 1` a side, `groups` layers of RGBA32Uint); kept for
     /// [`Prefilter::Sat`], a 1x1 placeholder otherwise.
@@ -53,7 +54,7 @@ impl GpuSliceMaps {
             for c in 0..4 {
                 let k = (g * 4 + c) as usize;
                 if k < out.len() {
-                    out[k] = texels.iter().map(|t| t[c as usize] > 127).collect();
+                    out[k] = texels.iter().map(|t| t[c as usize] != 0).collect();
                 }
             }
         }
@@ -395,9 +396,10 @@ pub(crate) fn bind_maps(
     };
     let fb = ctx.uniform_buffer("slicing frame", bytemuck::bytes_of(&maps.frame));
     let eb = ctx.uniform_buffer("occlusion eval", bytemuck::bytes_of(&prm));
-    let (sat_view, levels_view) = (
+    let (sat_view, levels_view, tops_view) = (
         array_view(&maps.sat, None),
         array_view(&maps.filtered, None),
+        array_view(&maps.occupancy, None),
     );
     Ok(bind_group(
         ctx,
@@ -408,6 +410,7 @@ pub(crate) fn bind_maps(
             eb.as_entire_binding(),
             wgpu::BindingResource::TextureView(&sat_view),
             wgpu::BindingResource::TextureView(&levels_view),
+            wgpu::BindingResource::TextureView(&tops_view),
         ],
     ))
 }

@@ -103,7 +103,8 @@ static LEVELS: Program = Program {
     ])],
 };
 
-/// Evaluation: the frame, the parameters, the table and the level texture.
+/// Evaluation: the frame, the parameters, the table, the level texture and the slices' top
+/// codes.
 pub static VISIBILITY: VisibilityShader = VisibilityShader {
     library: &SHADERS,
     module: "occlusion_slices::visibility",
@@ -111,6 +112,7 @@ pub static VISIBILITY: VisibilityShader = VisibilityShader {
         uniform::<Frame>(),
         uniform::<EvalParams>(),
         uint_texture(ARRAY),
+        float_texture(ARRAY),
         float_texture(ARRAY),
     ]),
 };
