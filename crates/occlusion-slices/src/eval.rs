@@ -132,7 +132,9 @@ pub(crate) fn slab_occlusion(
                 continue;
             }
             let z = frame.top_depth(k, code);
-            if !r.hidden_by(frame.texel_point(centre, z)) {
+            // A fragment at or behind the light's plane (slice 0 reaches just past it) hides
+            // nothing.
+            if z <= 0.0 || !r.hidden_by(frame.texel_point(centre, z)) {
                 continue;
             }
             let (kc, ks) = frame.kernel(c, z);

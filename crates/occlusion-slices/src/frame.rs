@@ -317,8 +317,9 @@ impl Frame {
 
     /// The top code of a fragment at depth `h` in slice `k`: where in the slab it lies, 255 at
     /// the slab's upper plane `p_k - t` down to 1 at its lower plane `p_k` (0 is an empty
-    /// texel), rounded down the slab so that [`Frame::top_depth`] never puts a surface nearer
-    /// the light than it is. The larger of two codes is the nearer fragment: the slicing pass's
+    /// texel), rounded down the slab so that [`Frame::top_depth`] puts no surface nearer the
+    /// light than it is (but by the slice's tolerance, [`SLICE_TOLERANCE`], where a fragment
+    /// just beyond the lower plane is clamped onto it). The larger of two codes is the nearer fragment: the slicing pass's
     /// `Max` blend keeps each texel's topmost fragment per slice.
     pub(crate) fn top_code(&self, k: u32, h: f32) -> u8 {
         let u = ((h - (self.plane(k) - self.spacing)) / self.spacing).clamp(0.0, 1.0);
@@ -414,6 +415,54 @@ impl Frame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A top code stands for a depth in its slab at or below the fragment's, less than one step
+    /// (a 254th of the slab) below it, 255 at the upper plane and 1 at the lower; and
+    /// `texel_point` inverts the kernel's centre.
+    #[test]
+    fn top_codes_round_down_the_slab_and_texel_points_invert_the_projection() {
+        let frame = Frame {
+            d: 1.5,
+            near: 0.4,
+            spacing: 0.125,
+            slices: 8,
+            half_x: 0.5,
+            half_y: 0.25,
+            resolution: 512,
+            ..Frame::zeroed()
+        };
+        for k in 0..frame.slices {
+            let upper = frame.plane(k) - frame.spacing;
+            assert_eq!(frame.top_code(k, upper), 255);
+            assert_eq!(frame.top_code(k, frame.plane(k)), 1);
+            for i in 0..=1000 {
+                let h = upper + frame.spacing * i as f32 / 1000.0;
+                let code = frame.top_code(k, h);
+                let back = frame.top_depth(k, code);
+                let step = frame.spacing / TOP_STEPS;
+                assert!(
+                    back >= h - 1e-6 && back < h + step + 1e-6,
+                    "slice {k}: {h} -> code {code} -> {back}"
+                );
+            }
+        }
+        for (x, y, h) in [(0.3f32, -0.2f32, 2.0f32), (-1.1, 0.7, 0.9), (0.0, 0.0, 3.5)] {
+            // The kernel at depth `h` of a receiver on the line from the light's centre through
+            // (x, y, h) is centred on the texel of (x, y, h).
+            let along = 10.0 / h;
+            let receiver = LightCoord {
+                x: x * along,
+                y: y * along,
+                h: 10.0,
+            };
+            let (centre, _) = frame.kernel(receiver, h);
+            let p = frame.texel_point(centre, h);
+            assert!(
+                (p.x - x).abs() < 1e-4 && (p.y - y).abs() < 1e-4 && p.h == h,
+                "{p:?} against ({x}, {y}, {h})"
+            );
+        }
+    }
 
     /// A slice fades in linearly from its lower plane over `fade_texels` texels of the frustum
     /// at the receiver's depth, at most one slice; `fade_texels = 0` is a step at the plane.

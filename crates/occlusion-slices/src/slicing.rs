@@ -1,9 +1,12 @@
 //! The slicing pass on the CPU (section 3.4): the casters rasterized once from the COP, each
-//! fragment marking the slice of its depth (and, with the thin-occluder fix, the next one) in a
-//! per-texel bit mask, the software twin of `slicing.wgsl`'s `Max`-blended render targets.
+//! fragment keeping, in its slice's byte of the texel, its [`Frame::top_code`] (where in the slab
+//! it lies) if it is the topmost there (and, with the thin-occluder fix, marking the next slice's
+//! top), the software twin of `slicing.wgsl`'s `Max`-blended render targets.
 //!
-//! The masks are what the prefilters read ([`crate::filters::Filtered::build`]): bit `k` of a
-//! texel is slice `k`, so the slices are never unpacked into one map each.
+//! The masks the prefilters read ([`crate::filters::Filtered::build`]) follow: bit `k` of a
+//! texel is set where slice `k`'s code is not 0, so the slices are never unpacked into one map
+//! each; the codes are what the evaluation reads of the receiver's own slice
+//! ([`crate::eval::slab_occlusion`]).
 //!
 //! A fragment's slice is [`Frame::slice_of`] its linear depth, which takes two divisions from the
 //! rasterizer's NDC depth. Both steps are monotone in NDC depth, so [`NdcSlicer`] finds once, by
@@ -153,7 +156,7 @@ pub(crate) fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -
             [0u8; MAX_SLICES],
             |tops, depths| {
                 depths.each(tops, |t, z| {
-                    let k = frame.slice_of(h(z) + frame.d);
+                    let k = frame.slice_of(view.linear_depth_from_ndc(z));
                     mark(t, k, frame.top_code(k, h(z)))
                 })
             },
@@ -179,8 +182,9 @@ mod tests {
     use glam::Vec3;
     use soft_shadow_core::view::{ProjectionKind, look_to_up};
 
-    /// The masks mark every fragment by its own slice, [`Frame::slice_of`] its linear depth,
-    /// though a span whose ends share a slice is marked whole: on two steep triangles that cross
+    /// The masks mark every fragment by its own slice, [`Frame::slice_of`] its linear depth, and
+    /// each slice keeps its topmost fragment's [`Frame::top_code`], though a span whose ends
+    /// share a slice and a code is marked whole: on two steep triangles that cross
     /// every slice and 400 small ones at random depths and slants, for 4 to 16 slices, with and
     /// without the thin-occluder fix, at a resolution where spans are long.
     #[test]
@@ -238,7 +242,30 @@ mod tests {
                     })
                 },
             );
-            let masks = slice(&pool, &frame, &geometry).masks;
+            // Per fragment, its top code where it is the slice's topmost.
+            let expected_tops = rasterize_fold(
+                &pool,
+                &view,
+                256,
+                &geometry.casters,
+                [0u8; MAX_SLICES],
+                |tops, depths| {
+                    depths.each(tops, |t, z| {
+                        let linear = view.linear_depth_from_ndc(z);
+                        let k = frame.slice_of(linear);
+                        let code = frame.top_code(k, linear - frame.d);
+                        t[k as usize] = t[k as usize].max(code);
+                        if thin_fix && k + 1 < slices {
+                            t[k as usize + 1] = 255;
+                        }
+                    })
+                },
+            );
+            let Slices { masks, tops } = slice(&pool, &frame, &geometry);
+            assert!(tops.data() == expected_tops.data(), "{slices} slices' tops");
+            let codes: std::collections::BTreeSet<u8> =
+                tops.data().iter().flatten().copied().collect();
+            assert!(codes.len() > 200, "{slices} slices: {} codes", codes.len());
             let marked: u32 = expected.data().iter().map(|m| m.count_ones()).sum();
             let used: u32 = expected.data().iter().fold(0, |a, m| a | m);
             assert!(

@@ -223,7 +223,7 @@ fn slab_occlusion(r: Receiver, k: u32) -> f32 {
                 continue;
             }
             let z = top_depth(frame, k, code);
-            if !hidden_by(r, texel_point(frame, centre, z)) {
+            if z <= 0.0 || !hidden_by(r, texel_point(frame, centre, z)) {
                 continue;
             }
             let ker = kernel(frame, c, z);
