@@ -141,8 +141,7 @@ pub struct ReferenceInfo {
     pub caster_triangles: usize,
     /// Receivers a view of the light covers (the others are evaluated at once):
     /// [`shadow_frame::SceneSize::with_views`]. Reports written before that counted those
-    /// inside the map of the light's centre for every light, cube faces and cascades too; the
-    /// built-in profile was fitted on such a report.
+    /// inside the map of the light's centre for every light, cube faces and cascades too.
     #[serde(default)]
     pub covered_receivers: usize,
     /// Covered G-buffer pixels no light point reaches (visibility v2: unlit, in no metric).
