@@ -33,7 +33,7 @@ pub struct Lamps {
 impl Lamps {
     /// `scene` with its `lamps` (entities, and their `lights` as built) under a frame budget of
     /// `budget_ms`, seen by `camera` through a `width x height` G-buffer; the camera walks along
-    /// `walk` (normalised) and lamp `swinging` swings.
+    /// `walk` (normalised; a zero `walk` stands still) and lamp `swinging` swings.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         mut scene: Scene,
