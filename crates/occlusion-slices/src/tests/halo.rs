@@ -99,31 +99,22 @@ fn the_foot_of_a_wall_hides_the_light_behind_it() {
     let positions: Vec<Vec3> = deltas.iter().map(|d| Vec3::new(b + d, 0.0, 0.0)).collect();
     let normals = vec![Vec3::Y; positions.len()];
     let receivers = Receivers::new(&positions, &normals);
-    let cpu = CpuContext::new();
-    let gpu = harness::testing::gpu_for_test("the_foot_of_a_wall_hides_the_light_behind_it");
+    let runs = super::every_prefilter(
+        "the_foot_of_a_wall_hides_the_light_behind_it",
+        &geometry,
+        &light,
+        &receivers,
+        1024,
+    );
     let mut failures = Vec::new();
-    for prefilter in Prefilter::ALL {
-        let t = OcclusionSlices::new(8, prefilter);
-        let maps = t.generate_cpu(&cpu, &geometry, &light, 1024).unwrap();
-        let mut runs = vec![("cpu", t.evaluate_cpu(&maps, &receivers).unwrap())];
-        if let Some(ctx) = &gpu {
-            let maps = t.generate_gpu(ctx, &geometry, &light, 1024).unwrap();
-            runs.push(("gpu", t.evaluate_gpu(ctx, &maps, &receivers).unwrap()));
-        }
-        for (backend, v) in runs {
-            for (d, v) in deltas.iter().zip(v) {
-                let want = (l - (b + d - h * d / top)) / (2.0 * l);
-                println!(
-                    "{} {backend} delta {d}: V {v:.3}, closed form {want:.3}",
-                    t.label()
-                );
-                if (v - want).abs() >= 0.1 {
-                    failures.push(format!(
-                        "{} {backend}: V {v:.3} at {d} m from the wall's foot, closed form \
-                         {want:.3}",
-                        t.label()
-                    ));
-                }
+    for (what, v) in runs {
+        for (d, v) in deltas.iter().zip(v) {
+            let want = (l - (b + d - h * d / top)) / (2.0 * l);
+            println!("{what} delta {d}: V {v:.3}, closed form {want:.3}");
+            if (v - want).abs() >= 0.1 {
+                failures.push(format!(
+                    "{what}: V {v:.3} at {d} m from the wall's foot, closed form {want:.3}"
+                ));
             }
         }
     }
