@@ -9,7 +9,7 @@ struct Combine {
     has_next: u32,
     lit: f32,
     piece: f32,
-    res: u32,
+    resolution: u32,
     _pad_a: u32,
     _pad_b: u32,
 };
@@ -23,7 +23,7 @@ const NO_SKIN: f32 = -1.0;
 
 @compute @workgroup_size(8, 8)
 fn combine(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= cb.res || id.y >= cb.res {
+    if id.x >= cb.resolution || id.y >= cb.resolution {
         return;
     }
     var c = cb.lit;

@@ -63,38 +63,38 @@ fn generate_segment(
     input: &Generation,
     seg: &Segment,
 ) -> CpuLinearMaps {
-    let (geometry, res) = (input.geometry, input.resolution);
+    let (geometry, resolution) = (input.geometry, input.resolution);
     let n = t.samples;
     let (a, b, w) = (seg.a, seg.b, seg.weight);
     let coverage = input.coverage_of(&soft_shadow_core::Light::Linear { a, b });
     let views = sample_views(a, b, n, seg.axis, &coverage, w);
-    let params: Vec<MapParams> = views.iter().map(|v| v.params(res)).collect();
+    let params: Vec<MapParams> = views.iter().map(|v| v.params(resolution)).collect();
     let pool = cpu.pool();
     let depth: Vec<Map2D<f32>> = views
         .iter()
-        .map(|v| depth_map(pool, &v.view, res, &geometry.casters))
+        .map(|v| depth_map(pool, &v.view, resolution, &geometry.casters))
         .collect();
     // Skins and their warps read the grid maps (casters and receivers, see `grid_geometry`).
     let all = crate::skins::grid_geometry(geometry);
     let grid: Vec<Map2D<f32>> = views
         .iter()
-        .map(|v| depth_map(pool, &v.view, res, &all))
+        .map(|v| depth_map(pool, &v.view, resolution, &all))
         .collect();
     let skin_sets: Vec<_> = views
         .iter()
         .zip(&grid)
-        .map(|(v, d)| skins(pool, &v.view, d, t.edge_threshold_at(res)))
+        .map(|(v, d)| skins(pool, &v.view, d, t.edge_threshold_at(resolution)))
         .collect();
     let s = w * piece_share(n);
     let channel = (0..n)
         .map(|i| {
-            let mut c = Map2D::pooled(pool, res, res, w * lit_share(i, n));
+            let mut c = Map2D::pooled(pool, resolution, resolution, w * lit_share(i, n));
             for j in neighbours(i, n) {
                 let (i, j) = (i as usize, j as usize);
                 let src = Source {
                     params: &params[j],
                     depth: &grid[j],
-                    threshold: t.edge_threshold_at(res),
+                    threshold: t.edge_threshold_at(resolution),
                     piece: s,
                 };
                 warp(pool, &skin_sets[j], &views[i].view, &grid[i], &src, &mut c);

@@ -10,8 +10,8 @@
 
 @compute @workgroup_size(8, 8)
 fn find_skins(@builtin(global_invocation_id) id: vec3<u32>) {
-    let res = samples[pair.src].map.resolution;
-    if res < 2u || id.x >= res - 1u || id.y >= res - 1u {
+    let resolution = samples[pair.src].map.resolution;
+    if resolution < 2u || id.x >= resolution - 1u || id.y >= resolution - 1u {
         return;
     }
     let qx = i32(id.x);
@@ -23,5 +23,5 @@ fn find_skins(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let slot = atomicAdd(&draw[0], 6u) / 6u;
-    quads[slot] = id.y * (res - 1u) + id.x;
+    quads[slot] = id.y * (resolution - 1u) + id.x;
 }

@@ -58,25 +58,25 @@ pub(crate) struct Unproject {
     /// Whether the view is orthographic.
     pub ortho: bool,
     /// Map side.
-    pub res: u32,
+    pub resolution: u32,
 }
 
 impl Unproject {
-    /// The unprojection of `view` for a `res`-wide map.
-    pub(crate) fn new(view: &View, res: u32) -> Self {
+    /// The unprojection of `view` for a `resolution`-wide map.
+    pub(crate) fn new(view: &View, resolution: u32) -> Self {
         let p = view.projection();
         Self {
             inv_view: view.view.inverse(),
             sx: p.x_axis.x,
             sy: p.y_axis.y,
             ortho: matches!(view.kind, ProjectionKind::Orthographic { .. }),
-            res,
+            resolution,
         }
     }
 
     /// The world point of texel `(x, y)`'s centre at linear depth `z`.
     pub(crate) fn point(&self, x: u32, y: u32, z: f32) -> Vec3 {
-        let r = self.res as f32;
+        let r = self.resolution as f32;
         let nx = (x as f32 + 0.5) / r * 2.0 - 1.0;
         let ny = 1.0 - (y as f32 + 0.5) / r * 2.0;
         let (vx, vy) = if self.ortho {
@@ -158,14 +158,14 @@ pub(crate) fn skin_values(z: [f32; 3], t: f32) -> Option<[f32; 3]> {
 
 /// Every skin of the map `depth` seen through `view`.
 pub(crate) fn skins(pool: &Arc<Pool>, view: &View, depth: &Map2D<f32>, t: f32) -> Vec<Skin> {
-    let res = depth.width();
-    if res < 2 {
+    let resolution = depth.width();
+    if resolution < 2 {
         return Vec::new();
     }
-    let un = Unproject::new(view, res);
+    let un = Unproject::new(view, resolution);
     let edge = edges(pool, depth, t);
-    let w = res as usize;
-    (0..res - 1)
+    let w = resolution as usize;
+    (0..resolution - 1)
         .into_par_iter()
         .flat_map_iter(|y| {
             let mut row = Vec::new();
@@ -174,7 +174,7 @@ pub(crate) fn skins(pool: &Arc<Pool>, view: &View, depth: &Map2D<f32>, t: f32) -
             let (d, e, y0) = (depth.data(), edge.data(), y as usize * w);
             let (d0, d1) = (&d[y0..y0 + w], &d[y0 + w..y0 + 2 * w]);
             let (e0, e1) = (&e[y0..y0 + w], &e[y0 + w..y0 + 2 * w]);
-            for x in 0..res - 1 {
+            for x in 0..resolution - 1 {
                 let i = x as usize;
                 let solid = (d0[i] < NO_OCCLUDER)
                     & (d0[i + 1] < NO_OCCLUDER)

@@ -23,12 +23,12 @@ fn vs_skin(@builtin(vertex_index) vi: u32) -> Varying {
     out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0);
     out.value = 0.0;
     let src = samples[pair.src];
-    let res = src.map.resolution;
+    let resolution = src.map.resolution;
     let quad = quads[vi / 6u];
     let half = (vi % 6u) / 3u;
     let corner = vi % 3u;
-    let qx = i32(quad % (res - 1u));
-    let qy = i32(quad / (res - 1u));
+    let qx = i32(quad % (resolution - 1u));
+    let qy = i32(quad / (resolution - 1u));
     let t = grid_triangle(qx, qy, half);
     if !t.skin {
         return out;

@@ -59,14 +59,14 @@ proptest! {
     /// edge, however steep the plane.
     #[test]
     fn planes_have_no_edges(a in -0.02f32..0.02, b in -0.02f32..0.02, c in 0.2f32..2.0) {
-        let res = 32u32;
+        let resolution = 32u32;
         let w = |x: f32, y: f32| c + a * x + b * y;
         // In front of the eye everywhere (1/z > 0 over the whole map).
         prop_assume!([0.0, 31.0].iter().all(|&x| [0.0, 31.0].iter().all(|&y| w(x, y) > 0.01)));
-        let data: Vec<f32> = (0..res * res)
-            .map(|i| 1.0 / w((i % res) as f32, (i / res) as f32))
+        let data: Vec<f32> = (0..resolution * resolution)
+            .map(|i| 1.0 / w((i % resolution) as f32, (i / resolution) as f32))
             .collect();
-        let e = edges(&pool(), &Map2D::from_vec(res, res, data).unwrap(), 0.02);
+        let e = edges(&pool(), &Map2D::from_vec(resolution, resolution, data).unwrap(), 0.02);
         prop_assert!(!e.data().iter().any(|x| *x));
     }
 }
@@ -142,21 +142,21 @@ fn skins_are_the_discontinuous_triangles_of_edge_quads() {
     let mut next = |n: u64| rng.below(n);
     let mut found = 0;
     for case in 0..300 {
-        let res = 2 + next(39) as u32;
-        let data: Vec<f32> = (0..res * res)
+        let resolution = 2 + next(39) as u32;
+        let data: Vec<f32> = (0..resolution * resolution)
             .map(|_| match next(8) {
                 0 => NO_OCCLUDER,
                 1 | 2 => 5.0,
                 _ => 3.0 + next(100) as f32 * 1e-4,
             })
             .collect();
-        let depth = Map2D::from_vec(res, res, data).unwrap();
+        let depth = Map2D::from_vec(resolution, resolution, data).unwrap();
         let t = 0.05;
         let edge = edges(&pool(), &depth, t);
-        let un = Unproject::new(&view, res);
+        let un = Unproject::new(&view, resolution);
         let mut expected = Vec::new();
-        for y in 0..res - 1 {
-            for x in 0..res - 1 {
+        for y in 0..resolution - 1 {
+            for x in 0..resolution - 1 {
                 let quad = [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)];
                 if quad.iter().any(|&(u, v)| *depth.get(u, v) >= NO_OCCLUDER)
                     || !quad.iter().any(|&(u, v)| *edge.get(u, v))
@@ -177,7 +177,7 @@ fn skins_are_the_discontinuous_triangles_of_edge_quads() {
             .iter()
             .map(|s| (s.vertices, s.values))
             .collect();
-        assert_eq!(got, expected, "case {case}, {res}²");
+        assert_eq!(got, expected, "case {case}, {resolution}²");
         found += got.len();
     }
     assert!(found > 1000, "{found} skins");

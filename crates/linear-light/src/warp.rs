@@ -3,7 +3,7 @@
 //! The skins are rasterized through the destination view with a nearest-surface depth test, and
 //! a skin fragment counts only where it lies in front of (or on) the destination's own depth map:
 //! that map is the depth buffer the warped non-skin triangles of the source would approximate,
-//! without rasterizing the source's `2 (res - 1)²` surface triangles. The value is interpolated
+//! without rasterizing the source's `2 (resolution - 1)²` surface triangles. The value is interpolated
 //! linearly in screen space (as `@interpolate(linear)` does in `skins.wgsl`), so across a
 //! receiver parallel to the map's image plane the transition is exactly linear.
 //!
@@ -67,7 +67,7 @@ pub(crate) struct Source<'a> {
     pub piece: f32,
 }
 
-/// Adds to `channel` (the `res`-wide map of `view` whose linear depths are `depth`) the change
+/// Adds to `channel` (the `resolution`-wide map of `view` whose linear depths are `depth`) the change
 /// `(s v - s / 2) (1 - lit)` at each texel a skin covers; the others keep their value. (The GPU
 /// warps into a texture cleared to `NO_SKIN` and adds it where it holds a change, which is
 /// never `NO_SKIN`: the same sums.)
@@ -79,12 +79,12 @@ pub(crate) fn warp(
     src: &Source,
     channel: &mut Map2D<f32>,
 ) {
-    let res = depth.width();
-    let un = Unproject::new(view, res);
+    let resolution = depth.width();
+    let un = Unproject::new(view, resolution);
     let tris: Vec<[Vec3; 3]> = skins.iter().map(|s| s.vertices).collect();
-    let frags = rasterize_nearest(pool, view, res, res, &tris);
+    let frags = rasterize_nearest(pool, view, resolution, resolution, &tris);
     let vp = view.view_projection();
-    let r = res as f64;
+    let r = resolution as f64;
     let screen = |p: Vec3| {
         let c = vp * p.extend(1.0);
         let w = c.w as f64;
@@ -101,7 +101,7 @@ pub(crate) fn warp(
             ([a, b, c], (b - a).perp_dot(c - a))
         })
         .collect();
-    let w = (res as usize).max(1);
+    let w = (resolution as usize).max(1);
     channel
         .data_mut()
         .par_chunks_mut(w)

@@ -24,10 +24,10 @@ pub struct CpuSliceMaps {
 
 /// Slices and prefilters (inputs already checked), the storage from `cpu`'s pool.
 pub(crate) fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation) -> CpuSliceMaps {
-    let (geometry, res) = (input.geometry, input.resolution);
-    let frame = Frame::fit(input.light, geometry, t, res, input.region);
+    let (geometry, resolution) = (input.geometry, input.resolution);
+    let frame = Frame::fit(input.light, geometry, t, resolution, input.region);
     let Slices { masks, tops } = slice(cpu.pool(), &frame, geometry);
-    let filtered = Filtered::build(cpu.pool(), t.filter, res, masks.data(), frame.slices);
+    let filtered = Filtered::build(cpu.pool(), t.filter, resolution, masks.data(), frame.slices);
     CpuSliceMaps {
         frame,
         masks,
@@ -37,7 +37,7 @@ pub(crate) fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation
 }
 
 impl CpuSliceMaps {
-    /// The binary slices, `res²` flags each, row-major (tests and images).
+    /// The binary slices, `resolution²` flags each, row-major (tests and images).
     pub fn slices(&self) -> Vec<Vec<bool>> {
         (0..self.frame.slices)
             .map(|k| crate::slicing::unpack(&self.masks, k))

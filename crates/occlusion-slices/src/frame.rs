@@ -359,11 +359,11 @@ impl Frame {
     /// The point at depth `h` that the COP projects to continuous texel position `t` (the
     /// inverse of [`Frame::kernel`]'s centre), in light coordinates.
     pub(crate) fn texel_point(&self, t: Vec2, h: f32) -> LightCoord {
-        let res = self.resolution as f32;
+        let resolution = self.resolution as f32;
         let scale = 2.0 * (self.d + h) / self.d;
         LightCoord {
-            x: (t.x / res - 0.5) * scale * self.half_x,
-            y: (0.5 - t.y / res) * scale * self.half_y,
+            x: (t.x / resolution - 0.5) * scale * self.half_x,
+            y: (0.5 - t.y / resolution) * scale * self.half_y,
             h,
         }
     }
@@ -379,14 +379,14 @@ impl Frame {
     pub(crate) fn kernel(&self, c: LightCoord, p: f32) -> (Vec2, f32) {
         let along = p / c.h;
         let z = self.d + p;
-        let res = self.resolution as f32;
+        let resolution = self.resolution as f32;
         let sx = self.d / (self.half_x * z);
         let sy = self.d / (self.half_y * z);
         let center = Vec2::new(
-            (c.x * along * sx * 0.5 + 0.5) * res,
-            (0.5 - c.y * along * sy * 0.5) * res,
+            (c.x * along * sx * 0.5 + 0.5) * resolution,
+            (0.5 - c.y * along * sy * 0.5) * resolution,
         );
-        (center, (1.0 - along) * self.d / z * res)
+        (center, (1.0 - along) * self.d / z * resolution)
     }
 
     /// Weight of slice `k` for a receiver at depth `h`: 0 while the receiver lies above the

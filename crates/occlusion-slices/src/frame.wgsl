@@ -66,9 +66,9 @@ fn fade_length(f: Frame, h: f32) -> f32 {
 
 // Frame::texel_point: the point at depth h the COP projects to texel position t.
 fn texel_point(f: Frame, t: vec2<f32>, h: f32) -> vec3<f32> {
-    let res = f32(f.resolution);
+    let resolution = f32(f.resolution);
     let scale = 2.0 * (f.d + h) / f.d;
-    return vec3<f32>((t.x / res - 0.5) * scale * f.half_x, (0.5 - t.y / res) * scale * f.half_y, h);
+    return vec3<f32>((t.x / resolution - 0.5) * scale * f.half_x, (0.5 - t.y / resolution) * scale * f.half_y, h);
 }
 
 // Frame::texel_size.
@@ -91,11 +91,11 @@ struct Kernel {
 fn kernel(f: Frame, c: vec3<f32>, p: f32) -> Kernel {
     let along = p / c.z;
     let z = f.d + p;
-    let res = f32(f.resolution);
+    let resolution = f32(f.resolution);
     let sx = f.d / (f.half_x * z);
     let sy = f.d / (f.half_y * z);
     var k: Kernel;
-    k.center = vec2<f32>((c.x * along * sx * 0.5 + 0.5) * res, (0.5 - c.y * along * sy * 0.5) * res);
-    k.size = (1.0 - along) * f.d / z * res;
+    k.center = vec2<f32>((c.x * along * sx * 0.5 + 0.5) * resolution, (0.5 - c.y * along * sy * 0.5) * resolution);
+    k.size = (1.0 - along) * f.d / z * resolution;
     return k;
 }

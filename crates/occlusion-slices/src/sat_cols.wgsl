@@ -9,14 +9,14 @@
 
 @compute @workgroup_size(64)
 fn sat_cols(@builtin(global_invocation_id) id: vec3<u32>) {
-    let res = frame.resolution;
+    let resolution = frame.resolution;
     let i = id.x;
     let g = i32(id.y);
-    if i > res {
+    if i > resolution {
         return;
     }
     var s = vec4<u32>(0u);
-    for (var r = 0u; r <= res; r++) {
+    for (var r = 0u; r <= resolution; r++) {
         s += textureLoad(rows_in, vec2<u32>(i, r), g, 0);
         textureStore(sat_out, vec2<u32>(i, r), g, s);
     }

@@ -15,15 +15,15 @@
 
 @compute @workgroup_size(64)
 fn sat_rows(@builtin(global_invocation_id) id: vec3<u32>) {
-    let res = frame.resolution;
+    let resolution = frame.resolution;
     let r = id.x;
     let g = i32(id.y);
-    if r > res {
+    if r > resolution {
         return;
     }
     var s = vec4<u32>(0u);
     textureStore(rows_out, vec2<u32>(0u, r), g, s);
-    for (var i = 0u; i < res; i++) {
+    for (var i = 0u; i < resolution; i++) {
         if r > 0u {
             let o = textureLoad(occupancy, vec2<u32>(i, r - 1u), g, 0);
             s += vec4<u32>(o > vec4<f32>(0.0));

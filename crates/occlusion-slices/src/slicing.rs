@@ -96,15 +96,15 @@ pub(crate) struct Slices {
     pub tops: Map2D<[u8; MAX_SLICES]>,
 }
 
-/// The slices of `geometry`: `res²` texels, each with its occupied slices and the topmost depth
+/// The slices of `geometry`: `resolution²` texels, each with its occupied slices and the topmost depth
 /// of each.
 pub(crate) fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -> Slices {
-    let res = frame.resolution;
+    let resolution = frame.resolution;
     let n = frame.slices;
     if frame.occupied == 0 {
         return Slices {
-            masks: Map2D::pooled(pool, res, res, 0),
-            tops: Map2D::pooled(pool, res, res, [0; MAX_SLICES]),
+            masks: Map2D::pooled(pool, resolution, resolution, 0),
+            tops: Map2D::pooled(pool, resolution, resolution, [0; MAX_SLICES]),
         };
     }
     let view = frame.view();
@@ -125,7 +125,7 @@ pub(crate) fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -
         Some(slicer) => rasterize_fold(
             pool,
             &view,
-            res,
+            resolution,
             &geometry.casters,
             [0u8; MAX_SLICES],
             |tops, depths| {
@@ -151,7 +151,7 @@ pub(crate) fn slice(pool: &Arc<Pool>, frame: &Frame, geometry: &SceneGeometry) -
         None => rasterize_fold(
             pool,
             &view,
-            res,
+            resolution,
             &geometry.casters,
             [0u8; MAX_SLICES],
             |tops, depths| {

@@ -29,9 +29,9 @@ pub struct GpuWidthMaps {
 impl GpuWidthMaps {
     /// Reads the width map back (tests, reports).
     pub fn read_width(&self, ctx: &GpuContext) -> Result<Map2D<f32>> {
-        let res = self.params.resolution;
-        let bytes = ctx.read_buffer(&self.width, res as u64 * res as u64 * 4)?;
-        Map2D::from_vec(res, res, bytemuck::pod_collect_to_vec(&bytes))
+        let resolution = self.params.resolution;
+        let bytes = ctx.read_buffer(&self.width, resolution as u64 * resolution as u64 * 4)?;
+        Map2D::from_vec(resolution, resolution, bytemuck::pod_collect_to_vec(&bytes))
             .ok_or_else(|| ShadowError::Gpu("width map readback size".into()))
     }
 }
@@ -83,7 +83,7 @@ struct Kernels<'a> {
 
 impl Kernels<'_> {
     fn run(&self, enc: &mut wgpu::CommandEncoder, d: &Dispatch) {
-        let res = self.params.res;
+        let resolution = self.params.resolution;
         let mut wp = WidthParams {
             step: d.step,
             ..self.params
@@ -106,9 +106,9 @@ impl Kernels<'_> {
         pass.set_pipeline(d.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         if d.lines {
-            pass.dispatch_workgroups(res.div_ceil(64), 1, 1);
+            pass.dispatch_workgroups(resolution.div_ceil(64), 1, 1);
         } else {
-            let g = res.div_ceil(8);
+            let g = resolution.div_ceil(8);
             pass.dispatch_workgroups(g, g, 1);
         }
     }
@@ -170,7 +170,7 @@ pub(crate) fn generate(
         depth_view: &depth_view,
         params: WidthParams {
             map: params,
-            res: resolution,
+            resolution,
             step: 0,
             neighbours: neighbours.map_or(0, Neighbours::count),
             cap: cap(resolution),

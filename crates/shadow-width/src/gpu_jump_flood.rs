@@ -34,7 +34,7 @@ impl GpuJumpFlood {
         let mut cur = 0;
         for step in crate::jump_flood::steps(resolution) {
             let prm = FloodParams {
-                res: resolution,
+                resolution,
                 step,
                 _pad: [0; 2],
             };

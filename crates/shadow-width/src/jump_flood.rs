@@ -139,22 +139,22 @@ fn block<const L: usize, D: Dist2>(
     out[x0..x0 + L].copy_from_slice(&best);
 }
 
-/// One pass with step `k` over a `res`-wide square map: reads `src`, writes `dst`. Every texel
+/// One pass with step `k` over a `resolution`-wide square map: reads `src`, writes `dst`. Every texel
 /// starts from its own seed and is offered the 3x3 texels `k` apart in a fixed order (rows
 /// `y - k, y, y + k`, then columns `x - k, x, x + k`), keeping a strictly nearer seed. Texels go
 /// in blocks of 8 whose candidates are compared in registers, branch-free over seeds.
 /// Distances are compared in `f32` up to [`F32_EXACT_SIDE`], in `i32` beyond: the same seeds
 /// either way.
-pub(crate) fn pass(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
-    if res <= F32_EXACT_SIDE {
-        pass_in::<f32>(src, dst, res, k)
+pub(crate) fn pass(src: &[u32], dst: &mut [u32], resolution: u32, k: u32) {
+    if resolution <= F32_EXACT_SIDE {
+        pass_in::<f32>(src, dst, resolution, k)
     } else {
-        pass_in::<i32>(src, dst, res, k)
+        pass_in::<i32>(src, dst, resolution, k)
     }
 }
 
-fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
-    let (n, k) = (res as usize, (k as usize).min(res as usize));
+fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], resolution: u32, k: u32) {
+    let (n, k) = (resolution as usize, (k as usize).min(resolution as usize));
     dst.par_chunks_mut(n.max(1))
         .enumerate()
         .for_each(|(y, out)| {
@@ -172,19 +172,23 @@ fn pass_in<D: Dist2>(src: &[u32], dst: &mut [u32], res: u32, k: u32) {
         });
 }
 
-/// Floods `seeds` (one value per texel of a `res`-wide square map: [`pack`]ed coordinates of the
+/// Floods `seeds` (one value per texel of a `resolution`-wide square map: [`pack`]ed coordinates of the
 /// texel itself for a seed, [`NONE`] otherwise) and returns the nearest seed of every texel (up
 /// to jump flooding's rare misses; the exact nearest-seed map ([`crate::width::edt`] for widths) is exact). The scratch buffer
 /// comes from `pool` and goes back there; so may the result, once read
 /// ([`soft_shadow_core::pool::Pool::give`]).
 ///
 /// [`pack`]: soft_shadow_core::seeds::pack
-pub(crate) fn flood(pool: &soft_shadow_core::pool::Pool, seeds: Vec<u32>, res: u32) -> Vec<u32> {
+pub(crate) fn flood(
+    pool: &soft_shadow_core::pool::Pool,
+    seeds: Vec<u32>,
+    resolution: u32,
+) -> Vec<u32> {
     let mut a = seeds;
     // Each pass writes every texel of its destination: no clearing pass.
     let mut b = pool.overwrite(a.len(), NONE);
-    for k in steps(res) {
-        pass(&a, &mut b, res, k);
+    for k in steps(resolution) {
+        pass(&a, &mut b, resolution, k);
         std::mem::swap(&mut a, &mut b);
     }
     pool.give(b);

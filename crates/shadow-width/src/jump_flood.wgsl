@@ -5,7 +5,7 @@
 // same neighbour order, so both backends keep the same nearest seed.
 
 struct FloodParams {
-    res: u32,
+    resolution: u32,
     step: u32,
     _pad_a: u32,
     _pad_b: u32,
@@ -18,10 +18,10 @@ struct FloodParams {
 
 @compute @workgroup_size(8, 8)
 fn jfa_step(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= prm.res || gid.y >= prm.res {
+    if gid.x >= prm.resolution || gid.y >= prm.resolution {
         return;
     }
-    let r = i32(prm.res);
+    let r = i32(prm.resolution);
     let k = i32(prm.step);
     let x = i32(gid.x);
     let y = i32(gid.y);

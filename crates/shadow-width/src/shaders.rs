@@ -13,7 +13,7 @@ use soft_shadow_core::gpu::shader::{
 /// The width kernels' parameters (`width.wgsl`).
 pub(crate) struct WidthParams {
     pub(crate) map: MapParams,
-    pub(crate) res: u32,
+    pub(crate) resolution: u32,
     pub(crate) step: u32,
     pub(crate) neighbours: u32,
     pub(crate) cap: f32,
@@ -25,7 +25,7 @@ pub(crate) struct WidthParams {
 #[derive(Clone, Copy, Pod, Zeroable)]
 /// The jump flood's parameters (`jump_flood.wgsl`).
 pub(crate) struct FloodParams {
-    pub(crate) res: u32,
+    pub(crate) resolution: u32,
     pub(crate) step: u32,
     pub(crate) _pad: [u32; 2],
 }

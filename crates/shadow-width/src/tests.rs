@@ -129,30 +129,30 @@ fn custom_falloff_keeps_the_special_cases() {
     assert_eq!(linear_falloff(0.0, f32::INFINITY), 0.0);
 }
 
-fn random_mask(res: u32, density: f64, seed: u64) -> Map2D<bool> {
+fn random_mask(resolution: u32, density: f64, seed: u64) -> Map2D<bool> {
     let mut rng = soft_shadow_core::rng::SplitMix(seed);
-    let data = (0..res * res)
+    let data = (0..resolution * resolution)
         .map(|_| rng.next_f64() >= density)
         .map(|lit| !lit)
         .collect();
-    Map2D::from_vec(res, res, data).unwrap()
+    Map2D::from_vec(resolution, resolution, data).unwrap()
 }
 
 fn brute_force(mask: &Map2D<bool>) -> Vec<f32> {
-    let res = mask.width() as i64;
-    let lit: Vec<(i64, i64)> = (0..res * res)
+    let resolution = mask.width() as i64;
+    let lit: Vec<(i64, i64)> = (0..resolution * resolution)
         .filter(|&i| !mask.data()[i as usize])
-        .map(|i| (i % res, i / res))
+        .map(|i| (i % resolution, i / resolution))
         .collect();
-    (0..res * res)
+    (0..resolution * resolution)
         .map(|i| {
             if !mask.data()[i as usize] {
                 return 0.0;
             }
-            let (x, y) = (i % res, i / res);
+            let (x, y) = (i % resolution, i / resolution);
             lit.iter()
                 .map(|&(a, b)| (((a - x).pow(2) + (b - y).pow(2)) as f64).sqrt() as f32)
-                .fold(cap(res as u32), f32::min)
+                .fold(cap(resolution as u32), f32::min)
         })
         .collect()
 }
@@ -165,13 +165,13 @@ proptest! {
     /// last strip narrower), mostly blocked so that distances reach across strips.
     #[test]
     fn exact_transform_equals_brute_force(
-        (res, density) in prop_oneof![
+        (resolution, density) in prop_oneof![
             9 => (1u32..40, 0.0f64..=1.0),
             1 => (65u32..160, 0.9f64..=1.0),
         ],
         seed: u64,
     ) {
-        let mask = random_mask(res, density, seed);
+        let mask = random_mask(resolution, density, seed);
         let exact = edt::width(&pool(), &mask);
         let brute = brute_force(&mask);
         for (i, (a, b)) in exact.data().iter().zip(&brute).enumerate() {
@@ -182,8 +182,8 @@ proptest! {
 
 /// One propagation pass texel by texel, offset by offset: the paper's loop, which
 /// `propagate::pass` must equal bit for bit.
-fn pass_per_texel(src: &[f32], res: u32, step: u32, n: Neighbours) -> Vec<f32> {
-    let r = res as i32;
+fn pass_per_texel(src: &[f32], resolution: u32, step: u32, n: Neighbours) -> Vec<f32> {
+    let r = resolution as i32;
     let offs = propagate::offsets(n, step);
     (0..r * r)
         .map(|i| {
@@ -207,15 +207,15 @@ proptest! {
     /// neighbourhood and steps up to beyond the map side.
     #[test]
     fn propagation_pass_equals_the_per_texel_loop(
-        res in 1u32..40,
+        resolution in 1u32..40,
         step in 1u32..50,
         values in prop::collection::vec(prop_oneof![Just(0.0f32), Just(propagate::UNREACHED), 0.0f32..100.0], 1600),
     ) {
-        let src = &values[..(res * res) as usize];
+        let src = &values[..(resolution * resolution) as usize];
         for n in [Neighbours::Three, Neighbours::Four, Neighbours::Six, Neighbours::Eight] {
             let mut dst = vec![0.0; src.len()];
-            propagate::pass(src, &mut dst, res, step, n);
-            let expected = pass_per_texel(src, res, step, n);
+            propagate::pass(src, &mut dst, resolution, step, n);
+            let expected = pass_per_texel(src, resolution, step, n);
             prop_assert_eq!(
                 dst.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
                 expected.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
@@ -228,16 +228,16 @@ proptest! {
 /// The propagated width map of `mask` by its passes run texel by texel ([`pass_per_texel`]),
 /// capped, as bits.
 fn width_per_texel(mask: &Map2D<bool>, n: Neighbours) -> Vec<u32> {
-    let res = mask.width();
+    let resolution = mask.width();
     let mut w: Vec<f32> = mask
         .data()
         .iter()
         .map(|&b| if b { propagate::UNREACHED } else { 0.0 })
         .collect();
-    for step in propagate::steps(res) {
-        w = pass_per_texel(&w, res, step, n);
+    for step in propagate::steps(resolution) {
+        w = pass_per_texel(&w, resolution, step, n);
     }
-    bits(&w.iter().map(|v| v.min(cap(res))).collect::<Vec<_>>())
+    bits(&w.iter().map(|v| v.min(cap(resolution))).collect::<Vec<_>>())
 }
 
 fn bits(v: &[f32]) -> Vec<u32> {
@@ -250,16 +250,23 @@ fn bits(v: &[f32]) -> Vec<u32> {
 /// texel.
 #[test]
 fn propagation_ignores_what_its_pooled_buffers_held() {
-    let res = 320;
+    let resolution = 320;
     for n in [Neighbours::Four, Neighbours::Eight] {
-        drop(propagate::width(&pool(), &Map2D::new(res, res, true), n));
-        let disc: Vec<bool> = (0..res * res)
+        drop(propagate::width(
+            &pool(),
+            &Map2D::new(resolution, resolution, true),
+            n,
+        ));
+        let disc: Vec<bool> = (0..resolution * resolution)
             .map(|i| {
-                let (x, y) = ((i % res) as f32 - 150.0, (i / res) as f32 - 170.0);
+                let (x, y) = (
+                    (i % resolution) as f32 - 150.0,
+                    (i / resolution) as f32 - 170.0,
+                );
                 x * x + y * y < 60.0 * 60.0
             })
             .collect();
-        let mask = Map2D::from_vec(res, res, disc).unwrap();
+        let mask = Map2D::from_vec(resolution, resolution, disc).unwrap();
         let got = propagate::width(&pool(), &mask, n);
         assert!(bits(got.data()) == width_per_texel(&mask, n), "{n:?}");
     }
@@ -274,11 +281,11 @@ proptest! {
     /// chunks, the last one partial.
     #[test]
     fn propagated_width_equals_its_passes_per_texel(
-        res in 1u32..150,
+        resolution in 1u32..150,
         density in 0.0f64..=1.0,
         seed: u64,
     ) {
-        let mask = random_mask(res, density, seed);
+        let mask = random_mask(resolution, density, seed);
         for n in [Neighbours::Three, Neighbours::Four, Neighbours::Six, Neighbours::Eight] {
             let got = propagate::width(&pool(), &mask, n);
             prop_assert_eq!(bits(got.data()), width_per_texel(&mask, n), "{:?}", n);
@@ -292,8 +299,8 @@ proptest! {
     /// Propagation and jump flooding never under-estimate (each value is the length of a path to
     /// an unblocked texel), and are exact on unblocked texels.
     #[test]
-    fn approximations_never_underestimate(res in 1u32..40, density in 0.0f64..=1.0, seed: u64) {
-        let mask = random_mask(res, density, seed);
+    fn approximations_never_underestimate(resolution in 1u32..40, density in 0.0f64..=1.0, seed: u64) {
+        let mask = random_mask(resolution, density, seed);
         let exact = edt::width(&pool(), &mask);
         for w in [
             propagate::width(&pool(), &mask, Neighbours::Three),
@@ -317,18 +324,18 @@ proptest! {
 /// reach.
 #[test]
 fn approximation_error_is_bounded_and_reported() {
-    let res = 256u32;
-    let mut data = vec![false; (res * res) as usize];
-    for y in 0..res {
-        for x in 0..res {
+    let resolution = 256u32;
+    let mut data = vec![false; (resolution * resolution) as usize];
+    for y in 0..resolution {
+        for x in 0..resolution {
             let (fx, fy) = (x as f32 + 0.5, y as f32 + 0.5);
             let disc = (fx - 90.0).powi(2) + (fy - 100.0).powi(2) < 60.0f32.powi(2);
             let rect = (150.0..240.0).contains(&fx) && (40.0..200.0).contains(&fy);
             let tilted = ((fx - fy) * 0.7).abs() < 12.0 && fy > 180.0;
-            data[(y * res + x) as usize] = disc || rect || tilted;
+            data[(y * resolution + x) as usize] = disc || rect || tilted;
         }
     }
-    let mask = Map2D::from_vec(res, res, data).unwrap();
+    let mask = Map2D::from_vec(resolution, resolution, data).unwrap();
     let exact = edt::width(&pool(), &mask);
     let report = |name: &str, w: &Map2D<f32>| {
         let (mut max_abs, mut max_rel, mut sum, mut n) = (0.0f32, 0.0f32, 0.0f64, 0usize);
@@ -423,7 +430,7 @@ fn geometry(h: f32) -> SceneGeometry {
 fn width_units_follow_the_closed_form() {
     let h = 1.0;
     let g = geometry(h);
-    let res = 512;
+    let resolution = 512;
     let lights = [
         Light::Distant {
             direction: Vec3::Y,
@@ -438,7 +445,9 @@ fn width_units_follow_the_closed_form() {
     ];
     for light in lights {
         let t = ShadowWidth::new(WidthMethod::Exact);
-        let maps = t.generate_cpu(&CpuContext::new(), &g, &light, res).unwrap();
+        let maps = t
+            .generate_cpu(&CpuContext::new(), &g, &light, resolution)
+            .unwrap();
         let xs: Vec<f32> = (1..40).map(|i| -0.005 * i as f32).collect();
         let positions: Vec<Vec3> = xs.iter().map(|&x| Vec3::new(x, 0.0, 0.1)).collect();
         let normals = vec![Vec3::Y; positions.len()];

@@ -7,7 +7,7 @@
 
 struct WidthParams {
     map: MapView,
-    res: u32,
+    resolution: u32,
     step: u32,
     neighbours: u32,
     cap: f32,
@@ -28,10 +28,10 @@ struct WidthParams {
 const UNREACHED: f32 = 1.0e9;
 
 fn texel_index(gid: vec3<u32>) -> i32 {
-    if gid.x >= prm.res || gid.y >= prm.res {
+    if gid.x >= prm.resolution || gid.y >= prm.resolution {
         return -1;
     }
-    return i32(gid.y * prm.res + gid.x);
+    return i32(gid.y * prm.resolution + gid.x);
 }
 
 // Inverted occlusion map: UNREACHED where a caster covers the texel, else 0 (see occlusion.rs).
@@ -53,7 +53,7 @@ fn propagate(@builtin(global_invocation_id) gid: vec3<u32>) {
     if i < 0 {
         return;
     }
-    let r = i32(prm.res);
+    let r = i32(prm.resolution);
     let x = i32(gid.x);
     let y = i32(gid.y);
     var w = fsrc[i];
@@ -106,7 +106,7 @@ fn jfa_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(64)
 fn edt_columns(@builtin(global_invocation_id) gid: vec3<u32>) {
     let x = gid.x;
-    let r = prm.res;
+    let r = prm.resolution;
     if x >= r {
         return;
     }
@@ -140,7 +140,7 @@ fn edt_columns(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(64)
 fn edt_rows(@builtin(global_invocation_id) gid: vec3<u32>) {
     let y = gid.x;
-    let r = prm.res;
+    let r = prm.resolution;
     if y >= r {
         return;
     }

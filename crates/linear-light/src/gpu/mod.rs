@@ -56,11 +56,11 @@ pub struct GpuLinearMaps {
 impl GpuLinearMaps {
     /// Reads the visibility channels back (tests).
     pub fn read_channels(&self, ctx: &GpuContext) -> Result<Vec<Map2D<f32>>> {
-        let res = self.samples.first().map_or(0, |s| s.map.resolution);
+        let resolution = self.samples.first().map_or(0, |s| s.map.resolution);
         (0..self.samples.len() as u32)
             .map(|k| {
                 let v: Vec<f32> = read_texture(ctx, &self.channel, k, wgpu::TextureAspect::All, 4)?;
-                Map2D::from_vec(res, res, v)
+                Map2D::from_vec(resolution, resolution, v)
                     .ok_or_else(|| ShadowError::Gpu("channel readback size".into()))
             })
             .collect()
@@ -83,7 +83,7 @@ pub(crate) struct CombineParams {
     has_next: u32,
     lit: f32,
     piece: f32,
-    res: u32,
+    resolution: u32,
     _pad: [u32; 2],
 }
 
@@ -167,7 +167,7 @@ fn encode_warp(
 
 /// The skin quads of one sample's map and the indirect draw of them.
 struct SkinList {
-    /// Quad indices `y (res - 1) + x`.
+    /// Quad indices `y (resolution - 1) + x`.
     quads: wgpu::Buffer,
     /// `[vertex_count, instance_count, first_vertex, first_instance]`.
     draw: wgpu::Buffer,
@@ -182,11 +182,11 @@ fn encode_find_skins(
     samples: &wgpu::Buffer,
     depth_view: &wgpu::TextureView,
     k: u32,
-    res: u32,
+    resolution: u32,
 ) -> SkinList {
     let quads = ctx.buffer(&wgpu::BufferDescriptor {
         label: Some("skin quads"),
-        size: 4 * (res as u64 - 1).pow(2).max(1),
+        size: 4 * (resolution as u64 - 1).pow(2).max(1),
         usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     });
@@ -216,7 +216,7 @@ fn encode_find_skins(
     let mut pass = ctx.begin_compute_pass(enc, "find skins");
     pass.set_pipeline(&kernel.pipeline);
     pass.set_bind_group(0, &bind, &[]);
-    let g = res.saturating_sub(1).div_ceil(8).max(1);
+    let g = resolution.saturating_sub(1).div_ceil(8).max(1);
     pass.dispatch_workgroups(g, g, 1);
     drop(pass);
     SkinList { quads, draw }
@@ -232,7 +232,7 @@ pub(crate) fn generate(
     input: &Generation,
     segments: &[Segment],
 ) -> Result<GpuLinearMaps> {
-    let res = input.resolution;
+    let resolution = input.resolution;
     let n = t.samples;
     let layers = n * segments.len() as u32;
     let raster = ctx.cached(GpuRasterizer::new);
@@ -245,13 +245,13 @@ pub(crate) fn generate(
         let light = soft_shadow_core::Light::Linear { a: seg.a, b: seg.b };
         let coverage = input.coverage_of(&light);
         for v in sample_views(seg.a, seg.b, n, seg.axis, &coverage, seg.weight) {
-            let un = Unproject::new(&v.view, res);
+            let un = Unproject::new(&v.view, resolution);
             samples.push(SampleGpu {
-                map: v.params(res),
+                map: v.params(resolution),
                 inv_view: un.inv_view.to_cols_array(),
                 sx: un.sx,
                 sy: un.sy,
-                edge_threshold: t.edge_threshold_at(res),
+                edge_threshold: t.edge_threshold_at(resolution),
                 piece: seg.weight * piece_share(n),
             });
             views.push(v);
@@ -259,18 +259,19 @@ pub(crate) fn generate(
     }
     let sb = ctx.storage_buffer("linear samples", bytemuck::cast_slice(&samples));
     let tris = scene.casters();
-    let depth = GpuRasterizer::depth_array(ctx, res, layers)?;
+    let depth = GpuRasterizer::depth_array(ctx, resolution, layers)?;
     // Skins and their warps read the grid maps (casters and receivers, see `grid_geometry`).
     let surfaces = scene.surfaces(ctx)?;
     let grid_tris = &surfaces.0;
-    let grid = GpuRasterizer::depth_array(ctx, res, layers)?;
+    let grid = GpuRasterizer::depth_array(ctx, resolution, layers)?;
     let grid_view = depth_array_view(&grid);
     let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-    let values = [0, 1].map(|_| texture_2d(ctx, "skin values", res, (1, 1), VALUE_FORMAT, attach));
+    let values =
+        [0, 1].map(|_| texture_2d(ctx, "skin values", resolution, (1, 1), VALUE_FORMAT, attach));
     let skin_depth = texture_2d(
         ctx,
         "skin depth",
-        res,
+        resolution,
         (1, 1),
         DEPTH_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT,
@@ -278,7 +279,7 @@ pub(crate) fn generate(
     let channel = texture_2d(
         ctx,
         "visibility channels",
-        res,
+        resolution,
         (layers, 1),
         VALUE_FORMAT,
         wgpu::TextureUsages::STORAGE_BINDING
@@ -299,7 +300,7 @@ pub(crate) fn generate(
         }
     }
     let lists: Vec<SkinList> = (0..layers)
-        .map(|k| encode_find_skins(ctx, enc, &find.0, &sb, &grid_view, k, res))
+        .map(|k| encode_find_skins(ctx, enc, &find.0, &sb, &grid_view, k, resolution))
         .collect();
     for layer in 0..layers {
         // Sample `i` of segment `layer / N`; its neighbours are on the same segment.
@@ -328,7 +329,7 @@ pub(crate) fn generate(
             has_next: nbrs[1].is_some() as u32,
             lit: weight * lit_share(i, n),
             piece: weight * piece_share(n),
-            res,
+            resolution,
             _pad: [0; 2],
         };
         let ub = ctx.uniform_buffer("linear combine", bytemuck::bytes_of(&cp));
@@ -346,7 +347,7 @@ pub(crate) fn generate(
         let mut pass = ctx.begin_compute_pass(enc, "linear combine");
         pass.set_pipeline(&comb.0.pipeline);
         pass.set_bind_group(0, &bind, &[]);
-        let g = res.div_ceil(8);
+        let g = resolution.div_ceil(8);
         pass.dispatch_workgroups(g, g, 1);
     }
     // Scratch back to the pool: the passes recorded above still run first.

@@ -1,4 +1,4 @@
-//! A mipmap pyramid of a slice (Williams 1983): level `l` has `ceil(res / 2^l)` texels a side,
+//! A mipmap pyramid of a slice (Williams 1983): level `l` has `ceil(resolution / 2^l)` texels a side,
 //! each the mean of its `2^l x 2^l` block of the slice (outside counts as empty), stored as
 //! 8-bit unorm from exact counts, like the N-Buffers.
 
@@ -13,21 +13,21 @@ use std::sync::Arc;
 #[derive(Clone, Debug)]
 pub(crate) struct Mipmap {
     /// Side of level 0.
-    pub res: u32,
-    /// Level `l` at index `l`, `mip_size(res, l)²` bytes.
+    pub resolution: u32,
+    /// Level `l` at index `l`, `mip_size(resolution, l)²` bytes.
     pub levels: Vec<Vec<u8>>,
     pool: Arc<Pool>,
 }
 
 impl PartialEq for Mipmap {
     fn eq(&self, other: &Self) -> bool {
-        (self.res, &self.levels) == (other.res, &other.levels)
+        (self.resolution, &self.levels) == (other.resolution, &other.levels)
     }
 }
 
-/// Side of mip level `l` of a `res`-wide slice.
-pub(crate) fn mip_size(res: u32, l: u32) -> u32 {
-    res.div_ceil(1 << l)
+/// Side of mip level `l` of a `resolution`-wide slice.
+pub(crate) fn mip_size(resolution: u32, l: u32) -> u32 {
+    resolution.div_ceil(1 << l)
 }
 
 impl Drop for Mipmap {
@@ -38,17 +38,17 @@ impl Drop for Mipmap {
 }
 
 impl Mipmap {
-    /// Every level down to 1x1 of a `res x res` binary slice (`occupied(x, y)`, row-major).
+    /// Every level down to 1x1 of a `resolution x resolution` binary slice (`occupied(x, y)`, row-major).
     #[cfg(test)]
-    pub fn new(pool: &Arc<Pool>, res: u32, occupied: &[bool]) -> Mipmap {
-        Mipmap::build(pool, res, occupied, |&o| o as u32)
+    pub fn new(pool: &Arc<Pool>, resolution: u32, occupied: &[bool]) -> Mipmap {
+        Mipmap::build(pool, resolution, occupied, |&o| o as u32)
     }
 
     /// Every level of slice `k` of the slice masks (bit `k` of each texel,
     /// [`crate::slicing::slice`]).
     #[cfg(test)]
-    pub fn from_masks(pool: &Arc<Pool>, res: u32, masks: &[u32], k: u32) -> Mipmap {
-        Mipmap::build(pool, res, masks, |&m| (m >> k) & 1)
+    pub fn from_masks(pool: &Arc<Pool>, resolution: u32, masks: &[u32], k: u32) -> Mipmap {
+        Mipmap::build(pool, resolution, masks, |&m| (m >> k) & 1)
     }
 
     /// The pyramid of exact counts, each level the sums of 2x2 blocks of the one below (a
@@ -57,18 +57,18 @@ impl Mipmap {
     #[cfg(test)]
     fn build<T: Sync>(
         pool: &Arc<Pool>,
-        res: u32,
+        resolution: u32,
         cells: &[T],
         bit: impl Fn(&T) -> u32 + Sync,
     ) -> Mipmap {
-        let (n, half) = (res as usize, (res as usize).div_ceil(2));
+        let (n, half) = (resolution as usize, (resolution as usize).div_ceil(2));
         let (mut level0, mut counts) = Self::base_storage(pool, n);
         level0
             .par_chunks_mut(2 * n.max(1))
             .zip(counts.par_chunks_mut(half.max(1)))
             .enumerate()
             .for_each(|(y, (rows, out))| base_row(n, cells, &bit, y, rows, out));
-        Self::from_base(pool, res, level0, counts)
+        Self::from_base(pool, resolution, level0, counts)
     }
 
     /// The pyramids of slices `ks` of the slice masks, their bases built together: one pass
@@ -77,11 +77,11 @@ impl Mipmap {
     /// Equal to `from_masks` of each.
     pub(crate) fn from_masks_together(
         pool: &Arc<Pool>,
-        res: u32,
+        resolution: u32,
         masks: &[u32],
         ks: std::ops::Range<u32>,
     ) -> Vec<Mipmap> {
-        let (n, half) = (res as usize, (res as usize).div_ceil(2));
+        let (n, half) = (resolution as usize, (resolution as usize).div_ceil(2));
         let mut bases: Vec<(Vec<u8>, Vec<u32>)> =
             ks.clone().map(|_| Self::base_storage(pool, n)).collect();
         for y in 0..half {
@@ -100,7 +100,7 @@ impl Mipmap {
         }
         bases
             .into_iter()
-            .map(|(level0, counts)| Self::from_base(pool, res, level0, counts))
+            .map(|(level0, counts)| Self::from_base(pool, resolution, level0, counts))
             .collect()
     }
 
@@ -115,10 +115,18 @@ impl Mipmap {
     }
 
     /// The pyramid from its level 0 and the counts of level 1.
-    fn from_base(pool: &Arc<Pool>, res: u32, level0: Vec<u8>, mut counts: Vec<u32>) -> Mipmap {
+    fn from_base(
+        pool: &Arc<Pool>,
+        resolution: u32,
+        level0: Vec<u8>,
+        mut counts: Vec<u32>,
+    ) -> Mipmap {
         let mut levels = vec![level0];
-        for l in 1..level_count(res) {
-            let (src, dst) = (mip_size(res, l - 1) as usize, mip_size(res, l) as usize);
+        for l in 1..level_count(resolution) {
+            let (src, dst) = (
+                mip_size(resolution, l - 1) as usize,
+                mip_size(resolution, l) as usize,
+            );
             if l > 1 {
                 let c = &counts;
                 let next = sum_blocks(pool, src, dst, |y| &c[y * src..(y + 1) * src], |&c| c);
@@ -132,7 +140,7 @@ impl Mipmap {
         }
         pool.give(counts);
         Mipmap {
-            res,
+            resolution,
             levels,
             pool: pool.clone(),
         }
@@ -140,7 +148,7 @@ impl Mipmap {
 
     /// Texel `(x, y)` of level `l` in [0, 1]; 0 outside.
     pub(crate) fn texel(&self, l: u32, x: i64, y: i64) -> f32 {
-        let n = mip_size(self.res, l) as i64;
+        let n = mip_size(self.resolution, l) as i64;
         if x < 0 || y < 0 || x >= n || y >= n {
             return 0.0;
         }

@@ -51,10 +51,10 @@ impl Prefilter {
     }
 }
 
-/// Number of levels (mipmap or N-Buffer) of a `res`-wide slice: up to the first box of side
-/// `>= res`.
-pub(crate) fn level_count(res: u32) -> u32 {
-    32 - res.max(1).saturating_sub(1).leading_zeros() + 1
+/// Number of levels (mipmap or N-Buffer) of a `resolution`-wide slice: up to the first box of side
+/// `>= resolution`.
+pub(crate) fn level_count(resolution: u32) -> u32 {
+    32 - resolution.max(1).saturating_sub(1).leading_zeros() + 1
 }
 
 /// `count / area` rounded to the nearest 8-bit unorm (ties up), in integers: the same bits on
@@ -126,23 +126,24 @@ pub(crate) enum Filtered {
 }
 
 impl Filtered {
-    /// Prefilters the `slices` binary slices packed in `masks` (`res²` texels, bit `k` for
+    /// Prefilters the `slices` binary slices packed in `masks` (`resolution²` texels, bit `k` for
     /// slice `k`: [`crate::slicing::slice`]) with `filter`, the slices in parallel, their
     /// storage from `pool`.
     pub(crate) fn build(
         pool: &Arc<Pool>,
         filter: Prefilter,
-        res: u32,
+        resolution: u32,
         masks: &[u32],
         slices: u32,
     ) -> Filtered {
         let each = (0..slices).into_par_iter();
         match filter {
-            Prefilter::Sat => {
-                Filtered::Sat(each.map(|k| Sat::from_masks(pool, res, masks, k)).collect())
-            }
+            Prefilter::Sat => Filtered::Sat(
+                each.map(|k| Sat::from_masks(pool, resolution, masks, k))
+                    .collect(),
+            ),
             Prefilter::NBuffer => Filtered::NBuffer(
-                each.map(|k| NBuffer::new(pool, &Sat::from_masks(pool, res, masks, k)))
+                each.map(|k| NBuffer::new(pool, &Sat::from_masks(pool, resolution, masks, k)))
                     .collect(),
             ),
             Prefilter::Mipmap => {
@@ -152,7 +153,7 @@ impl Filtered {
                     .into_par_iter()
                     .map(|g| {
                         let ks = g * group..((g + 1) * group).min(slices);
-                        Mipmap::from_masks_together(pool, res, masks, ks)
+                        Mipmap::from_masks_together(pool, resolution, masks, ks)
                     })
                     .collect();
                 Filtered::Mipmap(groups.into_iter().flatten().collect())

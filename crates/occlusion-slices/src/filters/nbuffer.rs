@@ -15,11 +15,11 @@ use std::sync::Arc;
 /// Rows per band of the construction.
 const BAND_ROWS: usize = 16;
 
-/// Every level of one slice, `res²` bytes each.
+/// Every level of one slice, `resolution²` bytes each.
 #[derive(Clone, Debug)]
 pub(crate) struct NBuffer {
     /// Side in texels.
-    pub res: u32,
+    pub resolution: u32,
     /// Level `l` at index `l`.
     pub levels: Vec<Vec<u8>>,
     pool: Arc<Pool>,
@@ -27,7 +27,7 @@ pub(crate) struct NBuffer {
 
 impl PartialEq for NBuffer {
     fn eq(&self, other: &Self) -> bool {
-        (self.res, &self.levels) == (other.res, &other.levels)
+        (self.resolution, &self.levels) == (other.resolution, &other.levels)
     }
 }
 
@@ -39,7 +39,7 @@ impl Drop for NBuffer {
 }
 
 impl NBuffer {
-    /// The levels `0..level_count(res)` of the slice whose table is `sat`, their storage from
+    /// The levels `0..level_count(resolution)` of the slice whose table is `sat`, their storage from
     /// `pool`.
     ///
     /// Bands of rows in parallel, every level of a row at once: the table row `y` that each
@@ -47,10 +47,10 @@ impl NBuffer {
     /// while neighbouring output rows still have them in cache (a pass per level re-read the
     /// whole 16 MiB table at 2048² for each of the 12 levels).
     pub(crate) fn new(pool: &Arc<Pool>, sat: &Sat) -> NBuffer {
-        let res = sat.res;
-        let n = res as usize;
+        let resolution = sat.resolution;
+        let n = resolution as usize;
         let w = n + 1;
-        let count = level_count(res) as usize;
+        let count = level_count(resolution) as usize;
         // Every texel is written below: no clearing pass.
         let mut levels: Vec<Vec<u8>> = (0..count).map(|_| pool.overwrite(n * n, 0u8)).collect();
         // Per band of rows, that band of every level.
@@ -105,7 +105,7 @@ impl NBuffer {
             }
         });
         NBuffer {
-            res,
+            resolution,
             levels,
             pool: pool.clone(),
         }
@@ -113,7 +113,7 @@ impl NBuffer {
 
     /// Texel `(x, y)` of level `l` as a value in [0, 1]; 0 outside.
     pub(crate) fn texel(&self, l: u32, x: i64, y: i64) -> f32 {
-        let r = self.res as i64;
+        let r = self.resolution as i64;
         if x < 0 || y < 0 || x >= r || y >= r {
             return 0.0;
         }

@@ -11,11 +11,11 @@ use glam::Vec2;
 use soft_shadow_core::pool::Pool;
 use std::sync::Arc;
 
-/// The table of one slice: `(res + 1)²` counts, row-major, `S(i, j)` at `j * (res + 1) + i`.
+/// The table of one slice: `(resolution + 1)²` counts, row-major, `S(i, j)` at `j * (resolution + 1) + i`.
 #[derive(Clone, Debug)]
 pub(crate) struct Sat {
     /// Side of the slice in texels.
-    pub res: u32,
+    pub resolution: u32,
     /// The counts.
     pub data: Vec<u32>,
     pool: Arc<Pool>,
@@ -23,7 +23,7 @@ pub(crate) struct Sat {
 
 impl PartialEq for Sat {
     fn eq(&self, other: &Self) -> bool {
-        (self.res, &self.data) == (other.res, &other.data)
+        (self.resolution, &self.data) == (other.resolution, &other.data)
     }
 }
 
@@ -35,22 +35,22 @@ impl Drop for Sat {
 }
 
 impl Sat {
-    /// The table of a `res x res` binary slice (`occupied(x, y)`, row-major).
+    /// The table of a `resolution x resolution` binary slice (`occupied(x, y)`, row-major).
     #[cfg(test)]
-    pub fn new(pool: &Arc<Pool>, res: u32, occupied: &[bool]) -> Sat {
-        Sat::build(pool, res, occupied, |&o| o as u32)
+    pub fn new(pool: &Arc<Pool>, resolution: u32, occupied: &[bool]) -> Sat {
+        Sat::build(pool, resolution, occupied, |&o| o as u32)
     }
 
     /// The table of slice `k` of the slice masks (bit `k` of each texel,
     /// [`crate::slicing::slice`]).
-    pub(crate) fn from_masks(pool: &Arc<Pool>, res: u32, masks: &[u32], k: u32) -> Sat {
-        Sat::build(pool, res, masks, |&m| (m >> k) & 1)
+    pub(crate) fn from_masks(pool: &Arc<Pool>, resolution: u32, masks: &[u32], k: u32) -> Sat {
+        Sat::build(pool, resolution, masks, |&m| (m >> k) & 1)
     }
 
     /// One pass down the rows: each row's running count plus the table row above it. Row `y`
     /// reads only row `y - 1`, still in cache; the slices of one light build in parallel.
-    fn build<T>(pool: &Arc<Pool>, res: u32, cells: &[T], bit: impl Fn(&T) -> u32) -> Sat {
-        let n = res as usize;
+    fn build<T>(pool: &Arc<Pool>, resolution: u32, cells: &[T], bit: impl Fn(&T) -> u32) -> Sat {
+        let n = resolution as usize;
         let w = n + 1;
         // Row 0 and column 0 are zeros, every other entry is written below: no clearing pass.
         let mut data = pool.overwrite(w * w, 0u32);
@@ -66,16 +66,16 @@ impl Sat {
             }
         }
         Sat {
-            res,
+            resolution,
             data,
             pool: pool.clone(),
         }
     }
 
-    /// `S(i, j)` with indices clamped to `[0, res]`.
+    /// `S(i, j)` with indices clamped to `[0, resolution]`.
     pub(crate) fn get(&self, i: i64, j: i64) -> u32 {
-        let r = self.res as i64;
-        let w = (self.res + 1) as usize;
+        let r = self.resolution as i64;
+        let w = (self.resolution + 1) as usize;
         self.data[j.clamp(0, r) as usize * w + i.clamp(0, r) as usize]
     }
 

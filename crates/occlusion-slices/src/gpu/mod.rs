@@ -36,7 +36,7 @@ pub struct GpuSliceMaps {
     /// The slices: `groups` RGBA8 layers, each channel a slice's top codes
     /// ([`Frame::top_code`] / 255; 0 where empty).
     pub(crate) occupancy: wgpu::Texture,
-    /// The summed-area table (`res + 1` a side, `groups` layers of RGBA32Uint); kept for
+    /// The summed-area table (`resolution + 1` a side, `groups` layers of RGBA32Uint); kept for
     /// [`Prefilter::Sat`], a 1x1 placeholder otherwise.
     pub(crate) sat: wgpu::Texture,
     /// N-Buffer levels (`levels * groups` layers) or the mip pyramid (`groups` layers, `levels`
@@ -45,7 +45,7 @@ pub struct GpuSliceMaps {
 }
 
 impl GpuSliceMaps {
-    /// Reads the binary slices back (tests): `slices` maps of `res²` flags.
+    /// Reads the binary slices back (tests): `slices` maps of `resolution²` flags.
     pub fn read_slices(&self, ctx: &GpuContext) -> Result<Vec<Vec<bool>>> {
         let mut out = vec![Vec::new(); self.frame.slices as usize];
         for g in 0..self.groups {
@@ -61,7 +61,7 @@ impl GpuSliceMaps {
         Ok(out)
     }
 
-    /// Reads the N-Buffer levels back (tests): per slice, per level, `res²` unorm8 texels; empty
+    /// Reads the N-Buffer levels back (tests): per slice, per level, `resolution²` unorm8 texels; empty
     /// for the other filters.
     pub fn read_nbuffer(&self, ctx: &GpuContext) -> Result<Vec<Vec<Vec<u8>>>> {
         if self.filter != Prefilter::NBuffer {
@@ -203,16 +203,16 @@ fn encode_levels(
     sat_view: &wgpu::TextureView,
     filtered: &wgpu::Texture,
     filter: Prefilter,
-    res: u32,
+    resolution: u32,
     groups: u32,
 ) {
     let whole = array_view(filtered, None);
-    for l in 0..level_count(res) {
+    for l in 0..level_count(resolution) {
         let (kernel, size, out) = match filter {
-            Prefilter::NBuffer => (&pre.nbuffer_level, res, None),
+            Prefilter::NBuffer => (&pre.nbuffer_level, resolution, None),
             _ => (
                 &pre.mip_level,
-                mip_size(res, l),
+                mip_size(resolution, l),
                 Some(array_view(filtered, Some(l))),
             ),
         };
@@ -247,9 +247,9 @@ pub(crate) fn generate(
     scene: &GpuScene,
     input: &Generation,
 ) -> Result<GpuSliceMaps> {
-    let (geometry, light, res) = (input.geometry, input.light, input.resolution);
+    let (geometry, light, resolution) = (input.geometry, input.light, input.resolution);
     let limits = ctx.device.limits();
-    let levels = level_count(res);
+    let levels = level_count(resolution);
     let groups = t.slices.div_ceil(4);
     if levels * groups > limits.max_texture_array_layers {
         return Err(ShadowError::Gpu(format!(
@@ -258,13 +258,13 @@ pub(crate) fn generate(
             limits.max_texture_array_layers
         )));
     }
-    let frame = Frame::fit(light, geometry, t, res, input.region);
+    let frame = Frame::fit(light, geometry, t, resolution, input.region);
     let uniform = ctx.uniform_buffer("slicing frame", bytemuck::bytes_of(&frame));
     let pre = ctx.cached(PrefilterPipelines::new);
     let occupancy = texture_2d(
         ctx,
         "occlusion textures",
-        res,
+        resolution,
         (groups, 1),
         OCCUPANCY_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT
@@ -275,7 +275,7 @@ pub(crate) fn generate(
         texture_2d(
             ctx,
             label,
-            res + 1,
+            resolution + 1,
             (groups, 1),
             SAT_FORMAT,
             storage_usage(),
@@ -290,18 +290,18 @@ pub(crate) fn generate(
         Prefilter::NBuffer => texture_2d(
             ctx,
             "n-buffers",
-            res,
+            resolution,
             (levels * groups, 1),
             LEVEL_FORMAT,
             storage_usage(),
         ),
         // The next power of two: its mip chain has room for every level (level l holds
-        // ceil(res / 2^l) texels a side, more than a `res`-wide texture's level l, and
-        // `levels` levels, one more than its chain where `res` is no power of two).
+        // ceil(resolution / 2^l) texels a side, more than a `resolution`-wide texture's level l, and
+        // `levels` levels, one more than its chain where `resolution` is no power of two).
         Prefilter::Mipmap => texture_2d(
             ctx,
             "mipmaps",
-            res.next_power_of_two(),
+            resolution.next_power_of_two(),
             (groups, levels),
             LEVEL_FORMAT,
             storage_usage(),
@@ -314,7 +314,7 @@ pub(crate) fn generate(
         array_view(&sat, None),
     );
     // One invocation per table row, then per table column.
-    let scan_groups = (res + 1).div_ceil(64);
+    let scan_groups = (resolution + 1).div_ceil(64);
     let bind = |k: &Kernel, src: &wgpu::TextureView, dst: &wgpu::TextureView| {
         bind_group(
             ctx,
@@ -347,7 +347,7 @@ pub(crate) fn generate(
     );
     if t.filter != Prefilter::Sat {
         encode_levels(
-            ctx, enc, &pre, &uniform, &sat_view, &filtered, t.filter, res, groups,
+            ctx, enc, &pre, &uniform, &sat_view, &filtered, t.filter, resolution, groups,
         );
     }
     ctx.recycle_texture(rows);

@@ -16,8 +16,10 @@ fn gpu_nbuffer_levels_equal_the_cpu() {
     let spec = soft_shadow_reference::scenes::catalogue::build("overlap").unwrap();
     let geometry = spec.to_scene().unwrap().geometry();
     let t = OcclusionSlices::new(8, Prefilter::NBuffer);
-    for res in [96, 256] {
-        let gm = t.generate_gpu(&ctx, &geometry, &spec.light, res).unwrap();
+    for resolution in [96, 256] {
+        let gm = t
+            .generate_gpu(&ctx, &geometry, &spec.light, resolution)
+            .unwrap();
         let (slices, levels) = (
             gm.first().read_slices(&ctx).unwrap(),
             gm.first().read_nbuffer(&ctx).unwrap(),
@@ -26,21 +28,21 @@ fn gpu_nbuffer_levels_equal_the_cpu() {
         let occupied = slices.iter().filter(|s| s.iter().any(|&o| o)).count();
         assert!(
             occupied >= 3,
-            "overlap {res}: {occupied} slices hold a blocker"
+            "overlap {resolution}: {occupied} slices hold a blocker"
         );
         for (k, (slice, gpu)) in slices.iter().zip(&levels).enumerate() {
             let pool = std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0));
-            let cpu = NBuffer::new(&pool, &Sat::new(&pool, res, slice));
+            let cpu = NBuffer::new(&pool, &Sat::new(&pool, resolution, slice));
             assert_eq!(
                 gpu.len(),
                 cpu.levels.len(),
-                "{res}: slice {k}'s level count"
+                "{resolution}: slice {k}'s level count"
             );
             for (l, (g, c)) in gpu.iter().zip(&cpu.levels).enumerate() {
                 let differ = g.iter().zip(c).filter(|(a, b)| a != b).count();
                 assert_eq!(
                     differ, 0,
-                    "{res}: slice {k} level {l}: {differ} texels differ"
+                    "{resolution}: slice {k} level {l}: {differ} texels differ"
                 );
             }
         }

@@ -6,10 +6,12 @@ use harness::testing::ViewerBunnyGround;
 use soft_shadow_core::{CpuContext, Receivers, ShadowTechnique};
 
 /// Ground receivers `t` reads lighter than the reference by more than 1/4, and the rms of
-/// `V - V_ref` over the ground (x 255), at map side `res`.
-fn leaks(f: &ViewerBunnyGround, t: &OcclusionSlices, res: u32) -> (usize, f64) {
+/// `V - V_ref` over the ground (x 255), at map side `resolution`.
+fn leaks(f: &ViewerBunnyGround, t: &OcclusionSlices, resolution: u32) -> (usize, f64) {
     let cpu = CpuContext::new();
-    let maps = t.generate_cpu(&cpu, &f.geometry, &f.light, res).unwrap();
+    let maps = t
+        .generate_cpu(&cpu, &f.geometry, &f.light, resolution)
+        .unwrap();
     let v = t
         .evaluate_cpu(&maps, &Receivers::new(&f.positions, &f.normals))
         .unwrap();

@@ -86,17 +86,17 @@ proptest! {
     /// random integer rectangles, including rectangles clipped by the border.
     #[test]
     fn sat_box_counts_equal_brute_force(
-        res in 1u32..48,
+        resolution in 1u32..48,
         density in 0.0f64..=1.0,
         seed in any::<u64>(),
         rects in prop::collection::vec((-10i64..60, -10i64..60, -10i64..60, -10i64..60), 1..20),
     ) {
-        let mask = random_mask(res, density, seed);
-        let sat = Sat::new(&pool(), res, &mask);
+        let mask = random_mask(resolution, density, seed);
+        let sat = Sat::new(&pool(), resolution, &mask);
         for (a, b, c, d) in rects {
             let (x0, x1) = (a.min(c), a.max(c));
             let (y0, y1) = (b.min(d), b.max(d));
-            prop_assert_eq!(sat.count(x0, y0, x1, y1) as i64, brute(&mask, res, x0, y0, x1, y1));
+            prop_assert_eq!(sat.count(x0, y0, x1, y1) as i64, brute(&mask, resolution, x0, y0, x1, y1));
         }
     }
 
@@ -106,16 +106,16 @@ proptest! {
     /// slice alone, whether built on its own or together with its neighbouring slices.
     #[test]
     fn mipmap_levels_are_rounded_block_counts(
-        res in 1u32..70,
+        resolution in 1u32..70,
         density in 0.0f64..=1.0,
         seed in any::<u64>(),
         k in 0u32..16,
     ) {
-        let mask = random_mask(res, density, seed);
-        let sat = Sat::new(&pool(), res, &mask);
-        let mm = Mipmap::new(&pool(), res, &mask);
+        let mask = random_mask(resolution, density, seed);
+        let sat = Sat::new(&pool(), resolution, &mask);
+        let mm = Mipmap::new(&pool(), resolution, &mask);
         for (l, level) in mm.levels.iter().enumerate() {
-            let (s, n) = (1i64 << l, mip_size(res, l as u32) as i64);
+            let (s, n) = (1i64 << l, mip_size(resolution, l as u32) as i64);
             prop_assert_eq!(level.len() as i64, n * n);
             for y in 0..n {
                 for x in 0..n {
@@ -127,12 +127,12 @@ proptest! {
         // Another slice's bit set wherever this one is empty.
         let other = (k + 1) % 16;
         let masks: Vec<u32> = mask.iter().map(|&b| ((b as u32) << k) | ((!b as u32) << other)).collect();
-        prop_assert!(Sat::from_masks(&pool(), res, &masks, k) == sat);
-        prop_assert!(Mipmap::from_masks(&pool(), res, &masks, k) == mm);
+        prop_assert!(Sat::from_masks(&pool(), resolution, &masks, k) == sat);
+        prop_assert!(Mipmap::from_masks(&pool(), resolution, &masks, k) == mm);
         let (lo, hi) = (k.min(other), k.max(other));
-        let together = Mipmap::from_masks_together(&pool(), res, &masks, lo..hi + 1);
+        let together = Mipmap::from_masks_together(&pool(), resolution, &masks, lo..hi + 1);
         prop_assert!(together[(k - lo) as usize] == mm);
-        prop_assert!(together[(other - lo) as usize] == Mipmap::from_masks(&pool(), res, &masks, other));
+        prop_assert!(together[(other - lo) as usize] == Mipmap::from_masks(&pool(), resolution, &masks, other));
     }
 
     /// Every N-Buffer level holds, at every texel, the exact count of the `2^l` box whose
@@ -141,15 +141,15 @@ proptest! {
     /// every size that is no power of two panicked).
     #[test]
     fn nbuffer_levels_are_rounded_box_counts(
-        res in 1u32..70,
+        resolution in 1u32..70,
         density in 0.0f64..=1.0,
         seed in any::<u64>(),
     ) {
-        let mask = random_mask(res, density, seed);
-        let sat = Sat::new(&pool(), res, &mask);
+        let mask = random_mask(resolution, density, seed);
+        let sat = Sat::new(&pool(), resolution, &mask);
         let nb = NBuffer::new(&pool(), &sat);
-        prop_assert_eq!(nb.levels.len() as u32, crate::filters::level_count(res));
-        let n = res as i64;
+        prop_assert_eq!(nb.levels.len() as u32, crate::filters::level_count(resolution));
+        let n = resolution as i64;
         for (l, level) in nb.levels.iter().enumerate() {
             let s = 1i64 << l;
             prop_assert_eq!(level.len() as i64, n * n);
@@ -168,15 +168,15 @@ proptest! {
     /// one texel wide.
     #[test]
     fn sat_mean_is_the_exact_box_integral(
-        res in 1u32..40,
+        resolution in 1u32..40,
         density in 0.0f64..=1.0,
         seed in any::<u64>(),
         boxes in prop::collection::vec((-5.0f32..45.0, -5.0f32..45.0, 0.01f32..50.0), 1..20),
     ) {
-        let mask = random_mask(res, density, seed);
-        let sat = Sat::new(&pool(), res, &mask);
+        let mask = random_mask(resolution, density, seed);
+        let sat = Sat::new(&pool(), resolution, &mask);
         for (cx, cy, size) in boxes {
-            let exact = integral(&mask, res, cx, cy, size.max(1.0));
+            let exact = integral(&mask, resolution, cx, cy, size.max(1.0));
             let got = sat.mean(Vec2::new(cx, cy), size) as f64;
             prop_assert!((got - exact).abs() < 1e-4, "{got} vs {exact}");
         }
@@ -225,13 +225,15 @@ fn max_and_sum_are_not_independent_occluders() {
     );
 }
 
-fn random_mask(res: u32, density: f64, seed: u64) -> Vec<bool> {
+fn random_mask(resolution: u32, density: f64, seed: u64) -> Vec<bool> {
     let mut rng = soft_shadow_core::rng::SplitMix(seed);
-    (0..res * res).map(|_| rng.next_f64() < density).collect()
+    (0..resolution * resolution)
+        .map(|_| rng.next_f64() < density)
+        .collect()
 }
 
-fn brute(mask: &[bool], res: u32, x0: i64, y0: i64, x1: i64, y1: i64) -> i64 {
-    let r = res as i64;
+fn brute(mask: &[bool], resolution: u32, x0: i64, y0: i64, x1: i64, y1: i64) -> i64 {
+    let r = resolution as i64;
     let mut n = 0;
     for y in y0.max(0)..y1.min(r) {
         for x in x0.max(0)..x1.min(r) {
@@ -242,11 +244,11 @@ fn brute(mask: &[bool], res: u32, x0: i64, y0: i64, x1: i64, y1: i64) -> i64 {
 }
 
 /// Exact mean over the square of side `size` at `(cx, cy)`, in f64 (outside empty).
-fn integral(mask: &[bool], res: u32, cx: f32, cy: f32, size: f32) -> f64 {
+fn integral(mask: &[bool], resolution: u32, cx: f32, cy: f32, size: f32) -> f64 {
     let h = 0.5 * size as f64;
     let (lx, hx) = (cx as f64 - h, cx as f64 + h);
     let (ly, hy) = (cy as f64 - h, cy as f64 + h);
-    let r = res as i64;
+    let r = resolution as i64;
     let mut sum = 0.0;
     for y in 0..r {
         let oy = (hy.min((y + 1) as f64) - ly.max(y as f64)).max(0.0);
@@ -268,15 +270,15 @@ fn integral(mask: &[bool], res: u32, cx: f32, cy: f32, size: f32) -> f64 {
 /// rounding.
 #[test]
 fn nbuffer_and_mipmap_errors_against_brute_force() {
-    let res = 64;
+    let resolution = 64;
     let (mut err_n, mut err_m, mut count) = (0.0f64, 0.0f64, 0);
     let (mut max_n, mut max_m) = (0.0f64, 0.0f64);
     for seed in 1..=20u64 {
-        let mask = random_mask(res, 0.05 * seed as f64, seed);
-        let sat = Sat::new(&pool(), res, &mask);
+        let mask = random_mask(resolution, 0.05 * seed as f64, seed);
+        let sat = Sat::new(&pool(), resolution, &mask);
         let (nb, mm) = (
             NBuffer::new(&pool(), &sat),
-            Mipmap::new(&pool(), res, &mask),
+            Mipmap::new(&pool(), resolution, &mask),
         );
         let mut s = seed;
         for _ in 0..200 {
@@ -286,7 +288,7 @@ fn nbuffer_and_mipmap_errors_against_brute_force() {
             let u = |shift: u32| ((s >> shift) & 0xffff) as f32 / 65535.0;
             let c = Vec2::new(8.0 + 48.0 * u(0), 8.0 + 48.0 * u(16));
             let size = 1.0 + 15.0 * u(32);
-            let exact = integral(&mask, res, c.x, c.y, size);
+            let exact = integral(&mask, resolution, c.x, c.y, size);
             let (n, m) = (nb.mean(c, size) as f64, mm.mean(c, size) as f64);
             err_n += (n - exact).abs();
             err_m += (m - exact).abs();
@@ -298,7 +300,7 @@ fn nbuffer_and_mipmap_errors_against_brute_force() {
             let side = (1u32 << l) as f32;
             for (x, y) in [(3, 5), (20, 11), (40, 40)] {
                 let c = Vec2::new(x as f32 + 0.5 * side, y as f32 + 0.5 * side);
-                let exact = integral(&mask, res, c.x, c.y, side);
+                let exact = integral(&mask, resolution, c.x, c.y, side);
                 let n = nb.mean(c, side) as f64;
                 assert!(
                     (n - exact).abs() <= 0.5 / 255.0 + 1e-6,
@@ -426,25 +428,25 @@ fn a_tiny_light_far_above_keeps_casters_to_the_side() {
     }
 }
 
-/// `V` of `receivers` with 8 slices and each prefilter at map side `res`, on the CPU and (where
+/// `V` of `receivers` with 8 slices and each prefilter at map side `resolution`, on the CPU and (where
 /// test `name` gets an adapter) the GPU, each labelled `variant backend`.
 fn every_prefilter(
     name: &str,
     geometry: &SceneGeometry,
     light: &Light,
     receivers: &soft_shadow_core::Receivers,
-    res: u32,
+    resolution: u32,
 ) -> Vec<(String, Vec<f32>)> {
     let cpu = CpuContext::new();
     let gpu = harness::testing::gpu_for_test(name);
     let mut runs = Vec::new();
     for prefilter in Prefilter::ALL {
         let t = OcclusionSlices::new(8, prefilter);
-        let maps = t.generate_cpu(&cpu, geometry, light, res).unwrap();
+        let maps = t.generate_cpu(&cpu, geometry, light, resolution).unwrap();
         let v = t.evaluate_cpu(&maps, receivers).unwrap();
         runs.push((format!("{} cpu", t.label()), v));
         if let Some(ctx) = &gpu {
-            let maps = t.generate_gpu(ctx, geometry, light, res).unwrap();
+            let maps = t.generate_gpu(ctx, geometry, light, resolution).unwrap();
             let v = t.evaluate_gpu(ctx, &maps, receivers).unwrap();
             runs.push((format!("{} gpu", t.label()), v));
         }

@@ -91,7 +91,7 @@ fn layer_usage() -> wgpu::TextureUsages {
         | wgpu::TextureUsages::COPY_SRC
 }
 
-/// One 8x8-workgroup dispatch over a `res²` map.
+/// One 8x8-workgroup dispatch over a `resolution²` map.
 fn dispatch(
     ctx: &GpuContext,
     enc: &mut wgpu::CommandEncoder,

@@ -6,10 +6,10 @@ use harness::testing::ViewerBunnyGround;
 use soft_shadow_core::{CpuContext, Receivers, ShadowTechnique};
 
 /// Ground receivers (a grid of `n` x `n` points around the bunny's shadow, facing up) that the
-/// reference sees lit (`V_ref > 0.9`) and `t` puts in umbra (`V < 0.25`), at map side `res`;
+/// reference sees lit (`V_ref > 0.9`) and `t` puts in umbra (`V < 0.25`), at map side `resolution`;
 /// how many the reference sees lit; and how many of any reference value `t` reads darker by
 /// more than 1/2.
-fn false_umbra(t: &PenumbraLimit, res: u32, n: u32) -> (usize, usize, usize) {
+fn false_umbra(t: &PenumbraLimit, resolution: u32, n: u32) -> (usize, usize, usize) {
     let f = ViewerBunnyGround::new(n);
     let (geometry, light, ps, ns, refs) = (
         &f.geometry,
@@ -19,7 +19,7 @@ fn false_umbra(t: &PenumbraLimit, res: u32, n: u32) -> (usize, usize, usize) {
         &f.references,
     );
     let cpu = CpuContext::new();
-    let maps = t.generate_cpu(&cpu, geometry, light, res).unwrap();
+    let maps = t.generate_cpu(&cpu, geometry, light, resolution).unwrap();
     let v = t.evaluate_cpu(&maps, &Receivers::new(ps, ns)).unwrap();
     let lit: Vec<usize> = (0..ps.len())
         .filter(|&i| refs[i].is_some_and(|r| r > 0.9))

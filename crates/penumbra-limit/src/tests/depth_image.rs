@@ -17,7 +17,7 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
     use soft_shadow_core::seeds::dist2;
     use soft_shadow_core::{Coverage, SampleView};
     let layer_gap = crate::PenumbraLimit::new(crate::Generator::DepthImage).layer_gap;
-    for (name, res) in [
+    for (name, resolution) in [
         ("torus", 256),
         ("foliage", 512),
         ("overlap", 256),
@@ -28,17 +28,20 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
         let spec = soft_shadow_reference::scenes::catalogue::build(name).unwrap();
         let geometry = spec.to_scene().unwrap().geometry();
         let view = SampleView::center(&spec.light, &Coverage::new(&geometry, &spec.light));
-        let warp = Warp::new(&view.params(res), &spec.light);
+        let warp = Warp::new(&view.params(resolution), &spec.light);
         let geom = depth_map_pass_then(
             &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
             &view.view,
-            res,
+            resolution,
             &geometry.casters,
             DepthPass::NEAREST,
             |z| warp.normalized(z),
         );
         let reach = ribbon_reach(&warp);
-        assert!(reach < res / 2, "{name}: reach {reach} spans the map");
+        assert!(
+            reach < resolution / 2,
+            "{name}: reach {reach} spans the map"
+        );
         let (near, far) = seeds(
             &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
             &geom,
@@ -48,13 +51,13 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
         let near = nearest(
             &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
             near,
-            res,
+            resolution,
             Some(geom.data()),
         );
         let far = nearest(
             &std::sync::Arc::new(soft_shadow_core::pool::Pool::new(0)),
             far,
-            res,
+            resolution,
             None,
         );
         let (edge, lower) = limits(
@@ -65,7 +68,7 @@ fn depth_image_limits_come_from_the_nearest_seeds() {
         );
         let mut ribbon = 0;
         for (i, (&a, &b)) in near.iter().zip(&far).enumerate() {
-            let (x, y) = (i as u32 % res, i as u32 / res);
+            let (x, y) = (i as u32 % resolution, i as u32 / resolution);
             let want = texel_limits(&geom, &warp, layer_gap, x, y, a, b);
             let got = (*edge.get(x, y), *lower.get(x, y));
             assert_eq!(got, want, "{name} ({x}, {y})");

@@ -233,14 +233,14 @@ const LIFT: f32 = 0.002;
 /// Visibility just above the ground beside the plate's edge, and the closed form: the fraction
 /// of the light disc (radius `R = (h - LIFT) tan(a/2)` on the plate's plane) beyond the edge,
 /// the circular-segment area of appendix A at `t = (x - edge) / R`.
-fn straight_edge(t: &PenumbraLimit, res: u32, edge: f32) -> Vec<(f32, f32, f32)> {
-    plate_edge(t, res, edge, plate_scene(edge, 1.0), 1.0)
+fn straight_edge(t: &PenumbraLimit, resolution: u32, edge: f32) -> Vec<(f32, f32, f32)> {
+    plate_edge(t, resolution, edge, plate_scene(edge, 1.0), 1.0)
 }
 
 /// [`straight_edge`] for the plate at height `h` in `g`.
 fn plate_edge(
     t: &PenumbraLimit,
-    res: u32,
+    resolution: u32,
     edge: f32,
     g: SceneGeometry,
     h: f32,
@@ -251,7 +251,9 @@ fn plate_edge(
         angular_diameter: a,
         profile: DistantProfile::UniformDisk,
     };
-    let maps = t.generate_cpu(&CpuContext::new(), &g, &light, res).unwrap();
+    let maps = t
+        .generate_cpu(&CpuContext::new(), &g, &light, resolution)
+        .unwrap();
     let r = (h - LIFT) * (0.5 * a).tan();
     let xs: Vec<f32> = (-40..=40).map(|i| edge + i as f32 * 0.005).collect();
     let positions: Vec<Vec3> = xs.iter().map(|&x| Vec3::new(x, LIFT, 0.13)).collect();
@@ -278,11 +280,11 @@ fn plate_edge(
 fn straight_edge_matches_the_closed_form_at_every_resolution() {
     let mut t = PenumbraLimit::new(Generator::Silhouette);
     t.bias = Bias::new(0.0, 0.0, 0.0);
-    for res in [16, 32, 64, 128, 256, 512] {
-        for (x, v, e) in straight_edge(&t, res, 0.0371) {
+    for resolution in [16, 32, 64, 128, 256, 512] {
+        for (x, v, e) in straight_edge(&t, resolution, 0.0371) {
             assert!(
                 (v - e).abs() <= 1.0 / 255.0,
-                "res {res} x {x}: V {v}, closed form {e}"
+                "resolution {resolution} x {x}: V {v}, closed form {e}"
             );
         }
     }
@@ -308,11 +310,11 @@ fn contact_edge_stays_on_the_edge_at_every_resolution() {
         receivers: ground,
         casters: plate,
     };
-    for res in [16, 32, 64, 128, 256, 512] {
-        for (x, v, e) in plate_edge(&t, res, edge, g.clone(), h) {
+    for resolution in [16, 32, 64, 128, 256, 512] {
+        for (x, v, e) in plate_edge(&t, resolution, edge, g.clone(), h) {
             assert!(
                 (v - e).abs() <= 1.0 / 255.0,
-                "res {res} x {x}: V {v}, closed form {e}"
+                "resolution {resolution} x {x}: V {v}, closed form {e}"
             );
         }
     }
@@ -326,16 +328,16 @@ fn depth_image_edge_is_within_half_a_texel() {
     let mut t = PenumbraLimit::new(Generator::DepthImage);
     t.bias = Bias::new(0.0, 0.0, 0.0);
     let r = (1.0 - LIFT) * (0.15f32).tan();
-    for res in [16, 64, 256] {
-        let texel = 4.0 / res as f32;
-        for (x, v, e) in straight_edge(&t, res, 0.0) {
+    for resolution in [16, 64, 256] {
+        let texel = 4.0 / resolution as f32;
+        for (x, v, e) in straight_edge(&t, resolution, 0.0) {
             assert!(
                 (v - e).abs() <= 1.0 / 255.0,
-                "aligned, res {res} x {x}: V {v}, closed form {e}"
+                "aligned, resolution {resolution} x {x}: V {v}, closed form {e}"
             );
         }
         let edge = 0.0371;
-        for (x, v, e) in straight_edge(&t, res, edge) {
+        for (x, v, e) in straight_edge(&t, resolution, edge) {
             let f = |x: f32| {
                 let s = ((x - edge) / r).clamp(-1.0, 1.0) as f64;
                 Profile::UniformDisk.illumination((s + 1.0) * 0.5) as f32
@@ -346,7 +348,7 @@ fn depth_image_edge_is_within_half_a_texel() {
                 + 1.0 / 255.0;
             assert!(
                 (v - e).abs() <= bound,
-                "res {res} x {x}: V {v}, closed form {e}, bound {bound}"
+                "resolution {resolution} x {x}: V {v}, closed form {e}, bound {bound}"
             );
         }
     }

@@ -25,9 +25,9 @@ fn no_light_under_another_blocker() {
     let reference = p.reference_v();
     let t = PenumbraLimit::new(Generator::Silhouette);
     let cpu = CpuContext::new();
-    for res in [256, 2048] {
+    for resolution in [256, 2048] {
         let maps = t
-            .generate_cpu(&cpu, &p.geometry, &p.spec.light, res)
+            .generate_cpu(&cpu, &p.geometry, &p.spec.light, resolution)
             .unwrap();
         let v = t.evaluate_cpu(&maps, &p.receivers()).unwrap();
         let lighter = v
@@ -35,10 +35,10 @@ fn no_light_under_another_blocker() {
             .zip(&reference)
             .filter(|(v, r)| **v > **r + 0.4)
             .count();
-        println!("{res}²: {lighter} lighter by 0.4");
+        println!("{resolution}²: {lighter} lighter by 0.4");
         assert!(
             lighter <= 90,
-            "{res}²: {lighter} of {} receivers lighter than the reference by 0.4",
+            "{resolution}²: {lighter} of {} receivers lighter than the reference by 0.4",
             v.len()
         );
     }

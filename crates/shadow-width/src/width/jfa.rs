@@ -10,23 +10,23 @@ use std::sync::Arc;
 
 /// The jump-flooded width map of `mask`, capped at [`super::cap`].
 pub(crate) fn width(pool: &Arc<Pool>, mask: &Map2D<bool>) -> Map2D<f32> {
-    let res = mask.width();
+    let resolution = mask.width();
     let mut seeds = pool.take(mask.data().len());
     seeds.extend(mask.data().iter().enumerate().map(|(i, &b)| {
         if b {
             NONE
         } else {
-            pack(i as u32 % res, i as u32 / res)
+            pack(i as u32 % resolution, i as u32 / resolution)
         }
     }));
-    let nearest = flood(pool, seeds, res);
-    let cap = super::cap(res);
-    let w = Map2D::from_par_fn(Some(pool), res, mask.height(), |i| {
+    let nearest = flood(pool, seeds, resolution);
+    let cap = super::cap(resolution);
+    let w = Map2D::from_par_fn(Some(pool), resolution, mask.height(), |i| {
         let s = nearest[i];
         if s == NONE {
             cap
         } else {
-            let (x, y) = (i as u32 % res, i as u32 / res);
+            let (x, y) = (i as u32 % resolution, i as u32 / resolution);
             (dist2(x as i32, y as i32, s) as f32).sqrt().min(cap)
         }
     });

@@ -62,11 +62,11 @@ pub(crate) fn steps(resolution: u32) -> Vec<u32> {
 /// Texels per chunk of a row that a pass skips when it is 0 throughout.
 const CHUNK: usize = 64;
 
-/// Per chunk of [`CHUNK`] texels of each row (row-major, `res.div_ceil(CHUNK)` a row), whether
+/// Per chunk of [`CHUNK`] texels of each row (row-major, `resolution.div_ceil(CHUNK)` a row), whether
 /// every texel of it is +0 in a buffer. A texel at 0 (unblocked, or reached at no distance)
 /// stays 0: every candidate adds a positive length to a value of at least 0.
-fn zero_chunks(buf: &[f32], res: u32, zero: &mut [bool]) {
-    let w = res as usize;
+fn zero_chunks(buf: &[f32], resolution: u32, zero: &mut [bool]) {
+    let w = resolution as usize;
     let per_row = w.div_ceil(CHUNK);
     zero.par_chunks_mut(per_row.max(1))
         .zip(buf.par_chunks(w.max(1)))
@@ -87,11 +87,11 @@ fn all_zero(texels: &[f32]) -> bool {
 /// clipped to the map): the same minimum per texel as offset by offset per texel, in a loop that
 /// vectorizes; a chunk of 64 texels at 0 in `src` is 0 in `dst` too.
 #[cfg(test)]
-pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
-    let chunks = (res as usize).div_ceil(CHUNK) * res as usize;
+pub fn pass(src: &[f32], dst: &mut [f32], resolution: u32, step: u32, n: Neighbours) {
+    let chunks = (resolution as usize).div_ceil(CHUNK) * resolution as usize;
     let (mut src_zero, mut dst_zero) = (vec![false; chunks], vec![false; chunks]);
-    zero_chunks(src, res, &mut src_zero);
-    pass_chunks(src, dst, res, step, n, &src_zero, &mut dst_zero);
+    zero_chunks(src, resolution, &mut src_zero);
+    pass_chunks(src, dst, resolution, step, n, &src_zero, &mut dst_zero);
 }
 
 /// [`pass`] given `src_zero` and `dst_zero`, the [`zero_chunks`] of the two buffers: a chunk at
@@ -100,13 +100,13 @@ pub fn pass(src: &[f32], dst: &mut [f32], res: u32, step: u32, n: Neighbours) {
 fn pass_chunks(
     src: &[f32],
     dst: &mut [f32],
-    res: u32,
+    resolution: u32,
     step: u32,
     n: Neighbours,
     src_zero: &[bool],
     dst_zero: &mut [bool],
 ) {
-    let (r, w) = (res as i64, res as usize);
+    let (r, w) = (resolution as i64, resolution as usize);
     let per_row = w.div_ceil(CHUNK).max(1);
     let offs = offsets(n, step);
     dst.par_chunks_mut(w.max(1))
@@ -131,7 +131,7 @@ fn pass_chunks(
                     if qy < 0 || qy >= r {
                         continue;
                     }
-                    // Texels x of the chunk with 0 <= x + dx < res.
+                    // Texels x of the chunk with 0 <= x + dx < resolution.
                     let dx = dx as i64;
                     let (x0, x1) = ((-dx).clamp(lo, hi), (r - dx).clamp(lo, hi));
                     if x0 >= x1 {
@@ -156,8 +156,8 @@ pub(crate) fn width(
     mask: &Map2D<bool>,
     n: Neighbours,
 ) -> Map2D<f32> {
-    let res = mask.width();
-    let rows = (res as usize).max(1);
+    let resolution = mask.width();
+    let rows = (resolution as usize).max(1);
     // The start and each pass write every texel of their destination: no clearing pass.
     let mut a = pool.overwrite(mask.data().len(), 0.0f32);
     a.par_chunks_mut(rows)
@@ -170,19 +170,19 @@ pub(crate) fn width(
     let mut b = pool.overwrite(a.len(), 0.0f32);
     let chunks = rows.div_ceil(CHUNK) * mask.height() as usize;
     let mut a_zero = vec![false; chunks];
-    zero_chunks(&a, res, &mut a_zero);
+    zero_chunks(&a, resolution, &mut a_zero);
     // `b` holds no known 0s yet.
     let mut b_zero = vec![false; chunks];
-    for step in steps(res) {
-        pass_chunks(&a, &mut b, res, step, n, &a_zero, &mut b_zero);
+    for step in steps(resolution) {
+        pass_chunks(&a, &mut b, resolution, step, n, &a_zero, &mut b_zero);
         std::mem::swap(&mut a, &mut b);
         std::mem::swap(&mut a_zero, &mut b_zero);
     }
     pool.give(b);
-    let cap = super::cap(res);
+    let cap = super::cap(resolution);
     a.par_chunks_mut(rows)
         .for_each(|row| row.iter_mut().for_each(|w| *w = w.min(cap)));
-    Map2D::from_vec(res, mask.height(), a)
+    Map2D::from_vec(resolution, mask.height(), a)
         .unwrap_or_else(|| Map2D::new(0, 0, 0.0))
         .returning_to(pool)
 }
