@@ -57,10 +57,10 @@ impl MapParams {
         if clip.w <= 0.0 {
             return None;
         }
-        let res = self.resolution as f32;
+        let resolution = self.resolution as f32;
         Some(Vec3::new(
-            (clip.x / clip.w * 0.5 + 0.5) * res,
-            (0.5 - clip.y / clip.w * 0.5) * res,
+            (clip.x / clip.w * 0.5 + 0.5) * resolution,
+            (0.5 - clip.y / clip.w * 0.5) * resolution,
             self.linear_depth(q),
         ))
     }
@@ -339,8 +339,8 @@ pub fn shadow_coord(m: &MapParams, bias: &Bias, p: Vec3, n: Vec3) -> Option<Shad
     let p2 = p + n * (bias.normal_offset * texel);
     let cap = texel * (DEPTH_SPREAD * tan + bias.max_push);
     let a = m.project(p2)?;
-    let res = m.resolution as f32;
-    if a.x < 0.0 || a.y < 0.0 || a.x > res || a.y > res {
+    let resolution = m.resolution as f32;
+    if a.x < 0.0 || a.y < 0.0 || a.x > resolution || a.y > resolution {
         return None;
     }
     let z2 = a.z;

@@ -147,8 +147,8 @@ impl View {
         a * z + b
     }
 
-    /// `(a, b)` with texel world size `a * z + b`: `(2 tan(fov/2) / res, 0)` for perspective,
-    /// `(0, 2 half_extent / res)` for orthographic views.
+    /// `(a, b)` with texel world size `a * z + b`: `(2 tan(fov/2) / resolution, 0)` for perspective,
+    /// `(0, 2 half_extent / resolution)` for orthographic views.
     pub fn texel_scale(&self, resolution: u32) -> (f32, f32) {
         let r = resolution.max(1) as f32;
         match self.kind {

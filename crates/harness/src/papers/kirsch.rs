@@ -122,12 +122,12 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
     let reference = p.reference_v();
     let far = |i: usize| p.positions[i].x < 0.0;
     let mut by_res = Vec::new();
-    for res in FIG7_RESOLUTIONS {
+    for resolution in FIG7_RESOLUTIONS {
         let (r, v) = measure_run(
             ID_FIG7,
             &ShadowWidth::new(WidthMethod::Exact),
             &p,
-            res,
+            resolution,
             None,
         )?;
         by_res.push((
@@ -183,9 +183,9 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
     ] {
         let t = ShadowWidth::new(WidthMethod::Propagate { neighbours: n });
         let mut ms = Vec::new();
-        for res in TABLE_RESOLUTIONS {
+        for resolution in TABLE_RESOLUTIONS {
             // Medians: a single run each flipped the 3 / 6 ordering from one run to the next.
-            let (r, _) = measure_run_reps(ID_FIG6, &t, &p, res, None, TABLE_REPS)?;
+            let (r, _) = measure_run_reps(ID_FIG6, &t, &p, resolution, None, TABLE_REPS)?;
             ms.push(Some(r.generate_ms));
             runs.push(r);
         }

@@ -132,8 +132,8 @@ pub fn run(size: u32) -> Result<(Vec<Experiment>, Vec<Run>)> {
      -> Result<Vec<f64>> {
         let own = scene.reference_v();
         let mut ours = Vec::new();
-        for res in RESOLUTIONS {
-            let (run, v) = measure_run(&scene.spec.name, t, scene, res, against)?;
+        for resolution in RESOLUTIONS {
+            let (run, v) = measure_run(&scene.spec.name, t, scene, resolution, against)?;
             ours.push(rms_where(&v, against.unwrap_or(&own), |_| true));
             runs.push(run);
         }

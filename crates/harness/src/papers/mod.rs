@@ -272,16 +272,16 @@ pub fn prepare(spec: SceneSpec, size: u32) -> Result<PreparedScene> {
     PreparedScene::new(spec, size, GroundTruthSettings::default())
 }
 
-/// Measures `t` once on the CPU at `res` against `reference` (default: the scene's), as a run
+/// Measures `t` once on the CPU at `resolution` against `reference` (default: the scene's), as a run
 /// of scene `id`, and returns the run and `V`.
 pub fn measure_run(
     id: &str,
     t: &dyn DynTechnique,
     p: &PreparedScene,
-    res: u32,
+    resolution: u32,
     reference: Option<&[f32]>,
 ) -> Result<(Run, Vec<f32>)> {
-    measure_run_reps(id, t, p, res, reference, 1)
+    measure_run_reps(id, t, p, resolution, reference, 1)
 }
 
 /// [`measure_run`] with the median times of `reps` timed frames (fewer where
@@ -290,7 +290,7 @@ pub fn measure_run_reps(
     id: &str,
     t: &dyn DynTechnique,
     p: &PreparedScene,
-    res: u32,
+    resolution: u32,
     reference: Option<&[f32]>,
     reps: usize,
 ) -> Result<(Run, Vec<f32>)> {
@@ -299,7 +299,7 @@ pub fn measure_run_reps(
         t,
         soft_shadow_core::Context::Cpu(&cpu),
         p,
-        res,
+        resolution,
         reps,
         false,
         None,
@@ -311,7 +311,7 @@ pub fn measure_run_reps(
         technique: t.name().into(),
         variant: t.variant(),
         backend: "cpu".into(),
-        resolution: res,
+        resolution,
         generate_ms: m.generate_ms,
         evaluate_ms: m.evaluate_ms,
         errors: errors(&m.v, reference, &p.shading),

@@ -67,11 +67,11 @@ pub fn write_texels(map: &mut [f32], value: f32) {
     map.par_chunks_mut(1 << 14).for_each(|c| c.fill(value));
 }
 
-/// Median milliseconds of 7 [`write_texels`] of a `res²` `f32` map into storage already faulted
+/// Median milliseconds of 7 [`write_texels`] of a `resolution²` `f32` map into storage already faulted
 /// in: what writing a map's texels once costs on this machine; 0 (not measured) when the map
 /// cannot be allocated.
-pub fn write_once_ms(res: u32) -> f64 {
-    let n = res as usize * res as usize;
+pub fn write_once_ms(resolution: u32) -> f64 {
+    let n = resolution as usize * resolution as usize;
     let mut map = Vec::new();
     if n == 0 || map.try_reserve_exact(n).is_err() {
         return 0.0;
@@ -90,7 +90,7 @@ pub fn write_once_ms(res: u32) -> f64 {
 /// The rows at the largest resolution in `report` (and that resolution); empty without the hard
 /// shadow map.
 pub fn cost_rows(report: &Report) -> (u32, Vec<CostRow>) {
-    let Some(res) = report.runs.iter().map(|r| r.resolution).max() else {
+    let Some(resolution) = report.runs.iter().map(|r| r.resolution).max() else {
         return (0, Vec::new());
     };
     let receivers: BTreeMap<&str, usize> = report
@@ -98,7 +98,7 @@ pub fn cost_rows(report: &Report) -> (u32, Vec<CostRow>) {
         .iter()
         .map(|r| (r.scene.as_str(), r.receivers.max(1)))
         .collect();
-    let at = |r: &&super::json::Run| r.resolution == res;
+    let at = |r: &&super::json::Run| r.resolution == resolution;
     let hard: BTreeMap<(&str, &str), (f64, f64)> = report
         .runs
         .iter()
@@ -143,7 +143,7 @@ pub fn cost_rows(report: &Report) -> (u32, Vec<CostRow>) {
             scenes: g.len(),
         })
         .collect();
-    (res, rows)
+    (resolution, rows)
 }
 
 /// Why a configuration's generation costs more than [`GENERATION_LIMIT`] hard maps: the work
@@ -213,7 +213,7 @@ pub fn generation_cause(configuration: &str) -> &'static str {
 
 /// The cost section of `report.md`.
 pub fn markdown(s: &mut String, report: &Report) {
-    let (res, rows) = cost_rows(report);
+    let (resolution, rows) = cost_rows(report);
     if rows.is_empty() {
         return;
     }
@@ -233,12 +233,12 @@ pub fn markdown(s: &mut String, report: &Report) {
         });
     let _ = writeln!(
         s,
-        "\n## Cost at {res}²\n\nGeneration at map resolution {res} and evaluation per million \
+        "\n## Cost at {resolution}²\n\nGeneration at map resolution {resolution} and evaluation per million \
          receivers, medians over the scenes; `x hard`: the median over scenes of the ratio to the \
          hard shadow map on the same scene and backend, timed just before the configuration \
          in this run. Goals: generation within \
          {GENERATION_LIMIT}x (above it, the cause), single-lookup evaluation (shadow-width, \
-         penumbra-limit) within {EVALUATION_LIMIT}x. Writing one `f32` map of {res}² once \
+         penumbra-limit) within {EVALUATION_LIMIT}x. Writing one `f32` map of {resolution}² once \
          takes {:.2} ms here (every thread, the map still cached from the write before); the \
          hard map's generation is {}.\n\n\
          | configuration | backend | generate ms | x hard | evaluate ms / M receivers | x hard | \
@@ -270,13 +270,13 @@ mod tests {
     use super::*;
     use crate::report::json::{ReferenceInfo, Run};
 
-    fn run(scene: &str, technique: &str, res: u32, gen_ms: f64, eval_ms: f64) -> Run {
+    fn run(scene: &str, technique: &str, resolution: u32, gen_ms: f64, eval_ms: f64) -> Run {
         Run {
             scene: scene.into(),
             technique: technique.into(),
             variant: "v".into(),
             backend: "cpu".into(),
-            resolution: res,
+            resolution,
             generate_ms: gen_ms,
             evaluate_ms: eval_ms,
             ..Default::default()
@@ -302,8 +302,8 @@ mod tests {
             ],
             ..Default::default()
         };
-        let (res, rows) = cost_rows(&report);
-        assert_eq!(res, 2048);
+        let (resolution, rows) = cost_rows(&report);
+        assert_eq!(resolution, 2048);
         let x = rows.iter().find(|r| r.configuration == "x v").unwrap();
         // Per scene: 5x and 3x generation, 1x and 4x evaluation; medians of two are means.
         assert_eq!(

@@ -54,7 +54,7 @@ impl<'a, M> Frame<'a, M> {
     }
 }
 
-/// Generates and evaluates `t` on `p` at `res`, `reps` times or until
+/// Generates and evaluates `t` on `p` at `resolution`, `reps` times or until
 /// [`REP_BUDGET_S`] is spent. On the GPU the scene is uploaded once, untimed
 /// ([`GpuScene`]), and generation is timed from it. One unmeasured generation always comes
 /// first: the configuration before may have left storage of other sizes in the pools, and a
@@ -73,7 +73,7 @@ pub fn measure<'t>(
     t: &'t dyn DynTechnique,
     ctx: Context<'_>,
     p: &PreparedScene,
-    res: u32,
+    resolution: u32,
     reps: usize,
     warm_up: bool,
     beside: Option<&'t dyn DynTechnique>,
@@ -85,8 +85,8 @@ pub fn measure<'t>(
         None => None,
     };
     let generate_with = |t: &dyn DynTechnique| match &scene {
-        Some((g, s)) => t.generate_gpu_on(g, s, light, &p.views, res),
-        None => t.generate_in(ctx, &p.geometry, light, &p.views, res),
+        Some((g, s)) => t.generate_gpu_on(g, s, light, &p.views, resolution),
+        None => t.generate_in(ctx, &p.geometry, light, &p.views, resolution),
     };
     // A technique's three steps, for its `Frame`.
     let steps = |t: &'t dyn DynTechnique| {

@@ -81,10 +81,10 @@ fn map_project(m: MapView, q: vec3<f32>) -> vec4<f32> {
     if clip.w <= 0.0 {
         return vec4<f32>(0.0, 0.0, 0.0, -1.0);
     }
-    let res = f32(m.resolution);
+    let resolution = f32(m.resolution);
     return vec4<f32>(
-        (clip.x / clip.w * 0.5 + 0.5) * res,
-        (0.5 - clip.y / clip.w * 0.5) * res,
+        (clip.x / clip.w * 0.5 + 0.5) * resolution,
+        (0.5 - clip.y / clip.w * 0.5) * resolution,
         linear_depth(m, q),
         1.0,
     );
@@ -134,8 +134,8 @@ fn shadow_coord(m: MapView, bias: Bias, p: vec3<f32>, n: vec3<f32>) -> Coord {
     let p2 = p + n * (bias.normal_offset * texel);
     let cap = texel * (DEPTH_SPREAD * tan_theta + bias.max_push);
     let a = map_project(m, p2);
-    let res = f32(m.resolution);
-    if a.w < 0.0 || a.x < 0.0 || a.y < 0.0 || a.x > res || a.y > res {
+    let resolution = f32(m.resolution);
+    if a.w < 0.0 || a.x < 0.0 || a.y < 0.0 || a.x > resolution || a.y > resolution {
         return c;
     }
     c.inside = true;
