@@ -339,11 +339,11 @@ impl Frame {
 
     /// A world point in light coordinates.
     pub(crate) fn light_coord(&self, p: Vec3) -> LightCoord {
-        let q = p - Vec3::from_slice(&self.center[..3]);
+        let q = self.direction(p - Vec3::from_slice(&self.center[..3]));
         LightCoord {
-            x: q.dot(Vec3::from_slice(&self.axis_x[..3])),
-            y: q.dot(Vec3::from_slice(&self.axis_y[..3])),
-            h: q.dot(Vec3::from_slice(&self.normal[..3])),
+            x: q.x,
+            y: q.y,
+            h: q.z,
         }
     }
 

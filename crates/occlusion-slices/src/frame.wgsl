@@ -76,10 +76,14 @@ fn texel_size(f: Frame, h: f32) -> f32 {
     return 2.0 * f.half_x * (f.d + h) / (f.d * f32(f.resolution));
 }
 
+// Frame::direction: a world direction in light coordinates.
+fn direction(f: Frame, v: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(v, f.axis_x.xyz), dot(v, f.axis_y.xyz), dot(v, f.normal.xyz));
+}
+
 // Frame::light_coord: (x, y, h).
 fn light_coord(f: Frame, p: vec3<f32>) -> vec3<f32> {
-    let q = p - f.center.xyz;
-    return vec3<f32>(dot(q, f.axis_x.xyz), dot(q, f.axis_y.xyz), dot(q, f.normal.xyz));
+    return direction(f, p - f.center.xyz);
 }
 
 struct Kernel {

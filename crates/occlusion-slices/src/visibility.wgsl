@@ -1,5 +1,5 @@
 #define_import_path occlusion_slices::visibility
-#import occlusion_slices::frame::{Frame, TOP_STEPS, fade, fade_length, kernel, light_coord, plane, texel_size, texel_point, top_depth}
+#import occlusion_slices::frame::{Frame, TOP_STEPS, direction, fade, fade_length, kernel, light_coord, plane, texel_size, texel_point, top_depth}
 
 // Evaluation (sections 3.3-3.5) as `visibility(world_pos, normal)`: eval.rs, combine.rs and the
 // lookups of filters/*.rs, operation for operation.
@@ -252,7 +252,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let len = fade_length(frame, c.z);
     var r: Receiver;
     r.c = c;
-    r.n = vec3<f32>(dot(n, frame.axis_x.xyz), dot(n, frame.axis_y.xyz), dot(n, frame.normal.xyz));
+    r.n = direction(frame, n);
     r.margin = SLAB_BIAS_TEXELS * texel_size(frame, max(c.z, 0.0)) + frame.spacing / TOP_STEPS;
     for (var k = 0u; k < frame.slices; k++) {
         let w = fade(frame, k, c.z, len);

@@ -90,10 +90,9 @@ impl SceneSize {
         let covered = if empty {
             0
         } else if !views.is_single() {
-            receivers
-                .iter()
-                .filter(|p| views.total_weight(**p) > 0.0)
-                .count()
+            // One selection for every receiver (`LightViews::total_weight` builds it per call).
+            let select = views.gpu_select(0);
+            receivers.iter().filter(|p| select.total(**p) > 0.0).count()
         } else {
             let view = SampleView::center(light, &Coverage::new(geometry, light));
             let map = view.params(1);

@@ -75,6 +75,24 @@ fn street(bright: f32, dim: f32) -> Street {
     }
 }
 
+/// [`street`] under a `budget_ms` frame budget, its first frame run: the street, the pipeline
+/// and that frame's statistics.
+fn shared_street(
+    bright: f32,
+    dim: f32,
+    budget_ms: f64,
+) -> (
+    Street,
+    shadow_frame::FramePipeline,
+    shadow_frame::FrameStats,
+) {
+    let mut s = street(bright, dim);
+    s.scene.world.insert_resource(FrameBudget { ms: budget_ms });
+    let mut p = pipeline();
+    let stats = p.run(&mut s.scene.world);
+    (s, p, stats)
+}
+
 /// The frame's receivers: a 60 x 40 grid over the ground, moved by `dx` metres.
 fn receivers(dx: f32) -> FrameReceivers {
     let positions: Vec<Vec3> = (0..60 * 40)
@@ -115,10 +133,7 @@ fn resolved(s: &Street, e: Entity) -> Option<&ResolvedTechnique> {
 /// statistics carry each light's measured and predicted time and its budget.
 #[test]
 fn shared_lights_split_the_frame_budget_by_what_they_bring() {
-    let mut s = street(10.0, 1.0);
-    s.scene.world.insert_resource(FrameBudget { ms: 4.0 });
-    let mut p = pipeline();
-    let stats = p.run(&mut s.scene.world);
+    let (s, _, stats) = shared_street(10.0, 1.0, 4.0);
     let (b, d) = (
         state(&s, s.bright).share.expect("shared"),
         state(&s, s.dim).share.expect("shared"),
@@ -190,10 +205,7 @@ fn shared_lights_split_the_frame_budget_by_what_they_bring() {
 /// changes shares the budget again, and the lamps whose pick changed make their maps again.
 #[test]
 fn shared_picks_stay_until_what_decides_them_moves() {
-    let mut s = street(10.0, 1.0);
-    s.scene.world.insert_resource(FrameBudget { ms: 4.0 });
-    let mut p = pipeline();
-    p.run(&mut s.scene.world);
+    let (mut s, mut p, _) = shared_street(10.0, 1.0, 4.0);
     let before = resolved(&s, s.bright).unwrap().reason.clone();
     let still = p.run(&mut s.scene.world);
     assert_eq!((still.maps_generated, still.maps_reused), (0, 2));
@@ -228,10 +240,7 @@ fn shared_picks_stay_until_what_decides_them_moves() {
 /// in the share, gets the whole budget and picks again.
 #[test]
 fn a_lamp_that_leaves_the_share_hands_back_its_part() {
-    let mut s = street(10.0, 1.0);
-    s.scene.world.insert_resource(FrameBudget { ms: 4.0 });
-    let mut p = pipeline();
-    p.run(&mut s.scene.world);
+    let (mut s, mut p, _) = shared_street(10.0, 1.0, 4.0);
     let before = state(&s, s.dim).share.unwrap();
     let pcf: Arc<dyn soft_shadow_core::DynTechnique> = Arc::new(
         shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Pcf { radius: 2 }),
@@ -586,10 +595,7 @@ fn one_sided_lamps_face_down() {
 /// nothing.
 #[test]
 fn a_lamp_that_stops_lighting_the_view_costs_nothing_however_small_its_part() {
-    let mut s = street(100.0, 1.0);
-    s.scene.world.insert_resource(FrameBudget { ms: 40.0 });
-    let mut p = pipeline();
-    p.run(&mut s.scene.world);
+    let (mut s, mut p, _) = shared_street(100.0, 1.0, 40.0);
     let sh = state(&s, s.dim).share.unwrap();
     assert!(
         sh.proportional_ms > 0.0 && sh.proportional_ms < 40.0 * shadow_frame::budget::SHARE_FLOOR,
