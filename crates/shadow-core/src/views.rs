@@ -669,15 +669,11 @@ impl ViewSelect {
         })
     }
 
-    /// Weight of view `self.index` at `p` (`view_weight` in WGSL).
-    pub fn weight(&self, p: Vec3) -> f32 {
+    /// Every view's weight at `p`, as (view, weight) pairs (view -1: none; weight 0: none):
+    /// up to three cube faces, a cascade and the next one in its blend band, or the one view.
+    fn shares(&self, p: Vec3) -> [(i32, f32); 3] {
         match self.kind {
-            1 => self
-                .faces(p)
-                .iter()
-                .filter(|(_, v)| *v == self.index as i32)
-                .map(|(w, _)| *w)
-                .sum(),
+            1 => self.faces(p).map(|(w, v)| (v, w)),
             2 => {
                 let z = Vec4::from(self.depth_row).dot(p.extend(1.0));
                 let n = self.count as usize;
@@ -694,33 +690,35 @@ impl ViewSelect {
                         wi = 1.0 - wn;
                     }
                 }
-                let me = self.index as usize;
-                if me == i {
-                    wi
-                } else if me == i + 1 {
-                    wn
-                } else {
-                    0.0
-                }
+                let next = if i + 1 < n { i as i32 + 1 } else { -1 };
+                [(i as i32, wi), (next, wn), (-1, 0.0)]
             }
-            _ => {
-                if self.index == 0 {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
+            _ => [(0, 1.0), (-1, 0.0), (-1, 0.0)],
         }
+    }
+
+    /// Weight of view `self.index` at `p` (`view_weight` in WGSL).
+    pub fn weight(&self, p: Vec3) -> f32 {
+        self.shares(p)
+            .iter()
+            .filter(|(v, _)| *v == self.index as i32)
+            .map(|(_, w)| *w)
+            .sum()
     }
 
     /// The views' total weight at `p` (`views_weight` in WGSL): 0 only in a cube direction
     /// whose face holds no caster.
     pub fn total(&self, p: Vec3) -> f32 {
+        self.total_of(&self.shares(p))
+    }
+
+    /// The total weight of `shares` ([`ViewSelect::shares`] at a point).
+    fn total_of(&self, shares: &[(i32, f32); 3]) -> f32 {
         if self.kind == 1 {
-            self.faces(p)
+            shares
                 .iter()
-                .filter(|(_, v)| *v >= 0)
-                .map(|(w, _)| *w)
+                .filter(|(v, _)| *v >= 0)
+                .map(|(_, w)| *w)
                 .sum()
         } else {
             1.0
@@ -927,23 +925,22 @@ pub(crate) fn combine(
     if views.select == Select::One {
         return eval(0, *r);
     }
-    let first = views.gpu_select(0);
-    let mut out: Vec<f32> = r
-        .positions
-        .iter()
-        .map(|p| (1.0 - first.total(*p)).clamp(0.0, 1.0))
-        .collect();
-    for i in 0..views.len() {
-        let select = views.gpu_select(i as u32);
-        let held: Vec<(usize, f32)> = r
-            .positions
-            .iter()
-            .enumerate()
-            .filter_map(|(j, p)| {
-                let w = select.weight(*p);
-                (w > 0.0).then_some((j, w))
-            })
-            .collect();
+    // Each receiver's views and weights, once (in parallel), then `1 - total` and the
+    // receivers each view holds, in order.
+    use rayon::prelude::*;
+    let select = views.gpu_select(0);
+    let shares: Vec<[(i32, f32); 3]> = r.positions.par_iter().map(|p| select.shares(*p)).collect();
+    let mut held: Vec<Vec<(usize, f32)>> = vec![Vec::new(); views.len()];
+    let mut out: Vec<f32> = Vec::with_capacity(r.positions.len());
+    for (j, shares) in shares.into_iter().enumerate() {
+        out.push((1.0 - select.total_of(&shares)).clamp(0.0, 1.0));
+        for (v, w) in shares {
+            if v >= 0 && w > 0.0 {
+                held[v as usize].push((j, w));
+            }
+        }
+    }
+    for (i, held) in held.iter().enumerate() {
         if held.is_empty() {
             continue;
         }
