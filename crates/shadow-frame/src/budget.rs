@@ -58,9 +58,11 @@ pub const SHARE_FLOOR: f64 = 1.0 / 64.0;
 /// pick's.
 pub const KEEP_ERROR: f64 = 1.1;
 
-/// Receivers a contribution reads at most (every `k`-th of the frame's, evenly spread): the
-/// shares need the frame's proportions, not every pixel.
-pub const CONTRIBUTION_SAMPLES: usize = 4096;
+/// Receivers an estimate over the frame's receivers reads at most (every `k`-th, evenly
+/// spread): a light's contribution, and how many of its receivers its views cover
+/// ([`crate::SceneSize::covered`] as the frame predicts it). The shares and the predictions need
+/// proportions, not every pixel.
+pub const RECEIVER_SAMPLES: usize = 4096;
 
 /// The unshadowed irradiance `light` of `intensity` brings a receiver at `p` with unit normal
 /// `n`, as engines weigh lights: a local light as a point of radiant intensity `intensity` at
@@ -90,7 +92,7 @@ pub fn irradiance_estimate(light: &Light, intensity: f32, p: Vec3, n: Vec3) -> f
 }
 
 /// `light`'s contribution to the frame: [`irradiance_estimate`] summed over the frame's
-/// receivers within its influence (at most [`CONTRIBUTION_SAMPLES`] of them, evenly spread,
+/// receivers within its influence (at most [`RECEIVER_SAMPLES`] of them, evenly spread,
 /// scaled back to the whole frame; every receiver where those samples read 0, so that a light
 /// on a small patch is not taken for one that lights nothing).
 pub fn contribution(light: &Light, config: &ShadowConfig, frame: &FrameReceivers) -> f64 {
@@ -114,7 +116,7 @@ pub fn contribution(light: &Light, config: &ShadowConfig, frame: &FrameReceivers
             .sum::<f64>()
             * step as f64
     };
-    let step = n.div_ceil(CONTRIBUTION_SAMPLES);
+    let step = n.div_ceil(RECEIVER_SAMPLES);
     match sum(step) {
         // A light that lights a patch the samples step over still counts: every receiver.
         0.0 if step > 1 => sum(1),
@@ -217,22 +219,23 @@ pub fn share_budget(
     // The receivers' bounds: a light whose influence misses them brings nothing, unread.
     let mut seen = soft_shadow_core::mesh::Aabb::EMPTY;
     frame.positions.iter().for_each(|p| seen.grow(*p));
-    let parts: Vec<(Entity, f64)> = lights
+    // Each shared light's contribution, the lights in parallel.
+    let shared: Vec<(Entity, &Light, &ShadowConfig)> = lights
         .iter()
         .filter(|(_, l, c, ..)| c.shares_budget(&l.0))
-        .map(|(e, l, c, ..)| {
-            let (centre, r) = influence(&l.0, c.range);
-            let near = !seen.is_empty() && box_in_sphere(&seen, centre, r);
-            (
-                e,
-                if near {
-                    contribution(&l.0, &c, frame)
-                } else {
-                    0.0
-                },
-            )
-        })
+        .map(|(e, l, c, ..)| (e, &l.into_inner().0, c.into_inner()))
         .collect();
+    let parts: Vec<(Entity, f64)> = {
+        use rayon::prelude::*;
+        shared
+            .par_iter()
+            .map(|&(e, l, c)| {
+                let (centre, r) = influence(l, c.range);
+                let near = !seen.is_empty() && box_in_sphere(&seen, centre, r);
+                (e, if near { contribution(l, c, frame) } else { 0.0 })
+            })
+            .collect()
+    };
     let total: f64 = parts.iter().map(|p| p.1).sum();
     let part = |e: Entity| parts.iter().find(|p| p.0 == e).map_or(0.0, |p| p.1);
     let fraction = |e: Entity| {
@@ -272,20 +275,32 @@ pub fn share_budget(
         }
         return;
     }
-    let mut picks: Vec<Pick> = Vec::new();
-    for (e, l, c, ..) in &lights {
-        if c.shares_budget(&l.0) && part(e) > 0.0 {
-            picks.push(Pick {
-                entity: e,
-                part: part(e),
-                kind: l.0.kind(),
-                size: inputs.size(&l.0, c.range),
-                proportional: budget.ms * fraction(e),
-                within: 0.0,
-                over_budget: None,
-            });
-        }
-    }
+    // The lights that bring something, sized in parallel.
+    let bringing: Vec<(Entity, &Light, f32)> = lights
+        .iter()
+        .filter(|(e, l, c, ..)| c.shares_budget(&l.0) && part(*e) > 0.0)
+        .map(|(e, l, c, ..)| (e, &l.into_inner().0, c.range))
+        .collect();
+    let sizes: Vec<crate::SceneSize> = {
+        use rayon::prelude::*;
+        bringing
+            .par_iter()
+            .map(|(_, l, range)| inputs.size(l, *range))
+            .collect()
+    };
+    let mut picks: Vec<Pick> = bringing
+        .iter()
+        .zip(sizes)
+        .map(|(&(e, l, _), size)| Pick {
+            entity: e,
+            part: part(e),
+            kind: l.kind(),
+            size,
+            proportional: budget.ms * fraction(e),
+            within: 0.0,
+            over_budget: None,
+        })
+        .collect();
     // Each light's configurations worth buying, cheapest first: every pick `Auto` makes at
     // some budget, with the budget it needs.
     let ladders: Vec<Vec<(f64, f64)>> = picks

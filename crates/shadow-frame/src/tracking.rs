@@ -77,8 +77,10 @@ pub type CasterMeshes<'w, 's> =
 
 /// The scene `light` sees within its influence radius `range`, as predictions size it: the
 /// triangles of the casters that reach it ([`caster_reaches`], what its maps render), the frame's
-/// receivers within its influence, those its views cover ([`SceneSize::with_views`]), and the
-/// light's views as the pipeline plans them (a distant light's cascades with the frame's camera).
+/// receivers within its influence, those its views cover ([`SceneSize::with_views`], counted on
+/// the frame's every `k`-th receiver, at most [`crate::budget::RECEIVER_SAMPLES`] of them, and
+/// scaled to all), and the light's views as the pipeline plans them (a distant light's cascades
+/// with the frame's camera).
 fn scene_size(
     casters: &CasterMeshes,
     index: &CasterIndex,
@@ -96,16 +98,36 @@ fn scene_size(
         })
         .flat_map(|(_, m, t)| m.0.world_triangles(t.0).collect::<Vec<_>>())
         .collect();
+    // One pass over the frame's receivers: how many lie within the influence, their bounds, and
+    // the evenly spread sample the covered count reads (the budget sizes every lamp each time
+    // it is shared again; counting every receiver took most of that).
     let (c, r) = influence(light, range);
-    let receivers: Vec<glam::Vec3> = frame
+    let inside = |p: &glam::Vec3| !r.is_finite() || p.distance_squared(c) <= r * r;
+    let step = frame
         .positions
-        .iter()
-        .copied()
-        .filter(|p| !r.is_finite() || p.distance_squared(c) <= r * r)
-        .collect();
+        .len()
+        .div_ceil(crate::budget::RECEIVER_SAMPLES)
+        .max(1);
+    let (mut count, mut reach, mut sample) = (0, Aabb::EMPTY, Vec::new());
+    for (i, p) in frame.positions.iter().enumerate() {
+        if inside(p) {
+            count += 1;
+            reach.grow(*p);
+            if i % step == 0 {
+                sample.push(*p);
+            }
+        }
+    }
+    if sample.is_empty() && count > 0 {
+        // A patch the samples step over: every receiver on it.
+        sample = frame.positions.iter().copied().filter(inside).collect();
+    }
     let mut geometry = soft_shadow_core::SceneGeometry::new(tris, Vec::new());
     if geometry.casters.is_empty() {
-        return SceneSize::of(&geometry, light, &receivers);
+        return SceneSize {
+            receivers: count,
+            ..SceneSize::of(&geometry, light, &[])
+        };
     }
     // The views as the pipeline plans them: over the casters with the bounds grown by the
     // receivers (`light_geometry`); only a distant light's read what the camera sees (its
@@ -113,8 +135,9 @@ fn scene_size(
     // (The same geometry with its bounds grown, then given back: the single view's count is
     // over the casters' own bounds.)
     let bounds = geometry.bounds;
-    for p in &receivers {
-        geometry.bounds.grow(*p);
+    if count > 0 {
+        geometry.bounds.grow(reach.min);
+        geometry.bounds.grow(reach.max);
     }
     let seen = match light.center() {
         soft_shadow_core::LightPoint::Direction(_) => frame.seen(),
@@ -122,7 +145,17 @@ fn scene_size(
     };
     let views = soft_shadow_core::LightViews::plan(light, &geometry, seen.as_ref());
     geometry.bounds = bounds;
-    SceneSize::with_views(&geometry, light, &receivers, &views)
+    let size = SceneSize::with_views(&geometry, light, &sample, &views);
+    let covered = if sample.len() == count {
+        size.covered
+    } else {
+        (size.covered as f64 * count as f64 / sample.len() as f64).round() as usize
+    };
+    SceneSize {
+        receivers: count,
+        covered: covered.min(count),
+        ..size
+    }
 }
 
 /// The largest map side each configuration of `registry` that models `kind` takes on
