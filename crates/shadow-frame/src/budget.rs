@@ -12,7 +12,8 @@
 //! to a better one) that takes the most predicted image error, weighted by the light's part of
 //! the frame's contribution, off per millisecond. A light that adds little gets a cheaper
 //! configuration or a smaller map side, or no shadow where the budget runs out first (it says
-//! so). The picks' predicted times (with their margins) never add up to more than the budget.
+//! so). The picks' predicted times (with their margins, scaled by what the frames measured,
+//! [`crate::Calibration`]) never add up to more than the budget less the pipeline's own time.
 //! A light that brings nothing to any receiver (out of view, out of range, behind every
 //! receiver) gets nothing and costs nothing: no maps, `V` = 1.
 //!
@@ -20,11 +21,13 @@
 //! [`SHARE_HYSTERESIS`] of the one its pick was made for, or within [`SHARE_FLOOR`] of the
 //! budget of it, so a camera that moves a little does
 //! not make every light pick (and generate) again; a part that leaves that band, a changed
-//! budget, or a light added, changed or removed shares the whole budget again, and a light
+//! budget, a calibration that moved by more than the factor (or a pipeline time that grew by
+//! more than the floor), or a light added, changed or removed shares the whole budget again, and a light
 //! keeps its configuration and its maps while it fits its new part and predicts no more than
 //! [`KEEP_ERROR`] times the new pick's error. A pick measured over its part for
 //! [`crate::tracking::STEP_DOWN_FRAMES`] frames steps down as `Auto` does.
 
+use crate::calibration::Calibration;
 use crate::components::*;
 use crate::scene::LightSource;
 use crate::tracking::AutoInputs;
@@ -33,10 +36,11 @@ use glam::Vec3;
 use soft_shadow_core::{Light, LightPoint};
 
 /// The time one frame may spend on the shadows of the lights whose choice is
-/// [`TechniqueChoice::Shared`] (generation + evaluation as the profile predicts them), shared
-/// among them by what each adds to the image. Lights with their own choice are outside it, and
-/// so is the pipeline's own work (tracking, sharing, staleness), which
-/// [`crate::FrameStats::core`] reports.
+/// [`TechniqueChoice::Shared`] (generation + evaluation as the profile predicts them, scaled by
+/// what the frames measured: [`crate::Calibration`]) and on the pipeline's own work (tracking,
+/// sharing, staleness: the [`crate::Calibration::core_ms`] kept back, the most of the last
+/// frames' [`crate::FrameStats::core`]), shared among the lights by what each adds to the image.
+/// Lights with their own choice are outside it.
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]
 pub struct FrameBudget {
     /// Milliseconds per frame.
@@ -167,6 +171,7 @@ pub fn share_budget(
     mut removed: RemovedComponents<ShadowConfig>,
     inputs: AutoInputs,
     settings: Res<FrameSettings>,
+    mut shared_with: Local<Option<Calibration>>,
 ) {
     let frame = &inputs.frame;
     let config_removed = removed.read().count() > 0;
@@ -213,9 +218,32 @@ pub fn share_budget(
     let moved = lights
         .iter()
         .any(|(_, l, c, ..)| c.shares_budget(&l.0) && l.is_changed());
-    if !(budget.is_changed() || frame.is_changed() || changed_config || moved || config_removed) {
+    // What the frames measured moved since the last share: predictions that grew by more
+    // than the hysteresis, or shrank, or the pipeline's own time grew by more than the floor.
+    let calibration = inputs.calibration();
+    let recalibrated = shared_with.as_ref().is_some_and(|w| {
+        calibration.drift(w) > SHARE_HYSTERESIS
+            || calibration.core_ms > w.core_ms + budget.ms * SHARE_FLOOR
+    });
+    if !(budget.is_changed()
+        || frame.is_changed()
+        || changed_config
+        || moved
+        || config_removed
+        || recalibrated)
+    {
         return;
     }
+    // What the lights share: the budget less the pipeline's own time.
+    let available = (budget.ms - calibration.core_ms).max(0.0);
+    let frame_ms = if calibration.core_ms > 0.0 {
+        format!(
+            "{} ms (less {:.2} ms for the pipeline's own work)",
+            budget.ms, calibration.core_ms
+        )
+    } else {
+        format!("{} ms", budget.ms)
+    };
     // The receivers' bounds: a light whose influence misses them brings nothing, unread.
     let mut seen = soft_shadow_core::mesh::Aabb::EMPTY;
     frame.positions.iter().for_each(|p| seen.grow(*p));
@@ -247,7 +275,7 @@ pub fn share_budget(
         if !c.shares_budget(&l.0) {
             return false;
         }
-        let now = budget.ms * fraction(e);
+        let now = available * fraction(e);
         match s.share {
             None => true,
             Some(sh) => {
@@ -261,7 +289,7 @@ pub fn share_budget(
             }
         }
     });
-    if !(budget.is_changed() || changed_config || config_removed || drifted) {
+    if !(budget.is_changed() || changed_config || config_removed || drifted || recalibrated) {
         for (e, l, c, _, mut s) in &mut lights {
             if !c.shares_budget(&l.0) {
                 continue;
@@ -275,6 +303,7 @@ pub fn share_budget(
         }
         return;
     }
+    *shared_with = Some(calibration.clone());
     // The lights that bring something, sized in parallel.
     let bringing: Vec<(Entity, &Light, f32)> = lights
         .iter()
@@ -296,7 +325,7 @@ pub fn share_budget(
             part: part(e),
             kind: l.kind(),
             size,
-            proportional: budget.ms * fraction(e),
+            proportional: available * fraction(e),
             within: 0.0,
             over_budget: None,
         })
@@ -309,7 +338,7 @@ pub fn share_budget(
             let frontier = inputs.frontier(p.kind, p.size);
             p.over_budget = frontier
                 .first()
-                .filter(|o| o.needs_ms() > budget.ms)
+                .filter(|o| o.needs_ms() > available)
                 .map(|o| {
                     (
                         format!(
@@ -321,7 +350,7 @@ pub fn share_budget(
                 });
             frontier
                 .iter()
-                .filter(|o| o.needs_ms() <= budget.ms)
+                .filter(|o| o.needs_ms() <= available)
                 .map(|o| (o.needs_ms(), o.error_255))
                 .collect()
         })
@@ -337,7 +366,7 @@ pub fn share_budget(
             let (need, err) = at[i].map_or((0.0, NO_SHADOW_255), |k| ladder[k]);
             let from = at[i].map_or(0, |k| k + 1);
             for (m, &(n, e)) in ladder.iter().enumerate().skip(from) {
-                if spent - need + n > budget.ms {
+                if spent - need + n > available {
                     break;
                 }
                 let gain = picks[i].part * (err - e) / (n - need).max(1e-9);
@@ -411,9 +440,8 @@ pub fn share_budget(
                     .split_once("; ")
                     .map_or(next.reason.as_str(), |w| w.1);
                 next.reason = format!(
-                    "shared: {:.1}% of the frame's light, {within:.2} of the frame's {} ms; {}",
+                    "shared: {:.1}% of the frame's light, {within:.2} of the frame's {frame_ms}; {}",
                     100.0 * fraction(e),
-                    budget.ms,
                     why.trim_start_matches("auto: ")
                 );
                 if let Some(a) = next.auto.as_mut() {
@@ -438,18 +466,16 @@ pub fn share_budget(
                 state.error = Some(match over_budget {
                     Some((cheapest, needs)) => format!(
                         "its cheapest configuration, {cheapest}, is predicted to need \
-                         {needs:.2} ms with its margin, over the frame's whole {} ms \
+                         {needs:.2} ms with its margin, over the frame's whole {frame_ms} \
                          ({:.2}% of the frame's light; {} triangles in {} views, {} receivers)",
-                        budget.ms,
                         100.0 * fraction(e),
                         size.triangles,
                         size.views,
                         size.receivers
                     ),
                     None => format!(
-                        "the frame's {} ms go to brighter lights before this one's cheapest \
-                         configuration ({:.2}% of the frame's light)",
-                        budget.ms,
+                        "the frame's {frame_ms} go to brighter lights before this one's \
+                         cheapest configuration ({:.2}% of the frame's light)",
                         100.0 * fraction(e)
                     ),
                 });
@@ -460,11 +486,10 @@ pub fn share_budget(
                 idle_visibility(&mut state);
                 state.error = Some(format!(
                     "no configuration for {} lights on {} is predicted to fit its {within:.2} ms \
-                     of the frame's {} ms ({:.1}% of the frame's light; {} triangles, {} \
+                     of the frame's {frame_ms} ({:.1}% of the frame's light; {} triangles, {} \
                      receivers)",
                     kind.name(),
                     inputs.backend.backend.name(),
-                    budget.ms,
                     100.0 * fraction(e),
                     size.triangles,
                     size.receivers

@@ -119,8 +119,13 @@ pub struct ResolvedTechnique {
 pub struct AutoPrediction {
     /// The budget, milliseconds per frame (generation + evaluation).
     pub budget_ms: f64,
-    /// Predicted generation + evaluation milliseconds for this scene.
+    /// Predicted generation + evaluation milliseconds for this scene (calibrated,
+    /// [`crate::Calibration`]).
     pub time_ms: f64,
+    /// The profile's own predictions for this scene, generation (every view) and evaluation,
+    /// milliseconds (before calibration and margin): what [`crate::Calibration`] compares the
+    /// measured times with.
+    pub profile_ms: [f64; 2],
     /// Predicted image error, 1/255.
     pub error_255: f64,
     /// The configuration's margin: the pick needs `time_ms * margin` of budget
@@ -259,6 +264,10 @@ pub struct FrameSettings {
     /// `V` from its own textures with [`crate::gpu_frame`]; the receivers still bound what the
     /// maps cover).
     pub evaluate_receivers: bool,
+    /// Keep the [`crate::Calibration`] from what every frame measures (off: it stays as it is,
+    /// the profile as fitted unless you set it, and picks follow predictions alone: the same
+    /// picks on every run).
+    pub calibrating: bool,
 }
 
 impl Default for FrameSettings {
@@ -266,6 +275,7 @@ impl Default for FrameSettings {
         Self {
             caching: true,
             evaluate_receivers: true,
+            calibrating: true,
         }
     }
 }
@@ -280,6 +290,12 @@ impl FrameSettings {
     /// With [`FrameSettings::evaluate_receivers`] set.
     pub fn with_evaluate_receivers(mut self, evaluate: bool) -> Self {
         self.evaluate_receivers = evaluate;
+        self
+    }
+
+    /// With [`FrameSettings::calibrating`] set.
+    pub fn with_calibrating(mut self, calibrating: bool) -> Self {
+        self.calibrating = calibrating;
         self
     }
 }

@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod budget;
+pub mod calibration;
 pub mod components;
 #[cfg(feature = "gltf")]
 pub mod gltf;
@@ -15,8 +16,9 @@ mod tests;
 pub mod tracking;
 
 pub use budget::FrameBudget;
+pub use calibration::Calibration;
 pub use components::*;
-pub use profile::{Pick, ProfileEntry, SceneSize, TechniqueProfile};
+pub use profile::{Calibrated, Pick, ProfileEntry, SceneSize, TechniqueProfile};
 pub use scene::{Scene, Shadows};
 pub use stats::{CoreStats, FrameStats, LightStats, TechniqueStats};
 
@@ -137,6 +139,7 @@ impl FramePipeline {
         world.init_resource::<ReceiversError>();
         world.init_resource::<FrameBackend>();
         world.init_resource::<FrameSettings>();
+        world.init_resource::<Calibration>();
         if !world.contains_resource::<TechniqueProfile>() {
             world.insert_resource(self.defaults.clone());
         }
@@ -152,7 +155,11 @@ impl FramePipeline {
         let _ = self.schedule.initialize(world);
         world.insert_resource(CoreClock(std::time::Instant::now()));
         self.schedule.run(world);
-        world.resource::<FrameStats>().clone()
+        let stats = world.resource::<FrameStats>().clone();
+        if world.resource::<FrameSettings>().calibrating {
+            world.resource_mut::<Calibration>().update(&stats);
+        }
+        stats
     }
 }
 

@@ -17,6 +17,7 @@
 //! The built-in profile ([`TechniqueProfile::builtin`]) was fitted from a full CPU report on a
 //! 2-core machine; its GPU rows are CPU stand-ins, which `Auto`'s reason says.
 
+pub use crate::calibration::Calibration;
 use glam::Vec3;
 use soft_shadow_core::light::LightKind;
 use soft_shadow_core::technique::{Backend, CostForm};
@@ -117,14 +118,39 @@ impl ProfileEntry {
     /// Predicted generation + evaluation milliseconds at map side `side` for a scene of `size`:
     /// one generation per view ([`SceneSize::views`]), one evaluation.
     pub fn predict_ms(&self, size: SceneSize, side: u32) -> f64 {
-        let [g0, g1, g2, g3] = self.generate;
-        let [t1, t2, t3] = self.form.terms(size.triangles, side);
+        self.predict_scaled_ms(size, side, [1.0, 1.0])
+    }
+
+    /// [`ProfileEntry::predict_ms`] with its generation scaled by `generate` and its
+    /// evaluation by `evaluate` (a [`Calibration`]'s factors).
+    pub fn predict_scaled_ms(
+        &self,
+        size: SceneSize,
+        side: u32,
+        [generate, evaluate]: [f64; 2],
+    ) -> f64 {
+        let g = self.predict_generate_ms(size, side);
         let [e0, e1, e2] = self.evaluate;
         let outside = size.receivers.saturating_sub(size.covered);
+        // In this order, so that factors of 1 give the sum as it always was.
+        g * generate
+            + e0 * evaluate
+            + e1 * size.covered as f64 / 1e6 * evaluate
+            + e2 * outside as f64 / 1e6 * evaluate
+    }
+
+    /// The generation part of [`ProfileEntry::predict_ms`]: milliseconds for every view.
+    pub fn predict_generate_ms(&self, size: SceneSize, side: u32) -> f64 {
+        let [g0, g1, g2, g3] = self.generate;
+        let [t1, t2, t3] = self.form.terms(size.triangles, side);
         (g0 + g1 * t1 + g2 * t2 + g3 * t3) * size.views.max(1) as f64
-            + e0
-            + e1 * size.covered as f64 / 1e6
-            + e2 * outside as f64 / 1e6
+    }
+
+    /// The evaluation part of [`ProfileEntry::predict_ms`], milliseconds.
+    pub fn predict_evaluate_ms(&self, size: SceneSize) -> f64 {
+        let [e0, e1, e2] = self.evaluate;
+        let outside = size.receivers.saturating_sub(size.covered);
+        e0 + e1 * size.covered as f64 / 1e6 + e2 * outside as f64 / 1e6
     }
 
     /// Predicted image error (1/255) under a light of `kind` at map side `side` (clamped to
@@ -150,8 +176,12 @@ pub struct Pick<'a> {
     pub entry: &'a ProfileEntry,
     /// Map side.
     pub resolution: u32,
-    /// Predicted generation + evaluation milliseconds (before the margin).
+    /// Predicted generation + evaluation milliseconds (before the margin), calibrated where
+    /// the pick came from [`Calibrated`].
     pub time_ms: f64,
+    /// The profile's own predictions (before calibration and margin): generation (every
+    /// view) and evaluation, milliseconds.
+    pub profile_ms: [f64; 2],
     /// Predicted image error, 1/255.
     pub error_255: f64,
     /// The timing is a CPU row standing in for a GPU one (no GPU measurement in the profile).
@@ -206,9 +236,15 @@ impl TechniqueProfile {
         })
     }
 
-    /// Every configuration and map side that `max_side(technique, variant)` accepts (its
-    /// largest side, `None`: not available) with a predicted image error under a light of
-    /// `kind`, with its predicted time for a scene of `size`, in the profile's order.
+    /// This profile with its predictions scaled by `calibration` ([`Calibrated`]).
+    pub fn calibrated<'a>(&'a self, calibration: &'a Calibration) -> Calibrated<'a> {
+        Calibrated {
+            profile: self,
+            calibration,
+        }
+    }
+
+    /// [`Calibrated::options`] without calibration.
     pub fn options(
         &self,
         kind: LightKind,
@@ -216,34 +252,11 @@ impl TechniqueProfile {
         size: SceneSize,
         max_side: impl Fn(&str, &str) -> Option<u32>,
     ) -> Vec<Pick<'_>> {
-        let mut out = Vec::new();
-        for (e, stand_in) in self.candidates(backend) {
-            let Some(max) = max_side(&e.technique, &e.variant) else {
-                continue;
-            };
-            for side in SIDES
-                .into_iter()
-                .filter(|&s| s <= max && s >= e.sides.0 && s <= e.sides.1)
-            {
-                let Some(error_255) = e.predict_error(kind, side) else {
-                    continue;
-                };
-                out.push(Pick {
-                    entry: e,
-                    resolution: side,
-                    time_ms: e.predict_ms(size, side),
-                    error_255,
-                    stand_in,
-                });
-            }
-        }
-        out
+        self.calibrated(&crate::calibration::IDENTITY)
+            .options(kind, backend, size, max_side)
     }
 
-    /// The configuration and map side with the lowest predicted image error under a light of
-    /// `kind` whose predicted time for a scene of `size` fits `budget_ms` ([`Pick::needs_ms`]),
-    /// among [`TechniqueProfile::options`]; ties go to the faster. `None` when nothing is
-    /// predicted to fit.
+    /// [`Calibrated::pick`] without calibration.
     pub fn pick(
         &self,
         kind: LightKind,
@@ -252,20 +265,11 @@ impl TechniqueProfile {
         size: SceneSize,
         max_side: impl Fn(&str, &str) -> Option<u32>,
     ) -> Option<Pick<'_>> {
-        self.options(kind, backend, size, max_side)
-            .into_iter()
-            .filter(|p| p.needs_ms() <= budget_ms)
-            .min_by(|a, b| {
-                a.error_255
-                    .total_cmp(&b.error_255)
-                    .then(a.time_ms.total_cmp(&b.time_ms))
-            })
+        self.calibrated(&crate::calibration::IDENTITY)
+            .pick(kind, backend, budget_ms, size, max_side)
     }
 
-    /// The options whose predicted error is below that of every option that needs less budget
-    /// ([`Pick::needs_ms`]), cheapest first: at any budget, [`TechniqueProfile::pick`]'s error
-    /// is that of the last one the budget affords (where two options tie in error, the pick
-    /// may be the other one).
+    /// [`Calibrated::frontier`] without calibration.
     pub fn frontier(
         &self,
         kind: LightKind,
@@ -273,20 +277,8 @@ impl TechniqueProfile {
         size: SceneSize,
         max_side: impl Fn(&str, &str) -> Option<u32>,
     ) -> Vec<Pick<'_>> {
-        let mut all = self.options(kind, backend, size, max_side);
-        all.sort_by(|a, b| {
-            a.needs_ms()
-                .total_cmp(&b.needs_ms())
-                .then(a.error_255.total_cmp(&b.error_255))
-                .then(a.time_ms.total_cmp(&b.time_ms))
-        });
-        let mut best = f64::INFINITY;
-        all.retain(|p| {
-            let better = p.error_255 < best;
-            best = best.min(p.error_255);
-            better
-        });
-        all
+        self.calibrated(&crate::calibration::IDENTITY)
+            .frontier(kind, backend, size, max_side)
     }
 
     /// The profile as text, one configuration a line:
@@ -388,5 +380,113 @@ impl TechniqueProfile {
             });
         }
         Ok(Self { entries })
+    }
+}
+
+/// A [`TechniqueProfile`] whose predictions are scaled by what the frames measured against it
+/// (a [`Calibration`]: each configuration's generation by [`Calibration::generate_for`], its
+/// evaluation by [`Calibration::evaluate`]), for choosing.
+#[derive(Clone, Copy, Debug)]
+pub struct Calibrated<'a> {
+    /// The profile.
+    pub profile: &'a TechniqueProfile,
+    /// The calibration.
+    pub calibration: &'a Calibration,
+}
+
+impl<'a> Calibrated<'a> {
+    /// Every configuration and map side that `max_side(technique, variant)` accepts (its
+    /// largest side, `None`: not available) with a predicted image error under a light of
+    /// `kind`, with its predicted time for a scene of `size` (calibrated), in the profile's
+    /// order.
+    pub fn options(
+        &self,
+        kind: LightKind,
+        backend: Backend,
+        size: SceneSize,
+        max_side: impl Fn(&str, &str) -> Option<u32>,
+    ) -> Vec<Pick<'a>> {
+        let mut out = Vec::new();
+        for (e, stand_in) in self.profile.candidates(backend) {
+            let Some(max) = max_side(&e.technique, &e.variant) else {
+                continue;
+            };
+            for side in SIDES
+                .into_iter()
+                .filter(|&s| s <= max && s >= e.sides.0 && s <= e.sides.1)
+            {
+                let Some(error_255) = e.predict_error(kind, side) else {
+                    continue;
+                };
+                out.push(Pick {
+                    entry: e,
+                    resolution: side,
+                    time_ms: e.predict_scaled_ms(
+                        size,
+                        side,
+                        [
+                            self.calibration.generate_for(&e.technique, &e.variant),
+                            self.calibration.evaluate,
+                        ],
+                    ),
+                    profile_ms: [
+                        e.predict_generate_ms(size, side),
+                        e.predict_evaluate_ms(size),
+                    ],
+                    error_255,
+                    stand_in,
+                });
+            }
+        }
+        out
+    }
+
+    /// The configuration and map side with the lowest predicted image error under a light of
+    /// `kind` whose predicted time for a scene of `size` fits `budget_ms` ([`Pick::needs_ms`]),
+    /// among [`Calibrated::options`]; ties go to the faster. `None` when nothing is
+    /// predicted to fit.
+    pub fn pick(
+        &self,
+        kind: LightKind,
+        backend: Backend,
+        budget_ms: f64,
+        size: SceneSize,
+        max_side: impl Fn(&str, &str) -> Option<u32>,
+    ) -> Option<Pick<'a>> {
+        self.options(kind, backend, size, max_side)
+            .into_iter()
+            .filter(|p| p.needs_ms() <= budget_ms)
+            .min_by(|a, b| {
+                a.error_255
+                    .total_cmp(&b.error_255)
+                    .then(a.time_ms.total_cmp(&b.time_ms))
+            })
+    }
+
+    /// The options whose predicted error is below that of every option that needs less budget
+    /// ([`Pick::needs_ms`]), cheapest first: at any budget, [`Calibrated::pick`]'s error
+    /// is that of the last one the budget affords (where two options tie in error, the pick
+    /// may be the other one).
+    pub fn frontier(
+        &self,
+        kind: LightKind,
+        backend: Backend,
+        size: SceneSize,
+        max_side: impl Fn(&str, &str) -> Option<u32>,
+    ) -> Vec<Pick<'a>> {
+        let mut all = self.options(kind, backend, size, max_side);
+        all.sort_by(|a, b| {
+            a.needs_ms()
+                .total_cmp(&b.needs_ms())
+                .then(a.error_255.total_cmp(&b.error_255))
+                .then(a.time_ms.total_cmp(&b.time_ms))
+        });
+        let mut best = f64::INFINITY;
+        all.retain(|p| {
+            let better = p.error_255 < best;
+            best = best.min(p.error_255);
+            better
+        });
+        all
     }
 }

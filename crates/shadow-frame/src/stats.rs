@@ -37,6 +37,14 @@ pub struct LightStats {
     pub receivers_evaluated: usize,
     /// Measured milliseconds: its generation (when it generated) and its evaluation.
     pub ms: f64,
+    /// Of [`LightStats::ms`], its generation (0 where its maps were reused): from planning its
+    /// views to its maps made.
+    pub generate_ms: f64,
+    /// Of [`LightStats::ms`], its evaluation.
+    pub evaluate_ms: f64,
+    /// The profile's own predictions of its generation and evaluation (before calibration and
+    /// margin), for an automatic or shared choice ([`crate::Calibration`] compares them).
+    pub profile_ms: Option<[f64; 2]>,
     /// What `Auto` predicted for a frame that generates (generation + evaluation, before the
     /// configuration's margin), for an automatic or shared choice.
     pub predicted_ms: Option<f64>,

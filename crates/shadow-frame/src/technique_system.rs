@@ -88,14 +88,19 @@ fn light_geometry(
     }
 }
 
-/// One light's line of the frame's statistics.
+/// One light's line of the frame's statistics: it started at `start`, and its evaluation at
+/// `evaluating` (`None`: it did not evaluate).
 fn light_stats(
     light: Entity,
     resolved: &ResolvedTechnique,
     views_generated: usize,
     receivers_evaluated: usize,
     start: Instant,
+    evaluating: Option<Instant>,
 ) -> LightStats {
+    let now = Instant::now();
+    let ms = |from: Instant| (now - from).as_secs_f64() * 1e3;
+    let evaluate_ms = evaluating.map_or(0.0, ms);
     LightStats {
         light,
         technique: format!(
@@ -106,7 +111,14 @@ fn light_stats(
         resolution: resolved.resolution,
         views_generated,
         receivers_evaluated,
-        ms: start.elapsed().as_secs_f64() * 1e3,
+        ms: ms(start),
+        generate_ms: if views_generated > 0 {
+            ms(start) - evaluate_ms
+        } else {
+            0.0
+        },
+        evaluate_ms,
+        profile_ms: resolved.auto.map(|a| a.profile_ms),
         predicted_ms: resolved.auto.map(|a| a.time_ms),
         budget_ms: resolved.auto.map(|a| a.budget_ms),
     }
@@ -221,11 +233,12 @@ pub fn run_technique(
             if views_generated > 0 {
                 state.generated_ms = Some(light_start.elapsed().as_secs_f64() * 1e3);
             }
-            let line = light_stats(entity, resolved, views_generated, 0, light_start);
+            let line = light_stats(entity, resolved, views_generated, 0, light_start, None);
             stats.record(name, line);
             continue;
         }
         let recv = Receivers::new(&positions, &normals);
+        let evaluating = Instant::now();
         match maps.evaluate(gpu, &recv) {
             Ok(v) => {
                 for (&i, x) in inside.iter().zip(v) {
@@ -244,6 +257,7 @@ pub fn run_technique(
             views_generated,
             state.evaluated,
             light_start,
+            Some(evaluating),
         );
         stats.record(name, line);
     }

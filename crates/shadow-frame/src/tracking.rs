@@ -2,8 +2,9 @@
 //! staleness. Work downstream is driven by what they find changed, nothing else.
 
 use crate::TechniqueRegistry;
+use crate::calibration::Calibration;
 use crate::components::*;
-use crate::profile::{SceneSize, TechniqueProfile};
+use crate::profile::{Calibrated, SceneSize, TechniqueProfile};
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, Transform};
 use bevy_ecs::prelude::*;
 use soft_shadow_core::mesh::Aabb;
@@ -194,7 +195,7 @@ fn auto_pick(
     kind: soft_shadow_core::LightKind,
     budget_ms: f64,
     registry: &TechniqueRegistry,
-    profile: &TechniqueProfile,
+    profile: Calibrated,
     backend: &FrameBackend,
     size: SceneSize,
 ) -> Option<ResolvedTechnique> {
@@ -211,12 +212,24 @@ fn auto_pick(
     } else {
         ""
     };
+    let factors = [
+        profile.calibration.generate_for(&e.technique, &e.variant),
+        profile.calibration.evaluate,
+    ];
+    let calibrated = if factors == [1.0, 1.0] {
+        String::new()
+    } else {
+        format!(
+            " (the profile's generation x {:.2}, evaluation x {:.2}, as the frames measured)",
+            factors[0], factors[1]
+        )
+    };
     Some(ResolvedTechnique {
         technique: find(registry, kind, &e.technique, &e.variant)?,
         resolution: p.resolution,
         reason: format!(
-            "auto: {} {} at {}² predicts image error {:.2}/255 in {:.2} ms{stand_in} <= {budget_ms} \
-             ms ({} triangles in {} views, {} receivers, {} in the light's map), the lowest \
+            "auto: {} {} at {}² predicts image error {:.2}/255 in {:.2} ms{stand_in}{calibrated} <= \
+             {budget_ms} ms ({} triangles in {} views, {} receivers, {} in the light's map), the lowest \
              predicted error that fits",
             e.technique,
             e.variant,
@@ -231,6 +244,7 @@ fn auto_pick(
         auto: Some(AutoPrediction {
             budget_ms,
             time_ms: p.time_ms,
+            profile_ms: p.profile_ms,
             error_255: p.error_255,
             margin: e.margin,
             measured_ms: None,
@@ -250,11 +264,26 @@ pub struct AutoInputs<'w, 's> {
     pub frame: Res<'w, FrameReceivers>,
     registry: Res<'w, TechniqueRegistry>,
     profile: Res<'w, TechniqueProfile>,
+    calibration: Option<Res<'w, Calibration>>,
     /// Where the frame runs.
     pub backend: Res<'w, FrameBackend>,
 }
 
 impl AutoInputs<'_, '_> {
+    /// What the frames measured against the profile (the profile as fitted before any).
+    pub fn calibration(&self) -> Calibration {
+        self.calibration.as_deref().cloned().unwrap_or_default()
+    }
+
+    /// The profile, its predictions scaled by [`AutoInputs::calibration`].
+    fn profile(&self) -> Calibrated<'_> {
+        self.profile.calibrated(
+            self.calibration
+                .as_deref()
+                .unwrap_or(&crate::calibration::IDENTITY),
+        )
+    }
+
     /// The scene `light` with influence radius `range` sees, as predictions size it
     /// (the casters that reach it, the receivers within it, its views).
     pub fn size(&self, light: &soft_shadow_core::Light, range: f32) -> SceneSize {
@@ -273,20 +302,20 @@ impl AutoInputs<'_, '_> {
             kind,
             budget_ms,
             &self.registry,
-            &self.profile,
+            self.profile(),
             &self.backend,
             size,
         )
     }
 
     /// Every configuration and side `Auto` may pick for `kind` on a scene of `size`
-    /// ([`TechniqueProfile::options`] over the registered techniques).
+    /// ([`Calibrated::options`] over the registered techniques, calibrated).
     pub fn options(
         &self,
         kind: soft_shadow_core::LightKind,
         size: SceneSize,
     ) -> Vec<crate::profile::Pick<'_>> {
-        self.profile.options(
+        self.profile().options(
             kind,
             self.backend.backend,
             size,
@@ -295,13 +324,13 @@ impl AutoInputs<'_, '_> {
     }
 
     /// The options of [`AutoInputs::options`] worth buying, cheapest first
-    /// ([`TechniqueProfile::frontier`]).
+    /// ([`Calibrated::frontier`]).
     pub fn frontier(
         &self,
         kind: soft_shadow_core::LightKind,
         size: SceneSize,
     ) -> Vec<crate::profile::Pick<'_>> {
-        self.profile.frontier(
+        self.profile().frontier(
             kind,
             self.backend.backend,
             size,

@@ -108,6 +108,15 @@ fn receivers(dx: f32) -> FrameReceivers {
     }
 }
 
+/// Keeps the world's calibration as fitted (the same picks on every run).
+fn calibrating_off(world: &mut bevy_ecs::world::World) {
+    let settings = world
+        .get_resource::<shadow_frame::FrameSettings>()
+        .copied()
+        .unwrap_or_default();
+    world.insert_resource(settings.with_calibrating(false));
+}
+
 /// What the picks of `lamps` need of the budget: predicted time times margin, summed.
 fn needs(world: &bevy_ecs::world::World, lamps: &[Entity]) -> f64 {
     lamps
@@ -319,6 +328,9 @@ fn a_lights_contribution_is_its_irradiance_on_the_receivers() {
 #[test]
 fn a_night_street_shares_one_budget_and_a_swinging_lamp_remakes_only_its_maps() {
     let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
+    // Picks from predictions alone: what the frames measure would share the budget again
+    // whenever it moves (`shares_follow_what_the_frames_measure`).
+    calibrating_off(&mut street.scene.world);
     let mut p = pipeline();
     let first = p.run(&mut street.scene.world);
     let world = &street.scene.world;
@@ -377,6 +389,7 @@ fn a_night_street_shares_one_budget_and_a_swinging_lamp_remakes_only_its_maps() 
 #[test]
 fn walking_down_the_night_street_remakes_few_maps() {
     let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
+    calibrating_off(&mut street.scene.world);
     let mut p = pipeline();
     p.run(&mut street.scene.world);
     let lamps = street.lamps.clone();
@@ -681,4 +694,40 @@ fn the_rooms_lamps_agree_between_cpu_and_gpu() {
         );
     }
     failures.assert_none();
+}
+
+/// The shared budget spends what the frames measured, not what the profile predicted: with a
+/// calibration that finds generation and evaluation 3x the profile's and the pipeline's own
+/// work at 4 ms, every shared pick predicts 3x its profile time, and their needs (with
+/// margins) fit the 16 ms less the 4; the same street as fitted spends more than those 12 ms.
+#[test]
+fn shares_follow_what_the_frames_measure() {
+    let picks = |calibration: Option<shadow_frame::Calibration>| {
+        let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
+        calibrating_off(&mut street.scene.world);
+        if let Some(c) = calibration {
+            street.scene.world.insert_resource(c);
+        }
+        pipeline().run(&mut street.scene.world);
+        let world = &street.scene.world;
+        let autos: Vec<_> = street
+            .lamps
+            .iter()
+            .filter_map(|&e| world.get::<ResolvedTechnique>(e).and_then(|r| r.auto))
+            .collect();
+        (needs(world, &street.lamps), autos)
+    };
+    let (fitted, _) = picks(None);
+    let slow = shadow_frame::Calibration::new(3.0, 3.0, 4.0);
+    let (calibrated, autos) = picks(Some(slow));
+    assert!(fitted > 12.0, "as fitted the picks need {fitted:.2} ms");
+    assert!(
+        calibrated <= 12.0,
+        "calibrated they need {calibrated:.2} ms"
+    );
+    assert!(!autos.is_empty());
+    for a in &autos {
+        let profile = a.profile_ms[0] + a.profile_ms[1];
+        assert!((a.time_ms - 3.0 * profile).abs() <= 1e-9 * profile, "{a:?}");
+    }
 }

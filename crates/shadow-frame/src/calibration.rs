@@ -1,0 +1,184 @@
+//! What the frames measure against what the profile predicts, on the machine that runs them.
+//!
+//! A [`crate::TechniqueProfile`] is fitted on one machine, from one scene per run; a frame runs
+//! elsewhere, several lights at once, with cube faces and cascades. The pipeline keeps, in the
+//! [`Calibration`] resource, how long the lights' generation and evaluation took against what
+//! the profile predicted for them, and how long its own work took, and `Auto` and the shared
+//! [`crate::FrameBudget`] scale every prediction by it: on a machine (or a backend, or a
+//! scene) where the profile's predictions run short, the picks get cheaper within a few frames,
+//! and where they run long, better.
+
+use crate::stats::FrameStats;
+use bevy_ecs::prelude::*;
+use std::collections::{BTreeMap, VecDeque};
+
+/// The frames whose measured-over-predicted ratios (and pipeline times) the calibration
+/// holds: its factors are their medians, so one frame's jitter (a page fault, another process)
+/// moves nothing, and a change of machine load shows within half of them.
+pub const CALIBRATION_FRAMES: usize = 9;
+
+/// The generations (one light's maps made, any configuration) whose measured-over-predicted
+/// ratios [`Calibration::generate`] is the median of: a frame makes few maps, and one
+/// configuration the profile misjudges (its own factor, [`Calibration::generate_for`]) must
+/// not move every other's.
+pub const CALIBRATION_GENERATIONS: usize = 16;
+
+/// Until this many ratios are measured, the missing ones count as the prior (1 for
+/// [`Calibration::generate`] and [`Calibration::evaluate`], `generate` for a configuration's
+/// own factor): one slow first generation (a cold cache, a new configuration's first maps)
+/// must not rescale the whole frame.
+pub const CALIBRATION_MIN_SAMPLES: usize = 3;
+
+/// A frame's ratio counts only where the predictions it compares add up to at least this many
+/// milliseconds: a frame that made (or evaluated) next to nothing measures mostly its clock.
+pub const CALIBRATION_MIN_MS: f64 = 0.1;
+
+/// A frame's ratio is clamped to within this factor of 1 before it counts.
+pub const CALIBRATION_MAX_FACTOR: f64 = 16.0;
+
+/// How the frames' measured times compare with the profile's predictions, kept by
+/// [`crate::FramePipeline::run`] after every frame ([`Calibration::update`]): `Auto` and the
+/// shared budget multiply a configuration's predicted generation by [`Calibration::generate`]
+/// and its evaluation by [`Calibration::evaluate`] (before its margin), and the shared budget
+/// keeps [`Calibration::core_ms`] of the [`crate::FrameBudget`] for the pipeline's own work.
+/// Remove or reset it to start again from the profile as fitted.
+#[derive(Resource, Clone, Debug, PartialEq)]
+pub struct Calibration {
+    /// Measured over predicted generation time, the median over the last
+    /// [`CALIBRATION_GENERATIONS`] lights that made their maps (1: as the profile predicts):
+    /// the factor of a configuration that made none lately.
+    pub generate: f64,
+    /// Measured over predicted evaluation time of the lights that evaluated, the median over
+    /// the last [`CALIBRATION_FRAMES`] frames where they did.
+    pub evaluate: f64,
+    /// The pipeline's own time (tracking, sharing the budget, staleness;
+    /// [`crate::FrameStats::core`]), the most of the last [`CALIBRATION_FRAMES`] frames,
+    /// milliseconds.
+    pub core_ms: f64,
+    /// The last generations' ratios, and the last frames' evaluation ratios and pipeline
+    /// times, the newest last.
+    recent: [VecDeque<f64>; 3],
+    /// Per configuration (`name variant`), the generation ratios of its last
+    /// [`CALIBRATION_FRAMES`] generations.
+    per_configuration: BTreeMap<String, VecDeque<f64>>,
+}
+
+impl Default for Calibration {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+/// [`Calibration::IDENTITY`] as a place to borrow from.
+pub(crate) static IDENTITY: Calibration = Calibration::IDENTITY;
+
+impl Calibration {
+    /// Nothing measured: the profile as fitted.
+    pub const IDENTITY: Calibration = Calibration {
+        generate: 1.0,
+        evaluate: 1.0,
+        core_ms: 0.0,
+        recent: [VecDeque::new(), VecDeque::new(), VecDeque::new()],
+        per_configuration: BTreeMap::new(),
+    };
+
+    /// A calibration of these factors and pipeline time, as if measured: until frames are
+    /// (with [`crate::FrameSettings::calibrating`] on), the picks follow it; measured frames
+    /// then replace it.
+    pub fn new(generate: f64, evaluate: f64, core_ms: f64) -> Self {
+        Self {
+            generate,
+            evaluate,
+            core_ms,
+            ..Self::IDENTITY
+        }
+    }
+
+    /// Takes in one frame's statistics: the lights that `Auto` or the shared budget chose
+    /// ([`crate::LightStats::profile_ms`]) give a measured-over-predicted ratio for generation
+    /// (those that made their maps; also per configuration, [`Calibration::generate_for`]) and
+    /// for evaluation (those that evaluated), and the frame's pipeline time joins
+    /// [`Calibration::core_ms`]'s window. The first frame is left out: it allocates every map
+    /// and warms every cache.
+    pub fn update(&mut self, stats: &FrameStats) {
+        if stats.frame <= 1 {
+            return;
+        }
+        let ratio = |measured: f64, predicted: f64| {
+            (predicted >= CALIBRATION_MIN_MS && measured > 0.0).then(|| {
+                (measured / predicted).clamp(1.0 / CALIBRATION_MAX_FACTOR, CALIBRATION_MAX_FACTOR)
+            })
+        };
+        let mut generations = Vec::new();
+        let (mut eval_measured, mut eval_predicted) = (0.0, 0.0);
+        for l in &stats.lights {
+            let Some([g, e]) = l.profile_ms else { continue };
+            if l.views_generated > 0
+                && let Some(r) = ratio(l.generate_ms, g)
+            {
+                generations.push(r);
+                push(
+                    self.per_configuration
+                        .entry(l.technique.clone())
+                        .or_default(),
+                    r,
+                    CALIBRATION_FRAMES,
+                );
+            }
+            if l.receivers_evaluated > 0 {
+                eval_measured += l.evaluate_ms;
+                eval_predicted += e;
+            }
+        }
+        let core = stats.core.total_ms();
+        for r in generations {
+            push(&mut self.recent[0], r, CALIBRATION_GENERATIONS);
+        }
+        if let Some(r) = ratio(eval_measured, eval_predicted) {
+            push(&mut self.recent[1], r, CALIBRATION_FRAMES);
+        }
+        if core.is_finite() {
+            push(&mut self.recent[2], core, CALIBRATION_FRAMES);
+        }
+        self.generate = median(&self.recent[0], 1.0);
+        self.evaluate = median(&self.recent[1], 1.0);
+        self.core_ms = self.recent[2].iter().copied().fold(0.0, f64::max);
+    }
+
+    /// The factor on configuration `technique variant`'s predicted generation: the median of
+    /// its own recent ratios where it generated in the last frames, [`Calibration::generate`]
+    /// where it did not.
+    pub fn generate_for(&self, technique: &str, variant: &str) -> f64 {
+        self.per_configuration
+            .get(&format!("{technique} {variant}"))
+            .map_or(self.generate, |r| median(r, self.generate))
+    }
+
+    /// The larger factor by which `generate` or `evaluate` differs from `other`'s.
+    pub fn drift(&self, other: &Calibration) -> f64 {
+        let f = |a: f64, b: f64| (a / b).max(b / a);
+        f(self.generate, other.generate).max(f(self.evaluate, other.evaluate))
+    }
+}
+
+/// The median of `v` (of the middle two, their geometric mean), `prior` standing in for the
+/// values short of [`CALIBRATION_MIN_SAMPLES`].
+fn median(v: &VecDeque<f64>, prior: f64) -> f64 {
+    let mut v: Vec<f64> = v.iter().copied().collect();
+    v.resize(v.len().max(CALIBRATION_MIN_SAMPLES), prior);
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        (v[n / 2 - 1] * v[n / 2]).sqrt()
+    }
+}
+
+/// `x` at the end of `recent`, which keeps its last `n`.
+fn push(recent: &mut VecDeque<f64>, x: f64, n: usize) {
+    recent.push_back(x);
+    while recent.len() > n {
+        recent.pop_front();
+    }
+}

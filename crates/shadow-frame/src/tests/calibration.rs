@@ -1,0 +1,108 @@
+//! The calibration: medians of what the frames measured over what the profile predicted.
+
+use crate::calibration::CALIBRATION_FRAMES;
+use crate::{Calibration, CoreStats, FrameStats, LightStats};
+use bevy_ecs::entity::Entity;
+
+/// A light that made its maps (when `generated`) and evaluated, measured at `factor` times the
+/// profile's predictions of 2 ms and 3 ms.
+fn light(technique: &str, generated: bool, factor: f64) -> LightStats {
+    let (g, e) = (2.0, 3.0);
+    LightStats {
+        light: Entity::PLACEHOLDER,
+        technique: technique.into(),
+        resolution: 128,
+        views_generated: usize::from(generated),
+        receivers_evaluated: 100,
+        ms: 0.0,
+        generate_ms: if generated { g * factor } else { 0.0 },
+        evaluate_ms: e * factor,
+        profile_ms: Some([g, e]),
+        predicted_ms: Some(g + e),
+        budget_ms: Some(10.0),
+    }
+}
+
+fn frame(n: u64, core_ms: f64, lights: Vec<LightStats>) -> FrameStats {
+    FrameStats {
+        frame: n,
+        core: CoreStats {
+            track_ms: core_ms,
+            ..Default::default()
+        },
+        lights,
+        ..Default::default()
+    }
+}
+
+/// The first frame (every map allocated) is left out; then generation and evaluation measured
+/// at 2x their predictions calibrate to 2, once three frames agree (before that the profile's
+/// own 1 holds the median).
+#[test]
+fn measured_twice_the_prediction_calibrates_to_two() {
+    let mut c = Calibration::default();
+    c.update(&frame(1, 9.0, vec![light("pcss 7x7-9x9", true, 5.0)]));
+    assert_eq!(c, Calibration::default());
+    c.update(&frame(2, 1.0, vec![light("pcss 7x7-9x9", true, 2.0)]));
+    assert_eq!(
+        (c.generate, c.evaluate),
+        (1.0, 1.0),
+        "one frame moves nothing"
+    );
+    c.update(&frame(3, 1.0, vec![light("pcss 7x7-9x9", true, 2.0)]));
+    assert!(
+        (c.generate - 2.0).abs() < 1e-12 && (c.evaluate - 2.0).abs() < 1e-12,
+        "{c:?}"
+    );
+    assert_eq!(c.core_ms, 1.0);
+}
+
+/// One slow generation among many moves nothing, and a configuration the profile misjudges
+/// keeps its own factor: the others, and those not measured lately, keep the common one.
+#[test]
+fn one_configuration_keeps_its_own_factor() {
+    let mut c = Calibration::default();
+    for n in 2..12 {
+        c.update(&frame(
+            n,
+            1.0,
+            vec![
+                light("pcss 7x7-9x9", true, 1.5),
+                light("pcss 7x7-9x9", true, 1.5),
+                light("occlusion-slices sat-4", n % 3 == 0, 4.0),
+            ],
+        ));
+    }
+    assert!((c.generate - 1.5).abs() < 1e-12, "{c:?}");
+    assert!((c.generate_for("pcss", "7x7-9x9") - 1.5).abs() < 1e-12);
+    assert!((c.generate_for("occlusion-slices", "sat-4") - 4.0).abs() < 1e-12);
+    assert!((c.generate_for("shadow-width", "edt") - 1.5).abs() < 1e-12);
+    // A frame that makes no map leaves generation as it was; evaluation follows every frame.
+    let before = c.generate;
+    for n in 12..12 + CALIBRATION_FRAMES as u64 {
+        c.update(&frame(n, 1.0, vec![light("pcss 7x7-9x9", false, 3.0)]));
+    }
+    assert_eq!(c.generate, before);
+    assert!((c.evaluate - 3.0).abs() < 1e-12, "{c:?}");
+}
+
+/// The pipeline's own time kept back is the most of the last frames: a frame that shares the
+/// budget again (slower) is kept for as many frames, then drops out.
+#[test]
+fn the_pipelines_time_is_the_most_of_the_last_frames() {
+    let mut c = Calibration::default();
+    c.update(&frame(2, 3.0, Vec::new()));
+    for n in 3..3 + CALIBRATION_FRAMES as u64 - 1 {
+        c.update(&frame(n, 0.5, Vec::new()));
+        assert_eq!(c.core_ms, 3.0);
+    }
+    c.update(&frame(99, 0.5, Vec::new()));
+    assert_eq!(c.core_ms, 0.5);
+    // Lights without a profile's prediction (their own technique) calibrate nothing.
+    let mut own = light("pcss 7x7-9x9", true, 9.0);
+    own.profile_ms = None;
+    for n in 2..6 {
+        c.update(&frame(n, 0.5, vec![own.clone()]));
+    }
+    assert_eq!((c.generate, c.evaluate), (1.0, 1.0));
+}
