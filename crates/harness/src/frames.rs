@@ -149,7 +149,8 @@ pub fn walk(
     Ok(out)
 }
 
-/// The measurement as Markdown: one line per frame, then every lamp of the first frame.
+/// The measurement as Markdown: one line per frame, then every lamp of the first frame and of
+/// the last.
 pub fn markdown(frames: &[FrameMeasure], budget_ms: f64) -> String {
     let mut s = String::new();
     let _ = writeln!(
@@ -171,20 +172,27 @@ pub fn markdown(frames: &[FrameMeasure], budget_ms: f64) -> String {
             "\nMedian frame after the first (which allocates the maps): {median:.2} ms."
         );
     }
-    if let Some(first) = frames.first() {
+    if let (Some(first), Some(last)) = (frames.first(), frames.last()) {
         let _ = writeln!(
             s,
-            "\n| lamp | kind | part of the light | pick | image error | with no shadow |\n|---:|---|---:|---|---:|---:|"
+            "\nEvery lamp in the first frame (the profile's predictions alone) and in the last \
+             (what the frames measured calibrating them, [`shadow_frame::Calibration`], and each \
+             lamp's missing shadow measured from its own `V`).\n\n\
+             | lamp | kind | part of the light (last frame) | first frame's pick | image error | \
+             last frame's pick | image error | with no shadow (last frame) |\n\
+             |---:|---|---:|---|---:|---|---:|---:|"
         );
-        for (i, l) in first.lamps.iter().enumerate() {
+        for (i, (a, b)) in first.lamps.iter().zip(&last.lamps).enumerate() {
             let _ = writeln!(
                 s,
-                "| {i} | {} | {:.1}% | {} | {:.2} | {:.2} |",
-                l.kind,
-                100.0 * l.contribution,
-                l.pick,
-                l.image_255,
-                l.no_shadow_255
+                "| {i} | {} | {:.1}% | {} | {:.2} | {} | {:.2} | {:.2} |",
+                b.kind,
+                100.0 * b.contribution,
+                a.pick,
+                a.image_255,
+                b.pick,
+                b.image_255,
+                b.no_shadow_255
             );
         }
     }

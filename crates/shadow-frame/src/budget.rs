@@ -8,9 +8,12 @@
 //! way a knapsack is filled greedily: each light has a ladder of configurations worth buying
 //! (from the [`crate::TechniqueProfile`], as `Auto` picks: the cheapest, then each one with a
 //! lower predicted image error), and, while the budget lasts, the step bought next is the one
-//! (from a light's present configuration, or from no shadow, taken to cost [`NO_SHADOW_255`],
-//! to a better one) that takes the most predicted image error, weighted by the light's part of
-//! the frame's contribution, off per millisecond. A light that adds little gets a cheaper
+//! (from a light's present configuration, or from no shadow, to a better one) that takes the
+//! most predicted image error, weighted by the light's part of
+//! the frame's contribution, off per millisecond. No shadow costs what the light's own `V`
+//! measured it missing while it had one ([`missing_shadow_255`]; a light whose shadow is
+//! measured for the first time shares the budget again), and the catalogue's median,
+//! [`NO_SHADOW_255`], before. A light that adds little gets a cheaper
 //! configuration or a smaller map side, or no shadow where the budget runs out first (it says
 //! so). The picks' predicted times (with their margins, scaled by what the frames measured,
 //! [`crate::Calibration`]) never add up to more than the budget less the pipeline's own time.
@@ -128,10 +131,51 @@ pub fn contribution(light: &Light, config: &ShadowConfig, frame: &FrameReceivers
     }
 }
 
-/// The image error a light without a shadow is taken to cost, 1/255: the median over the
-/// catalogue's scenes of the image error of `V` = 1 against the reference (64² G-buffers: 14.85;
-/// 1.8 to 62 by scene).
+/// The image error a light without a shadow is taken to cost, 1/255, until its own is measured
+/// ([`missing_shadow_255`]): the median over the catalogue's scenes of the image error of
+/// `V` = 1 against the reference (64² G-buffers: 14.85; 1.8 to 62 by scene).
 pub const NO_SHADOW_255: f64 = 15.0;
+
+/// The image error (1/255) `light` would have with no shadow, estimated from its `visibility`
+/// over the frame's receivers (at most [`RECEIVER_SAMPLES`] of them, evenly spread): the rms of
+/// `(1 - V) 255 w` over the receivers it lights within its influence, `w` its
+/// [`irradiance_estimate`] over the largest (the report's image error, with `V` standing in for
+/// the reference). `None` where it lights no sampled receiver or `visibility` is not the
+/// frame's.
+pub fn missing_shadow_255(
+    light: &Light,
+    config: &ShadowConfig,
+    frame: &FrameReceivers,
+    visibility: &[f32],
+) -> Option<f64> {
+    let n = frame.positions.len().min(frame.normals.len());
+    if n == 0 || visibility.len() != frame.positions.len() {
+        return None;
+    }
+    let (c, r) = influence(light, config.range);
+    let lit: Vec<(f64, f64)> = (0..n)
+        .step_by(n.div_ceil(RECEIVER_SAMPLES))
+        .filter(|&i| !r.is_finite() || frame.positions[i].distance_squared(c) <= r * r)
+        .filter_map(|i| {
+            let e = irradiance_estimate(
+                light,
+                config.intensity,
+                frame.positions[i],
+                frame.normals[i],
+            );
+            (e > 0.0).then(|| (f64::from(e), f64::from(1.0 - visibility[i])))
+        })
+        .collect();
+    let max = lit.iter().map(|p| p.0).fold(0.0, f64::max);
+    if lit.is_empty() || max <= 0.0 {
+        return None;
+    }
+    let sum: f64 = lit
+        .iter()
+        .map(|&(e, d)| (d * 255.0 * e / max).powi(2))
+        .sum();
+    Some((sum / lit.len() as f64).sqrt())
+}
 
 /// A shared light while the budget is shared.
 struct Pick {
@@ -142,6 +186,8 @@ struct Pick {
     size: crate::SceneSize,
     proportional: f64,
     within: f64,
+    /// The image error its missing shadow costs ([`LightShare::missing_255`], or the prior).
+    missing: Option<f64>,
     /// Its cheapest configuration, `name variant side²`, and the budget it needs (with its
     /// margin), where it needs more than the whole frame budget.
     over_budget: Option<(String, f64)>,
@@ -224,6 +270,9 @@ pub fn share_budget(
     let recalibrated = shared_with.as_ref().is_some_and(|w| {
         calibration.drift(w) > SHARE_HYSTERESIS
             || calibration.core_ms > w.core_ms + budget.ms * SHARE_FLOOR
+    }) || lights.iter().any(|(_, l, c, _, s)| {
+        // A light whose shadow can now be measured for the first time.
+        c.shares_budget(&l.0) && unmeasured(s, settings.evaluate_receivers)
     });
     if !(budget.is_changed()
         || frame.is_changed()
@@ -305,28 +354,43 @@ pub fn share_budget(
     }
     *shared_with = Some(calibration.clone());
     // The lights that bring something, sized in parallel.
-    let bringing: Vec<(Entity, &Light, f32)> = lights
+    // Each one's missing shadow: measured from its `V` where it has a shadow now, kept from
+    // before while its part stays within the band, the prior otherwise.
+    let bringing: Vec<(Entity, &Light, f32, Option<f64>)> = lights
         .iter()
         .filter(|(e, l, c, ..)| c.shares_budget(&l.0) && part(*e) > 0.0)
-        .map(|(e, l, c, ..)| (e, &l.into_inner().0, c.range))
+        .map(|(e, l, c, _, s)| {
+            let missing = if shadowed(s, settings.evaluate_receivers) {
+                Some(missing_shadow_255(&l.0, &c, frame, &s.visibility).unwrap_or(NO_SHADOW_255))
+            } else {
+                s.share.and_then(|sh| {
+                    let now = available * fraction(e);
+                    let within = now <= sh.proportional_ms * SHARE_HYSTERESIS
+                        && now * SHARE_HYSTERESIS >= sh.proportional_ms;
+                    sh.missing_255.filter(|_| within)
+                })
+            };
+            (e, &l.into_inner().0, c.range, missing)
+        })
         .collect();
     let sizes: Vec<crate::SceneSize> = {
         use rayon::prelude::*;
         bringing
             .par_iter()
-            .map(|(_, l, range)| inputs.size(l, *range))
+            .map(|(_, l, range, _)| inputs.size(l, *range))
             .collect()
     };
     let mut picks: Vec<Pick> = bringing
         .iter()
         .zip(sizes)
-        .map(|(&(e, l, _), size)| Pick {
+        .map(|(&(e, l, _, missing), size)| Pick {
             entity: e,
             part: part(e),
             kind: l.kind(),
             size,
             proportional: available * fraction(e),
             within: 0.0,
+            missing,
             over_budget: None,
         })
         .collect();
@@ -363,7 +427,8 @@ pub fn share_budget(
     loop {
         let mut best: Option<(f64, usize, usize)> = None;
         for (i, ladder) in ladders.iter().enumerate() {
-            let (need, err) = at[i].map_or((0.0, NO_SHADOW_255), |k| ladder[k]);
+            let none = picks[i].missing.unwrap_or(NO_SHADOW_255);
+            let (need, err) = at[i].map_or((0.0, none), |k| ladder[k]);
             let from = at[i].map_or(0, |k| k + 1);
             for (m, &(n, e)) in ladder.iter().enumerate().skip(from) {
                 if spent - need + n > available {
@@ -391,6 +456,7 @@ pub fn share_budget(
             size,
             proportional,
             within,
+            missing,
             ref over_budget,
             ..
         }) = picks.iter().find(|p| p.entity == e)
@@ -403,6 +469,7 @@ pub fn share_budget(
                 contribution: 0.0,
                 proportional_ms: 0.0,
                 budget_ms: 0.0,
+                missing_255: None,
             });
             idle_visibility(&mut state);
             continue;
@@ -411,6 +478,7 @@ pub fn share_budget(
             contribution: fraction(e),
             proportional_ms: proportional,
             budget_ms: within,
+            missing_255: missing,
         });
         // The present pick stays while it fits the new part and is nearly as good as the new
         // pick: its maps are kept.
@@ -497,4 +565,15 @@ pub fn share_budget(
             }
         }
     }
+}
+
+/// Whether a light's `V` is its shadow's now: it has maps and, with the frame's receivers
+/// evaluated, a `V` for each.
+fn shadowed(state: &LightState, evaluated: bool) -> bool {
+    evaluated && state.maps.is_some() && state.error.is_none() && state.evaluated > 0
+}
+
+/// Whether a shared light has a shadow whose cost has not been measured yet.
+fn unmeasured(state: &LightState, evaluated: bool) -> bool {
+    shadowed(state, evaluated) && state.share.is_some_and(|sh| sh.missing_255.is_none())
 }

@@ -173,6 +173,11 @@ pub struct LightShare {
     /// The budget its pick was made within (milliseconds; 0 for a light that contributes
     /// nothing or that the budget could not afford): see [`crate::budget`].
     pub budget_ms: f64,
+    /// The image error (1/255) its missing shadow costs, measured from its own `V` while it
+    /// had a shadow ([`crate::budget::missing_shadow_255`]): what the budget weighs its first
+    /// step against. `None` before it had one, or once its part left the band it was measured
+    /// in: then [`crate::budget::NO_SHADOW_255`].
+    pub missing_255: Option<f64>,
 }
 
 /// The points the frame shades (e.g. the camera G-buffer), with unit normals.
