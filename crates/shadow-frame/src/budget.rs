@@ -123,7 +123,7 @@ pub fn contribution(light: &Light, config: &ShadowConfig, frame: &FrameReceivers
             .sum::<f64>()
             * step as f64
     };
-    let step = n.div_ceil(RECEIVER_SAMPLES);
+    let step = sample_step(n);
     match sum(step) {
         // A light that lights a patch the samples step over still counts: every receiver.
         0.0 if step > 1 => sum(1),
@@ -140,8 +140,8 @@ pub const NO_SHADOW_255: f64 = 15.0;
 /// over the frame's receivers (at most [`RECEIVER_SAMPLES`] of them, evenly spread): the rms of
 /// `(1 - V) 255 w` over the receivers it lights within its influence, `w` its
 /// [`irradiance_estimate`] over the largest (the report's image error, with `V` standing in for
-/// the reference). `None` where it lights no sampled receiver or `visibility` is not the
-/// frame's.
+/// the reference; every receiver where it lights none of those). `None` where it lights no
+/// receiver or `visibility` is not the frame's.
 pub fn missing_shadow_255(
     light: &Light,
     config: &ShadowConfig,
@@ -153,19 +153,27 @@ pub fn missing_shadow_255(
         return None;
     }
     let (c, r) = influence(light, config.range);
-    let lit: Vec<(f64, f64)> = (0..n)
-        .step_by(n.div_ceil(RECEIVER_SAMPLES))
-        .filter(|&i| !r.is_finite() || frame.positions[i].distance_squared(c) <= r * r)
-        .filter_map(|i| {
-            let e = irradiance_estimate(
-                light,
-                config.intensity,
-                frame.positions[i],
-                frame.normals[i],
-            );
-            (e > 0.0).then(|| (f64::from(e), f64::from(1.0 - visibility[i])))
-        })
-        .collect();
+    let lit = |step: usize| -> Vec<(f64, f64)> {
+        (0..n)
+            .step_by(step)
+            .filter(|&i| !r.is_finite() || frame.positions[i].distance_squared(c) <= r * r)
+            .filter_map(|i| {
+                let e = irradiance_estimate(
+                    light,
+                    config.intensity,
+                    frame.positions[i],
+                    frame.normals[i],
+                );
+                (e > 0.0).then(|| (f64::from(e), f64::from(1.0 - visibility[i])))
+            })
+            .collect()
+    };
+    let step = sample_step(n);
+    let lit = match lit(step) {
+        // A patch the samples step over: every receiver on it.
+        l if l.is_empty() && step > 1 => lit(1),
+        l => l,
+    };
     let max = lit.iter().map(|p| p.0).fold(0.0, f64::max);
     if lit.is_empty() || max <= 0.0 {
         return None;
@@ -175,6 +183,16 @@ pub fn missing_shadow_255(
         .map(|&(e, d)| (d * 255.0 * e / max).powi(2))
         .sum();
     Some((sum / lit.len() as f64).sqrt())
+}
+
+/// Every how many of `n` receivers an estimate over them reads: at most [`RECEIVER_SAMPLES`].
+pub(crate) fn sample_step(n: usize) -> usize {
+    n.div_ceil(RECEIVER_SAMPLES).max(1)
+}
+
+/// Whether a part `now` lies within [`SHARE_HYSTERESIS`] of the part `was`, either way.
+fn in_band(now: f64, was: f64) -> bool {
+    now <= was * SHARE_HYSTERESIS && now * SHARE_HYSTERESIS >= was
 }
 
 /// A shared light while the budget is shared.
@@ -264,16 +282,17 @@ pub fn share_budget(
     let moved = lights
         .iter()
         .any(|(_, l, c, ..)| c.shares_budget(&l.0) && l.is_changed());
-    // What the frames measured moved since the last share: predictions that grew by more
-    // than the hysteresis, or shrank, or the pipeline's own time grew by more than the floor.
+    // What the frames measured moved since the last share: a factor that grew or shrank by
+    // more than the hysteresis. (The pipeline's own time is taken as it is at the next share:
+    // a share's own cost would share again.)
     let calibration = inputs.calibration();
-    let recalibrated = shared_with.as_ref().is_some_and(|w| {
-        calibration.drift(w) > SHARE_HYSTERESIS
-            || calibration.core_ms > w.core_ms + budget.ms * SHARE_FLOOR
-    }) || lights.iter().any(|(_, l, c, _, s)| {
-        // A light whose shadow can now be measured for the first time.
-        c.shares_budget(&l.0) && unmeasured(s, settings.evaluate_receivers)
-    });
+    let recalibrated = shared_with
+        .as_ref()
+        .is_some_and(|w| calibration.drift(w) > SHARE_HYSTERESIS)
+        || lights.iter().any(|(_, l, c, _, s)| {
+            // A light whose shadow can now be measured for the first time.
+            c.shares_budget(&l.0) && unmeasured(s, settings.evaluate_receivers)
+        });
     if !(budget.is_changed()
         || frame.is_changed()
         || changed_config
@@ -331,10 +350,9 @@ pub fn share_budget(
                 // A light that starts or stops bringing anything shares again, however
                 // little: one that stopped must cost nothing.
                 let started_or_stopped = (now > 0.0) != (sh.proportional_ms > 0.0);
-                let out_of_band = now > sh.proportional_ms * SHARE_HYSTERESIS
-                    || now * SHARE_HYSTERESIS < sh.proportional_ms;
                 started_or_stopped
-                    || (out_of_band && (now - sh.proportional_ms).abs() > budget.ms * SHARE_FLOOR)
+                    || (!in_band(now, sh.proportional_ms)
+                        && (now - sh.proportional_ms).abs() > budget.ms * SHARE_FLOOR)
             }
         }
     });
@@ -354,20 +372,27 @@ pub fn share_budget(
     }
     *shared_with = Some(calibration.clone());
     // The lights that bring something, sized in parallel.
-    // Each one's missing shadow: measured from its `V` where it has a shadow now, kept from
-    // before while its part stays within the band, the prior otherwise.
+    // Each one's missing shadow: measured from its `V` (the last frame's, over this frame's
+    // receivers) where it has a shadow now, kept from the last share while its part stays
+    // within the band and no caster changed in its range, the prior otherwise.
     let bringing: Vec<(Entity, &Light, f32, Option<f64>)> = lights
         .iter()
         .filter(|(e, l, c, ..)| c.shares_budget(&l.0) && part(*e) > 0.0)
         .map(|(e, l, c, _, s)| {
             let missing = if shadowed(s, settings.evaluate_receivers) {
-                Some(missing_shadow_255(&l.0, &c, frame, &s.visibility).unwrap_or(NO_SHADOW_255))
+                // The one the last share took while the measurement stays within the band of
+                // it: a shadow that changes a little does not move the shares.
+                let last = s.share.and_then(|sh| sh.missing_255);
+                let now =
+                    missing_shadow_255(&l.0, &c, frame, &s.visibility).unwrap_or(NO_SHADOW_255);
+                match last {
+                    Some(was) if in_band(now.max(1.0), was.max(1.0)) => Some(was),
+                    _ => Some(now),
+                }
             } else {
                 s.share.and_then(|sh| {
-                    let now = available * fraction(e);
-                    let within = now <= sh.proportional_ms * SHARE_HYSTERESIS
-                        && now * SHARE_HYSTERESIS >= sh.proportional_ms;
-                    sh.missing_255.filter(|_| within)
+                    let kept = in_band(available * fraction(e), sh.proportional_ms);
+                    sh.missing_255.filter(|_| kept)
                 })
             };
             (e, &l.into_inner().0, c.range, missing)
@@ -496,7 +521,7 @@ pub fn share_budget(
             fits.then(|| {
                 let mut r = r.clone();
                 if let Some(a) = r.auto.as_mut() {
-                    (a.time_ms, a.error_255) = (o.time_ms, o.error_255);
+                    (a.time_ms, a.profile_ms, a.error_255) = (o.time_ms, o.profile_ms, o.error_255);
                 }
                 r
             })
@@ -573,7 +598,7 @@ fn shadowed(state: &LightState, evaluated: bool) -> bool {
     evaluated && state.maps.is_some() && state.error.is_none() && state.evaluated > 0
 }
 
-/// Whether a shared light has a shadow whose cost has not been measured yet.
+/// Whether a shared light has a shadow whose cost the budget was last shared without.
 fn unmeasured(state: &LightState, evaluated: bool) -> bool {
     shadowed(state, evaluated) && state.share.is_some_and(|sh| sh.missing_255.is_none())
 }

@@ -46,7 +46,7 @@ pub const CALIBRATION_MAX_FACTOR: f64 = 16.0;
 pub struct Calibration {
     /// Measured over predicted generation time, the median over the last
     /// [`CALIBRATION_GENERATIONS`] lights that made their maps (1: as the profile predicts):
-    /// the factor of a configuration that made none lately.
+    /// the factor of a configuration that has made none yet.
     pub generate: f64,
     /// Measured over predicted evaluation time of the lights that evaluated, the median over
     /// the last [`CALIBRATION_FRAMES`] frames where they did.
@@ -85,11 +85,24 @@ impl Calibration {
     /// A calibration of these factors and pipeline time, as if measured: until frames are
     /// (with [`crate::FrameSettings::calibrating`] on), the picks follow it; measured frames
     /// then replace it.
+    /// Factors are held to within [`CALIBRATION_MAX_FACTOR`] of 1, and the time to at least
+    /// 0 (what is not a finite number counts as 1 and 0).
     pub fn new(generate: f64, evaluate: f64, core_ms: f64) -> Self {
+        let factor = |x: f64| {
+            if x.is_finite() {
+                x.clamp(1.0 / CALIBRATION_MAX_FACTOR, CALIBRATION_MAX_FACTOR)
+            } else {
+                1.0
+            }
+        };
         Self {
-            generate,
-            evaluate,
-            core_ms,
+            generate: factor(generate),
+            evaluate: factor(evaluate),
+            core_ms: if core_ms.is_finite() {
+                core_ms.max(0.0)
+            } else {
+                0.0
+            },
             ..Self::IDENTITY
         }
     }
@@ -146,18 +159,31 @@ impl Calibration {
     }
 
     /// The factor on configuration `technique variant`'s predicted generation: the median of
-    /// its own recent ratios where it generated in the last frames, [`Calibration::generate`]
-    /// where it did not.
+    /// its last [`CALIBRATION_FRAMES`] generations' ratios (short of
+    /// [`CALIBRATION_MIN_SAMPLES`], [`Calibration::generate`] stands in for the rest), and
+    /// [`Calibration::generate`] for a configuration that has made none.
     pub fn generate_for(&self, technique: &str, variant: &str) -> f64 {
         self.per_configuration
             .get(&format!("{technique} {variant}"))
             .map_or(self.generate, |r| median(r, self.generate))
     }
 
-    /// The larger factor by which `generate` or `evaluate` differs from `other`'s.
+    /// The largest factor by which a factor differs from `other`'s: `generate`, `evaluate`, or
+    /// a configuration's own ([`Calibration::generate_for`]) that either has measured.
     pub fn drift(&self, other: &Calibration) -> f64 {
         let f = |a: f64, b: f64| (a / b).max(b / a);
-        f(self.generate, other.generate).max(f(self.evaluate, other.evaluate))
+        let own = self
+            .per_configuration
+            .keys()
+            .chain(other.per_configuration.keys())
+            .map(|k| {
+                let (t, v) = k.split_once(' ').unwrap_or((k, ""));
+                f(self.generate_for(t, v), other.generate_for(t, v))
+            })
+            .fold(1.0, f64::max);
+        f(self.generate, other.generate)
+            .max(f(self.evaluate, other.evaluate))
+            .max(own)
     }
 }
 

@@ -116,6 +116,7 @@ pub struct ResolvedTechnique {
 
 /// What `Auto` predicted for its choice, and what the frames since measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct AutoPrediction {
     /// The budget, milliseconds per frame (generation + evaluation).
     pub budget_ms: f64,
@@ -164,6 +165,7 @@ pub struct LightState {
 
 /// A shared light's part of the [`crate::FrameBudget`], kept in its [`LightState::share`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct LightShare {
     /// Its part of the frame's contribution (of all shared lights), in `[0, 1]`.
     pub contribution: f64,
@@ -173,10 +175,12 @@ pub struct LightShare {
     /// The budget its pick was made within (milliseconds; 0 for a light that contributes
     /// nothing or that the budget could not afford): see [`crate::budget`].
     pub budget_ms: f64,
-    /// The image error (1/255) its missing shadow costs, measured from its own `V` while it
-    /// had a shadow ([`crate::budget::missing_shadow_255`]): what the budget weighs its first
-    /// step against. `None` before it had one, or once its part left the band it was measured
-    /// in: then [`crate::budget::NO_SHADOW_255`].
+    /// The image error (1/255) the share took its missing shadow to cost, what the budget
+    /// weighed its first step against: measured from its `V` while it has a shadow
+    /// ([`crate::budget::missing_shadow_255`]; the last share's while the measurement stays
+    /// within [`crate::budget::SHARE_HYSTERESIS`] of it), and after while its part stays within
+    /// its band and no caster within its range changed; `None` where the share took
+    /// [`crate::budget::NO_SHADOW_255`].
     pub missing_255: Option<f64>,
 }
 

@@ -171,6 +171,7 @@ impl ProfileEntry {
 
 /// `Auto`'s choice: a configuration, a map side, and what it predicts.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Pick<'a> {
     /// The configuration.
     pub entry: &'a ProfileEntry,

@@ -24,6 +24,7 @@ pub struct TechniqueStats {
 /// What one light cost in a frame: its technique, what it did, its measured time, and what
 /// `Auto` predicted and allowed where it chose.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct LightStats {
     /// The light entity.
     pub light: Entity,

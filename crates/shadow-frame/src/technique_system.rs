@@ -88,12 +88,12 @@ fn light_geometry(
     }
 }
 
-/// One light's line of the frame's statistics: it started at `start`, and its evaluation at
-/// `evaluating` (`None`: it did not evaluate).
+/// One light's line of the frame's statistics: it made `views_generated` of its `views` views,
+/// started at `start`, and its evaluation at `evaluating` (`None`: it did not evaluate).
 fn light_stats(
     light: Entity,
     resolved: &ResolvedTechnique,
-    views_generated: usize,
+    (views_generated, views): (usize, usize),
     receivers_evaluated: usize,
     start: Instant,
     evaluating: Option<Instant>,
@@ -118,7 +118,15 @@ fn light_stats(
             0.0
         },
         evaluate_ms,
-        profile_ms: resolved.auto.map(|a| a.profile_ms),
+        // Cascades that follow the camera make only the views that moved: the prediction of
+        // those.
+        profile_ms: resolved.auto.map(|a| {
+            let [g, e] = a.profile_ms;
+            match (views_generated, views) {
+                (made, all) if made > 0 && made < all => [g * made as f64 / all as f64, e],
+                _ => [g, e],
+            }
+        }),
         predicted_ms: resolved.auto.map(|a| a.time_ms),
         budget_ms: resolved.auto.map(|a| a.budget_ms),
     }
@@ -173,7 +181,7 @@ pub fn run_technique(
         let seen = || if distant { seen() } else { None };
         let cascaded = distant && seen().is_some() && frame.is_changed();
         let mut planned = None;
-        let mut views_generated = 0;
+        let (mut views_generated, mut views_total) = (0, 0);
         if let (true, false, Some(maps)) = (cascaded, state.stale, state.maps.as_mut()) {
             let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
             let views = LightViews::plan(&light.0, &g, seen());
@@ -182,7 +190,7 @@ pub fn run_technique(
                     .map_err(|e| e.to_string())
             });
             match followed {
-                Ok(Some(remade)) => views_generated = remade,
+                Ok(Some(remade)) => (views_generated, views_total) = (remade, views.len()),
                 Ok(None) => planned = Some((g, views)),
                 Err(e) => {
                     state.error = Some(e);
@@ -205,7 +213,7 @@ pub fn run_technique(
                 state.stale = false;
                 continue;
             }
-            views_generated = views.len();
+            (views_generated, views_total) = (views.len(), views.len());
             let made = backend.context().and_then(|ctx| {
                 resolved
                     .technique
@@ -233,7 +241,14 @@ pub fn run_technique(
             if views_generated > 0 {
                 state.generated_ms = Some(light_start.elapsed().as_secs_f64() * 1e3);
             }
-            let line = light_stats(entity, resolved, views_generated, 0, light_start, None);
+            let line = light_stats(
+                entity,
+                resolved,
+                (views_generated, views_total),
+                0,
+                light_start,
+                None,
+            );
             stats.record(name, line);
             continue;
         }
@@ -254,7 +269,7 @@ pub fn run_technique(
         let line = light_stats(
             entity,
             resolved,
-            views_generated,
+            (views_generated, views_total),
             state.evaluated,
             light_start,
             Some(evaluating),

@@ -104,11 +104,7 @@ fn scene_size(
     // it is shared again; counting every receiver took most of that).
     let (c, r) = influence(light, range);
     let inside = |p: &glam::Vec3| !r.is_finite() || p.distance_squared(c) <= r * r;
-    let step = frame
-        .positions
-        .len()
-        .div_ceil(crate::budget::RECEIVER_SAMPLES)
-        .max(1);
+    let step = crate::budget::sample_step(frame.positions.len());
     let (mut count, mut reach, mut sample) = (0, Aabb::EMPTY, Vec::new());
     for (i, p) in frame.positions.iter().enumerate() {
         if inside(p) {
@@ -483,7 +479,14 @@ pub fn keep_budgets(
             resolved.auto = Some(auto);
             continue;
         }
-        let scale = (measured / auto.time_ms.max(1e-6)).max(1.0);
+        // How far the measurement lies over the prediction as the frames calibrate it now
+        // (which the next pick predicts with too).
+        let calibration = inputs.calibration();
+        let [g, e] = auto.profile_ms;
+        let predicted = g * calibration
+            .generate_for(resolved.technique.name(), &resolved.technique.variant())
+            + e * calibration.evaluate;
+        let scale = (measured / predicted.max(1e-6)).max(1.0);
         let target = auto.budget_ms * STEP_DOWN_MARGIN / scale;
         let size = inputs.size(&light.0, config.range);
         let kind = light.0.kind();
@@ -556,6 +559,7 @@ pub fn mark_stale(
         if distant || !settings.evaluate_receivers {
             if changed.count() > 0 {
                 state.stale = true;
+                forget_missing(state);
             }
             continue;
         }
@@ -576,9 +580,19 @@ pub fn mark_stale(
         }
         let hull = seen_hull(&light.0, config.range, &frame.positions);
         if state.unseen_changes.iter().any(|b| boxes_meet(b, &hull)) {
+            // What its shadow was missing was measured on the casters as they were.
             state.stale = true;
+            forget_missing(state);
             state.unseen_changes.clear();
         }
+    }
+}
+
+/// What a light's shadow was missing was measured on the casters as they were: a caster
+/// within its range changed, so the budget takes the prior until its shadow is measured again.
+fn forget_missing(state: &mut LightState) {
+    if let Some(share) = state.share.as_mut() {
+        share.missing_255 = None;
     }
 }
 

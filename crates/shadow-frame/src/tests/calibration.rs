@@ -106,3 +106,29 @@ fn the_pipelines_time_is_the_most_of_the_last_frames() {
     }
     assert_eq!((c.generate, c.evaluate), (1.0, 1.0));
 }
+
+/// A configuration whose own factor moved counts as drift, as the common ones do; a
+/// calibration given by hand is held to what the frames could measure.
+#[test]
+fn drift_sees_one_configurations_factor_and_new_is_held_in_range() {
+    let mut c = Calibration::default();
+    for n in 2..8 {
+        c.update(&frame(
+            n,
+            0.5,
+            vec![
+                light("pcss 7x7-9x9", true, 1.0),
+                light("pcss 7x7-9x9", true, 1.0),
+                light("occlusion-slices sat-4", true, 4.0),
+            ],
+        ));
+    }
+    assert!((c.generate - 1.0).abs() < 1e-12, "{c:?}");
+    let drift = c.drift(&Calibration::default());
+    assert!((drift - 4.0).abs() < 1e-12, "{drift}");
+    let hand = Calibration::new(0.0, f64::NAN, -1.0);
+    assert_eq!(
+        (hand.generate, hand.evaluate, hand.core_ms),
+        (1.0 / crate::calibration::CALIBRATION_MAX_FACTOR, 1.0, 0.0)
+    );
+}
