@@ -412,6 +412,10 @@ impl<'a> Calibrated<'a> {
             let Some(max) = max_side(&e.technique, &e.variant) else {
                 continue;
             };
+            let factors = [
+                self.calibration.generate_for(&e.technique, &e.variant),
+                self.calibration.evaluate,
+            ];
             for side in SIDES
                 .into_iter()
                 .filter(|&s| s <= max && s >= e.sides.0 && s <= e.sides.1)
@@ -422,14 +426,7 @@ impl<'a> Calibrated<'a> {
                 out.push(Pick {
                     entry: e,
                     resolution: side,
-                    time_ms: e.predict_scaled_ms(
-                        size,
-                        side,
-                        [
-                            self.calibration.generate_for(&e.technique, &e.variant),
-                            self.calibration.evaluate,
-                        ],
-                    ),
+                    time_ms: e.predict_scaled_ms(size, side, factors),
                     profile_ms: [
                         e.predict_generate_ms(size, side),
                         e.predict_evaluate_ms(size),

@@ -166,8 +166,24 @@ fn max_side<'a>(
         .gpu
         .as_ref()
         .map_or_else(Default::default, |g| g.device_limits());
+    // Every configuration's side once: the profile asks for each of its entries.
+    let sides: Vec<(&str, String, u32)> = registry
+        .0
+        .iter()
+        .filter(|t| t.models(kind))
+        .map(|t| {
+            (
+                t.name(),
+                t.variant(),
+                t.max_resolution(backend.backend, device),
+            )
+        })
+        .collect();
     move |name: &str, variant: &str| {
-        find(registry, kind, name, variant).map(|t| t.max_resolution(backend.backend, device))
+        sides
+            .iter()
+            .find(|(n, v, _)| *n == name && v == variant)
+            .map(|s| s.2)
     }
 }
 
