@@ -112,8 +112,9 @@ impl Calibration {
     /// (those that made their maps; also per configuration, [`Calibration::generate_for`]) and
     /// for evaluation (those that evaluated), and the frame's pipeline time joins
     /// [`Calibration::core_ms`]'s window. The first frame is left out: it allocates every map
-    /// and warms every cache.
-    pub fn update(&mut self, stats: &FrameStats) {
+    /// and warms every cache. With `lights_timed` false (a GPU frame that reads nothing back,
+    /// whose lights' times are only the recording of their work) the lights calibrate nothing.
+    pub fn update(&mut self, stats: &FrameStats, lights_timed: bool) {
         if stats.frame <= 1 {
             return;
         }
@@ -124,7 +125,7 @@ impl Calibration {
         };
         let mut generations = Vec::new();
         let (mut eval_measured, mut eval_predicted) = (0.0, 0.0);
-        for l in &stats.lights {
+        for l in stats.lights.iter().filter(|_| lights_timed) {
             let Some([g, e]) = l.profile_ms else { continue };
             if l.views_generated > 0
                 && let Some(r) = ratio(l.generate_ms, g)

@@ -41,15 +41,15 @@ fn frame(n: u64, core_ms: f64, lights: Vec<LightStats>) -> FrameStats {
 #[test]
 fn measured_twice_the_prediction_calibrates_to_two() {
     let mut c = Calibration::default();
-    c.update(&frame(1, 9.0, vec![light("pcss 7x7-9x9", true, 5.0)]));
+    c.update(&frame(1, 9.0, vec![light("pcss 7x7-9x9", true, 5.0)]), true);
     assert_eq!(c, Calibration::default());
-    c.update(&frame(2, 1.0, vec![light("pcss 7x7-9x9", true, 2.0)]));
+    c.update(&frame(2, 1.0, vec![light("pcss 7x7-9x9", true, 2.0)]), true);
     assert_eq!(
         (c.generate, c.evaluate),
         (1.0, 1.0),
         "one frame moves nothing"
     );
-    c.update(&frame(3, 1.0, vec![light("pcss 7x7-9x9", true, 2.0)]));
+    c.update(&frame(3, 1.0, vec![light("pcss 7x7-9x9", true, 2.0)]), true);
     assert!(
         (c.generate - 2.0).abs() < 1e-12 && (c.evaluate - 2.0).abs() < 1e-12,
         "{c:?}"
@@ -58,20 +58,23 @@ fn measured_twice_the_prediction_calibrates_to_two() {
 }
 
 /// One slow generation among many moves nothing, and a configuration the profile misjudges
-/// keeps its own factor: the others, and those not measured lately, keep the common one.
+/// keeps its own factor: the others, and those never measured, keep the common one.
 #[test]
 fn one_configuration_keeps_its_own_factor() {
     let mut c = Calibration::default();
     for n in 2..12 {
-        c.update(&frame(
-            n,
-            1.0,
-            vec![
-                light("pcss 7x7-9x9", true, 1.5),
-                light("pcss 7x7-9x9", true, 1.5),
-                light("occlusion-slices sat-4", n % 3 == 0, 4.0),
-            ],
-        ));
+        c.update(
+            &frame(
+                n,
+                1.0,
+                vec![
+                    light("pcss 7x7-9x9", true, 1.5),
+                    light("pcss 7x7-9x9", true, 1.5),
+                    light("occlusion-slices sat-4", n % 3 == 0, 4.0),
+                ],
+            ),
+            true,
+        );
     }
     assert!((c.generate - 1.5).abs() < 1e-12, "{c:?}");
     assert!((c.generate_for("pcss", "7x7-9x9") - 1.5).abs() < 1e-12);
@@ -80,7 +83,10 @@ fn one_configuration_keeps_its_own_factor() {
     // A frame that makes no map leaves generation as it was; evaluation follows every frame.
     let before = c.generate;
     for n in 12..12 + CALIBRATION_FRAMES as u64 {
-        c.update(&frame(n, 1.0, vec![light("pcss 7x7-9x9", false, 3.0)]));
+        c.update(
+            &frame(n, 1.0, vec![light("pcss 7x7-9x9", false, 3.0)]),
+            true,
+        );
     }
     assert_eq!(c.generate, before);
     assert!((c.evaluate - 3.0).abs() < 1e-12, "{c:?}");
@@ -91,18 +97,26 @@ fn one_configuration_keeps_its_own_factor() {
 #[test]
 fn the_pipelines_time_is_the_most_of_the_last_frames() {
     let mut c = Calibration::default();
-    c.update(&frame(2, 3.0, Vec::new()));
+    c.update(&frame(2, 3.0, Vec::new()), true);
     for n in 3..3 + CALIBRATION_FRAMES as u64 - 1 {
-        c.update(&frame(n, 0.5, Vec::new()));
+        c.update(&frame(n, 0.5, Vec::new()), true);
         assert_eq!(c.core_ms, 3.0);
     }
-    c.update(&frame(99, 0.5, Vec::new()));
+    c.update(&frame(99, 0.5, Vec::new()), true);
     assert_eq!(c.core_ms, 0.5);
+    // A GPU frame that reads nothing back times only its recording: its lights calibrate
+    // nothing, its pipeline time still counts.
+    let slow = || vec![light("pcss 7x7-9x9", true, 9.0)];
+    let mut gpu = Calibration::default();
+    for n in 2..6 {
+        gpu.update(&frame(n, 0.7, slow()), false);
+    }
+    assert_eq!((gpu.generate, gpu.evaluate, gpu.core_ms), (1.0, 1.0, 0.7));
     // Lights without a profile's prediction (their own technique) calibrate nothing.
     let mut own = light("pcss 7x7-9x9", true, 9.0);
     own.profile_ms = None;
     for n in 2..6 {
-        c.update(&frame(n, 0.5, vec![own.clone()]));
+        c.update(&frame(n, 0.5, vec![own.clone()]), true);
     }
     assert_eq!((c.generate, c.evaluate), (1.0, 1.0));
 }
@@ -113,15 +127,18 @@ fn the_pipelines_time_is_the_most_of_the_last_frames() {
 fn drift_sees_one_configurations_factor_and_new_is_held_in_range() {
     let mut c = Calibration::default();
     for n in 2..8 {
-        c.update(&frame(
-            n,
-            0.5,
-            vec![
-                light("pcss 7x7-9x9", true, 1.0),
-                light("pcss 7x7-9x9", true, 1.0),
-                light("occlusion-slices sat-4", true, 4.0),
-            ],
-        ));
+        c.update(
+            &frame(
+                n,
+                0.5,
+                vec![
+                    light("pcss 7x7-9x9", true, 1.0),
+                    light("pcss 7x7-9x9", true, 1.0),
+                    light("occlusion-slices sat-4", true, 4.0),
+                ],
+            ),
+            true,
+        );
     }
     assert!((c.generate - 1.0).abs() < 1e-12, "{c:?}");
     let drift = c.drift(&Calibration::default());
