@@ -65,12 +65,6 @@ pub const SHARE_FLOOR: f64 = 1.0 / 64.0;
 /// pick's.
 pub const KEEP_ERROR: f64 = 1.1;
 
-/// Receivers an estimate over the frame's receivers reads at most (every `k`-th, evenly
-/// spread): a light's contribution, and how many of its receivers its views cover
-/// ([`crate::SceneSize::covered`] as the frame predicts it). The shares and the predictions need
-/// proportions, not every pixel.
-pub const RECEIVER_SAMPLES: usize = 4096;
-
 /// The unshadowed irradiance `light` of `intensity` brings a receiver at `p` with unit normal
 /// `n`, as engines weigh lights: a local light as a point of radiant intensity `intensity` at
 /// its centre (`intensity cos / r²`, the distance kept at least the light's size so that a
@@ -123,7 +117,7 @@ pub fn contribution(light: &Light, config: &ShadowConfig, frame: &FrameReceivers
             .sum::<f64>()
             * step as f64
     };
-    let step = sample_step(n);
+    let step = FrameReceivers::sample_step(n);
     match sum(step) {
         // A light that lights a patch the samples step over still counts: every receiver.
         0.0 if step > 1 => sum(1),
@@ -168,7 +162,7 @@ pub fn missing_shadow_255(
             })
             .collect()
     };
-    let step = sample_step(n);
+    let step = FrameReceivers::sample_step(n);
     let lit = match lit(step) {
         // A patch the samples step over: every receiver on it.
         l if l.is_empty() && step > 1 => lit(1),
@@ -183,11 +177,6 @@ pub fn missing_shadow_255(
         .map(|&(e, d)| (d * 255.0 * e / max).powi(2))
         .sum();
     Some((sum / lit.len() as f64).sqrt())
-}
-
-/// Every how many of `n` receivers an estimate over them reads: at most [`RECEIVER_SAMPLES`].
-pub(crate) fn sample_step(n: usize) -> usize {
-    n.div_ceil(RECEIVER_SAMPLES).max(1)
 }
 
 /// Whether a part `now` lies within [`SHARE_HYSTERESIS`] of the part `was`, either way.

@@ -184,6 +184,13 @@ pub struct LightShare {
     pub missing_255: Option<f64>,
 }
 
+/// Receivers an estimate over the frame's receivers reads at most (every `k`-th, evenly
+/// spread, [`FrameReceivers::sample_step`]): a light's contribution and its missing shadow
+/// ([`crate::budget`]), and how many of its receivers its views cover
+/// ([`crate::SceneSize::covered`] as the frame predicts it). The shares and the predictions need
+/// proportions, not every pixel.
+pub const RECEIVER_SAMPLES: usize = 4096;
+
 /// The points the frame shades (e.g. the camera G-buffer), with unit normals.
 #[derive(Resource, Default, Clone)]
 pub struct FrameReceivers {
@@ -201,6 +208,12 @@ pub struct FrameReceivers {
 }
 
 impl FrameReceivers {
+    /// Every how many of `n` receivers an estimate over them reads: at most
+    /// [`RECEIVER_SAMPLES`].
+    pub fn sample_step(n: usize) -> usize {
+        n.div_ceil(RECEIVER_SAMPLES).max(1)
+    }
+
     /// What the camera sees of these receivers (`None` without a camera or with none in front of
     /// it): the depth range a distant light's cascades split, in whole steps
     /// ([`soft_shadow_core::SeenDepth::quantized`]) so that a camera that moves a little keeps

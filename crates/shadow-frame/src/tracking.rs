@@ -79,7 +79,7 @@ pub type CasterMeshes<'w, 's> =
 /// The scene `light` sees within its influence radius `range`, as predictions size it: the
 /// triangles of the casters that reach it ([`caster_reaches`], what its maps render), the frame's
 /// receivers within its influence, those its views cover ([`SceneSize::with_views`], counted on
-/// the frame's every `k`-th receiver, at most [`crate::budget::RECEIVER_SAMPLES`] of them, and
+/// the frame's every `k`-th receiver, at most [`RECEIVER_SAMPLES`] of them, and
 /// scaled to all), and the light's views as the pipeline plans them (a distant light's cascades
 /// with the frame's camera).
 fn scene_size(
@@ -104,7 +104,7 @@ fn scene_size(
     // it is shared again; counting every receiver took most of that).
     let (c, r) = influence(light, range);
     let inside = |p: &glam::Vec3| !r.is_finite() || p.distance_squared(c) <= r * r;
-    let step = crate::budget::sample_step(frame.positions.len());
+    let step = FrameReceivers::sample_step(frame.positions.len());
     let (mut count, mut reach, mut sample) = (0, Aabb::EMPTY, Vec::new());
     for (i, p) in frame.positions.iter().enumerate() {
         if inside(p) {
