@@ -24,8 +24,8 @@
 //! [`SHARE_HYSTERESIS`] of the one its pick was made for, or within [`SHARE_FLOOR`] of the
 //! budget of it, so a camera that moves a little does
 //! not make every light pick (and generate) again; a part that leaves that band, a changed
-//! budget, a calibration that moved by more than the factor (or a pipeline time that grew by
-//! more than the floor), or a light added, changed or removed shares the whole budget again, and a light
+//! budget, a calibration that moved by more than the factor, or a light added, changed or
+//! removed shares the whole budget again, and a light
 //! keeps its configuration and its maps while it fits its new part and predicts no more than
 //! [`KEEP_ERROR`] times the new pick's error. A pick measured over its part for
 //! [`crate::tracking::STEP_DOWN_FRAMES`] frames steps down as `Auto` does.
@@ -225,8 +225,13 @@ pub fn share_budget(
     inputs: AutoInputs,
     settings: Res<FrameSettings>,
     mut shared_with: Local<Option<Calibration>>,
+    mut last_receivers: Local<Option<u64>>,
 ) {
     let frame = &inputs.frame;
+    // Whether the receivers moved since the last frame, whose lights' `V` are over them.
+    let receivers = fingerprint(frame);
+    let receivers_moved = *last_receivers != Some(receivers);
+    *last_receivers = Some(receivers);
     let config_removed = removed.read().count() > 0;
     let Some(budget) = budget else {
         for (e, l, config, _, mut state) in &mut lights {
@@ -280,7 +285,7 @@ pub fn share_budget(
         .is_some_and(|w| calibration.drift(w) > SHARE_HYSTERESIS)
         || lights.iter().any(|(_, l, c, _, s)| {
             // A light whose shadow can now be measured for the first time.
-            c.shares_budget(&l.0) && unmeasured(s, settings.evaluate_receivers)
+            c.shares_budget(&l.0) && unmeasured(s, settings.evaluate_receivers, receivers_moved)
         });
     if !(budget.is_changed()
         || frame.is_changed()
@@ -361,28 +366,29 @@ pub fn share_budget(
     }
     *shared_with = Some(calibration.clone());
     // The lights that bring something, sized in parallel.
-    // Each one's missing shadow: measured from its `V` (the last frame's, over this frame's
-    // receivers) where it has a shadow now, kept from the last share while its part stays
-    // within the band and no caster changed in its range, the prior otherwise.
+    // Each one's missing shadow: measured from its `V` where it has a shadow now and the
+    // receivers are those its `V` was evaluated on (a camera holding still), kept from the last
+    // share while its part stays within the band and no caster changed in its range, the
+    // prior otherwise.
     let bringing: Vec<(Entity, &Light, f32, Option<f64>)> = lights
         .iter()
         .filter(|(e, l, c, ..)| c.shares_budget(&l.0) && part(*e) > 0.0)
         .map(|(e, l, c, _, s)| {
-            let missing = if shadowed(s, settings.evaluate_receivers) {
+            let kept = s.share.and_then(|sh| {
+                let within = in_band(available * fraction(e), sh.proportional_ms);
+                sh.missing_255.filter(|_| within)
+            });
+            let missing = if measurable(s, settings.evaluate_receivers, receivers_moved) {
                 // The one the last share took while the measurement stays within the band of
                 // it: a shadow that changes a little does not move the shares.
-                let last = s.share.and_then(|sh| sh.missing_255);
                 let now =
                     missing_shadow_255(&l.0, &c, frame, &s.visibility).unwrap_or(NO_SHADOW_255);
-                match last {
+                match kept {
                     Some(was) if in_band(now.max(1.0), was.max(1.0)) => Some(was),
                     _ => Some(now),
                 }
             } else {
-                s.share.and_then(|sh| {
-                    let kept = in_band(available * fraction(e), sh.proportional_ms);
-                    sh.missing_255.filter(|_| kept)
-                })
+                kept
             };
             (e, &l.into_inner().0, c.range, missing)
         })
@@ -581,13 +587,31 @@ pub fn share_budget(
     }
 }
 
-/// Whether a light's `V` is its shadow's now: it has maps and, with the frame's receivers
-/// evaluated, a `V` for each.
-fn shadowed(state: &LightState, evaluated: bool) -> bool {
-    evaluated && state.maps.is_some() && state.error.is_none() && state.evaluated > 0
+/// The frame's receivers in one number: their count and 64 of them, evenly spread, hashed
+/// bit for bit (a renderer that sets the same G-buffer again gives the same number).
+fn fingerprint(frame: &FrameReceivers) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    let n = frame.positions.len();
+    n.hash(&mut h);
+    for i in (0..n).step_by(n.div_ceil(64).max(1)) {
+        frame.positions[i].to_array().map(f32::to_bits).hash(&mut h);
+        if let Some(m) = frame.normals.get(i) {
+            m.to_array().map(f32::to_bits).hash(&mut h);
+        }
+    }
+    h.finish()
 }
 
-/// Whether a shared light has a shadow whose cost the budget was last shared without.
-fn unmeasured(state: &LightState, evaluated: bool) -> bool {
-    shadowed(state, evaluated) && state.share.is_some_and(|sh| sh.missing_255.is_none())
+/// Whether a light's missing shadow can be measured from its `V`: it has maps and, with the
+/// frame's receivers evaluated, a `V` for each of them as they are (`moved`: the receivers
+/// changed since its `V` was evaluated).
+fn measurable(state: &LightState, evaluated: bool, moved: bool) -> bool {
+    evaluated && !moved && state.maps.is_some() && state.error.is_none() && state.evaluated > 0
+}
+
+/// Whether a shared light has a shadow whose cost can be measured, and the budget was last
+/// shared without it.
+fn unmeasured(state: &LightState, evaluated: bool, moved: bool) -> bool {
+    measurable(state, evaluated, moved) && state.share.is_some_and(|sh| sh.missing_255.is_none())
 }

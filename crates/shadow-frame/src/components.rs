@@ -176,9 +176,10 @@ pub struct LightShare {
     /// nothing or that the budget could not afford): see [`crate::budget`].
     pub budget_ms: f64,
     /// The image error (1/255) the share took its missing shadow to cost, what the budget
-    /// weighed its first step against: measured from its `V` while it has a shadow
+    /// weighed its first step against: measured from its `V` while it has a shadow and the
+    /// frame's receivers are those its `V` was evaluated on
     /// ([`crate::budget::missing_shadow_255`]; the last share's while the measurement stays
-    /// within [`crate::budget::SHARE_HYSTERESIS`] of it), and after while its part stays within
+    /// within [`crate::budget::SHARE_HYSTERESIS`] of it), and kept while its part stays within
     /// its band and no caster within its range changed; `None` where the share took
     /// [`crate::budget::NO_SHADOW_255`].
     pub missing_255: Option<f64>,

@@ -448,10 +448,11 @@ fn walking_down_the_night_street_remakes_few_maps() {
         before = now;
     }
     let total: usize = remade.iter().sum();
-    // Measured: 48 maps and 26 shares (41 and 23 with every missing shadow at the catalogue's
-    // median, not measured from the lamp's own V); 68 maps and 38 shares without the floor.
+    // Measured: 41 maps and 23 shares (a walking camera's receivers move every frame, so no
+    // lamp's missing shadow is measured: the catalogue's median); 68 maps and 38 shares
+    // without the floor.
     assert!(
-        total <= 53 && shared_again <= 29,
+        total <= 45 && shared_again <= 26,
         "{remade:?}, {shared_again} shares"
     );
 }
