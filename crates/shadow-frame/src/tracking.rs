@@ -283,17 +283,15 @@ pub struct AutoInputs<'w, 's> {
 
 impl AutoInputs<'_, '_> {
     /// What the frames measured against the profile (the profile as fitted before any).
-    pub fn calibration(&self) -> Calibration {
-        self.calibration.as_deref().cloned().unwrap_or_default()
+    pub fn calibration(&self) -> &Calibration {
+        self.calibration
+            .as_deref()
+            .unwrap_or(&crate::calibration::IDENTITY)
     }
 
     /// The profile, its predictions scaled by [`AutoInputs::calibration`].
     fn profile(&self) -> Calibrated<'_> {
-        self.profile.calibrated(
-            self.calibration
-                .as_deref()
-                .unwrap_or(&crate::calibration::IDENTITY),
-        )
+        self.profile.calibrated(self.calibration())
     }
 
     /// The scene `light` with influence radius `range` sees, as predictions size it
