@@ -1,4 +1,4 @@
-//! Frame time against the number of lights under one frame budget: `harness::night`'s street
+//! Frame time against the number of lights under one frame budget: `soft_shadow_reference::scenes::lamps::street`'s street
 //! with 1, 4, 16 and 64 lamps of five kinds, every lamp a shared choice of a 16 ms
 //! `FrameBudget`, 320 x 180 camera receivers. Two frames per light count and backend:
 //!
@@ -40,7 +40,8 @@ fn lights(c: &mut Criterion) {
         for n in LIGHTS {
             for caching in [false, true] {
                 let mut street =
-                    harness::night::street(n, 320, 180, BUDGET_MS).expect("night street");
+                    soft_shadow_reference::scenes::lamps::street::street(n, 320, 180, BUDGET_MS)
+                        .expect("night street");
                 if let Some(g) = &g {
                     street
                         .scene

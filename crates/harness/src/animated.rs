@@ -7,37 +7,14 @@ use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::entity::Entity;
 use glam::{Mat4, Vec3};
 use shadow_frame::scene::Transform;
-use shadow_frame::{FramePipeline, FrameReceivers, ShadowConfig};
+use shadow_frame::{FramePipeline, ShadowConfig};
 use shadow_frame::{Scene, Shadows};
-use soft_shadow_core::raster::{GBufferTexel, gbuffer};
+use soft_shadow_core::raster::GBufferTexel;
 use soft_shadow_core::{Camera, DynTechnique, Light, Map2D, Result};
 use soft_shadow_reference::scenes::shapes::{cuboid, ground, torus};
 use std::sync::Arc;
 
-/// Sets `scene`'s camera, rasterizes its receivers' `width x height` G-buffer on the CPU and
-/// inserts the covered texels as the frame's receivers ([`FrameReceivers`], with the camera's
-/// view); returns the G-buffer and the indices of its covered texels.
-pub fn look(
-    scene: &mut Scene,
-    camera: Camera,
-    width: u32,
-    height: u32,
-) -> (Map2D<GBufferTexel>, Vec<usize>) {
-    scene.set_camera(camera);
-    let geo = scene.geometry();
-    let view = camera.view(width, height);
-    let pool = Arc::new(soft_shadow_core::pool::Pool::new(0));
-    let gb = gbuffer(&pool, &view, camera.eye, width, height, &geo.receivers);
-    let pixels: Vec<usize> = (0..gb.data().len())
-        .filter(|&i| gb.data()[i].covered)
-        .collect();
-    scene.world.insert_resource(FrameReceivers {
-        positions: pixels.iter().map(|&i| gb.data()[i].position).collect(),
-        normals: pixels.iter().map(|&i| gb.data()[i].normal).collect(),
-        camera: Some(view),
-    });
-    (gb, pixels)
-}
+pub use soft_shadow_reference::scenes::lamps::look;
 
 /// A frame pipeline with every technique of `soft_shadow_techniques::registry()` registered.
 pub fn pipeline() -> FramePipeline {

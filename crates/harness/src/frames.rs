@@ -1,5 +1,6 @@
 //! The frame as a whole over a camera path (`harness frames`): the lamps of the night
-//! street ([`crate::night`]) or of the room ([`crate::room`]) sharing one frame budget, each frame's measured time against the budget
+//! street or of the room ([`soft_shadow_reference::scenes::lamps`]) sharing one frame budget,
+//! each frame's measured time against the budget
 //! and the picks' prediction, and every lamp's image error against the ray-traced reference,
 //! beside the error it would have with no shadow at all and the error of the frame's summed
 //! lighting.
@@ -9,12 +10,12 @@
 //! frame's sums every lamp's `intensity x E0 x V` per receiver and weighs by the largest sum.
 
 use crate::error::Result;
-use crate::lamps::Lamps;
 use crate::metrics::image_rms_255;
 use shadow_frame::scene::LightSource;
 use shadow_frame::{FramePipeline, FrameReceivers, LightState, ResolvedTechnique, ShadowConfig};
 use soft_shadow_reference::ground_truth::irradiance::irradiance;
 use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
+use soft_shadow_reference::scenes::lamps::{Lamps, room, street};
 use std::fmt::Write as _;
 
 /// One lamp in one frame.
@@ -202,9 +203,9 @@ pub fn markdown(frames: &[FrameMeasure], budget_ms: f64) -> String {
 /// The scenes `harness frames` walks through.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FramesScene {
-    /// [`crate::night::street`], with any number of lamps.
+    /// `night-street` ([`street::street`]), with any number of lamps.
     Street,
-    /// [`crate::room::room`]: three lamps.
+    /// `room-lamps` ([`room::room`]): three lamps.
     Room,
 }
 
@@ -258,10 +259,10 @@ pub fn run(
     };
     let (mut lit, flag) = match scene {
         FramesScene::Street => (
-            crate::night::street(lamps, w, h, budget_ms)?,
+            street::street(lamps, w, h, budget_ms)?,
             format!("--lamps {lamps}"),
         ),
-        FramesScene::Room => (crate::room::room(w, h, budget_ms)?, "--scene room".into()),
+        FramesScene::Room => (room::room(w, h, budget_ms)?, "--scene room-lamps".into()),
     };
     let mut pipeline = crate::animated::pipeline();
     let settings = GroundTruthSettings {

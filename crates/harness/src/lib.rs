@@ -8,13 +8,10 @@ pub mod error;
 pub mod figure;
 mod files;
 pub mod frames;
-pub mod lamps;
 pub mod metrics;
-pub mod night;
 pub mod papers;
 pub mod profile;
 pub mod report;
-pub mod room;
 pub mod setup;
 pub mod testing;
 

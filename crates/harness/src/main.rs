@@ -28,8 +28,10 @@ enum BackendArg {
 #[derive(Clone, Copy, ValueEnum)]
 enum FramesSceneArg {
     /// The night street (`--lamps` lamps).
+    #[value(name = "night-street", alias = "street")]
     Street,
     /// The room with three lamps.
+    #[value(name = "room-lamps", alias = "room")]
     Room,
 }
 
@@ -126,7 +128,7 @@ enum Command {
     /// reference.
     Frames {
         /// The scene: the night street, or the room with three lamps.
-        #[arg(long, value_enum, default_value = "street")]
+        #[arg(long, value_enum, default_value = "night-street")]
         scene: FramesSceneArg,
         /// Lamps along the street [default: 16; the room has 3]
         #[arg(long)]

@@ -54,6 +54,12 @@ pub fn listing(quick: bool) -> String {
         let what = catalogue::build(name).map_or_else(|e| e.to_string(), |spec| spec.description);
         let _ = writeln!(s, "  {name:18} {what}");
     }
+    s.push_str(
+        "scenes of many lamps under one frame budget (harness frames --scene, viewer --scene):\n",
+    );
+    for (name, what) in soft_shadow_reference::scenes::lamps::LAMP_SCENES {
+        let _ = writeln!(s, "  {name:18} {what}");
+    }
     s.push_str("techniques (--techniques technique or technique:variant):\n");
     let mut rows: Vec<(String, Vec<String>)> = Vec::new();
     for t in all_techniques(quick) {

@@ -573,7 +573,7 @@ fn auto_counts_the_views_of_a_lamp_among_furniture() {
 /// 504 of 57,600 counted, its PCSS evaluation predicted at 2.0 ms and measured at 17-28 ms).
 #[test]
 fn a_lamp_with_cube_faces_counts_the_receivers_its_faces_cover() {
-    let mut room = harness::room::room(160, 90, 16.0).unwrap();
+    let mut room = soft_shadow_reference::scenes::lamps::room::room(160, 90, 16.0).unwrap();
     let geometry = room.scene.geometry();
     let world = &room.scene.world;
     let receivers = world

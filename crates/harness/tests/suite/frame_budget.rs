@@ -341,7 +341,8 @@ fn a_lights_contribution_is_its_irradiance_on_the_receivers() {
 /// only its own maps again, frame after frame, while every other pick stays.
 #[test]
 fn a_night_street_shares_one_budget_and_a_swinging_lamp_remakes_only_its_maps() {
-    let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
+    let mut street =
+        soft_shadow_reference::scenes::lamps::street::street(16, 160, 90, 16.0).unwrap();
     // Picks from predictions alone: what the frames measure would share the budget again
     // whenever it moves (`shares_follow_what_the_frames_measure`).
     calibrating_off(&mut street.scene.world);
@@ -403,7 +404,8 @@ fn a_night_street_shares_one_budget_and_a_swinging_lamp_remakes_only_its_maps() 
 /// fits or is more than 10% worse than the new one; every frame's picks fit the budget.
 #[test]
 fn walking_down_the_night_street_remakes_few_maps() {
-    let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
+    let mut street =
+        soft_shadow_reference::scenes::lamps::street::street(16, 160, 90, 16.0).unwrap();
     calibrating_off(&mut street.scene.world);
     let mut p = pipeline();
     p.run(&mut street.scene.world);
@@ -510,7 +512,7 @@ proptest::proptest! {
 #[test]
 fn the_frames_measurement_reports_every_lamps_error() {
     use soft_shadow_reference::ground_truth::GroundTruthSettings;
-    let mut street = harness::night::street(4, 96, 54, 16.0).unwrap();
+    let mut street = soft_shadow_reference::scenes::lamps::street::street(4, 96, 54, 16.0).unwrap();
     let settings = GroundTruthSettings {
         strata_side: 4,
         replicates: 2,
@@ -558,7 +560,8 @@ fn the_frames_measurement_reports_every_lamps_error() {
 /// than the frame.
 #[test]
 fn a_frame_reports_its_core_sets_time() {
-    let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
+    let mut street =
+        soft_shadow_reference::scenes::lamps::street::street(16, 160, 90, 16.0).unwrap();
     let mut p = pipeline();
     for _ in 0..2 {
         let start = std::time::Instant::now();
@@ -587,7 +590,7 @@ fn a_frame_reports_its_core_sets_time() {
 /// where no lamp's cheapest fits.
 #[test]
 fn a_lamp_no_configuration_of_fits_the_whole_budget_says_so() {
-    let mut room = harness::room::room(160, 90, 2.0).unwrap();
+    let mut room = soft_shadow_reference::scenes::lamps::room::room(160, 90, 2.0).unwrap();
     pipeline().run(&mut room.scene.world);
     for &e in &room.lamps {
         let world = &room.scene.world;
@@ -608,8 +611,8 @@ fn a_lamp_no_configuration_of_fits_the_whole_budget_says_so() {
 /// is `u_half x v_half`: a panel built with them the other way round lit the ceiling).
 #[test]
 fn one_sided_lamps_face_down() {
-    let street = harness::night::street(16, 32, 18, 16.0).unwrap();
-    let room = harness::room::room(32, 18, 16.0).unwrap();
+    let street = soft_shadow_reference::scenes::lamps::street::street(16, 32, 18, 16.0).unwrap();
+    let room = soft_shadow_reference::scenes::lamps::room::room(32, 18, 16.0).unwrap();
     let mut one_sided = 0;
     for light in street.lights.iter().chain(&room.lights) {
         if let Some((_, normal)) = light.front() {
@@ -660,9 +663,9 @@ fn the_rooms_lamps_agree_between_cpu_and_gpu() {
     let Some(ctx) = crate::common::gpu_for_test("the_rooms_lamps_agree_between_cpu_and_gpu") else {
         return;
     };
-    let mut cpu = harness::room::room(96, 54, 40.0).unwrap();
+    let mut cpu = soft_shadow_reference::scenes::lamps::room::room(96, 54, 40.0).unwrap();
     let sc = pipeline().run(&mut cpu.scene.world);
-    let mut gpu = harness::room::room(96, 54, 40.0).unwrap();
+    let mut gpu = soft_shadow_reference::scenes::lamps::room::room(96, 54, 40.0).unwrap();
     gpu.scene
         .world
         .insert_resource(shadow_frame::FrameBackend::gpu(Arc::new(ctx)));
@@ -720,7 +723,8 @@ fn the_rooms_lamps_agree_between_cpu_and_gpu() {
 #[test]
 fn shares_follow_what_the_frames_measure() {
     let picks = |calibration: Option<shadow_frame::Calibration>| {
-        let mut street = harness::night::street(16, 160, 90, 16.0).unwrap();
+        let mut street =
+            soft_shadow_reference::scenes::lamps::street::street(16, 160, 90, 16.0).unwrap();
         calibrating_off(&mut street.scene.world);
         if let Some(c) = calibration {
             street.scene.world.insert_resource(c);
@@ -758,7 +762,7 @@ fn shares_follow_what_the_frames_measure() {
 #[test]
 fn the_budget_weighs_each_lamps_missing_shadow_by_its_own_v() {
     use soft_shadow_reference::ground_truth::GroundTruthSettings;
-    let mut room = harness::room::room(160, 90, 16.0).unwrap();
+    let mut room = soft_shadow_reference::scenes::lamps::room::room(160, 90, 16.0).unwrap();
     calibrating_off(&mut room.scene.world);
     let settings = GroundTruthSettings {
         strata_side: 4,

@@ -1,6 +1,7 @@
 //! The scene catalogue: built-in, deterministic scenes, plus user scenes from TOML.
 
 pub mod catalogue;
+pub mod lamps;
 pub mod relight;
 pub mod scene_file;
 pub mod shapes;

@@ -1,14 +1,77 @@
-//! A scene lit by several lamps that share one frame budget ([`crate::night`]'s street,
-//! [`crate::room`]'s room): the ECS scene, its lamps (each a [`shadow_frame::ShadowConfig::shared`]
+//! The scenes of many lamps that share one frame budget ([`street`]'s night street,
+//! [`room`]'s room): the ECS scene, its lamps (each a [`shadow_frame::ShadowConfig::shared`]
 //! choice), the camera whose G-buffer gives the frame's receivers, a walk for the camera and
-//! one lamp that can swing.
+//! one lamp that can swing. [`LAMP_SCENES`] names them for the harness's `frames` and the
+//! viewer ([`build`]).
+
+pub mod room;
+pub mod street;
 
 use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::entity::Entity;
 use glam::Vec3;
 use shadow_frame::scene::LightSource;
-use shadow_frame::{FrameBudget, Scene, ShadowConfig};
-use soft_shadow_core::{Camera, Light, Result};
+use shadow_frame::{FrameBudget, FrameReceivers, Scene, ShadowConfig};
+use soft_shadow_core::pool::Pool;
+use soft_shadow_core::raster::{GBufferTexel, gbuffer};
+use soft_shadow_core::{Camera, Light, Map2D, Result, ShadowError};
+use std::sync::Arc;
+
+/// The scenes of many lamps: name and what it is.
+pub const LAMP_SCENES: [(&str, &str); 2] = [
+    (
+        "night-street",
+        "16 lamps of five kinds along a street at night, cars and benches under them, an \
+         eye-height camera walking down it",
+    ),
+    (
+        "room-lamps",
+        "room-lamp's room lit by its table lamp, a ceiling panel and a reading lamp, the camera \
+         walking from a corner",
+    ),
+];
+
+/// Lamps of [`LAMP_SCENES`]' `night-street`.
+pub const STREET_LAMPS: usize = 16;
+
+/// The scene of [`LAMP_SCENES`] called `name` ([`street::street`] with [`STREET_LAMPS`] lamps,
+/// or [`room::room`]), its receivers from a `width x height` G-buffer, under a frame budget of
+/// `budget_ms`. Another name is [`ShadowError::InvalidScene`], naming the ones there are.
+pub fn build(name: &str, width: u32, height: u32, budget_ms: f64) -> Result<Lamps> {
+    match name {
+        "night-street" => street::street(STREET_LAMPS, width, height, budget_ms),
+        "room-lamps" => room::room(width, height, budget_ms),
+        _ => Err(ShadowError::InvalidScene(format!(
+            "{name:?} is not a scene of lamps ({})",
+            LAMP_SCENES.map(|(n, _)| n).join(", ")
+        ))),
+    }
+}
+
+/// Sets `scene`'s camera, rasterizes its receivers' `width x height` G-buffer on the CPU and
+/// inserts the covered texels as the frame's receivers ([`FrameReceivers`], with the camera's
+/// view); returns the G-buffer and the indices of its covered texels.
+pub fn look(
+    scene: &mut Scene,
+    camera: Camera,
+    width: u32,
+    height: u32,
+) -> (Map2D<GBufferTexel>, Vec<usize>) {
+    scene.set_camera(camera);
+    let geo = scene.geometry();
+    let view = camera.view(width, height);
+    let pool = Arc::new(Pool::new(0));
+    let gb = gbuffer(&pool, &view, camera.eye, width, height, &geo.receivers);
+    let pixels: Vec<usize> = (0..gb.data().len())
+        .filter(|&i| gb.data()[i].covered)
+        .collect();
+    scene.world.insert_resource(FrameReceivers {
+        positions: pixels.iter().map(|&i| gb.data()[i].position).collect(),
+        normals: pixels.iter().map(|&i| gb.data()[i].normal).collect(),
+        camera: Some(view),
+    });
+    (gb, pixels)
+}
 
 /// The scene, its lamps and the camera's receivers.
 pub struct Lamps {
@@ -61,10 +124,11 @@ impl Lamps {
         lit
     }
 
-    /// Puts the camera at `camera` and the receivers it sees in the frame's receivers.
-    fn look(&mut self, camera: Camera) {
+    /// Puts the camera at `camera` and the receivers its `width x height` G-buffer sees in
+    /// the frame's receivers ([`look`]).
+    pub fn look(&mut self, camera: Camera) {
         self.camera = camera;
-        crate::animated::look(&mut self.scene, camera, self.size.0, self.size.1);
+        look(&mut self.scene, camera, self.size.0, self.size.1);
     }
 
     /// Walks the camera `metres` along its walk (its G-buffer, and so the frame's receivers,

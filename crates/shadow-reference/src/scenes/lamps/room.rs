@@ -5,10 +5,10 @@
 //! and a camera in a corner of the room walking towards its middle, as [`Lamps`]. The table
 //! lamp can swing.
 
-use crate::lamps::{Lamps, add_lamp};
+use super::{Lamps, add_lamp};
+use crate::scenes::catalogue;
 use glam::Vec3;
 use soft_shadow_core::{Light, Result};
-use soft_shadow_reference::scenes::catalogue;
 
 /// A lamp's influence radius, metres: the whole room.
 pub const RANGE: f32 = 9.0;

@@ -4,11 +4,11 @@
 //! height looking down the street (from 8 lamps on, some stand behind it and light nothing it
 //! sees), as [`Lamps`]. One lamp can swing.
 
-use crate::lamps::{Lamps, add_lamp};
+use super::{Lamps, add_lamp};
+use crate::scenes::shapes::{cuboid, ground};
 use glam::{Mat4, Vec3};
 use shadow_frame::{Scene, Shadows};
 use soft_shadow_core::{Camera, Light, LightPoint, Result};
-use soft_shadow_reference::scenes::shapes::{cuboid, ground};
 use std::sync::Arc;
 
 /// Metres between neighbouring lamps on one side of the street.
