@@ -2,11 +2,12 @@
 //! the UI thread waits for the reference or for a readback: both arrive through channels and
 //! buffer-mapping callbacks polled once per frame.
 
+use crate::lamps::LampsView;
 use crate::reference::{ReferenceKey, References};
 use crate::renderer::{Frame, FrameSettings, PassTimes, Renderer, Shadow, TIMESTAMPS, ViewMode};
 use crate::scene::{LoadedScene, SceneSource, load};
 use crate::state::{Choice, ViewState};
-use crate::ui::{Actions, Model, panel};
+use crate::ui::{Actions, LampsPanel, Model, panel};
 pub use crate::ui::{PANEL_WIDTH, Stats};
 use soft_shadow_core::{DeviceLimits, LightKind, Registry, Technique};
 use std::collections::VecDeque;
@@ -47,6 +48,8 @@ pub struct Options {
     pub frames: Option<u32>,
     /// Command-line mode: write the last frame (the whole window) to this PNG.
     pub screenshot: Option<PathBuf>,
+    /// The frame budget the lamps of a scene of lamps share, milliseconds.
+    pub budget_ms: f64,
 }
 
 /// Opens the window and runs until it closes (or, in command-line mode, until the frames are
@@ -114,6 +117,10 @@ pub fn run_with(options: Options, registry: Registry) -> Result<(), String> {
                 max_texture_side: 8192,
                 max_storage_buffer_bytes: 128 << 20,
             },
+            lamps: scene
+                .lamps
+                .as_ref()
+                .map(|_| LampsPanel::new(options.budget_ms)),
         },
         scene,
         scene_id: 0,
@@ -163,6 +170,8 @@ struct Gfx {
     egui_renderer: egui_wgpu::Renderer,
     view_texture: egui::TextureId,
     timestamps: Option<Timestamps>,
+    /// A scene of lamps' frame pipeline and shading, drawn instead of one light's technique.
+    lamps: Option<LampsView>,
     errors: Arc<Mutex<Vec<String>>>,
     lost: Arc<Mutex<Option<String>>>,
 }
@@ -358,6 +367,13 @@ impl App {
             },
         )
         .map_err(|e| format!("cannot build the renderer: {e}"))?;
+        let lamps = match &self.scene.lamps {
+            Some(name) => Some(
+                LampsView::new(&renderer, name, self.options.budget_ms)
+                    .map_err(|e| format!("cannot shade {name}'s lamps: {e}"))?,
+            ),
+            None => None,
+        };
         let egui = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui.clone(),
@@ -430,6 +446,7 @@ impl App {
             egui_renderer,
             view_texture,
             timestamps,
+            lamps,
             errors,
             lost,
         })
@@ -441,6 +458,11 @@ impl App {
         let Some(gfx) = self.gfx.as_mut() else {
             return;
         };
+        let budget_ms = self
+            .model
+            .lamps
+            .as_ref()
+            .map_or(self.options.budget_ms, |l| l.budget_ms);
         let opened = load(&source).and_then(|scene| {
             let renderer = Renderer::new(
                 gfx.device.clone(),
@@ -452,11 +474,17 @@ impl App {
                     camera: scene.camera,
                 },
             )?;
-            Ok((scene, renderer))
+            let lamps = match &scene.lamps {
+                Some(name) => Some(LampsView::new(&renderer, name, budget_ms)?),
+                None => None,
+            };
+            Ok((scene, renderer, lamps))
         });
         match opened {
-            Ok((scene, renderer)) => {
+            Ok((scene, renderer, lamps)) => {
                 gfx.renderer = renderer;
+                self.model.lamps = lamps.as_ref().map(|_| LampsPanel::new(budget_ms));
+                gfx.lamps = lamps;
                 gfx.egui_renderer.update_egui_texture_from_wgpu_texture(
                     &gfx.device,
                     &gfx.renderer.color().create_view(&Default::default()),
@@ -554,8 +582,16 @@ impl App {
             "view {}x{} at {},{} in the window",
             m.view_px.0, m.view_px.1, m.view_origin_px.0, m.view_origin_px.1
         );
-        print!("{}", summary(&m.stats, &m.state));
-        if let (Some(gfx), Ok(shown)) = (&self.gfx, self.shown(self.model.view_px.0)) {
+        if let Some(l) = &m.lamps {
+            print!("{}", l.summary(&m.stats));
+        } else {
+            print!("{}", summary(&m.stats, &m.state));
+        }
+        if let (Some(gfx), Ok(shown), None) = (
+            &self.gfx,
+            self.shown(self.model.view_px.0),
+            &self.model.lamps,
+        ) {
             let runs: Vec<PassTimes> = (0..3)
                 .filter_map(|_| gfx.renderer.measure_passes(&shown.frame()).ok())
                 .collect();
@@ -643,7 +679,7 @@ impl App {
         }
         // The reference, when the view shows the error.
         let light = self.model.state.frame_light();
-        if self.model.state.mode == ViewMode::Error {
+        if self.model.state.mode == ViewMode::Error && self.model.lamps.is_none() {
             if let Ok(light) = light {
                 let (w, h) = (
                     gfx.renderer.settings().width,
@@ -728,16 +764,30 @@ impl App {
                 .position(|(_, _, pending, _)| !pending)
                 .map(|i| (&ts.set, i))
         });
-        let drawn = shown.and_then(|shown| {
-            gfx.renderer
-                .encode_frame(&mut enc, &shown.frame(), free.map(|f| f.0))
-                .map_err(|e| e.to_string())
-        });
+        let drawn = match (gfx.lamps.as_mut(), self.model.lamps.as_mut()) {
+            (Some(lamps), Some(panel)) => {
+                let state = &self.model.state;
+                // Sixty swing frames a second, as the one-light scenes turn their light.
+                let swing = state.animate.then_some((state.time * 60.0) as u32);
+                let times = lamps
+                    .set_budget_ms(panel.budget_ms)
+                    .and_then(|()| lamps.encode(&gfx.renderer, &mut enc, state.mode, swing))
+                    .map_err(|e| e.to_string());
+                panel.update(lamps);
+                times.map(|t| (t, false))
+            }
+            _ => shown.and_then(|shown| {
+                gfx.renderer
+                    .encode_frame(&mut enc, &shown.frame(), free.map(|f| f.0))
+                    .map(|t| (t, true))
+                    .map_err(|e| e.to_string())
+            }),
+        };
         let stamped = match drawn {
-            Ok(times) => {
+            Ok((times, stamps)) => {
                 self.model.stats.passes = times;
                 self.model.stats.log.push((times, None));
-                free.map(|f| f.1)
+                free.filter(|_| stamps).map(|f| f.1)
             }
             Err(e) => {
                 // This frame's encoder holds a partial frame: start the window's pass afresh.

@@ -11,6 +11,8 @@
 //!   [`Registry`](soft_shadow_core::Registry) (`soft_shadow_techniques::registry()` by
 //!   default, [`app::run_with`] for another), recorded through
 //!   [`DynTechnique::record_frame`](soft_shadow_core::DynTechnique::record_frame).
+//! - [`lamps`]: the scenes of many lamps, through the frame pipeline on the renderer's device
+//!   (`shadow_frame::gpu_frame`), one frame budget shared by the lamps.
 //! - [`shade`]: the shading, in WGSL and in Rust for the tests.
 //! - [`state`]: the camera, the light and the choices, as plain data.
 //! - [`scene`]: opening catalogue scenes, scene files and glTF models.
@@ -18,6 +20,7 @@
 //! - [`app`]: the window; its panel and view input are `ui.rs`.
 
 pub mod app;
+pub mod lamps;
 pub mod reference;
 pub mod renderer;
 pub mod scene;

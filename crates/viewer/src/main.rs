@@ -15,7 +15,8 @@ use viewer::scene::SceneSource;
 #[derive(Parser, Debug)]
 #[command(about, long_about = None)]
 struct Args {
-    /// A catalogue scene (bunny, torus, contact, ...).
+    /// A catalogue scene (bunny, torus, contact, ...), or a scene of lamps under one frame
+    /// budget (night-street, room-lamps).
     #[arg(long, default_value = "bunny", conflicts_with = "open")]
     scene: String,
     /// A scene file (.toml) or a glTF model (.glb, .gltf) instead.
@@ -53,6 +54,17 @@ struct Args {
     /// With --frames: write the last frame (the whole window) to this PNG.
     #[arg(long, requires = "frames")]
     screenshot: Option<PathBuf>,
+    /// The frame budget the lamps of a scene of lamps (night-street, room-lamps) share,
+    /// milliseconds.
+    #[arg(long, default_value_t = viewer::lamps::BUDGET_MS, value_parser = parse_budget)]
+    budget_ms: f64,
+}
+
+fn parse_budget(s: &str) -> Result<f64, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|ms| ms.is_finite() && *ms > 0.0)
+        .ok_or_else(|| format!("{s:?} is not a positive number of milliseconds"))
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -99,6 +111,7 @@ fn main() {
         light: args.light,
         frames: args.frames,
         screenshot: args.screenshot,
+        budget_ms: args.budget_ms,
     };
     if let Err(e) = run(options) {
         eprintln!("error: {e}");

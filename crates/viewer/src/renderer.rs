@@ -4,11 +4,11 @@
 //! the G-buffer from a [`GpuScene`] uploaded once ([`DynTechnique::record_frame`]), and its own
 //! shading of the light times `V`; it never reads anything back to draw a frame.
 
-use crate::shade::ShadeUniform;
+use crate::shade::{LampData, LampsDisplay, ShadeUniform};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use soft_shadow_core::gpu::shader::{
-    Group, Library, Program, ShaderModule, float_texture, storage_texture, uniform,
+    Group, Library, Program, ShaderModule, float_texture, storage, storage_texture, uniform,
 };
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::gpu::{GpuContext, GpuScene};
@@ -16,6 +16,7 @@ use soft_shadow_core::views::ViewSelect;
 use soft_shadow_core::{
     Camera, DynTechnique, Light, LightViews, Result, SceneGeometry, SeenDepth, ShadowError,
 };
+use std::sync::Arc;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
@@ -138,8 +139,9 @@ pub fn view_colour(i: usize) -> Vec3 {
 
 /// The renderer: its device, its passes, its targets and the scene it draws.
 pub struct Renderer {
-    /// The renderer's device and queue, as the technique crates take them.
-    pub gpu: GpuContext,
+    /// The renderer's device and queue, as the technique crates take them (shared with a
+    /// frame pipeline on the same device, [`crate::lamps::LampsView`]).
+    pub gpu: Arc<GpuContext>,
     scene: GpuScene,
     settings: FrameSettings,
     vertices: wgpu::Buffer,
@@ -255,9 +257,13 @@ pub static SHADERS: Library = Library {
             path: "viewer::shade",
             source: include_str!("shade.wgsl"),
         },
+        ShaderModule {
+            path: "viewer::lamps",
+            source: include_str!("lamps.wgsl"),
+        },
     ],
     depends: &[&soft_shadow_core::gpu::shader::SHADERS],
-    programs: &[&GBUFFER, &SHADE],
+    programs: &[&GBUFFER, &SHADE, &LAMPS],
 };
 
 /// `gbuffer.wgsl`: the camera (view-projection and eye), read by both stages.
@@ -289,6 +295,25 @@ static SHADE: Program = Program {
         uniform::<DisplayUniform>(),
         float_texture(wgpu::TextureViewDimension::D2),
         float_texture(wgpu::TextureViewDimension::D2),
+    ])],
+};
+
+/// `lamps.wgsl`: the lamps, the display, the G-buffer, the lamps' `V` (a layer per lamp) and
+/// the colour written ([`crate::lamps::LampsView`]).
+pub(crate) static LAMPS: Program = Program {
+    library: &SHADERS,
+    module: "viewer::lamps",
+    defs: &[],
+    groups: &[Group::compute(&[
+        storage::<LampData>(true),
+        uniform::<LampsDisplay>(),
+        float_texture(wgpu::TextureViewDimension::D2),
+        float_texture(wgpu::TextureViewDimension::D2),
+        float_texture(wgpu::TextureViewDimension::D2Array),
+        storage_texture(
+            wgpu::TextureFormat::Rgba8Unorm,
+            wgpu::TextureViewDimension::D2,
+        ),
     ])],
 };
 
@@ -400,7 +425,7 @@ impl Renderer {
         let shade_bind = Self::shade_bind(&gpu, &shade_uniform, &display_uniform, &targets, None);
         Ok(Self {
             vertex_count: verts.len() as u32,
-            gpu,
+            gpu: Arc::new(gpu),
             scene,
             settings,
             vertices,
@@ -715,7 +740,8 @@ impl Renderer {
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     }
 
-    fn encode_gbuffer(&self, enc: &mut wgpu::CommandEncoder) {
+    /// The G-buffer pass: the camera's positions and normals into [`Renderer::gbuffer`].
+    pub fn encode_gbuffer(&self, enc: &mut wgpu::CommandEncoder) {
         let (p, n, z) = (
             view(&self.targets.position),
             view(&self.targets.normal),

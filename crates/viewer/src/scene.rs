@@ -1,16 +1,17 @@
-//! Opening a scene: a catalogue scene by name, a scene file (`.toml`, as the report reads
-//! them), or a glTF model (`.glb`, `.gltf`) stood on a ground square.
+//! Opening a scene: a catalogue scene by name (one of many lamps among them,
+//! [`lamps::LAMP_SCENES`]), a scene file (`.toml`, as the report reads them), or a glTF model
+//! (`.glb`, `.gltf`) stood on a ground square.
 
 use crate::renderer::{model_on_ground, moving_light};
 use soft_shadow_core::{Aabb, Camera, Light, Result, SceneGeometry, ShadowError};
-use soft_shadow_reference::scenes::{SceneSpec, catalogue, scene_file};
+use soft_shadow_reference::scenes::{SceneSpec, catalogue, lamps, scene_file};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Where a scene comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneSource {
-    /// A catalogue scene ([`catalogue::SCENE_NAMES`]).
+    /// A catalogue scene ([`catalogue::SCENE_NAMES`], [`lamps::LAMP_SCENES`]).
     Catalogue(String),
     /// A scene file or a glTF model.
     File(PathBuf),
@@ -25,8 +26,11 @@ pub struct LoadedScene {
     pub geometry: Arc<SceneGeometry>,
     /// The scene's camera.
     pub camera: Camera,
-    /// The scene's light.
+    /// The scene's light (a scene of lamps: its first lamp's).
     pub light: Light,
+    /// The name of a scene of lamps ([`lamps::LAMP_SCENES`]), which the frame pipeline shades
+    /// ([`crate::lamps::LampsView`]); `None` for a scene of one light.
+    pub lamps: Option<String>,
 }
 
 fn from_spec(spec: &SceneSpec) -> LoadedScene {
@@ -50,7 +54,28 @@ fn from_spec(spec: &SceneSpec) -> LoadedScene {
         }),
         camera: spec.camera,
         light: spec.light,
+        lamps: None,
     }
+}
+
+/// A scene of lamps: its geometry, camera and first lamp.
+fn from_lamps(name: &str) -> Result<LoadedScene> {
+    let mut lit = lamps::build(name, 16, 9, crate::lamps::BUDGET_MS)?;
+    let g = lit.scene.geometry();
+    let mut all = g.casters.clone();
+    all.extend(g.receivers.iter().copied());
+    Ok(LoadedScene {
+        name: name.to_string(),
+        geometry: Arc::new(SceneGeometry {
+            bounds: Aabb::of_triangles(&all),
+            ..g
+        }),
+        camera: lit.camera,
+        light: lit.lights.first().copied().ok_or_else(|| {
+            ShadowError::InvalidScene(format!("{name}: a scene of lamps without a lamp"))
+        })?,
+        lamps: Some(name.to_string()),
+    })
 }
 
 /// Opens `source`. A name outside the catalogue, a file that cannot be read or parsed, a file
@@ -58,6 +83,9 @@ fn from_spec(spec: &SceneSpec) -> LoadedScene {
 /// the file and the problem.
 pub fn load(source: &SceneSource) -> Result<LoadedScene> {
     let scene = match source {
+        SceneSource::Catalogue(name) if lamps::LAMP_SCENES.iter().any(|(n, _)| n == name) => {
+            from_lamps(name)?
+        }
         SceneSource::Catalogue(name) => from_spec(&catalogue::build(name)?),
         SceneSource::File(path) => load_file(path)?,
     };
@@ -91,6 +119,7 @@ fn load_file(path: &Path) -> Result<LoadedScene> {
                 geometry: Arc::new(geometry),
                 camera,
                 light: moving_light(1, 8),
+                lamps: None,
             })
         }
         _ => Err(ShadowError::InvalidScene(format!(

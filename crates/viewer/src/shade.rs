@@ -1,8 +1,13 @@
-//! The renderer's shading, in WGSL (`shade.wgsl`) and here in Rust for the CPU comparison:
-//! Lambert, one light sampled at up to 64 points (rectangles and triangles at the centres of an
-//! 8x8 grid warped onto them, disks on a polar grid, segments along their length; points and
-//! spheres at their centre; a distant light as one direction), each sample's term clipped to
-//! the receiver's horizon and to the light's front, times the technique's `V`.
+//! The renderer's shading, in WGSL (`shade.wgsl`, `lamps.wgsl`) and here in Rust for the CPU
+//! comparison:
+//!
+//! - one light ([`ShadeUniform`]): Lambert, the light sampled at up to 64 points (rectangles
+//!   and triangles at the centres of an 8x8 grid warped onto them, disks on a polar grid,
+//!   segments along their length; points and spheres at their centre; a distant light as one
+//!   direction), each sample's term clipped to the receiver's horizon and to the light's front,
+//!   times the technique's `V`;
+//! - many lamps ([`LampShade`]): each lamp weighed as the frame pipeline's budget weighs it,
+//!   within its influence radius, times its own `V`, summed.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -166,5 +171,130 @@ impl ShadeUniform {
     pub fn radiance(&self, p: Vec3, n: Vec3, v: f32) -> f32 {
         let [k, ambient, albedo, _] = self.terms;
         (albedo * (ambient + k * self.unshadowed(p, n) * v)).clamp(0.0, 1.0)
+    }
+}
+
+/// Ambient term of the lamps' shading.
+pub const LAMP_AMBIENT: f32 = 0.04;
+
+/// The brightness the exposure gives the 95th percentile of the unshadowed lighting.
+pub const EXPOSED: f32 = 0.85;
+
+/// One lamp as `lamps.wgsl` reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LampData {
+    /// Centre and influence radius; for a distant light the unit direction towards it and -1.
+    pub centre: [f32; 4],
+    /// Unit emission normal of a one-sided lamp (zero: every direction), and the lamp's size
+    /// squared (the least squared distance its weight takes).
+    pub front: [f32; 4],
+    /// Radiant intensity, then unused.
+    pub terms: [f32; 4],
+}
+
+impl LampData {
+    /// `light` of radiant `intensity` influencing receivers within `range` of its centre.
+    pub fn new(light: &Light, intensity: f32, range: f32) -> Self {
+        let (centre, front) = match light.center() {
+            LightPoint::Direction(d) => (d.normalize().extend(-1.0), [0.0; 4]),
+            LightPoint::Position(c) => (
+                c.extend(range),
+                light
+                    .front()
+                    .map_or(Vec3::ZERO, |(_, n)| n.normalize())
+                    .extend(light.size() * light.size())
+                    .to_array(),
+            ),
+        };
+        Self {
+            centre: centre.to_array(),
+            front,
+            terms: [intensity, 0.0, 0.0, 0.0],
+        }
+    }
+
+    /// Its unshadowed irradiance at `p` with unit normal `n` (`lamp_irradiance` in
+    /// `lamps.wgsl`): [`shadow_frame::budget::irradiance_estimate`] within the range, 0 beyond.
+    pub fn irradiance(&self, p: Vec3, n: Vec3) -> f32 {
+        let c = Vec3::from_slice(&self.centre[..3]);
+        let intensity = self.terms[0];
+        if self.centre[3] < 0.0 {
+            return intensity * n.dot(c).max(0.0);
+        }
+        let d = c - p;
+        let d2 = d.length_squared();
+        if d2 > self.centre[3] * self.centre[3] {
+            return 0.0;
+        }
+        let r2 = d2.max(self.front[3]).max(1e-6);
+        let l = d / r2.sqrt();
+        let front = Vec3::from_slice(&self.front[..3]);
+        let at_light = if front == Vec3::ZERO {
+            1.0
+        } else {
+            (-front.dot(l)).max(0.0)
+        };
+        intensity * n.dot(l).max(0.0) * at_light / r2
+    }
+}
+
+/// The lamps pass's display uniform, laid out as `LampsDisplay` in `lamps.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct LampsDisplay {
+    /// Lamps in the lamps buffer.
+    pub count: u32,
+    /// 0: shaded; 1: the lamps' `V` weighed by their light.
+    pub mode: u32,
+    /// Padding.
+    pub pad: [u32; 2],
+    /// Exposure, ambient, albedo, background.
+    pub terms: [f32; 4],
+}
+
+/// The lamps' shading (`lamps.wgsl`), in Rust for the CPU comparison.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LampShade {
+    /// Every lamp, in layer order.
+    pub lamps: Vec<LampData>,
+    /// What the summed lighting is multiplied by before albedo.
+    pub exposure: f32,
+}
+
+impl LampShade {
+    /// The lighting at `p` with normal `n`, unshadowed and with lamp `k` shadowed by `v(k)`.
+    pub fn lighting(&self, p: Vec3, n: Vec3, v: impl Fn(usize) -> f32) -> (f32, f32) {
+        let (mut lit, mut shadowed) = (0.0, 0.0);
+        for (k, lamp) in self.lamps.iter().enumerate() {
+            let e = lamp.irradiance(p, n);
+            if e > 0.0 {
+                lit += e;
+                shadowed += e * v(k);
+            }
+        }
+        (lit, shadowed)
+    }
+
+    /// The shaded value of a covered pixel, before 8-bit storage.
+    pub fn radiance(&self, p: Vec3, n: Vec3, v: impl Fn(usize) -> f32) -> f32 {
+        let (_, shadowed) = self.lighting(p, n, v);
+        (ALBEDO * (LAMP_AMBIENT + self.exposure * shadowed)).clamp(0.0, 1.0)
+    }
+
+    /// The exposure that shows the 95th percentile of the unshadowed lighting over `frame`'s
+    /// receivers (`positions` and `normals`) at [`EXPOSED`] (1 where nothing is lit).
+    pub fn expose(&mut self, positions: &[Vec3], normals: &[Vec3]) {
+        let mut lit: Vec<f32> = positions
+            .iter()
+            .zip(normals)
+            .map(|(&p, &n)| self.lighting(p, n, |_| 1.0).0)
+            .filter(|&e| e > 0.0)
+            .collect();
+        lit.sort_by(f32::total_cmp);
+        self.exposure = match lit.get(lit.len() * 95 / 100) {
+            Some(&e) if e > 0.0 => EXPOSED / e,
+            _ => 1.0,
+        };
     }
 }

@@ -1,11 +1,13 @@
 //! The panel and the 3D view's input, egui 0.37: what the user edits ([`Model`]) and the
 //! widgets that edit it. Nothing here touches the GPU.
 
+use crate::lamps::{LampLine, LampsView};
 use crate::renderer::{PassTimes, ViewMode};
 use crate::scene::SceneSource;
 use crate::state::{SIZE_RANGE, ViewState};
 use soft_shadow_core::{Backend, DeviceLimits, LightKind, Registry};
 use soft_shadow_reference::scenes::catalogue::SCENE_NAMES;
+use soft_shadow_reference::scenes::lamps::LAMP_SCENES;
 use std::collections::VecDeque;
 use std::path::PathBuf;
 
@@ -56,6 +58,71 @@ pub(crate) struct Model {
     pub(crate) timestamps: bool,
     /// The device's limits on a map's side.
     pub(crate) device: DeviceLimits,
+    /// A scene of lamps' budget and picks (`None`: a scene of one light).
+    pub(crate) lamps: Option<LampsPanel>,
+}
+
+/// What the panel shows of a scene of lamps: the budget it edits, the last frame's picks.
+pub(crate) struct LampsPanel {
+    /// The frame budget, milliseconds.
+    pub(crate) budget_ms: f64,
+    /// Every lamp's pick, last frame.
+    pub(crate) lines: Vec<LampLine>,
+    /// Maps made and kept last frame.
+    pub(crate) maps: (usize, usize),
+    /// The last frame's predicted time, milliseconds (the picks' predictions summed).
+    pub(crate) predicted_ms: f64,
+}
+
+impl LampsPanel {
+    pub(crate) fn new(budget_ms: f64) -> Self {
+        Self {
+            budget_ms,
+            lines: Vec::new(),
+            maps: (0, 0),
+            predicted_ms: 0.0,
+        }
+    }
+
+    /// Takes the last frame's picks and counts from `view`.
+    pub(crate) fn update(&mut self, view: &LampsView) {
+        self.lines = view.lines();
+        self.predicted_ms = self.lines.iter().filter_map(|l| l.predicted_ms).sum();
+        self.maps = view
+            .stats
+            .as_ref()
+            .map_or((0, 0), |s| (s.maps_generated, s.maps_reused));
+    }
+
+    /// The command-line summary: frame rate, the budget and every lamp's pick.
+    pub(crate) fn summary(&self, stats: &Stats) -> String {
+        use std::fmt::Write as _;
+        let mut frames: Vec<f32> = stats.frame_ms.iter().skip(2).copied().collect();
+        frames.sort_by(f32::total_cmp);
+        let ms = frames.get(frames.len() / 2).copied().unwrap_or(f32::NAN);
+        let mut s = format!(
+            "{} lamps under a {} ms budget: frame {ms:.1} ms median ({:.1} fps); last frame \
+             {:.2} ms predicted, {} maps made, {} kept\n",
+            self.lines.len(),
+            self.budget_ms,
+            1e3 / ms,
+            self.predicted_ms,
+            self.maps.0,
+            self.maps.1
+        );
+        for (k, l) in self.lines.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "  lamp {k:2} {:8} x{:.1}: {}{}",
+                l.kind,
+                l.intensity,
+                l.pick,
+                l.predicted_ms
+                    .map_or(String::new(), |ms| format!(", {ms:.2} ms predicted"))
+            );
+        }
+        s
+    }
 }
 
 impl Model {
@@ -219,7 +286,8 @@ fn controls(ui: &mut egui::Ui, m: &mut Model) {
     egui::ComboBox::from_id_salt("scene")
         .selected_text(m.scene_name.clone())
         .show_ui(ui, |ui| {
-            for name in SCENE_NAMES {
+            let lamps = LAMP_SCENES.map(|(name, _)| name);
+            for name in SCENE_NAMES.into_iter().chain(lamps) {
                 if ui.selectable_label(m.scene_name == name, name).clicked() {
                     open = Some(SceneSource::Catalogue(name.to_string()));
                 }
@@ -240,6 +308,43 @@ fn controls(ui: &mut egui::Ui, m: &mut Model) {
         m.actions.open = open;
     }
     ui.separator();
+    if m.lamps.is_some() {
+        lamps_controls(ui, m);
+    } else {
+        light_controls(ui, m);
+    }
+    view_controls(ui, m);
+}
+
+/// A scene of lamps: the frame budget they share and what it bought each.
+fn lamps_controls(ui: &mut egui::Ui, m: &mut Model) {
+    let Some(l) = m.lamps.as_mut() else {
+        return;
+    };
+    ui.heading("Lamps");
+    ui.add(
+        egui::Slider::new(&mut l.budget_ms, 1.0..=100.0)
+            .logarithmic(true)
+            .text("frame budget, ms"),
+    );
+    ui.small(format!(
+        "{:.2} ms predicted; {} maps made, {} kept last frame",
+        l.predicted_ms, l.maps.0, l.maps.1
+    ));
+    egui::Grid::new("lamps").striped(true).show(ui, |ui| {
+        for (k, line) in l.lines.iter().enumerate() {
+            ui.label(format!("{k} {} x{:.1}", line.kind, line.intensity));
+            ui.small(&line.pick);
+            ui.end_row();
+        }
+    });
+    ui.checkbox(&mut m.state.animate, "swing a lamp (space)");
+    ui.small("W A S D walk the camera; the budget picks each lamp's technique and map side");
+    ui.separator();
+}
+
+/// One light: its kind, place and size, and the technique (or two) that shadows it.
+fn light_controls(ui: &mut egui::Ui, m: &mut Model) {
     ui.heading("Light");
     let mut kind = m.state.light.kind;
     egui::ComboBox::from_id_salt("light kind")
@@ -286,14 +391,23 @@ fn controls(ui: &mut egui::Ui, m: &mut Model) {
         ui.add(egui::Slider::new(&mut m.state.split, 0.0..=1.0).text("split"));
     }
     ui.separator();
+}
+
+/// The view mode, the times and the messages.
+fn view_controls(ui: &mut egui::Ui, m: &mut Model) {
     ui.heading("View");
-    ui.horizontal(|ui| {
-        for (mode, label) in [
+    let modes: &[(ViewMode, &str)] = if m.lamps.is_some() {
+        &[(ViewMode::Shaded, "shaded"), (ViewMode::Visibility, "V")]
+    } else {
+        &[
             (ViewMode::Shaded, "shaded"),
             (ViewMode::Visibility, "V"),
             (ViewMode::Error, "error"),
             (ViewMode::Views, "views"),
-        ] {
+        ]
+    };
+    ui.horizontal(|ui| {
+        for &(mode, label) in modes {
             ui.radio_value(&mut m.state.mode, mode, label);
         }
     });

@@ -333,6 +333,81 @@ fn a_window_screenshot_of_two_techniques_matches_the_offscreen_frame() {
     );
 }
 
+/// A real window on the night street: the frame pipeline shares the budget among its 16 lamps
+/// (every lamp's pick printed, the lamps behind the camera and those the budget leaves out
+/// without a shadow, at least four with one), the view shows lamp-lit ground beside dark, and
+/// a budget that is not a positive number of milliseconds is refused with a message.
+#[test]
+fn a_window_shows_the_night_streets_lamps_under_one_budget() {
+    let shot = scratch("lamps").join("shot.png");
+    let Some(out) = windowed(&[
+        "--scene",
+        "night-street",
+        "--size",
+        "192x108",
+        "--budget-ms",
+        "16",
+        "--frames",
+        "3",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]) else {
+        return;
+    };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "viewer failed:\n{stdout}\n{stderr}");
+    assert!(stdout.contains("16 lamps under a 16 ms budget"), "{stdout}");
+    let lamps: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.trim_start().starts_with("lamp "))
+        .collect();
+    let shadowed = lamps.iter().filter(|l| !l.contains("no shadow")).count();
+    assert_eq!(lamps.len(), 16, "{stdout}");
+    assert!(shadowed >= 4, "{shadowed} lamps with a shadow:\n{stdout}");
+    assert!(
+        lamps
+            .iter()
+            .any(|l| l.contains("no shadow: lights nothing in view")),
+        "the lamps behind the camera: {stdout}"
+    );
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("view "))
+        .expect("the view's place");
+    let nums: Vec<u32> = line
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    let (x0, y0) = (nums[2], nums[3]);
+    let image = image::open(&shot).unwrap().to_rgba8();
+    let (mut bright, mut dark) = (0, 0);
+    for y in 0..108 {
+        for x in 0..192 {
+            let g = image.get_pixel(x0 + x, y0 + y).0[0];
+            bright += (g > 150) as usize;
+            dark += (g < 30) as usize;
+        }
+    }
+    assert!(bright > 100 && dark > 100, "bright {bright}, dark {dark}");
+    let Some(out) = windowed(&[
+        "--scene",
+        "night-street",
+        "--budget-ms",
+        "0",
+        "--frames",
+        "1",
+    ]) else {
+        return;
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("positive number of milliseconds"),
+        "{stderr}"
+    );
+}
+
 /// A malformed GLB on the command line: a message naming the file, exit code 1, no panic
 /// and no window left behind.
 #[test]

@@ -12,6 +12,7 @@ mod fuzz;
 mod gpu_agreement;
 mod gpu_timer;
 mod ground_truth;
+mod lamps_view;
 mod linear_light;
 mod occlusion_slices;
 mod own_device;
