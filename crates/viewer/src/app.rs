@@ -80,7 +80,10 @@ pub fn run_with(options: Options, registry: Registry) -> Result<(), String> {
         shadow.variant = v.clone();
     }
     let mut state = ViewState::new(&scene.camera, &scene.light, shadow);
-    state.mode = options.mode;
+    state.mode = match scene.lamps {
+        Some(_) => crate::lamps::lamps_mode(options.mode),
+        None => options.mode,
+    };
     state.animate = options.animate;
     if let Some(kind) = options.light
         && kind != state.light.kind
@@ -499,7 +502,10 @@ impl App {
                 );
                 m.state = ViewState::new(&scene.camera, &scene.light, shadow);
                 m.state.compare = compare;
-                m.state.mode = mode;
+                m.state.mode = match scene.lamps {
+                    Some(_) => crate::lamps::lamps_mode(mode),
+                    None => mode,
+                };
                 let kind = m.state.light.kind;
                 for line in m.state.set_light_kind(kind, &m.registry) {
                     m.say(line);

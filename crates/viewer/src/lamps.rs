@@ -6,7 +6,7 @@
 //! pass that sums the lamps (`lamps.wgsl`, mirrored by [`LampShade`]).
 //!
 //! The pipeline's receivers (what bounds each lamp's maps and weighs its share of the budget)
-//! come from a small CPU G-buffer of the same camera, [`RECEIVERS`] texels.
+//! come from a small CPU G-buffer of the same camera and shape ([`receivers_size`]).
 
 use crate::renderer::{LAMPS, PassTimes, Renderer, ViewMode};
 use crate::shade::{ALBEDO, BACKGROUND, LAMP_AMBIENT, LampData, LampShade, LampsDisplay};
@@ -23,8 +23,29 @@ use std::sync::Arc;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
-/// Width and height of the CPU G-buffer whose texels are the pipeline's receivers.
-pub const RECEIVERS: (u32, u32) = (160, 90);
+/// Height of the CPU G-buffer whose texels are the pipeline's receivers; its width follows the
+/// view's aspect ([`receivers_size`]).
+pub const RECEIVERS_HEIGHT: u32 = 90;
+
+/// The CPU G-buffer of the pipeline's receivers for a `width x height` view: the view's shape,
+/// [`RECEIVERS_HEIGHT`] high (16 to 1024 wide).
+pub fn receivers_size(width: u32, height: u32) -> (u32, u32) {
+    let w = (RECEIVERS_HEIGHT as f64 * width as f64 / height.max(1) as f64).round();
+    (w.clamp(16.0, 1024.0) as u32, RECEIVERS_HEIGHT)
+}
+
+/// The view modes a scene of lamps shows: the shaded frame, and the lamps' `V` weighed by
+/// their light; any other mode shows it shaded ([`lamps_mode`]).
+pub const MODES: [ViewMode; 2] = [ViewMode::Shaded, ViewMode::Visibility];
+
+/// The mode a scene of lamps shows for `mode` (one of [`MODES`]).
+pub fn lamps_mode(mode: ViewMode) -> ViewMode {
+    if MODES.contains(&mode) {
+        mode
+    } else {
+        ViewMode::Shaded
+    }
+}
 
 /// The frame budget a scene of lamps opens with, milliseconds.
 pub const BUDGET_MS: f64 = 16.0;
@@ -53,6 +74,8 @@ pub struct LampsView {
     lamp_buffer: wgpu::Buffer,
     display: wgpu::Buffer,
     visibility: wgpu::Texture,
+    /// The renderer's colour target [`LampsView::bind`] bound (a resize makes new targets).
+    bound: wgpu::Texture,
     bind: wgpu::BindGroup,
     shade_pipeline: wgpu::ComputePipeline,
     /// The last frame's pipeline statistics.
@@ -63,7 +86,8 @@ impl LampsView {
     /// The scene of lamps `name` ([`lamps::LAMP_SCENES`]) on `renderer`'s device, under a frame
     /// budget of `budget_ms`, seen by the renderer's camera.
     pub fn new(renderer: &Renderer, name: &str, budget_ms: f64) -> Result<Self> {
-        let (w, h) = RECEIVERS;
+        let s = renderer.settings();
+        let (w, h) = receivers_size(s.width, s.height);
         let mut lamps = lamps::build(name, w, h, budget_ms)?;
         let gpu = renderer.gpu.clone();
         let world = &mut lamps.scene.world;
@@ -103,6 +127,7 @@ impl LampsView {
             lamp_buffer,
             display,
             visibility,
+            bound: renderer.color().clone(),
             bind,
             shade_pipeline,
             stats: None,
@@ -212,7 +237,7 @@ impl LampsView {
     /// renderer's camera (the maps of the lamps whose maps are stale, made on the device), each
     /// lamp's `V` into its layer and the shading into [`Renderer::color`]. `swing`, where given,
     /// is the frame of [`Lamps::swing`]'s swing. `mode` [`ViewMode::Visibility`] shows the
-    /// lamps' `V` weighed by their light; every other mode the shaded frame. Returns the CPU
+    /// lamps' `V` weighed by their light; every other mode the shaded frame ([`lamps_mode`]). Returns the CPU
     /// time of each part: the G-buffer, the pipeline and the lamps' `V` (as the technique),
     /// and the shading.
     pub fn encode(
@@ -229,9 +254,18 @@ impl LampsView {
             clock = Instant::now();
         };
         let s = renderer.settings();
-        if (self.visibility.width(), self.visibility.height()) != (s.width, s.height) {
-            // The renderer was resized: its targets are new.
-            self.visibility = Self::visibility_texture(&self.gpu, renderer, self.lamps.lamps.len());
+        if renderer.color() != &self.bound {
+            // The renderer was resized: its targets are new, and the receivers take the
+            // view's shape.
+            if (self.visibility.width(), self.visibility.height()) != (s.width, s.height) {
+                self.visibility =
+                    Self::visibility_texture(&self.gpu, renderer, self.lamps.lamps.len());
+            }
+            let (w, h) = receivers_size(s.width, s.height);
+            if self.lamps.size() != (w, h) {
+                self.lamps.resize(w, h);
+            }
+            self.bound = renderer.color().clone();
             self.bind = Self::bind(
                 &self.gpu,
                 renderer,
@@ -277,7 +311,7 @@ impl LampsView {
         }
         let display = LampsDisplay {
             count: self.shade.lamps.len() as u32,
-            mode: u32::from(mode == ViewMode::Visibility),
+            mode: u32::from(lamps_mode(mode) == ViewMode::Visibility),
             pad: [0; 2],
             terms: [self.shade.exposure, LAMP_AMBIENT, ALBEDO, BACKGROUND],
         };

@@ -5,7 +5,7 @@
 // lamp's centre, the distance kept at least the lamp's size, a one-sided lamp's cosine at its
 // emitting plane; a distant light as irradiance at normal incidence), only within its
 // influence radius, times its `V` from its layer (lamp k's is layer k) of the texture the frame
-// pipeline wrote. Mirrors `lamps::LampShade` in Rust.
+// pipeline wrote. Mirrors `shade::LampShade` in Rust.
 
 struct Lamp {
     // Centre (xyz) and influence radius (w); for a distant light the unit direction towards

@@ -16,7 +16,9 @@ use viewer::scene::SceneSource;
 #[command(about, long_about = None)]
 struct Args {
     /// A catalogue scene (bunny, torus, contact, ...), or a scene of lamps under one frame
-    /// budget (night-street, room-lamps).
+    /// budget (night-street, room-lamps: the budget picks each lamp's technique and map side,
+    /// so --technique, --variant, --compare, --resolution and --light do not apply, and the
+    /// view is shaded or v).
     #[arg(long, default_value = "bunny", conflicts_with = "open")]
     scene: String,
     /// A scene file (.toml) or a glTF model (.glb, .gltf) instead.

@@ -2,7 +2,9 @@
 //! any technique through the public drop-in API. Per frame it records into one encoder its
 //! G-buffer pass, each shown technique's generation for the light's views and visibility over
 //! the G-buffer from a [`GpuScene`] uploaded once ([`DynTechnique::record_frame`]), and its own
-//! shading of the light times `V`; it never reads anything back to draw a frame.
+//! shading of the light times `V`; it never reads anything back to draw a frame. A scene of
+//! many lamps records the same G-buffer pass ([`Renderer::encode_gbuffer`]) and its own passes
+//! ([`crate::lamps::LampsView`]).
 
 use crate::shade::{LampData, LampsDisplay, ShadeUniform};
 use bytemuck::{Pod, Zeroable};

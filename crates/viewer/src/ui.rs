@@ -396,19 +396,16 @@ fn light_controls(ui: &mut egui::Ui, m: &mut Model) {
 /// The view mode, the times and the messages.
 fn view_controls(ui: &mut egui::Ui, m: &mut Model) {
     ui.heading("View");
-    let modes: &[(ViewMode, &str)] = if m.lamps.is_some() {
-        &[(ViewMode::Shaded, "shaded"), (ViewMode::Visibility, "V")]
-    } else {
-        &[
+    ui.horizontal(|ui| {
+        for (mode, label) in [
             (ViewMode::Shaded, "shaded"),
             (ViewMode::Visibility, "V"),
             (ViewMode::Error, "error"),
             (ViewMode::Views, "views"),
-        ]
-    };
-    ui.horizontal(|ui| {
-        for &(mode, label) in modes {
-            ui.radio_value(&mut m.state.mode, mode, label);
+        ] {
+            if m.lamps.is_none() || crate::lamps::MODES.contains(&mode) {
+                ui.radio_value(&mut m.state.mode, mode, label);
+            }
         }
     });
     if m.state.mode == ViewMode::Error {

@@ -131,6 +131,18 @@ impl Lamps {
         look(&mut self.scene, camera, self.size.0, self.size.1);
     }
 
+    /// The receivers' G-buffer size, width and height.
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    /// Makes the receivers' G-buffer `width x height` (as the view it stands for is shaped),
+    /// the receivers seen again.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        self.size = (width, height);
+        self.look(self.camera);
+    }
+
     /// Walks the camera `metres` along its walk (its G-buffer, and so the frame's receivers,
     /// made again).
     pub fn walk(&mut self, metres: f32) {
