@@ -3,7 +3,7 @@
 // The shading of a scene of many lamps: every lamp weighed as the frame pipeline's shared budget
 // weighs it (`shadow_frame::budget::irradiance_estimate`: a point of radiant intensity at the
 // lamp's centre, the distance kept at least the lamp's size, a one-sided lamp's cosine at its
-// emitting plane; a distant light as irradiance at normal incidence), only within its
+// emitting plane; a distant light as irradiance at normal incidence), faded to 0 at its
 // influence radius, times its `V` from its layer (lamp k's is layer k) of the texture the frame
 // pipeline wrote. Mirrors `shade::LampShade` in Rust.
 
@@ -51,7 +51,10 @@ fn lamp_irradiance(k: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     if dot(lamp.front.xyz, lamp.front.xyz) > 0.0 {
         at_light = max(-dot(lamp.front.xyz, l), 0.0);
     }
-    return lamp.terms.x * max(dot(n, l), 0.0) * at_light / r2;
+    // Faded to 0 at the range (`range_window`), so the range draws no edge.
+    let x = d2 / (lamp.centre.w * lamp.centre.w);
+    let window = (1.0 - x * x) * (1.0 - x * x);
+    return lamp.terms.x * max(dot(n, l), 0.0) * at_light / r2 * window;
 }
 
 @compute @workgroup_size(8, 8)

@@ -11,6 +11,7 @@ use soft_shadow_core::gpu::raster::read_texture;
 use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
 use viewer::lamps::LampsView;
 use viewer::scene::{SceneSource, load};
+use viewer::shade::range_window;
 use viewer::{FrameSettings, Renderer, ViewMode};
 
 const SIZE: (u32, u32) = (128, 72);
@@ -18,7 +19,7 @@ const SIZE: (u32, u32) = (128, 72);
 /// The night street in the viewer, 128 x 72, two frames of a still camera: the second makes no
 /// map; the frame equals the Rust shading of the same G-buffer and layers within 1/255 rms (2
 /// at most: 8-bit rounding of values computed in another order); the lamps' weights equal the
-/// budget's (`irradiance_estimate`) within their range; and the drawn lighting (every lamp's
+/// budget's (`irradiance_estimate`) faded by `range_window` within their range; and the drawn lighting (every lamp's
 /// weight times its `V`) is within a quarter of the no-shadow lighting's error from the
 /// reference's.
 #[test]
@@ -108,8 +109,9 @@ fn lamps_draw_their_shadows(test: &str, name: &str, budget_ms: f64, shadowed: us
         let (c, range) = shadow_frame::influence(&light, config.range);
         for &i in covered.iter().step_by(7) {
             let (pos, nor) = at(i);
-            let want = if pos.distance(c) <= range {
-                irradiance_estimate(&light, config.intensity, pos, nor)
+            let x = pos.distance_squared(c) / (range * range);
+            let want = if x <= 1.0 {
+                irradiance_estimate(&light, config.intensity, pos, nor) * range_window(x)
             } else {
                 0.0
             };
