@@ -11,6 +11,7 @@
 
 use crate::error::Result;
 use crate::metrics::image_rms_255;
+use serde::{Deserialize, Serialize};
 use shadow_frame::scene::LightSource;
 use shadow_frame::{FramePipeline, FrameReceivers, LightState, ResolvedTechnique, ShadowConfig};
 use soft_shadow_reference::ground_truth::irradiance::irradiance;
@@ -19,10 +20,10 @@ use soft_shadow_reference::scenes::lamps::{Lamps, room, street};
 use std::fmt::Write as _;
 
 /// One lamp in one frame.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LampFrame {
     /// The lamp's kind.
-    pub kind: &'static str,
+    pub kind: String,
     /// Its pick (`name variant side²`), or why it casts no shadow.
     pub pick: String,
     /// Its part of the frame's light, in `[0, 1]`.
@@ -34,7 +35,7 @@ pub struct LampFrame {
 }
 
 /// One frame of the path.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FrameMeasure {
     /// Measured milliseconds of the frame pipeline's run (wall time, every system).
     pub ms: f64,
@@ -123,7 +124,7 @@ pub fn walk(
                 (None, None) => "none: lights nothing in view".into(),
             };
             lamps.push(LampFrame {
-                kind: light.kind().name(),
+                kind: light.kind().name().into(),
                 pick,
                 contribution: state.share.map_or(0.0, |s| s.contribution),
                 image_255: image_rms_255(&got, &want, &w),
@@ -209,20 +210,104 @@ pub enum FramesScene {
     Room,
 }
 
-/// `harness frames`: `scene` (the street with `lamps` lamps, 16 when `None`; the room with its
-/// three) under a `budget_ms` frame budget, a `size` (`WxH`) G-buffer, walked `frames` frames
-/// of `step` metres, measured against the reference (8² strata x 2 replicates a receiver) and
-/// written as Markdown to `out`; returns the line to print.
-#[allow(clippy::too_many_arguments)]
-pub fn run(
+impl FramesScene {
+    /// Both, in [`soft_shadow_reference::scenes::lamps::LAMP_SCENES`]' order.
+    pub const ALL: [FramesScene; 2] = [FramesScene::Street, FramesScene::Room];
+
+    /// Its name in [`soft_shadow_reference::scenes::lamps::LAMP_SCENES`].
+    pub fn name(self) -> &'static str {
+        match self {
+            FramesScene::Street => "night-street",
+            FramesScene::Room => "room-lamps",
+        }
+    }
+
+    /// The scene called `name`, if one is.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// The walk the report measures it over: its frame budget (ms) and the metres the camera
+    /// walks a frame (the street's 16 ms and 0.5 m; the room's 33 ms and 0.25 m, a room being
+    /// smaller and its three lamps' shadows dearer).
+    pub fn walk(self) -> (f64, f32) {
+        match self {
+            FramesScene::Street => (16.0, 0.5),
+            FramesScene::Room => (33.0, 0.25),
+        }
+    }
+}
+
+/// One walk measured: the scene, how it was walked, and every frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FramesRun {
+    /// The scene's name ([`FramesScene::name`]).
+    pub scene: String,
+    /// What the scene is, for titles.
+    pub title: String,
+    /// Its lamps.
+    pub lamps: usize,
+    /// The frame budget, milliseconds.
+    pub budget_ms: f64,
+    /// Metres the camera walked a frame.
+    pub step: f32,
+    /// The receivers' G-buffer, width and height.
+    pub size: (u32, u32),
+    /// Every frame, the first where the camera stands.
+    pub frames: Vec<FrameMeasure>,
+}
+
+impl FramesRun {
+    /// The `harness frames` command that measures it again.
+    pub fn command(&self) -> String {
+        let scene = match FramesScene::from_name(&self.scene) {
+            Some(FramesScene::Street) => format!("--lamps {}", self.lamps),
+            _ => format!("--scene {}", self.scene),
+        };
+        format!(
+            "harness frames {scene} --budget-ms {} --frames {} --step {} --size {}x{}",
+            self.budget_ms,
+            self.frames.len(),
+            self.step,
+            self.size.0,
+            self.size.1
+        )
+    }
+
+    /// Frames measured over the budget.
+    pub fn over_budget(&self) -> usize {
+        self.frames.iter().filter(|f| f.ms > self.budget_ms).count()
+    }
+
+    /// The walk as a Markdown document: a title, the command, the tables ([`markdown`]).
+    pub fn document(&self) -> String {
+        let title = &self.title;
+        format!(
+            "# {}{}, {} lamps, one {} ms frame budget\n\n`{}` (CPU). Image errors in 1/255 \
+             against the reference (8² strata x 2 replicates a receiver).\n\n{}",
+            title[..1].to_uppercase(),
+            &title[1..],
+            self.lamps,
+            self.budget_ms,
+            self.command(),
+            markdown(&self.frames, self.budget_ms)
+        )
+    }
+}
+
+/// `scene` (the street with `lamps` lamps, 16 when `None`; the room with its three) under a
+/// `budget_ms` frame budget, receivers from a `width x height` G-buffer, walked `frames` frames
+/// of `step` metres by a fresh pipeline with every technique, measured against the reference
+/// (8² strata x 2 replicates a receiver). Out-of-range arguments are
+/// [`crate::error::HarnessError::Usage`], named as `harness frames` takes them.
+pub fn measure(
     scene: FramesScene,
     lamps: Option<usize>,
     budget_ms: f64,
     frames: u32,
     step: f32,
-    size: &str,
-    out: &std::path::Path,
-) -> Result<String> {
+    (w, h): (u32, u32),
+) -> Result<FramesRun> {
     use crate::error::HarnessError::Usage;
     let bad = |what: String| Err(Usage(what));
     let lamps = match (scene, lamps) {
@@ -248,21 +333,14 @@ pub fn run(
             "--step must be a number of metres within 100, got {step}"
         ));
     }
-    let parsed = size
-        .split_once('x')
-        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
-        .filter(|&(w, h)| (1..=4096).contains(&w) && (1..=4096).contains(&h));
-    let Some((w, h)) = parsed else {
+    if !((1..=4096).contains(&w) && (1..=4096).contains(&h)) {
         return bad(format!(
-            "--size must be WIDTHxHEIGHT, each in 1..=4096 (such as 320x180), got {size:?}"
+            "--size must be WIDTHxHEIGHT, each in 1..=4096 (such as 320x180), got {w}x{h}"
         ));
-    };
-    let (mut lit, flag) = match scene {
-        FramesScene::Street => (
-            street::street(lamps, w, h, budget_ms)?,
-            format!("--lamps {lamps}"),
-        ),
-        FramesScene::Room => (room::room(w, h, budget_ms)?, "--scene room-lamps".into()),
+    }
+    let mut lit = match scene {
+        FramesScene::Street => street::street(lamps, w, h, budget_ms)?,
+        FramesScene::Room => room::room(w, h, budget_ms)?,
     };
     let mut pipeline = crate::animated::pipeline();
     let settings = GroundTruthSettings {
@@ -271,23 +349,45 @@ pub fn run(
         ..Default::default()
     };
     let measured = walk(&mut lit, &mut pipeline, frames, step, &settings)?;
-    let title = lit.title.clone();
-    let text = format!(
-        "# {}{}, {lamps} lamps, one {budget_ms} ms frame budget\n\n\
-         `harness frames {flag} --budget-ms {budget_ms} --frames {frames} --step {step} \
-         --size {w}x{h}` (CPU). Image errors in 1/255 against the reference (8² strata x 2 \
-         replicates a receiver).\n\n{}",
-        title[..1].to_uppercase(),
-        &title[1..],
-        markdown(&measured, budget_ms)
-    );
+    Ok(FramesRun {
+        scene: scene.name().into(),
+        title: lit.title.clone(),
+        lamps,
+        budget_ms,
+        step,
+        size: (w, h),
+        frames: measured,
+    })
+}
+
+/// `harness frames`: [`measure`] with a `size` given as `WxH`, written as Markdown
+/// ([`FramesRun::document`]) to `out`; returns the line to print.
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    scene: FramesScene,
+    lamps: Option<usize>,
+    budget_ms: f64,
+    frames: u32,
+    step: f32,
+    size: &str,
+    out: &std::path::Path,
+) -> Result<String> {
+    let parsed = size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
+    let Some((w, h)) = parsed else {
+        return Err(crate::error::HarnessError::Usage(format!(
+            "--size must be WIDTHxHEIGHT, each in 1..=4096 (such as 320x180), got {size:?}"
+        )));
+    };
+    let run = measure(scene, lamps, budget_ms, frames, step, (w, h))?;
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         crate::files::create_dir(dir)?;
     }
-    crate::files::write_text(out, &text)?;
-    let over = measured.iter().filter(|f| f.ms > budget_ms).count();
+    crate::files::write_text(out, &run.document())?;
     Ok(format!(
-        "wrote {} ({frames} frames, {over} over the {budget_ms} ms budget)",
-        out.display()
+        "wrote {} ({frames} frames, {} over the {budget_ms} ms budget)",
+        out.display(),
+        run.over_budget()
     ))
 }

@@ -245,8 +245,12 @@ fn main() -> ExitCode {
                 explain_driver_noise();
             }
             run(&opts).map(|r| {
+                let walks = match r.frames.len() {
+                    0 => String::new(),
+                    n => format!(" and {n} walks of many lamps"),
+                };
                 format!(
-                    "wrote {} runs over {} scenes to {}",
+                    "wrote {} runs over {} scenes{walks} to {}",
                     r.runs.len(),
                     r.references.len(),
                     out.display()

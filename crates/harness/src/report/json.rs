@@ -24,6 +24,9 @@ pub struct Report {
     /// Every technique over the frames a person looks at ([`super::seen`]).
     #[serde(default)]
     pub as_seen: Vec<SeenRun>,
+    /// The scenes of many lamps, each walked under one frame budget ([`super::lamps`]).
+    #[serde(default)]
+    pub frames: Vec<crate::frames::FramesRun>,
 }
 
 /// One technique over one scene's viewing frame ([`crate::as_seen`]): the artefacts a person

@@ -29,6 +29,7 @@ pub fn render(report: &Report, papers_written: bool) -> String {
     }
     summary(&mut s, report);
     as_seen(&mut s, report);
+    lamps(&mut s, report);
     s.push_str(&crate::profile::markdown(
         crate::profile::validate(report).as_ref(),
     ));
@@ -328,4 +329,52 @@ fn as_seen(s: &mut String, report: &Report) {
         }
     }
     s.push('\n');
+}
+
+/// The scenes of many lamps: per walk, its frames' times against the budget and its frames'
+/// image errors, with its document.
+fn lamps(s: &mut String, report: &Report) {
+    if report.frames.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "\n## Scenes of many lamps\n\nEach scene walked by the frame pipeline (CPU) under one \
+         frame budget shared by its lamps: the frames' measured times (the first allocates the \
+         maps), how many ran over the budget, and the image error of each frame's summed \
+         lighting against the reference beside the same with no shadow. Every frame and every \
+         lamp's pick and error: the scene's document.\n\n| scene | lamps | budget ms | \
+         receivers | frames | measured ms (after the first) | first frame ms | over the budget | \
+         frame image error | with no shadow | document |\n|---|---:|---:|---|---:|---|---:|---:|\
+         ---|---|---|"
+    );
+    let range = |v: Vec<f64>| {
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if v.is_empty() {
+            "–".to_string()
+        } else {
+            format!("{lo:.2}-{hi:.2}")
+        }
+    };
+    for r in &report.frames {
+        let file = super::lamps::file(&r.scene);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {}x{} | {} | {} | {} | {} | {} | {} | [{file}]({file}) |",
+            r.scene,
+            r.lamps,
+            r.budget_ms,
+            r.size.0,
+            r.size.1,
+            r.frames.len(),
+            range(r.frames.iter().skip(1).map(|f| f.ms).collect()),
+            r.frames
+                .first()
+                .map_or("–".to_string(), |f| format!("{:.2}", f.ms)),
+            r.over_budget(),
+            range(r.frames.iter().map(|f| f.image_255).collect()),
+            range(r.frames.iter().map(|f| f.no_shadow_255).collect()),
+        );
+    }
 }

@@ -5,6 +5,7 @@ pub mod flicker;
 pub mod html;
 pub mod images;
 pub mod json;
+pub mod lamps;
 pub mod markdown;
 pub mod measure;
 pub mod options;
@@ -55,7 +56,8 @@ pub fn listing(quick: bool) -> String {
         let _ = writeln!(s, "  {name:18} {what}");
     }
     s.push_str(
-        "scenes of many lamps under one frame budget (harness frames --scene, viewer --scene):\n",
+        "scenes of many lamps under one frame budget, walked by the frame pipeline (--scenes; \
+         harness frames --scene; viewer --scene):\n",
     );
     for (name, what) in soft_shadow_reference::scenes::lamps::LAMP_SCENES {
         let _ = writeln!(s, "  {name:18} {what}");
@@ -85,7 +87,10 @@ fn select_scenes(opts: &ReportOptions) -> Result<Vec<SceneSpec>> {
         None => Vec::new(),
     };
     for n in names {
-        specs.push(catalogue::build(&n)?);
+        // The scenes of many lamps are walked by the frame pipeline ([`lamps`]).
+        if crate::frames::FramesScene::from_name(&n).is_none() {
+            specs.push(catalogue::build(&n)?);
+        }
     }
     for f in &opts.scene_files {
         specs.push(scene_file::load(f)?);
@@ -620,6 +625,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         strips: Vec::new(),
         skipped: Vec::new(),
         as_seen: Vec::new(),
+        frames: Vec::new(),
     };
     for job in jobs {
         runner.scene(job, &mut report)?;
@@ -644,12 +650,13 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         )?;
     }
     runner.bar.finish();
+    report.frames = lamps::measure_all(opts, &lamps::selected(opts))?;
     report.skipped = runner.skipped.clone();
     // Measured after the runs, at the largest resolution one of them reached (a resolution
     // every configuration refused is never allocated).
     let largest = report.runs.iter().map(|r| r.resolution).max().unwrap_or(0);
     report.machine.write_once_ms = cost::write_once_ms(largest);
-    if report.runs.is_empty() {
+    if report.runs.is_empty() && report.frames.is_empty() {
         return Err(HarnessError::NothingRan(format!(
             "every configuration was skipped ({})",
             if runner.skipped.is_empty() {

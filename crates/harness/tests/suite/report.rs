@@ -2,6 +2,77 @@
 
 use harness::report::{BackendChoice, ReportOptions, run, summary};
 
+/// `--scenes room-lamps`: the report walks the room's three lamps under one budget (no other
+/// scene runs): `frames-room-lamps.md`, `report.json`'s `frames` (8 frames, every lamp of each
+/// with its pick and errors), the table in `report.md` linking the document; the lamps'
+/// shadows take most of the error no shadow would leave.
+#[test]
+fn the_report_walks_the_scenes_of_many_lamps() {
+    let dir = std::env::temp_dir().join(format!("harness-report-lamps-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = ReportOptions {
+        quick: true,
+        out: dir.clone(),
+        scenes: Some(vec!["room-lamps".into()]),
+        techniques: None,
+        registry: soft_shadow_techniques::registry(),
+        resolutions: None,
+        backend: BackendChoice::Cpu,
+        scene_files: Vec::new(),
+        as_seen: None,
+        size: None,
+        memory: Default::default(),
+    };
+    let report = run(&opts).expect("report runs");
+    assert!(report.runs.is_empty(), "only the walk runs");
+    assert_eq!(report.frames.len(), 1);
+    let walk = &report.frames[0];
+    assert_eq!((walk.scene.as_str(), walk.lamps), ("room-lamps", 3));
+    assert_eq!(walk.frames.len(), 8);
+    for f in &walk.frames {
+        assert_eq!(f.lamps.len(), 3);
+        assert!(f.ms > 0.0 && f.image_255.is_finite() && f.no_shadow_255 > 0.0);
+    }
+    let mean = |g: fn(&harness::frames::FrameMeasure) -> f64| {
+        walk.frames.iter().map(g).sum::<f64>() / walk.frames.len() as f64
+    };
+    let (with, without) = (mean(|f| f.image_255), mean(|f| f.no_shadow_255));
+    println!("room-lamps walk: frame image error {with:.2}/255, no shadow {without:.2}");
+    assert!(
+        with < 0.5 * without,
+        "{with:.2} against {without:.2} with no shadow"
+    );
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("## Scenes of many lamps"), "{md}");
+    assert!(md.contains("[frames-room-lamps.md](frames-room-lamps.md)"));
+    let doc = std::fs::read_to_string(dir.join("frames-room-lamps.md")).unwrap();
+    assert!(
+        doc.contains("harness frames --scene room-lamps --budget-ms 33"),
+        "{doc}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let frames = json["frames"][0]["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 8);
+    for key in [
+        "ms",
+        "core_ms",
+        "predicted_ms",
+        "maps_generated",
+        "image_255",
+        "no_shadow_255",
+    ] {
+        assert!(frames[0][key].is_number(), "frames[].{key}");
+    }
+    for key in ["kind", "pick", "contribution", "image_255", "no_shadow_255"] {
+        assert!(
+            !frames[0]["lamps"][0][key].is_null(),
+            "frames[].lamps[].{key}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn quick_report_writes_the_contract() {
     let dir = std::env::temp_dir().join(format!("harness-report-{}", std::process::id()));
