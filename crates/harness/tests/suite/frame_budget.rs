@@ -450,6 +450,7 @@ fn walking_down_the_night_street_remakes_few_maps() {
         before = now;
     }
     let total: usize = remade.iter().sum();
+    println!("{total} maps made again, {shared_again} shares: {remade:?}");
     // Measured: 41 maps and 23 shares (a walking camera's receivers move every frame, so no
     // lamp's missing shadow is measured: the catalogue's median); 68 maps and 38 shares
     // without the floor.
@@ -754,7 +755,7 @@ fn shares_follow_what_the_frames_measure() {
 }
 
 /// The budget weighs a lamp's missing shadow by what its own `V` measures, not by the
-/// catalogue's median: in the room at 16 ms, where one lamp's shadow fits, the first frame
+/// catalogue's median: in the room at 10 ms, where one lamp's shadow fits, the first frame
 /// (every lamp at the median, 15/255) gives it to the table lamp, the brightest; once that
 /// shadow measures what it was missing (the reference reads 5.6/255 without it), the ceiling
 /// panel, whose missing shadow costs more (16.9/255), takes the budget, and the frame's
@@ -762,7 +763,7 @@ fn shares_follow_what_the_frames_measure() {
 #[test]
 fn the_budget_weighs_each_lamps_missing_shadow_by_its_own_v() {
     use soft_shadow_reference::ground_truth::GroundTruthSettings;
-    let mut room = soft_shadow_reference::scenes::lamps::room::room(160, 90, 16.0).unwrap();
+    let mut room = soft_shadow_reference::scenes::lamps::room::room(160, 90, 10.0).unwrap();
     calibrating_off(&mut room.scene.world);
     let settings = GroundTruthSettings {
         strata_side: 4,
@@ -793,5 +794,43 @@ fn the_budget_weighs_each_lamps_missing_shadow_by_its_own_v() {
     assert!(
         (measured - reference).abs() < 0.25 * reference,
         "{measured:.2} against {reference:.2}"
+    );
+}
+
+/// The budget buys the least summed error it can, not the best step at a time: in the room at
+/// 16 ms over 160 x 90 receivers the cheapest shadows of the table lamp and of the ceiling
+/// panel (45% of the light) fit together, and both get one (a greedy by error per millisecond
+/// spent the budget on the table lamp's upgrades and left the panel none: the frame's lighting
+/// 16.8/255 from the reference in the first frame, against 17.7 with no shadow at all; both
+/// shadows: 4.9).
+#[test]
+fn two_lamps_get_a_shadow_where_their_cheapest_fit_together() {
+    use soft_shadow_reference::ground_truth::GroundTruthSettings;
+    let mut room = soft_shadow_reference::scenes::lamps::room::room(160, 90, 16.0).unwrap();
+    calibrating_off(&mut room.scene.world);
+    let settings = GroundTruthSettings {
+        strata_side: 4,
+        replicates: 2,
+        ..Default::default()
+    };
+    let frames = harness::frames::walk(&mut room, &mut pipeline(), 1, 0.0, &settings).unwrap();
+    let first = &frames[0];
+    println!("{first:?}");
+    for lamp in [0, 1] {
+        assert!(
+            !first.lamps[lamp].pick.starts_with("none"),
+            "lamp {lamp}: {first:?}"
+        );
+    }
+    assert!(
+        needs(&room.scene.world, &room.lamps) <= 16.0,
+        "{}",
+        needs(&room.scene.world, &room.lamps)
+    );
+    assert!(
+        first.image_255 < 0.5 * first.no_shadow_255,
+        "{:.2} against {:.2} with no shadow",
+        first.image_255,
+        first.no_shadow_255
     );
 }

@@ -4,4 +4,5 @@
 #[cfg(feature = "gltf")]
 mod bad_input;
 mod calibration;
+mod knapsack;
 mod scene;
