@@ -13,8 +13,8 @@
 //! measured it missing while it had one ([`missing_shadow_255`]; a light whose shadow is
 //! measured for the first time shares the budget again), and the catalogue's median,
 //! [`NO_SHADOW_255`], before. A light that adds little gets a cheaper
-//! configuration or a smaller map side, or no shadow where the budget runs out first (it says
-//! so). The picks' predicted times (with their margins, scaled by what the frames measured,
+//! configuration or a smaller map side, or no shadow where the milliseconds take more error off
+//! on other lights (it says so). The picks' predicted times (with their margins, scaled by what the frames measured,
 //! [`crate::Calibration`]) never add up to more than the budget less the pipeline's own time.
 //! A light that brings nothing to any receiver (out of view, out of range, behind every
 //! receiver) gets nothing and costs nothing: no maps, `V` = 1.
@@ -197,6 +197,9 @@ struct Pick {
     /// Its cheapest configuration, `name variant side²`, and the budget it needs (with its
     /// margin), where it needs more than the whole frame budget.
     over_budget: Option<(String, f64)>,
+    /// The budget its cheapest configuration within the frame budget needs and its predicted
+    /// image error.
+    cheapest: Option<(f64, f64)>,
 }
 
 /// The lights [`share_budget`] reads and updates.
@@ -411,6 +414,7 @@ pub fn share_budget(
             within: 0.0,
             missing,
             over_budget: None,
+            cheapest: None,
         })
         .collect();
     // Each light's configurations worth buying, cheapest first: every pick `Auto` makes at
@@ -431,11 +435,13 @@ pub fn share_budget(
                         o.needs_ms(),
                     )
                 });
-            frontier
+            let ladder: Vec<(f64, f64)> = frontier
                 .iter()
                 .filter(|o| o.needs_ms() <= available)
                 .map(|o| (o.needs_ms(), o.error_255))
-                .collect()
+                .collect();
+            p.cheapest = ladder.first().copied();
+            ladder
         })
         .collect();
     // The configurations bought: the least image error, weighted by what each light brings,
@@ -459,6 +465,7 @@ pub fn share_budget(
             within,
             missing,
             ref over_budget,
+            cheapest,
             ..
         }) = picks.iter().find(|p| p.entity == e)
         else {
@@ -542,11 +549,28 @@ pub fn share_budget(
                         size.views,
                         size.receivers
                     ),
-                    None => format!(
-                        "the frame's {frame_ms} go to brighter lights before this one's \
-                         cheapest configuration ({:.2}% of the frame's light)",
-                        100.0 * fraction(e)
-                    ),
+                    None => {
+                        let none = missing.unwrap_or(NO_SHADOW_255);
+                        match cheapest {
+                            Some((_, error)) if error >= none => format!(
+                                "its missing shadow costs {none:.2}/255 of image error, no more \
+                                 than its cheapest configuration is predicted to leave \
+                                 ({error:.2}; {:.2}% of the frame's light)",
+                                100.0 * fraction(e)
+                            ),
+                            Some((needs, _)) => format!(
+                                "the frame's {frame_ms} take more image error off on the other \
+                                 lights than on this one's cheapest configuration ({needs:.2} \
+                                 ms with its margin; {:.2}% of the frame's light)",
+                                100.0 * fraction(e)
+                            ),
+                            None => format!(
+                                "no configuration fits the frame's {frame_ms} ({:.2}% of the \
+                                 frame's light)",
+                                100.0 * fraction(e)
+                            ),
+                        }
+                    }
                 });
             }
             None => {
@@ -572,19 +596,23 @@ pub fn share_budget(
 pub const BUDGET_STEPS: usize = 1024;
 
 /// The configurations a budget of `available` ms buys: for light `i`, a rung of `ladders[i]`
-/// (`(ms, image error)`, cheapest first) or none (`None`), so that the lights' summed image
-/// error, each weighted by its part (`weights[i]`: part, and the error it has with no shadow),
-/// is the least any choice within the budget gives. Solved exactly as a multiple-choice
-/// knapsack over the budget in [`BUDGET_STEPS`] steps, each rung's time rounded up to a whole
-/// step (so the times bought never add up to more than `available`); of equal sums the cheaper
-/// choice. (A greedy by error taken off per millisecond can spend a light's upgrades where the
-/// same milliseconds would have given a second light its first shadow: the room at 16 ms gave
-/// its table lamp 15.4 ms and its ceiling panel, 45% of the light, nothing.)
+/// (`(ms, image error)`) or none (`None`), so that the lights' summed image error, each
+/// weighted by its part (`weights[i]`: part, and the error it has with no shadow), is the least
+/// any choice within the budget gives. Solved exactly as a multiple-choice knapsack over the
+/// budget in [`BUDGET_STEPS`] steps, each rung's time rounded up to a whole step: the times
+/// bought add up to no more than `available`, and a choice that fits only without the rounding
+/// (within a step a light) is not seen. A light whose part is not a finite non-negative number,
+/// or a rung whose time or error is not finite, buys nothing; an error with no shadow that is
+/// not finite counts as [`NO_SHADOW_255`]. (A greedy by error taken off per millisecond can
+/// spend a light's upgrades where the same milliseconds would have given a second light its
+/// first shadow: the room at 16 ms gave its table lamp 15.4 ms and its ceiling panel, 45% of
+/// the light, nothing.)
 pub fn cheapest_error(
     ladders: &[Vec<(f64, f64)>],
     weights: &[(f64, f64)],
     available: f64,
 ) -> Vec<Option<usize>> {
+    debug_assert_eq!(ladders.len(), weights.len());
     let n = ladders.len().min(weights.len());
     if !(available.is_finite() && available > 0.0) {
         return vec![None; ladders.len()];
@@ -592,25 +620,34 @@ pub fn cheapest_error(
     let step = available / BUDGET_STEPS as f64;
     let steps = |ms: f64| (ms / step - 1e-9).ceil().max(0.0) as usize;
     // best[b]: the least weighted error of the lights so far within b steps; chose[i][b]: light
-    // i's rung there (0: none, k + 1: rung k).
+    // i's rung there (its index in the ladder), if any.
     let mut best = vec![0.0f64; BUDGET_STEPS + 1];
-    let mut chose: Vec<Vec<u16>> = Vec::with_capacity(n);
+    let mut chose: Vec<Vec<Option<usize>>> = Vec::with_capacity(n);
     for i in 0..n {
         let (part, none) = weights[i];
-        let rungs: Vec<(usize, f64)> = ladders[i]
+        let part = if part.is_finite() { part.max(0.0) } else { 0.0 };
+        let none = if none.is_finite() {
+            none
+        } else {
+            NO_SHADOW_255
+        };
+        // (ladder index, steps, weighted error) of the rungs that can be bought.
+        let rungs: Vec<(usize, usize, f64)> = ladders[i]
             .iter()
-            .map(|&(ms, e)| (steps(ms), part * e))
-            .filter(|&(w, _)| w <= BUDGET_STEPS)
+            .enumerate()
+            .filter(|(_, (ms, e))| ms.is_finite() && *ms >= 0.0 && e.is_finite())
+            .map(|(k, &(ms, e))| (k, steps(ms), part * e))
+            .filter(|&(_, w, _)| w <= BUDGET_STEPS)
             .collect();
         let mut next = vec![f64::INFINITY; BUDGET_STEPS + 1];
-        let mut pick = vec![0u16; BUDGET_STEPS + 1];
+        let mut pick = vec![None; BUDGET_STEPS + 1];
         for b in 0..=BUDGET_STEPS {
             let mut v = best[b] + part * none;
-            let mut k = 0u16;
-            for (j, &(w, e)) in rungs.iter().enumerate() {
+            let mut k = None;
+            for &(j, w, e) in &rungs {
                 if w <= b && best[b - w] + e < v {
                     v = best[b - w] + e;
-                    k = j as u16 + 1;
+                    k = Some(j);
                 }
             }
             next[b] = v;
@@ -623,10 +660,9 @@ pub fn cheapest_error(
     let mut at = vec![None; ladders.len()];
     let mut b = BUDGET_STEPS;
     for i in (0..n).rev() {
-        let k = chose[i][b] as usize;
-        if k > 0 {
-            at[i] = Some(k - 1);
-            b -= steps(ladders[i][k - 1].0);
+        if let Some(k) = chose[i][b] {
+            at[i] = Some(k);
+            b -= steps(ladders[i][k].0);
         }
     }
     at

@@ -650,7 +650,7 @@ pub fn run(opts: &ReportOptions) -> Result<Report> {
         )?;
     }
     runner.bar.finish();
-    report.frames = lamps::measure_all(opts, &lamps::selected(opts))?;
+    report.frames = lamps::measure_all(opts, &lamps::selected(opts), &mut runner.skipped)?;
     report.skipped = runner.skipped.clone();
     // Measured after the runs, at the largest resolution one of them reached (a resolution
     // every configuration refused is never allocated).

@@ -128,3 +128,22 @@ fn no_budget_buys_no_shadow() {
         vec![Some(0), None]
     );
 }
+
+/// What cannot be weighed buys nothing and spoils no other light: a part or a rung that is
+/// not finite, a missing shadow that is not (counted as the median); a ladder out of order is
+/// answered with its own indices.
+#[test]
+fn bad_weights_buy_nothing_and_spoil_no_other_light() {
+    let ladders = vec![
+        vec![(2.0, 1.0)],
+        vec![(2.0, f64::NAN), (f64::NAN, 0.5), (3.0, 2.0)],
+        vec![(9.0, 0.5), (4.0, 3.0)],
+        vec![(2.0, 1.0)],
+    ];
+    let weights = [(f64::NAN, 15.0), (1.0, f64::NAN), (1.0, 15.0), (1.0, 15.0)];
+    let at = cheapest_error(&ladders, &weights, 16.0);
+    assert_eq!(at[0], None, "{at:?}");
+    assert_eq!(at[1], Some(2), "{at:?}");
+    assert_eq!(at[2], Some(0), "{at:?}");
+    assert_eq!(at[3], Some(0), "{at:?}");
+}
