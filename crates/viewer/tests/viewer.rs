@@ -193,6 +193,27 @@ fn windowed(args: &[&str]) -> Option<Output> {
     Some(cmd.output().expect("run the viewer"))
 }
 
+/// The viewer's stdout, once it exited successfully (its output in the message otherwise).
+fn succeeded(out: &Output) -> String {
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "viewer failed:\n{stdout}\n{stderr}");
+    stdout
+}
+
+/// Where the view starts in the window, from the line "view WxH at X,Y in the window".
+fn view_place(stdout: &str) -> (u32, u32) {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("view "))
+        .expect("the view's place");
+    let nums: Vec<u32> = line
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    (nums[2], nums[3])
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     std::fs::create_dir_all(&dir).unwrap();
@@ -227,19 +248,8 @@ fn a_window_screenshot_of_two_techniques_matches_the_offscreen_frame() {
     ]) else {
         return;
     };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "viewer failed:\n{stdout}\n{stderr}");
-    // "view WxH at X,Y in the window"
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("view "))
-        .expect("the view's place");
-    let nums: Vec<u32> = line
-        .split(|c: char| !c.is_ascii_digit())
-        .filter_map(|s| s.parse().ok())
-        .collect();
-    let (x0, y0) = (nums[2], nums[3]);
+    let stdout = succeeded(&out);
+    let (x0, y0) = view_place(&stdout);
     assert!(stdout.contains("CPU recording, ms"), "{stdout}");
     let image = image::open(&shot).unwrap().to_rgba8();
     assert!(image.width() >= x0 + w && image.height() >= y0 + h);
@@ -354,9 +364,7 @@ fn a_window_shows_the_night_streets_lamps_under_one_budget() {
     ]) else {
         return;
     };
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "viewer failed:\n{stdout}\n{stderr}");
+    let stdout = succeeded(&out);
     assert!(stdout.contains("16 lamps under a 16 ms budget"), "{stdout}");
     let lamps: Vec<&str> = stdout
         .lines()
@@ -371,15 +379,7 @@ fn a_window_shows_the_night_streets_lamps_under_one_budget() {
             .any(|l| l.contains("no shadow: lights nothing in view")),
         "the lamps behind the camera: {stdout}"
     );
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("view "))
-        .expect("the view's place");
-    let nums: Vec<u32> = line
-        .split(|c: char| !c.is_ascii_digit())
-        .filter_map(|s| s.parse().ok())
-        .collect();
-    let (x0, y0) = (nums[2], nums[3]);
+    let (x0, y0) = view_place(&stdout);
     let image = image::open(&shot).unwrap().to_rgba8();
     let (mut bright, mut dark) = (0, 0);
     for y in 0..108 {
