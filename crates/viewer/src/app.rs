@@ -589,7 +589,7 @@ impl App {
             m.view_px.0, m.view_px.1, m.view_origin_px.0, m.view_origin_px.1
         );
         if let Some(l) = &m.lamps {
-            print!("{}", l.summary(&m.stats));
+            print!("{}{}", l.summary(&m.stats), pass_summary(&m.stats));
         } else {
             print!("{}", summary(&m.stats, &m.state));
         }
@@ -777,23 +777,30 @@ impl App {
                 let swing = state.animate.then_some((state.time * 60.0) as u32);
                 let times = lamps
                     .set_budget_ms(panel.budget_ms)
-                    .and_then(|()| lamps.encode(&gfx.renderer, &mut enc, state.mode, swing))
+                    .and_then(|()| {
+                        lamps.encode(
+                            &gfx.renderer,
+                            &mut enc,
+                            state.mode,
+                            swing,
+                            free.map(|f| f.0),
+                        )
+                    })
                     .map_err(|e| e.to_string());
                 panel.update(lamps);
-                times.map(|t| (t, false))
+                times
             }
             _ => shown.and_then(|shown| {
                 gfx.renderer
                     .encode_frame(&mut enc, &shown.frame(), free.map(|f| f.0))
-                    .map(|t| (t, true))
                     .map_err(|e| e.to_string())
             }),
         };
         let stamped = match drawn {
-            Ok((times, stamps)) => {
+            Ok(times) => {
                 self.model.stats.passes = times;
                 self.model.stats.log.push((times, None));
-                free.filter(|_| stamps).map(|f| f.1)
+                free.map(|f| f.1)
             }
             Err(e) => {
                 // This frame's encoder holds a partial frame: start the window's pass afresh.
@@ -979,9 +986,6 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// (which builds the pipelines).
 pub fn summary(stats: &Stats, state: &ViewState) -> String {
     let frames: Vec<f64> = stats.frame_ms.iter().skip(2).map(|&t| t as f64).collect();
-    let log = &stats.log[stats.log.len().min(1)..];
-    let cpu = |f: fn(&PassTimes) -> f64| median(log.iter().map(|(p, _)| f(p)).collect());
-    let gpu = |k: usize| median(log.iter().filter_map(|(_, g)| g.map(|g| g[k])).collect());
     let ms = median(frames);
     let mut s = format!(
         "{} {} at {}: frame {:.1} ms median ({:.1} fps)\n",
@@ -991,13 +995,23 @@ pub fn summary(stats: &Stats, state: &ViewState) -> String {
         ms,
         1e3 / ms
     );
-    s.push_str(&format!(
+    s.push_str(&pass_summary(stats));
+    s
+}
+
+/// The per-pass medians of [`summary`] over the frames after the first: the CPU's recording and,
+/// where the adapter writes timestamps, the GPU's.
+pub fn pass_summary(stats: &Stats) -> String {
+    let log = &stats.log[stats.log.len().min(1)..];
+    let cpu = |f: fn(&PassTimes) -> f64| median(log.iter().map(|(p, _)| f(p)).collect());
+    let gpu = |k: usize| median(log.iter().filter_map(|(_, g)| g.map(|g| g[k])).collect());
+    let mut s = format!(
         "  CPU recording, ms: gbuffer {:.3}, technique {:.3}, compared {:.3}, shading {:.3}\n",
         cpu(|p| p.gbuffer),
         cpu(|p| p.technique),
         cpu(|p| p.compare),
         cpu(|p| p.shade)
-    ));
+    );
     if log.iter().any(|(_, g)| g.is_some()) {
         s.push_str(&format!(
             "  GPU timestamps, ms: gbuffer {:.3}, technique {:.3}, compared {:.3}, shading {:.3}\n",

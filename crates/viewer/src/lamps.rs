@@ -237,7 +237,10 @@ impl LampsView {
     /// renderer's camera (the maps of the lamps whose maps are stale, made on the device), each
     /// lamp's `V` into its layer and the shading into [`Renderer::color`]. `swing`, where given,
     /// is the frame of [`Lamps::swing`]'s swing. `mode` [`ViewMode::Visibility`] shows the
-    /// lamps' `V` weighed by their light; every other mode the shaded frame ([`lamps_mode`]). Returns the CPU
+    /// lamps' `V` weighed by their light; every other mode the shaded frame ([`lamps_mode`]).
+    /// Writes [`crate::renderer::TIMESTAMPS`] timestamps into `timestamps` where given, as
+    /// [`Renderer::encode_frame`] does: the lamps' `V` passes stand as the technique (the maps
+    /// the pipeline makes are its own submissions), none as the compared one. Returns the CPU
     /// time of each part: the G-buffer, the pipeline and the lamps' `V` (as the technique),
     /// and the shading.
     pub fn encode(
@@ -246,7 +249,13 @@ impl LampsView {
         enc: &mut wgpu::CommandEncoder,
         mode: ViewMode,
         swing: Option<u32>,
+        timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<PassTimes> {
+        let stamp = |enc: &mut wgpu::CommandEncoder, i| {
+            if let Some(q) = timestamps {
+                enc.write_timestamp(q, i);
+            }
+        };
         let mut times = PassTimes::default();
         let mut clock = Instant::now();
         let mut lap = |t: &mut f64| {
@@ -274,7 +283,9 @@ impl LampsView {
                 &self.visibility,
             );
         }
+        stamp(enc, 0);
         renderer.encode_gbuffer(enc);
+        stamp(enc, 1);
         lap(&mut times.gbuffer);
         if s.camera != self.lamps.camera {
             self.lamps.look(s.camera);
@@ -299,6 +310,8 @@ impl LampsView {
             },
         )?;
         self.stats = Some(stats);
+        stamp(enc, 2);
+        stamp(enc, 3);
         lap(&mut times.technique);
         let data = Self::lamp_data(&self.lamps);
         if data != self.shade.lamps {
@@ -324,6 +337,7 @@ impl LampsView {
             pass.set_bind_group(0, &self.bind, &[]);
             pass.dispatch_workgroups(s.width.div_ceil(8), s.height.div_ceil(8), 1);
         }
+        stamp(enc, 4);
         lap(&mut times.shade);
         Ok(times)
     }

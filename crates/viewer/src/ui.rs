@@ -94,7 +94,8 @@ impl LampsPanel {
             .map_or((0, 0), |s| (s.maps_generated, s.maps_reused));
     }
 
-    /// The command-line summary: frame rate, the budget and every lamp's pick.
+    /// The command-line summary: frame rate, the budget and every lamp's pick (the passes'
+    /// times follow it, the frame pipeline and the lamps' `V` as the technique).
     pub(crate) fn summary(&self, stats: &Stats) -> String {
         use std::fmt::Write as _;
         let mut frames: Vec<f32> = stats.frame_ms.iter().skip(2).copied().collect();

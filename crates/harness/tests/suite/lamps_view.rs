@@ -72,7 +72,8 @@ fn lamps_draw_their_shadows(test: &str, name: &str, budget_ms: f64, shadowed: us
     let mut view = LampsView::new(&r, name, budget_ms).unwrap();
     for frame in 0..2 {
         let mut enc = r.gpu.device.create_command_encoder(&Default::default());
-        view.encode(&r, &mut enc, ViewMode::Shaded, None).unwrap();
+        view.encode(&r, &mut enc, ViewMode::Shaded, None, None)
+            .unwrap();
         r.gpu.queue.submit([enc.finish()]);
         let stats = view.stats.as_ref().unwrap();
         if frame == 1 {
@@ -239,7 +240,7 @@ fn the_lamps_follow_the_views_shape_and_size() {
     assert_eq!(view.lamps.size(), (90, 90));
     let draw = |r: &Renderer, view: &mut LampsView, mode| {
         let mut enc = r.gpu.device.create_command_encoder(&Default::default());
-        view.encode(r, &mut enc, mode, None).unwrap();
+        view.encode(r, &mut enc, mode, None, None).unwrap();
         r.gpu.queue.submit([enc.finish()]);
         against_the_mirror(r, view, mode)
     };
