@@ -642,9 +642,11 @@ pub fn build(name: &str) -> Result<SceneSpec> {
         ),
         other => {
             return Err(ShadowError::InvalidScene(format!(
-                "unknown scene {other:?}; built-in scenes: {}, {}",
+                "unknown scene {other:?}; built-in scenes: {}, {}; scenes of many lamps (the \
+                 frame pipeline's): {}",
                 SCENE_NAMES.join(", "),
-                AS_SEEN_NAMES.join(", ")
+                AS_SEEN_NAMES.join(", "),
+                super::lamps::LAMP_SCENES.map(|(n, _)| n).join(", ")
             )));
         }
     })
