@@ -98,7 +98,8 @@ impl ReceiverBuffers {
     }
 }
 
-/// Records one compute pass (timed under [`GpuContext::gpu_time`]) that dispatches `groups`
+/// Records one compute pass (timed under [`GpuContext::gpu_time`] and
+/// [`GpuContext::time_passes_into`]) that dispatches `groups`
 /// workgroups of `pipeline` with `bind` at group 0.
 pub fn dispatch(
     ctx: &GpuContext,

@@ -7,6 +7,11 @@
 //! outside passes are not counted. Needs [`wgpu::Features::TIMESTAMP_QUERY`] (requested when the
 //! adapter has it); without it, or when the work records more than [`MAX_TIMED_PASSES`] passes,
 //! the time is `None` and callers fall back to wall time.
+//!
+//! [`GpuContext::gpu_time`] waits for the device. A frame that must not wait writes its passes'
+//! timestamps into its own [`PassTimestamps`] with [`GpuContext::time_passes_into`], resolves them
+//! into its command encoder and reads them back frames later ([`pass_durations`] turns the ticks
+//! into durations).
 
 use super::GpuContext;
 use crate::error::{Result, ShadowError};
@@ -17,10 +22,70 @@ use std::time::Duration;
 /// Most passes one [`GpuContext::gpu_time`] call can time.
 pub const MAX_TIMED_PASSES: u32 = 2048;
 
-/// The query set of one timing and the next free query.
+/// The query set of one timing, its size in queries, and the next free query.
 pub(super) struct TimerState {
     set: wgpu::QuerySet,
+    capacity: u32,
     next: AtomicU32,
+}
+
+impl TimerState {
+    fn new(c: &GpuContext, label: &str, passes: u32) -> Self {
+        TimerState {
+            set: c.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some(label),
+                ty: wgpu::QueryType::Timestamp,
+                count: passes * 2,
+            }),
+            capacity: passes * 2,
+            next: AtomicU32::new(0),
+        }
+    }
+}
+
+/// Timestamp queries, two per pass, that the passes recorded under
+/// [`GpuContext::time_passes_into`] write, for a caller that resolves and reads them itself
+/// (without waiting for the device, as [`GpuContext::gpu_time`] does).
+pub struct PassTimestamps {
+    state: Arc<TimerState>,
+}
+
+impl PassTimestamps {
+    /// Queries for `passes` passes on `ctx`'s device; `None` where the device has no
+    /// [`wgpu::Features::TIMESTAMP_QUERY`] or `passes` is 0 or more than [`MAX_TIMED_PASSES`].
+    pub fn new(ctx: &GpuContext, label: &str, passes: u32) -> Option<Self> {
+        (ctx.has_timestamps() && (1..=MAX_TIMED_PASSES).contains(&passes)).then(|| Self {
+            state: Arc::new(TimerState::new(ctx, label, passes)),
+        })
+    }
+
+    /// The query set, to resolve (`resolve_query_set(set, 0..used, ...)`).
+    pub fn query_set(&self) -> &wgpu::QuerySet {
+        &self.state.set
+    }
+
+    /// The queries written so far (an even count: every pass writes its beginning and end),
+    /// at most the set's size.
+    pub fn used(&self) -> u32 {
+        self.state
+            .next
+            .load(Ordering::Relaxed)
+            .min(self.state.capacity)
+    }
+
+    /// Starts again from the first query (once what was written is resolved).
+    pub fn reset(&self) {
+        self.state.next.store(0, Ordering::Relaxed);
+    }
+}
+
+/// The durations of the passes whose timestamps `ticks` holds in pairs (beginning, end), in
+/// nanoseconds: `period` nanoseconds per tick (`wgpu::Queue::get_timestamp_period`). A pair
+/// whose end is before its beginning counts 0.
+pub fn pass_durations(ticks: &[u64], period: f32) -> impl Iterator<Item = f64> + '_ {
+    ticks
+        .chunks_exact(2)
+        .map(move |p| p[1].saturating_sub(p[0]) as f64 * f64::from(period))
 }
 
 /// The two timestamp queries of one pass: pass its writes to the pass descriptor.
@@ -58,7 +123,8 @@ impl GpuContext {
             .contains(wgpu::Features::TIMESTAMP_QUERY)
     }
 
-    /// The timestamp queries for the next pass while [`gpu_time`](Self::gpu_time) runs on this
+    /// The timestamp queries for the next pass while [`gpu_time`](Self::gpu_time) or
+    /// [`time_passes_into`](Self::time_passes_into) runs on this
     /// context; `None` otherwise (the pass is then recorded without timestamps).
     pub fn pass_slot(&self) -> Option<PassSlot> {
         let state = self
@@ -67,10 +133,11 @@ impl GpuContext {
             .unwrap_or_else(|e| e.into_inner())
             .clone()?;
         let index = state.next.fetch_add(2, Ordering::Relaxed);
-        (index + 1 < MAX_TIMED_PASSES * 2).then_some(PassSlot { state, index })
+        (index + 1 < state.capacity).then_some(PassSlot { state, index })
     }
 
-    /// A compute pass on `enc`, timed while [`gpu_time`](Self::gpu_time) runs.
+    /// A compute pass on `enc`, timed while [`gpu_time`](Self::gpu_time) or
+    /// [`time_passes_into`](Self::time_passes_into) runs.
     pub fn begin_compute_pass<'e>(
         &self,
         enc: &'e mut wgpu::CommandEncoder,
@@ -83,6 +150,25 @@ impl GpuContext {
         })
     }
 
+    /// Runs `work` with every pass it records on this context ([`GpuContext::pass_slot`])
+    /// writing its timestamps into `stamps`, after those written before; returns its output and
+    /// the queries it wrote (`None` where the set ran out of queries: some passes went
+    /// untimed). Nothing waits: resolve the queries after the passes are recorded. Work
+    /// recorded by other threads on this context meanwhile writes into `stamps` too; one timing
+    /// at a time (this or [`GpuContext::gpu_time`]): the context's passes are untimed after it.
+    pub fn time_passes_into<T>(
+        &self,
+        stamps: &PassTimestamps,
+        work: impl FnOnce() -> T,
+    ) -> (T, Option<std::ops::Range<u32>>) {
+        let start = stamps.state.next.load(Ordering::Relaxed);
+        *self.timer.lock().unwrap_or_else(|e| e.into_inner()) = Some(stamps.state.clone());
+        let out = work();
+        *self.timer.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        let end = stamps.state.next.load(Ordering::Relaxed);
+        (out, (end <= stamps.state.capacity).then_some(start..end))
+    }
+
     /// Runs `work` and returns its output with the device time of the passes it recorded on this
     /// context (see the module docs); `None` without timestamp support or past
     /// [`MAX_TIMED_PASSES`]. Work recorded by other threads on this context meanwhile is counted
@@ -92,26 +178,19 @@ impl GpuContext {
             return work().map(|t| (t, None));
         }
         // One query set per context, reused by every timing.
-        let state = self.cached(|c| TimerState {
-            set: c.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pass timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: MAX_TIMED_PASSES * 2,
-            }),
-            next: AtomicU32::new(0),
-        });
+        let state = self.cached(|c| TimerState::new(c, "pass timestamps", MAX_TIMED_PASSES));
         state.next.store(0, Ordering::Relaxed);
-        *self.timer.lock().unwrap_or_else(|e| e.into_inner()) = Some(state.clone());
-        let out = work();
-        *self.timer.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        let stamps = PassTimestamps { state };
+        let (out, used) = self.time_passes_into(&stamps, work);
         let out = out?;
-        let used = state.next.load(Ordering::Relaxed);
+        let Some(used) = used else {
+            return Ok((out, None));
+        };
+        let used = used.end;
         if used == 0 {
             return Ok((out, Some(Duration::ZERO)));
         }
-        if used > MAX_TIMED_PASSES * 2 {
-            return Ok((out, None));
-        }
+        let state = &stamps.state;
         let bytes = u64::from(used) * 8;
         let resolve = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("timestamps"),
@@ -123,11 +202,7 @@ impl GpuContext {
         enc.resolve_query_set(&state.set, 0..used, &resolve, 0);
         self.queue.submit([enc.finish()]);
         let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&self.read_buffer(&resolve, bytes)?);
-        let period = f64::from(self.queue.get_timestamp_period());
-        let ns: f64 = ticks
-            .chunks_exact(2)
-            .map(|p| p[1].saturating_sub(p[0]) as f64 * period)
-            .sum();
+        let ns: f64 = pass_durations(&ticks, self.queue.get_timestamp_period()).sum();
         if !ns.is_finite() {
             return Err(ShadowError::Gpu(format!("timestamp sum {ns} ns")));
         }
