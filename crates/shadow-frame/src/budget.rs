@@ -294,7 +294,8 @@ pub fn share_budget(
         || changed_config
         || moved
         || config_removed
-        || recalibrated)
+        || recalibrated
+        || inputs.texels_changed())
     {
         return;
     }
@@ -352,7 +353,14 @@ pub fn share_budget(
             }
         }
     });
-    if !(budget.is_changed() || changed_config || config_removed || drifted || recalibrated) {
+    let texels = inputs.texels_changed();
+    if !(budget.is_changed()
+        || changed_config
+        || config_removed
+        || drifted
+        || recalibrated
+        || texels)
+    {
         for (e, l, c, _, mut s) in &mut lights {
             if !c.shares_budget(&l.0) {
                 continue;

@@ -8,7 +8,7 @@
 //! scene) where the profile's predictions run short, the picks get cheaper within a few frames,
 //! and where they run long, better.
 
-use crate::stats::FrameStats;
+use crate::stats::{FrameStats, LightStats};
 use bevy_ecs::prelude::*;
 use std::collections::{BTreeMap, VecDeque};
 
@@ -36,10 +36,16 @@ pub const CALIBRATION_MIN_MS: f64 = 0.1;
 /// A frame's ratio is clamped to within this factor of 1 before it counts.
 pub const CALIBRATION_MAX_FACTOR: f64 = 16.0;
 
+/// [`CALIBRATION_MAX_FACTOR`] for the device times of a GPU frame
+/// ([`Calibration::update_gpu`]): a GPU may run the CPU profile's stand-in rows orders of
+/// magnitude faster, and a software rasterizer slower.
+pub const CALIBRATION_MAX_GPU_FACTOR: f64 = 16384.0;
+
 /// How the frames' measured times compare with the profile's predictions, kept by
 /// [`crate::FramePipeline::run`] after every frame ([`Calibration::update`]): `Auto` and the
-/// shared budget multiply a configuration's predicted generation by [`Calibration::generate`]
-/// and its evaluation by [`Calibration::evaluate`] (before its margin), and the shared budget
+/// shared budget multiply a configuration's predicted generation by its
+/// [`Calibration::generate_for`] and its evaluation by its [`Calibration::evaluate_for`] (before
+/// its margin), and the shared budget
 /// keeps [`Calibration::core_ms`] of the [`crate::FrameBudget`] for the pipeline's own work.
 /// Remove or reset it to start again from the profile as fitted.
 #[derive(Resource, Clone, Debug, PartialEq)]
@@ -61,6 +67,9 @@ pub struct Calibration {
     /// Per configuration (`name variant`), the generation ratios of its last
     /// [`CALIBRATION_FRAMES`] generations.
     per_configuration: BTreeMap<String, VecDeque<f64>>,
+    /// Per configuration, the evaluation ratios of its last [`CALIBRATION_FRAMES`] timed
+    /// evaluations on the device ([`Calibration::evaluate_for`]).
+    per_configuration_eval: BTreeMap<String, VecDeque<f64>>,
 }
 
 impl Default for Calibration {
@@ -80,6 +89,7 @@ impl Calibration {
         core_ms: 0.0,
         recent: [VecDeque::new(), VecDeque::new(), VecDeque::new()],
         per_configuration: BTreeMap::new(),
+        per_configuration_eval: BTreeMap::new(),
     };
 
     /// A calibration of these factors and pipeline time, as if measured: until frames are
@@ -118,14 +128,45 @@ impl Calibration {
         if stats.frame <= 1 {
             return;
         }
+        if lights_timed {
+            self.take_lights(
+                &stats.lights,
+                CALIBRATION_MAX_FACTOR,
+                CALIBRATION_MIN_MS,
+                false,
+            );
+        }
+        let core = stats.core.total_ms();
+        if core.is_finite() {
+            push(&mut self.recent[2], core, CALIBRATION_FRAMES);
+        }
+        self.core_ms = self.recent[2].iter().copied().fold(0.0, f64::max);
+    }
+
+    /// Takes in the device times of a GPU frame's lights ([`crate::gpu_timing`]), as
+    /// [`Calibration::update`] takes a CPU frame's wall times: one frame's lines, measured in
+    /// device milliseconds. The GPU stands in the CPU profile's rows where it has none, so its
+    /// ratios may lie further from 1: each is clamped to within [`CALIBRATION_MAX_GPU_FACTOR`].
+    /// Timestamps do not measure a clock's overhead, so a prediction under
+    /// [`CALIBRATION_MIN_MS`] counts too; and each light's own time is its own, so its
+    /// evaluation also calibrates its configuration's ([`Calibration::evaluate_for`]): on the
+    /// device one technique's `V` pass may run far slower against its CPU row than another's.
+    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
+    pub(crate) fn update_gpu(&mut self, lights: &[LightStats]) {
+        self.take_lights(lights, CALIBRATION_MAX_GPU_FACTOR, 0.0, true);
+    }
+
+    /// One frame's lights' measured-over-predicted ratios, each clamped to within `max` of 1,
+    /// where the predictions compared add up to at least `min_ms`; with `own_evaluation`,
+    /// each light's evaluation ratio also joins its configuration's.
+    fn take_lights(&mut self, lights: &[LightStats], max: f64, min_ms: f64, own_evaluation: bool) {
         let ratio = |measured: f64, predicted: f64| {
-            (predicted >= CALIBRATION_MIN_MS && measured > 0.0).then(|| {
-                (measured / predicted).clamp(1.0 / CALIBRATION_MAX_FACTOR, CALIBRATION_MAX_FACTOR)
-            })
+            (predicted >= min_ms && predicted > 0.0 && measured > 0.0)
+                .then(|| (measured / predicted).clamp(1.0 / max, max))
         };
         let mut generations = Vec::new();
         let (mut eval_measured, mut eval_predicted) = (0.0, 0.0);
-        for l in stats.lights.iter().filter(|_| lights_timed) {
+        for l in lights {
             let Some([g, e]) = l.profile_ms else { continue };
             if l.views_generated > 0
                 && let Some(r) = ratio(l.generate_ms, g)
@@ -142,21 +183,25 @@ impl Calibration {
             if l.receivers_evaluated > 0 {
                 eval_measured += l.evaluate_ms;
                 eval_predicted += e;
+                if own_evaluation && let Some(r) = ratio(l.evaluate_ms, e) {
+                    push(
+                        self.per_configuration_eval
+                            .entry(l.technique.clone())
+                            .or_default(),
+                        r,
+                        CALIBRATION_FRAMES,
+                    );
+                }
             }
         }
-        let core = stats.core.total_ms();
         for r in generations {
             push(&mut self.recent[0], r, CALIBRATION_GENERATIONS);
         }
         if let Some(r) = ratio(eval_measured, eval_predicted) {
             push(&mut self.recent[1], r, CALIBRATION_FRAMES);
         }
-        if core.is_finite() {
-            push(&mut self.recent[2], core, CALIBRATION_FRAMES);
-        }
         self.generate = median(&self.recent[0], 1.0);
         self.evaluate = median(&self.recent[1], 1.0);
-        self.core_ms = self.recent[2].iter().copied().fold(0.0, f64::max);
     }
 
     /// The factor on configuration `technique variant`'s predicted generation: the median of
@@ -169,8 +214,21 @@ impl Calibration {
             .map_or(self.generate, |r| median(r, self.generate))
     }
 
+    /// The factor on configuration `technique variant`'s predicted evaluation: the median of
+    /// its last [`CALIBRATION_FRAMES`] evaluations timed on the device
+    /// ([`Calibration::update_gpu`]; short of [`CALIBRATION_MIN_SAMPLES`],
+    /// [`Calibration::evaluate`] stands in for the rest), and [`Calibration::evaluate`] for a
+    /// configuration without (every configuration on the CPU, where one frame's evaluations
+    /// are timed together).
+    pub fn evaluate_for(&self, technique: &str, variant: &str) -> f64 {
+        self.per_configuration_eval
+            .get(&format!("{technique} {variant}"))
+            .map_or(self.evaluate, |r| median(r, self.evaluate))
+    }
+
     /// The largest factor by which a factor differs from `other`'s: `generate`, `evaluate`, or
-    /// a configuration's own ([`Calibration::generate_for`]) that either has measured.
+    /// a configuration's own ([`Calibration::generate_for`], [`Calibration::evaluate_for`])
+    /// that either has measured.
     pub fn drift(&self, other: &Calibration) -> f64 {
         let f = |a: f64, b: f64| (a / b).max(b / a);
         let own = self
@@ -182,9 +240,19 @@ impl Calibration {
                 f(self.generate_for(t, v), other.generate_for(t, v))
             })
             .fold(1.0, f64::max);
+        let own_eval = self
+            .per_configuration_eval
+            .keys()
+            .chain(other.per_configuration_eval.keys())
+            .map(|k| {
+                let (t, v) = k.split_once(' ').unwrap_or((k, ""));
+                f(self.evaluate_for(t, v), other.evaluate_for(t, v))
+            })
+            .fold(1.0, f64::max);
         f(self.generate, other.generate)
             .max(f(self.evaluate, other.evaluate))
             .max(own)
+            .max(own_eval)
     }
 }
 

@@ -275,6 +275,15 @@ impl FrameBackend {
     }
 }
 
+/// The texels of the last visibility texture [`crate::gpu_frame::record_visibility`] recorded into: what a GPU
+/// frame's lights evaluate, which `Auto` and the shared budget predict for them in place of the
+/// frame's receivers when those are not evaluated ([`crate::FrameSettings::evaluate_receivers`]
+/// off). `record_visibility` keeps it; insert it before the first frame (your G-buffer's width
+/// times height) so that the first frame's picks predict the texels too, and its second does
+/// not pick again.
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RecordedTexels(pub usize);
+
 /// Frame settings.
 #[derive(Resource, Clone, Copy)]
 #[non_exhaustive]

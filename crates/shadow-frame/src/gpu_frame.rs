@@ -1,6 +1,7 @@
 //! The GPU frame: after [`FramePipeline::run`](crate::FramePipeline::run) on the GPU backend,
 //! [`record_visibility`] records every light's `V` over your G-buffer into your command encoder,
-//! each light into its layer ([`VisibilityLayer`]) of a texture you own. Nothing is read back:
+//! each light into its layer ([`VisibilityLayer`]) of a texture you own. Nothing is read back
+//! (but the passes' timestamps, where you ask for them with a [`crate::GpuTiming`]):
 //! the maps stay where the pipeline keeps them (made again only for stale lights), and `V` is the
 //! same function the CPU path evaluates for [`FrameReceivers`](crate::FrameReceivers) within the
 //! light's influence; beyond it (`ShadowConfig::with_range`, where the light adds nothing) the
@@ -10,7 +11,8 @@
 //! G-buffer, say its corners, or none where the casters' shadows fall within the casters'
 //! bounds): the maps are fitted to the casters and those receivers.
 
-use crate::components::LightState;
+use crate::components::{LightState, RecordedTexels};
+use crate::gpu_timing::GpuTiming;
 use bevy_ecs::prelude::*;
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::{GpuContext, Result, ShadowError};
@@ -103,9 +105,38 @@ pub fn record_visibility(
         }
     }
     let ones = world.get_resource::<Ones>().map(|o| o.buffer.clone());
-    let mut query = world.query::<(&VisibilityLayer, &LightState)>();
+    let texels = RecordedTexels(size.0 as usize * size.1 as usize);
+    if world.get_resource::<RecordedTexels>() != Some(&texels) {
+        // A new count shares the budget again (the predictions count texels).
+        world.insert_resource(texels);
+    }
+    // Where a `GpuTiming` asks for it, every light's `V` passes write timestamps, resolved
+    // after the last of them.
+    let mut timing = world.remove_resource::<GpuTiming>();
+    let recorded = record_layers(world, gpu, enc, targets, ones, timing.as_mut());
+    if let Some(mut t) = timing {
+        if recorded.is_ok() {
+            t.resolve(enc, size.0 as usize * size.1 as usize);
+        }
+        world.insert_resource(t);
+    }
+    recorded
+}
+
+/// [`record_visibility`]'s recording, every layer checked.
+fn record_layers(
+    world: &mut World,
+    gpu: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    targets: &FrameTextures,
+    ones: Option<wgpu::Buffer>,
+    mut timing: Option<&mut GpuTiming>,
+) -> Result<usize> {
+    let texture = targets.visibility;
+    let size = (texture.width(), texture.height());
+    let mut query = world.query::<(Entity, &VisibilityLayer, &LightState)>();
     let mut recorded = 0;
-    for (layer, state) in query.iter(world) {
+    for (light, layer, state) in query.iter(world) {
         let usable = state.maps.as_ref().filter(|_| state.error.is_none());
         let view = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("light visibility layer"),
@@ -116,16 +147,24 @@ pub fn record_visibility(
             ..Default::default()
         });
         match usable {
-            Some(maps) => maps.record_visibility(
-                gpu,
-                enc,
-                &ReceiverTextures {
-                    positions: targets.positions,
-                    normals: targets.normals,
-                    visibility: &view,
-                    size,
-                },
-            )?,
+            Some(maps) => {
+                let mut work = || {
+                    maps.record_visibility(
+                        gpu,
+                        enc,
+                        &ReceiverTextures {
+                            positions: targets.positions,
+                            normals: targets.normals,
+                            visibility: &view,
+                            size,
+                        },
+                    )
+                };
+                match timing.as_deref_mut() {
+                    Some(t) => t.time_visibility(gpu, light, work),
+                    None => work(),
+                }?
+            }
             None => match &ones {
                 Some(buffer) => unshadowed(enc, buffer, texture, layer.0),
                 None => unreachable!("a light without maps made the buffer of ones"),

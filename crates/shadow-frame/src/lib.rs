@@ -7,6 +7,8 @@ pub mod components;
 pub mod gltf;
 #[cfg(feature = "gpu")]
 pub mod gpu_frame;
+#[cfg(feature = "gpu")]
+pub mod gpu_timing;
 pub mod profile;
 pub mod scene;
 pub mod stats;
@@ -18,6 +20,8 @@ pub mod tracking;
 pub use budget::FrameBudget;
 pub use calibration::Calibration;
 pub use components::*;
+#[cfg(feature = "gpu")]
+pub use gpu_timing::GpuTiming;
 pub use profile::{Calibrated, Pick, ProfileEntry, SceneSize, TechniqueProfile};
 pub use scene::{Scene, Shadows};
 pub use stats::{CoreStats, FrameStats, LightStats, TechniqueStats};
@@ -27,7 +31,7 @@ use bevy_ecs::prelude::*;
 use soft_shadow_core::technique::DynTechnique;
 use soft_shadow_core::{Family, Registry, Tier};
 use std::sync::Arc;
-use technique_system::{CasterQuery, LightQuery, run_technique};
+use technique_system::{CasterQuery, LightQuery};
 
 /// Every technique instance registered with the pipeline (what `Auto` may pick from).
 #[derive(Resource, Clone, Default)]
@@ -153,15 +157,28 @@ impl FramePipeline {
         // Built before the clock starts (a new schedule, technique or world rebuilds it), so the
         // core sets' times hold only their systems. A build error is `run`'s to report.
         let _ = self.schedule.initialize(world);
+        let settings = *world.resource::<FrameSettings>();
+        let on_gpu = world.resource::<FrameBackend>().backend == soft_shadow_core::Backend::Gpu;
+        // The device times of earlier GPU frames that have come back, where they are timed.
+        #[cfg(feature = "gpu")]
+        let arrived = gpu_timing::begin_frame(world, frame);
         world.insert_resource(CoreClock(std::time::Instant::now()));
         self.schedule.run(world);
         let stats = world.resource::<FrameStats>().clone();
-        let settings = *world.resource::<FrameSettings>();
+        #[cfg(feature = "gpu")]
+        if let Some(mut t) = world.get_resource_mut::<GpuTiming>() {
+            t.end_run(&stats.lights);
+        }
         if settings.calibrating {
-            // A GPU frame that reads nothing back times only its recording of the lights' work.
-            let gpu = world.resource::<FrameBackend>().backend == soft_shadow_core::Backend::Gpu;
-            let timed = !gpu || settings.evaluate_receivers;
-            world.resource_mut::<Calibration>().update(&stats, timed);
+            // A GPU frame that reads nothing back times only its recording of the lights' work:
+            // its lights calibrate by their device times, where a `GpuTiming` brings them.
+            let timed = !on_gpu || settings.evaluate_receivers;
+            let mut calibration = world.resource_mut::<Calibration>();
+            calibration.update(&stats, timed);
+            #[cfg(feature = "gpu")]
+            for lights in &arrived {
+                calibration.update_gpu(lights);
+            }
         }
         stats
     }
@@ -217,26 +234,36 @@ fn core_clock<const SET: usize>(clock: Option<ResMut<CoreClock>>, mut stats: Res
 /// Technique `name`'s system in its set, after the core sets, run only when used.
 fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
     schedule.configure_sets(TechniqueSet(name).after(CoreSet::Stale));
-    let system = move |lights: LightQuery,
-                       casters: CasterQuery,
-                       index: Res<CasterIndex>,
-                       frame: Res<FrameReceivers>,
-                       receivers_error: Res<ReceiversError>,
-                       backend: Res<FrameBackend>,
-                       settings: Res<FrameSettings>,
-                       stats: ResMut<FrameStats>| {
-        run_technique(
-            name,
-            lights,
-            casters,
-            index,
-            frame,
-            receivers_error,
-            backend,
-            settings,
-            stats,
-        )
-    };
+    let system =
+        move |lights: LightQuery,
+              casters: CasterQuery,
+              index: Res<CasterIndex>,
+              frame: Res<FrameReceivers>,
+              receivers_error: Res<ReceiversError>,
+              backend: Res<FrameBackend>,
+              settings: Res<FrameSettings>,
+              stats: ResMut<FrameStats>,
+              #[cfg(feature = "gpu")] mut timing: Option<ResMut<GpuTiming>>| {
+            // A light's generation, its passes timed on the device where a `GpuTiming` is on.
+            #[cfg(feature = "gpu")]
+            let mut timed = |light: Entity, work: &mut dyn FnMut()| match (
+                backend.gpu.as_deref(),
+                timing.as_deref_mut(),
+            ) {
+                (Some(g), Some(t)) => t.time_generation(g, light, work),
+                _ => work(),
+            };
+            #[cfg(not(feature = "gpu"))]
+            let mut timed = |_: Entity, work: &mut dyn FnMut()| work();
+            technique_system::run_technique_timed(
+                name,
+                (lights, casters, index, frame, receivers_error),
+                &backend,
+                &settings,
+                stats,
+                &mut timed,
+            )
+        };
     let used = move |lights: Query<&ResolvedTechnique>, casters: Query<(), With<ShadowCaster>>| {
         !casters.is_empty() && lights.iter().any(|r| r.technique.name() == name)
     };

@@ -386,7 +386,7 @@ impl TechniqueProfile {
 
 /// A [`TechniqueProfile`] whose predictions are scaled by what the frames measured against it
 /// (a [`Calibration`]: each configuration's generation by [`Calibration::generate_for`], its
-/// evaluation by [`Calibration::evaluate`]), for choosing.
+/// evaluation by [`Calibration::evaluate_for`]), for choosing.
 #[derive(Clone, Copy, Debug)]
 pub struct Calibrated<'a> {
     /// The profile.
@@ -414,7 +414,7 @@ impl<'a> Calibrated<'a> {
             };
             let factors = [
                 self.calibration.generate_for(&e.technique, &e.variant),
-                self.calibration.evaluate,
+                self.calibration.evaluate_for(&e.technique, &e.variant),
             ];
             for side in SIDES
                 .into_iter()

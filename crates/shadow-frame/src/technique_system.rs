@@ -136,17 +136,51 @@ fn light_stats(
 #[allow(clippy::too_many_arguments)]
 pub fn run_technique(
     name: &str,
-    mut lights: LightQuery,
+    lights: LightQuery,
     casters: CasterQuery,
     index: Res<CasterIndex>,
     frame: Res<FrameReceivers>,
     receivers_error: Res<ReceiversError>,
     backend: Res<FrameBackend>,
     settings: Res<FrameSettings>,
+    stats: ResMut<FrameStats>,
+) {
+    run_technique_timed(
+        name,
+        (lights, casters, index, frame, receivers_error),
+        &backend,
+        &settings,
+        stats,
+        &mut |_, work| work(),
+    );
+}
+
+/// What a technique's frame reads of the scene: its lights, the casters and their index, the
+/// frame's receivers and why they cannot be shaded.
+pub(crate) type TechniqueInputs<'w, 's> = (
+    LightQuery<'w, 's>,
+    CasterQuery<'w, 's>,
+    Res<'w, CasterIndex>,
+    Res<'w, FrameReceivers>,
+    Res<'w, ReceiversError>,
+);
+
+/// [`run_technique`], each light's generation on the GPU backend run through `timed` (with
+/// the light), which times its passes on the device where the frame asks for it.
+pub(crate) fn run_technique_timed(
+    name: &str,
+    (mut lights, casters, index, frame, receivers_error): TechniqueInputs,
+    backend: &FrameBackend,
+    settings: &FrameSettings,
     mut stats: ResMut<FrameStats>,
+    timed: &mut dyn FnMut(Entity, &mut dyn FnMut()),
 ) {
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
+    let on_gpu = backend.backend == soft_shadow_core::Backend::Gpu;
+    let mut timed = |light: Entity, work: &mut dyn FnMut()| {
+        if on_gpu { timed(light, work) } else { work() }
+    };
     // What the camera sees, for distant lights' cascades: computed once, and only when one
     // is served.
     let seen = std::cell::OnceCell::new();
@@ -185,9 +219,12 @@ pub fn run_technique(
         if let (true, false, Some(maps)) = (cascaded, state.stale, state.maps.as_mut()) {
             let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
             let views = LightViews::plan(&light.0, &g, seen());
-            let followed = backend.context().and_then(|ctx| {
-                maps.follow(ctx, &g, &light.0, &views, resolved.resolution)
-                    .map_err(|e| e.to_string())
+            let mut followed = Err(String::new());
+            timed(entity, &mut || {
+                followed = backend.context().and_then(|ctx| {
+                    maps.follow(ctx, &g, &light.0, &views, resolved.resolution)
+                        .map_err(|e| e.to_string())
+                });
             });
             match followed {
                 Ok(Some(remade)) => (views_generated, views_total) = (remade, views.len()),
@@ -214,11 +251,14 @@ pub fn run_technique(
                 continue;
             }
             (views_generated, views_total) = (views.len(), views.len());
-            let made = backend.context().and_then(|ctx| {
-                resolved
-                    .technique
-                    .generate_in(ctx, &g, &light.0, &views, resolved.resolution)
-                    .map_err(|e| e.to_string())
+            let mut made = Err(String::new());
+            timed(entity, &mut || {
+                made = backend.context().and_then(|ctx| {
+                    resolved
+                        .technique
+                        .generate_in(ctx, &g, &light.0, &views, resolved.resolution)
+                        .map_err(|e| e.to_string())
+                });
             });
             match made {
                 Ok(m) => {

@@ -917,6 +917,9 @@ impl App {
         });
         gfx.queue
             .submit(extra.into_iter().chain(std::iter::once(enc.finish())));
+        if let Some(lamps) = gfx.lamps.as_mut() {
+            lamps.submitted();
+        }
         for id in &output.textures_delta.free {
             gfx.egui_renderer.free_texture(id);
         }

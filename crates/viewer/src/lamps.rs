@@ -10,10 +10,11 @@
 
 use crate::renderer::{LAMPS, PassTimes, Renderer, ViewMode};
 use crate::shade::{ALBEDO, BACKGROUND, LAMP_AMBIENT, LampData, LampShade, LampsDisplay};
+use shadow_frame::RecordedTexels;
 use shadow_frame::gpu_frame::{FrameTextures, VisibilityLayer, record_visibility};
 use shadow_frame::scene::LightSource;
 use shadow_frame::{
-    FrameBackend, FrameBudget, FramePipeline, FrameReceivers, FrameSettings, FrameStats,
+    FrameBackend, FrameBudget, FramePipeline, FrameReceivers, FrameSettings, FrameStats, GpuTiming,
     LightState, ResolvedTechnique, ShadowConfig,
 };
 use soft_shadow_core::gpu::GpuContext;
@@ -61,6 +62,9 @@ pub struct LampLine {
     pub pick: String,
     /// The profile's prediction of its time, milliseconds.
     pub predicted_ms: Option<f64>,
+    /// Its passes' device time in the newest frame whose timestamps came back (generation and
+    /// `V`), milliseconds; `None` before any, or without timestamps.
+    pub device_ms: Option<f64>,
 }
 
 /// A scene of lamps on the renderer's device: the ECS scene, the pipeline, the lamps' `V`
@@ -93,6 +97,10 @@ impl LampsView {
         let world = &mut lamps.scene.world;
         world.insert_resource(FrameBackend::gpu(gpu.clone()));
         world.insert_resource(FrameSettings::default().with_evaluate_receivers(false));
+        // The lamps' passes timed on the device: the budget calibrates in device milliseconds.
+        world.insert_resource(GpuTiming::default());
+        // The first frame's share already predicts the texels every lamp's `V` covers.
+        world.insert_resource(RecordedTexels(s.width as usize * s.height as usize));
         for (k, e) in lamps.lamps.iter().enumerate() {
             world.entity_mut(*e).insert(VisibilityLayer(k as u32));
         }
@@ -342,6 +350,14 @@ impl LampsView {
         Ok(times)
     }
 
+    /// Call after submitting the encoder [`LampsView::encode`] recorded into: asks for the
+    /// lamps' device times back ([`GpuTiming::submitted`]).
+    pub fn submitted(&mut self) {
+        if let Some(mut t) = self.lamps.scene.world.get_resource_mut::<GpuTiming>() {
+            t.submitted();
+        }
+    }
+
     /// Every lamp's line for the panel, in layer order.
     pub fn lines(&self) -> Vec<LampLine> {
         let world = &self.lamps.scene.world;
@@ -369,11 +385,20 @@ impl LampsView {
                     .as_ref()
                     .and_then(|s| s.lights.iter().find(|l| l.light == e))
                     .and_then(|l| l.predicted_ms);
+                let device_ms = world
+                    .get_resource::<GpuTiming>()
+                    .and_then(GpuTiming::latest)
+                    .and_then(|t| t.lights.iter().find(|l| l.light == e))
+                    .and_then(|l| match (l.generate_ms, l.evaluate_ms) {
+                        (None, None) => None,
+                        (g, v) => Some(g.unwrap_or(0.0) + v.unwrap_or(0.0)),
+                    });
                 LampLine {
                     kind: light.map_or("?", |l| l.kind().name()),
                     intensity: world.get::<ShadowConfig>(e).map_or(0.0, |c| c.intensity),
                     pick,
                     predicted_ms,
+                    device_ms,
                 }
             })
             .collect()

@@ -114,12 +114,14 @@ impl LampsPanel {
         for (k, l) in self.lines.iter().enumerate() {
             let _ = writeln!(
                 s,
-                "  lamp {k:2} {:8} x{:.1}: {}{}",
+                "  lamp {k:2} {:8} x{:.1}: {}{}{}",
                 l.kind,
                 l.intensity,
                 l.pick,
                 l.predicted_ms
-                    .map_or(String::new(), |ms| format!(", {ms:.2} ms predicted"))
+                    .map_or(String::new(), |ms| format!(", {ms:.2} ms predicted")),
+                l.device_ms
+                    .map_or(String::new(), |ms| format!(", {ms:.2} ms on the device"))
             );
         }
         s
@@ -324,12 +326,18 @@ fn lamps_controls(ui: &mut egui::Ui, m: &mut Model) {
     };
     ui.heading("Lamps");
     ui.add(
-        egui::Slider::new(&mut l.budget_ms, 1.0..=100.0)
+        egui::Slider::new(&mut l.budget_ms, 1.0..=10_000.0)
             .logarithmic(true)
             .text("frame budget, ms"),
     );
+    let device: Vec<f64> = l.lines.iter().filter_map(|x| x.device_ms).collect();
+    let device = if device.is_empty() {
+        String::new()
+    } else {
+        format!(", {:.2} on the device", device.iter().sum::<f64>())
+    };
     ui.small(format!(
-        "{:.2} ms predicted; {} maps made, {} kept last frame",
+        "{:.2} ms predicted{device}; {} maps made, {} kept last frame",
         l.predicted_ms, l.maps.0, l.maps.1
     ));
     egui::Grid::new("lamps").striped(true).show(ui, |ui| {

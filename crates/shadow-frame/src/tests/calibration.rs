@@ -149,3 +149,41 @@ fn drift_sees_one_configurations_factor_and_new_is_held_in_range() {
         (1.0 / crate::calibration::CALIBRATION_MAX_FACTOR, 1.0, 0.0)
     );
 }
+
+/// On the device each light's `V` pass is timed on its own ([`Calibration::update_gpu`]): two
+/// configurations whose passes run 2x and 300x their CPU rows' predictions calibrate to 2 and
+/// 300 each (beyond the CPU's clamp of 16), the global factor their frames' total. Predictions
+/// under the CPU's 0.1 ms floor count (timestamps carry no clock overhead). The CPU's frames,
+/// timed together, leave every configuration at the global factor.
+#[test]
+fn device_times_calibrate_each_configurations_evaluation() {
+    let small = |technique: &str, factor: f64| LightStats {
+        profile_ms: Some([0.02, 0.03]),
+        generate_ms: 0.02 * factor,
+        evaluate_ms: 0.03 * factor,
+        ..light(technique, true, factor)
+    };
+    let mut c = Calibration::default();
+    for _ in 0..3 {
+        c.update_gpu(&[small("pcss 7x7-9x9", 2.0), small("pcf r2", 300.0)]);
+    }
+    let near = |a: f64, b: f64| (a - b).abs() < 1e-9 * b;
+    assert!(near(c.evaluate_for("pcss", "7x7-9x9"), 2.0), "{c:?}");
+    assert!(near(c.evaluate_for("pcf", "r2"), 300.0), "{c:?}");
+    assert!(near(c.evaluate, 302.0 / 2.0), "{c:?}");
+    assert!(near(c.generate_for("pcf", "r2"), 300.0), "{c:?}");
+    assert_eq!(c.evaluate_for("hard-shadow-map", "nearest"), c.evaluate);
+    let mut cpu = Calibration::default();
+    for n in 2..5 {
+        cpu.update(
+            &frame(
+                n,
+                1.0,
+                vec![light("pcss 7x7-9x9", true, 2.0), light("pcf r2", true, 8.0)],
+            ),
+            true,
+        );
+    }
+    assert!(near(cpu.evaluate, 5.0), "{cpu:?}");
+    assert_eq!(cpu.evaluate_for("pcf", "r2"), cpu.evaluate);
+}
