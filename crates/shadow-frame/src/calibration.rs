@@ -37,7 +37,7 @@ pub const CALIBRATION_MIN_MS: f64 = 0.1;
 pub const CALIBRATION_MAX_FACTOR: f64 = 16.0;
 
 /// [`CALIBRATION_MAX_FACTOR`] for the device times of a GPU frame
-/// ([`Calibration::update_gpu`]): a GPU may run the CPU profile's stand-in rows orders of
+/// (the device times of [`crate::GpuTiming`]): a GPU may run the CPU profile's stand-in rows orders of
 /// magnitude faster, and a software rasterizer slower.
 pub const CALIBRATION_MAX_GPU_FACTOR: f64 = 16384.0;
 
@@ -216,7 +216,7 @@ impl Calibration {
 
     /// The factor on configuration `technique variant`'s predicted evaluation: the median of
     /// its last [`CALIBRATION_FRAMES`] evaluations timed on the device
-    /// ([`Calibration::update_gpu`]; short of [`CALIBRATION_MIN_SAMPLES`],
+    /// (by [`crate::GpuTiming`]; short of [`CALIBRATION_MIN_SAMPLES`],
     /// [`Calibration::evaluate`] stands in for the rest), and [`Calibration::evaluate`] for a
     /// configuration without (every configuration on the CPU, where one frame's evaluations
     /// are timed together).
