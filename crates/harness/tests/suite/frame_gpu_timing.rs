@@ -257,7 +257,7 @@ fn own_ratios(street: &GpuStreet, before: &FrameStats) -> Vec<(String, f64)> {
 /// evaluated, the size `Auto` and the shared budget predict a lamp's evaluation for counts all
 /// the texture's texels, each as covered (4 times the receivers, whatever share the lamp's
 /// views cover of them); a lamp without casters evaluates nothing; evaluating the receivers,
-/// the size counts them.
+/// the size counts them. A new texel count shares the budget again at the next frame.
 #[test]
 fn the_budget_predicts_the_texels_a_gpu_frame_evaluates() {
     use bevy_ecs::system::RunSystemOnce;
@@ -318,4 +318,20 @@ fn the_budget_predicts_the_texels_a_gpu_frame_evaluates() {
         partly += usize::from(a.receivers < receivers);
     }
     assert!(partly > 4, "{partly} lamps reach part of the receivers");
+    // Calibrating off, a frame that changes nothing keeps every prediction; one after a new
+    // texel count shares the budget again and predicts anew.
+    let predicted_v = |stats: &FrameStats| -> Vec<Option<[f64; 2]>> {
+        stats.lights.iter().map(|l| l.profile_ms).collect()
+    };
+    world.insert_resource(
+        FrameSettings::default()
+            .with_evaluate_receivers(false)
+            .with_calibrating(false),
+    );
+    pipeline.run(world);
+    let still = predicted_v(&pipeline.run(world));
+    assert_eq!(predicted_v(&pipeline.run(world)), still);
+    world.insert_resource(RecordedTexels(40 * receivers));
+    let after = predicted_v(&pipeline.run(world));
+    assert_ne!(after, still, "shared again on the new texels");
 }
