@@ -231,28 +231,26 @@ impl Calibration {
     /// that either has measured.
     pub fn drift(&self, other: &Calibration) -> f64 {
         let f = |a: f64, b: f64| (a / b).max(b / a);
-        let own = self
-            .per_configuration
-            .keys()
-            .chain(other.per_configuration.keys())
-            .map(|k| {
-                let (t, v) = k.split_once(' ').unwrap_or((k, ""));
-                f(self.generate_for(t, v), other.generate_for(t, v))
-            })
-            .fold(1.0, f64::max);
-        let own_eval = self
-            .per_configuration_eval
-            .keys()
-            .chain(other.per_configuration_eval.keys())
-            .map(|k| {
-                let (t, v) = k.split_once(' ').unwrap_or((k, ""));
-                f(self.evaluate_for(t, v), other.evaluate_for(t, v))
-            })
-            .fold(1.0, f64::max);
+        // The most a configuration's own factor drifted, over the configurations `ratios` of
+        // either holds.
+        let own = |ratios: fn(&Calibration) -> &BTreeMap<String, VecDeque<f64>>,
+                   factor: fn(&Calibration, &str, &str) -> f64| {
+            ratios(self)
+                .keys()
+                .chain(ratios(other).keys())
+                .map(|k| {
+                    let (t, v) = k.split_once(' ').unwrap_or((k, ""));
+                    f(factor(self, t, v), factor(other, t, v))
+                })
+                .fold(1.0, f64::max)
+        };
         f(self.generate, other.generate)
             .max(f(self.evaluate, other.evaluate))
-            .max(own)
-            .max(own_eval)
+            .max(own(|c| &c.per_configuration, Calibration::generate_for))
+            .max(own(
+                |c| &c.per_configuration_eval,
+                Calibration::evaluate_for,
+            ))
     }
 }
 
