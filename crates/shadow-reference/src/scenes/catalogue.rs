@@ -646,7 +646,7 @@ pub fn build(name: &str) -> Result<SceneSpec> {
                  frame pipeline's): {}",
                 SCENE_NAMES.join(", "),
                 AS_SEEN_NAMES.join(", "),
-                super::lamps::LAMP_SCENES.map(|(n, _)| n).join(", ")
+                super::lamps::names::LAMP_SCENES.map(|(n, _)| n).join(", ")
             )));
         }
     })

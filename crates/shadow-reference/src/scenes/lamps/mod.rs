@@ -4,8 +4,11 @@
 //! one lamp that can swing. [`LAMP_SCENES`] names them for the harness's `frames` and the
 //! viewer ([`build`]).
 
+pub(crate) mod names;
 pub mod room;
 pub mod street;
+
+pub use names::LAMP_SCENES;
 
 use bevy_ecs::change_detection::DetectChangesMut;
 use bevy_ecs::entity::Entity;
@@ -16,20 +19,6 @@ use soft_shadow_core::pool::Pool;
 use soft_shadow_core::raster::{GBufferTexel, gbuffer};
 use soft_shadow_core::{Camera, Light, Map2D, Result, ShadowError};
 use std::sync::Arc;
-
-/// The scenes of many lamps: name and what it is.
-pub const LAMP_SCENES: [(&str, &str); 2] = [
-    (
-        "night-street",
-        "16 lamps of five kinds along a street at night, cars and benches under them, an \
-         eye-height camera walking down it",
-    ),
-    (
-        "room-lamps",
-        "room-lamp's room lit by its table lamp, a ceiling panel and a reading lamp, the camera \
-         walking from a corner",
-    ),
-];
 
 /// Lamps of [`LAMP_SCENES`]' `night-street`.
 pub const STREET_LAMPS: usize = 16;
