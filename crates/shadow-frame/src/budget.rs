@@ -295,7 +295,8 @@ pub fn share_budget(
         || moved
         || config_removed
         || recalibrated
-        || inputs.texels_changed())
+        || inputs.texels_changed()
+        || settings.is_changed())
     {
         return;
     }
@@ -353,7 +354,9 @@ pub fn share_budget(
             }
         }
     });
-    let texels = inputs.texels_changed();
+    // What the predictions count changed: the texels `V` is recorded over, or whether the
+    // receivers are evaluated.
+    let texels = inputs.texels_changed() || settings.is_changed();
     if !(budget.is_changed()
         || changed_config
         || config_removed

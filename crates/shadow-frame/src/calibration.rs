@@ -199,6 +199,11 @@ impl Calibration {
         }
         if let Some(r) = ratio(eval_measured, eval_predicted) {
             push(&mut self.recent[1], r, CALIBRATION_FRAMES);
+            if !own_evaluation {
+                // Evaluations timed together again (the receivers evaluated, or the CPU): the
+                // device's own factors no longer describe them.
+                self.per_configuration_eval.clear();
+            }
         }
         self.generate = median(&self.recent[0], 1.0);
         self.evaluate = median(&self.recent[1], 1.0);

@@ -293,8 +293,9 @@ pub struct FrameSettings {
     pub caching: bool,
     /// Evaluate [`FrameReceivers`] into [`LightState::visibility`] (off: the maps are made and
     /// kept, `visibility` is left empty and nothing is read back, for a renderer that takes
-    /// `V` from its own textures with [`crate::gpu_frame`]; the receivers still bound what the
-    /// maps cover).
+    /// `V` from its own textures with [`crate::gpu_frame`], but the passes' timestamps where a
+    /// `GpuTiming` asks for them; the receivers still bound what the maps cover, and
+    /// predictions count the texels `V` is recorded over, [`RecordedTexels`]).
     pub evaluate_receivers: bool,
     /// Keep the [`crate::Calibration`] from what every frame measures (off: it stays as it is,
     /// the profile as fitted unless you set it, and picks follow predictions alone: the same

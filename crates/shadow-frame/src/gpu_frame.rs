@@ -105,11 +105,6 @@ pub fn record_visibility(
         }
     }
     let ones = world.get_resource::<Ones>().map(|o| o.buffer.clone());
-    let texels = RecordedTexels(size.0 as usize * size.1 as usize);
-    if world.get_resource::<RecordedTexels>() != Some(&texels) {
-        // A new count shares the budget again (the predictions count texels).
-        world.insert_resource(texels);
-    }
     // Where a `GpuTiming` asks for it, every light's `V` passes write timestamps, resolved
     // after the last of them.
     let mut timing = world.remove_resource::<GpuTiming>();
@@ -119,6 +114,11 @@ pub fn record_visibility(
             t.resolve(enc, size.0 as usize * size.1 as usize);
         }
         world.insert_resource(t);
+    }
+    let texels = RecordedTexels(size.0 as usize * size.1 as usize);
+    if recorded.is_ok() && world.get_resource::<RecordedTexels>() != Some(&texels) {
+        // A new count shares the budget again (the predictions count texels).
+        world.insert_resource(texels);
     }
     recorded
 }

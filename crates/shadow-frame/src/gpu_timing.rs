@@ -390,6 +390,10 @@ pub(crate) fn begin_frame(world: &mut World, frame: u64) -> Vec<Vec<LightStats>>
         .clone()
         .filter(|_| backend.backend == soft_shadow_core::Backend::Gpu)
     else {
+        // A CPU frame records into no slot.
+        if let Some(mut t) = world.get_resource_mut::<GpuTiming>() {
+            t.current = None;
+        }
         return Vec::new();
     };
     let timed = !world.resource::<crate::FrameSettings>().evaluate_receivers;

@@ -266,8 +266,9 @@ fn auto_pick(
 }
 
 /// What `Auto` reads to size a light's scene and pick its configuration: the casters, their
-/// bounds, the frame's receivers, the registered techniques, the profile and the backend, as
-/// one system parameter.
+/// bounds, the frame's receivers, the registered techniques, the profile and its calibration,
+/// the backend, the frame settings and the texels `V` is recorded over ([`RecordedTexels`]),
+/// as one system parameter.
 #[derive(bevy_ecs::system::SystemParam)]
 pub struct AutoInputs<'w, 's> {
     casters: CasterMeshes<'w, 's>,

@@ -2,8 +2,9 @@
 //! room with three lamps) in the viewer: the frame pipeline (`shadow_frame`) on the renderer's
 //! device under one frame budget, each lamp's technique and map side picked by the shared
 //! budget, every lamp's `V` over the renderer's G-buffer recorded into the frame's encoder
-//! ([`record_visibility`], a layer of one texture per lamp, nothing read back), and a shading
-//! pass that sums the lamps (`lamps.wgsl`, mirrored by [`LampShade`]).
+//! ([`record_visibility`], a layer of one texture per lamp; nothing is read back but the
+//! passes' timestamps, [`GpuTiming`]: the budget is in device milliseconds), and a shading pass
+//! that sums the lamps (`lamps.wgsl`, mirrored by [`LampShade`]).
 //!
 //! The pipeline's receivers (what bounds each lamp's maps and weighs its share of the budget)
 //! come from a small CPU G-buffer of the same camera and shape ([`receivers_size`]).

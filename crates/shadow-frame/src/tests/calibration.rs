@@ -154,7 +154,8 @@ fn drift_sees_one_configurations_factor_and_new_is_held_in_range() {
 /// configurations whose passes run 2x and 300x their CPU rows' predictions calibrate to 2 and
 /// 300 each (beyond the CPU's clamp of 16), the global factor their frames' total. Predictions
 /// under the CPU's 0.1 ms floor count (timestamps carry no clock overhead). The CPU's frames,
-/// timed together, leave every configuration at the global factor.
+/// timed together, leave every configuration at the global factor, and one such frame after
+/// device times puts them back on it.
 #[test]
 fn device_times_calibrate_each_configurations_evaluation() {
     let small = |technique: &str, factor: f64| LightStats {
@@ -173,6 +174,9 @@ fn device_times_calibrate_each_configurations_evaluation() {
     assert!(near(c.evaluate, 302.0 / 2.0), "{c:?}");
     assert!(near(c.generate_for("pcf", "r2"), 300.0), "{c:?}");
     assert_eq!(c.evaluate_for("hard-shadow-map", "nearest"), c.evaluate);
+    // Evaluations timed together again (the receivers evaluated): the device's own factors go.
+    c.update(&frame(5, 1.0, vec![light("pcf r2", true, 4.0)]), true);
+    assert_eq!(c.evaluate_for("pcf", "r2"), c.evaluate);
     let mut cpu = Calibration::default();
     for n in 2..5 {
         cpu.update(
