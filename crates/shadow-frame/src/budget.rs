@@ -285,9 +285,13 @@ pub fn share_budget(
     let recalibrated = shared_with
         .as_ref()
         .is_some_and(|w| calibration.drift(w) > SHARE_HYSTERESIS)
-        || lights.iter().any(|(_, l, c, _, s)| {
-            // A light whose shadow can now be measured for the first time.
-            c.shares_budget(&l.0) && unmeasured(s, settings.evaluate_receivers, receivers_moved)
+        || lights.iter().any(|(e, l, c, _, s)| {
+            // A light whose shadow can now be measured for the first time (from its `V`, or
+            // from a GPU frame's probe of it).
+            c.shares_budget(&l.0)
+                && (unmeasured(s, settings.evaluate_receivers, receivers_moved)
+                    || (probed_shadow(s, inputs.probed(e, receivers))
+                        && s.share.is_some_and(|sh| sh.missing_255.is_none())))
         });
     if !(budget.is_changed()
         || frame.is_changed()
@@ -391,11 +395,18 @@ pub fn share_budget(
                 let within = in_band(available * fraction(e), sh.proportional_ms);
                 sh.missing_255.filter(|_| within)
             });
-            let missing = if measurable(s, settings.evaluate_receivers, receivers_moved) {
+            // Its `V` over the frame's receivers: its own where it evaluated them, else a GPU
+            // frame's probe of it at the sampled ones.
+            let probed = inputs.probed(e, receivers);
+            let visibility = if measurable(s, settings.evaluate_receivers, receivers_moved) {
+                Some(s.visibility.as_slice())
+            } else {
+                probed.filter(|_| probed_shadow(s, probed))
+            };
+            let missing = if let Some(visibility) = visibility {
                 // The one the last share took while the measurement stays within the band of
                 // it: a shadow that changes a little does not move the shares.
-                let now =
-                    missing_shadow_255(&l.0, &c, frame, &s.visibility).unwrap_or(NO_SHADOW_255);
+                let now = missing_shadow_255(&l.0, &c, frame, visibility).unwrap_or(NO_SHADOW_255);
                 match kept {
                     Some(was) if in_band(now.max(1.0), was.max(1.0)) => Some(was),
                     _ => Some(now),
@@ -681,7 +692,7 @@ pub fn cheapest_error(
 
 /// The frame's receivers in one number: their count and 64 of them, evenly spread, hashed
 /// bit for bit (a renderer that sets the same G-buffer again gives the same number).
-fn fingerprint(frame: &FrameReceivers) -> u64 {
+pub(crate) fn fingerprint(frame: &FrameReceivers) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     let n = frame.positions.len();
@@ -700,6 +711,12 @@ fn fingerprint(frame: &FrameReceivers) -> u64 {
 /// changed since its `V` was evaluated).
 fn measurable(state: &LightState, evaluated: bool, moved: bool) -> bool {
     evaluated && !moved && state.maps.is_some() && state.error.is_none() && state.evaluated > 0
+}
+
+/// Whether a light's shadow can be measured from a GPU frame's probe of its `V` (`probed`,
+/// for the frame's receivers as they are): it has maps and the probe holds it.
+fn probed_shadow(state: &LightState, probed: Option<&[f32]>) -> bool {
+    probed.is_some() && state.maps.is_some() && state.error.is_none()
 }
 
 /// Whether a shared light has a shadow whose cost can be measured, and the budget was last

@@ -176,8 +176,9 @@ pub struct LightShare {
     /// nothing or that the budget could not afford): see [`crate::budget`].
     pub budget_ms: f64,
     /// The image error (1/255) the share took its missing shadow to cost, what the budget
-    /// weighed its first step against: measured from its `V` while it has a shadow and the
-    /// frame's receivers are those its `V` was evaluated on
+    /// weighed its first step against: measured from its `V` (on the GPU, its probe's,
+    /// [`ProbedVisibility`]) while it has a shadow and the frame's receivers are those its `V`
+    /// was evaluated on
     /// ([`crate::budget::missing_shadow_255`]; the last share's while the measurement stays
     /// within [`crate::budget::SHARE_HYSTERESIS`] of it), and kept while its part stays within
     /// its band and no caster within its range changed; `None` where the share took
@@ -284,6 +285,18 @@ impl FrameBackend {
 #[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RecordedTexels(pub usize);
 
+/// The lights' `V` at the frame's sampled receivers, as the last probe brought it: what the
+/// shared budget measures a GPU light's missing shadow from
+/// ([`crate::budget::missing_shadow_255`]) while the frame's receivers are those it was
+/// recorded for.
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct ProbedVisibility {
+    /// The frame's receivers it was recorded for (a hash of them).
+    pub receivers: u64,
+    /// Per light, `V` per frame receiver: measured at the sampled ones, 1 at the others.
+    pub lights: std::collections::HashMap<Entity, Vec<f32>>,
+}
+
 /// Frame settings.
 #[derive(Resource, Clone, Copy)]
 #[non_exhaustive]
@@ -293,8 +306,8 @@ pub struct FrameSettings {
     pub caching: bool,
     /// Evaluate [`FrameReceivers`] into [`LightState::visibility`] (off: the maps are made and
     /// kept, `visibility` is left empty and nothing is read back, for a renderer that takes
-    /// `V` from its own textures with [`crate::gpu_frame`], but the passes' timestamps where a
-    /// `GpuTiming` asks for them; the receivers still bound what the maps cover, and
+    /// `V` from its own textures with [`crate::gpu_frame`], but the passes' timestamps and the
+    /// lights' `V` at the sampled receivers where a `GpuTiming` and a `ShadowProbe` ask for them; the receivers still bound what the maps cover, and
     /// predictions count the texels `V` is recorded over, [`RecordedTexels`]).
     pub evaluate_receivers: bool,
     /// Keep the [`crate::Calibration`] from what every frame measures (off: it stays as it is,

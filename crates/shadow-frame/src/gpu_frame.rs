@@ -1,7 +1,8 @@
 //! The GPU frame: after [`FramePipeline::run`](crate::FramePipeline::run) on the GPU backend,
 //! [`record_visibility`] records every light's `V` over your G-buffer into your command encoder,
 //! each light into its layer ([`VisibilityLayer`]) of a texture you own. Nothing is read back
-//! (but the passes' timestamps, where you ask for them with a [`crate::GpuTiming`]):
+//! (but the passes' timestamps and the lights' `V` at the sampled receivers, where you ask for
+//! them with a [`crate::GpuTiming`] and a [`crate::ShadowProbe`]):
 //! the maps stay where the pipeline keeps them (made again only for stale lights), and `V` is the
 //! same function the CPU path evaluates for [`FrameReceivers`](crate::FrameReceivers) within the
 //! light's influence; beyond it (`ShadowConfig::with_range`, where the light adds nothing) the
@@ -12,6 +13,7 @@
 //! bounds): the maps are fitted to the casters and those receivers.
 
 use crate::components::{LightState, RecordedTexels};
+use crate::gpu_probe::ShadowProbe;
 use crate::gpu_timing::GpuTiming;
 use bevy_ecs::prelude::*;
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
@@ -114,6 +116,14 @@ pub fn record_visibility(
             t.resolve(enc, size.0 as usize * size.1 as usize);
         }
         world.insert_resource(t);
+    }
+    // Where a `ShadowProbe` asks for it, every light's `V` at the frame's sampled receivers.
+    if recorded.is_ok()
+        && let Some(mut probe) = world.remove_resource::<ShadowProbe>()
+    {
+        let probed = probe.record(world, gpu, enc, layers);
+        world.insert_resource(probe);
+        probed?;
     }
     let texels = RecordedTexels(size.0 as usize * size.1 as usize);
     if recorded.is_ok() && world.get_resource::<RecordedTexels>() != Some(&texels) {

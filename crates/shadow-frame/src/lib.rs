@@ -8,6 +8,8 @@ pub mod gltf;
 #[cfg(feature = "gpu")]
 pub mod gpu_frame;
 #[cfg(feature = "gpu")]
+pub mod gpu_probe;
+#[cfg(feature = "gpu")]
 pub mod gpu_timing;
 pub mod profile;
 pub mod scene;
@@ -20,6 +22,8 @@ pub mod tracking;
 pub use budget::FrameBudget;
 pub use calibration::Calibration;
 pub use components::*;
+#[cfg(feature = "gpu")]
+pub use gpu_probe::ShadowProbe;
 #[cfg(feature = "gpu")]
 pub use gpu_timing::GpuTiming;
 pub use profile::{Calibrated, Pick, ProfileEntry, SceneSize, TechniqueProfile};
@@ -162,6 +166,9 @@ impl FramePipeline {
         // The device times of earlier GPU frames that have come back, where they are timed.
         #[cfg(feature = "gpu")]
         let arrived = gpu_timing::begin_frame(world, frame);
+        // The lights' `V` at the sampled receivers of an earlier GPU frame, where it is probed.
+        #[cfg(feature = "gpu")]
+        gpu_probe::begin_frame(world);
         world.insert_resource(CoreClock(std::time::Instant::now()));
         self.schedule.run(world);
         let stats = world.resource::<FrameStats>().clone();

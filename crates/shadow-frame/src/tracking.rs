@@ -282,6 +282,7 @@ pub struct AutoInputs<'w, 's> {
     pub backend: Res<'w, FrameBackend>,
     settings: Option<Res<'w, FrameSettings>>,
     texels: Option<Res<'w, RecordedTexels>>,
+    probed: Option<Res<'w, ProbedVisibility>>,
 }
 
 impl AutoInputs<'_, '_> {
@@ -295,6 +296,14 @@ impl AutoInputs<'_, '_> {
     /// The profile, its predictions scaled by [`AutoInputs::calibration`].
     fn profile(&self) -> Calibrated<'_> {
         self.profile.calibrated(self.calibration())
+    }
+
+    /// Light `light`'s `V` at the frame's receivers as a GPU frame's probe measured it
+    /// ([`ProbedVisibility`]), where the receivers (their hash, `receivers`) are still those it
+    /// was recorded for.
+    pub(crate) fn probed(&self, light: Entity, receivers: u64) -> Option<&[f32]> {
+        let p = self.probed.as_ref().filter(|p| p.receivers == receivers)?;
+        p.lights.get(&light).map(Vec::as_slice)
     }
 
     /// Whether the texels `V` is recorded over changed since the last frame (their first

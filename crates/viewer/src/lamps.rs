@@ -16,7 +16,7 @@ use shadow_frame::gpu_frame::{FrameTextures, VisibilityLayer, record_visibility}
 use shadow_frame::scene::LightSource;
 use shadow_frame::{
     FrameBackend, FrameBudget, FramePipeline, FrameReceivers, FrameSettings, FrameStats, GpuTiming,
-    LightState, ResolvedTechnique, ShadowConfig,
+    LightState, ResolvedTechnique, ShadowConfig, ShadowProbe,
 };
 use soft_shadow_core::gpu::GpuContext;
 use soft_shadow_core::{Result, ShadowError};
@@ -100,6 +100,8 @@ impl LampsView {
         world.insert_resource(FrameSettings::default().with_evaluate_receivers(false));
         // The lamps' passes timed on the device: the budget calibrates in device milliseconds.
         world.insert_resource(GpuTiming::default());
+        // Each lamp's missing shadow measured at the sampled receivers, as on the CPU.
+        world.insert_resource(ShadowProbe::default());
         // The first frame's share already predicts the texels every lamp's `V` covers.
         world.insert_resource(RecordedTexels(s.width as usize * s.height as usize));
         for (k, e) in lamps.lamps.iter().enumerate() {
@@ -352,10 +354,15 @@ impl LampsView {
     }
 
     /// Call after submitting the encoder [`LampsView::encode`] recorded into: asks for the
-    /// lamps' device times back ([`GpuTiming::submitted`]).
+    /// lamps' device times and their probed `V` back ([`GpuTiming::submitted`],
+    /// [`ShadowProbe::submitted`]).
     pub fn submitted(&mut self) {
-        if let Some(mut t) = self.lamps.scene.world.get_resource_mut::<GpuTiming>() {
+        let world = &mut self.lamps.scene.world;
+        if let Some(mut t) = world.get_resource_mut::<GpuTiming>() {
             t.submitted();
+        }
+        if let Some(mut p) = world.get_resource_mut::<ShadowProbe>() {
+            p.submitted();
         }
     }
 

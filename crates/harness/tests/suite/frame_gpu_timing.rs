@@ -16,9 +16,9 @@ use std::time::Instant;
 /// The night street's lamps on the GPU backend, `V` into a texture of `gbuffer`'s size (its
 /// G-buffer rasterized at that size; the frame's receivers stay at 48 x 27), each lamp in its
 /// layer, under a frame budget of `budget_ms`.
-struct GpuStreet {
-    lamps: Lamps,
-    gpu: Arc<GpuContext>,
+pub(crate) struct GpuStreet {
+    pub(crate) lamps: Lamps,
+    pub(crate) gpu: Arc<GpuContext>,
     positions: wgpu::TextureView,
     normals: wgpu::TextureView,
     visibility: wgpu::Texture,
@@ -26,7 +26,7 @@ struct GpuStreet {
 }
 
 impl GpuStreet {
-    fn new(gpu: Arc<GpuContext>, (w, h): (u32, u32), budget_ms: f64) -> Self {
+    pub(crate) fn new(gpu: Arc<GpuContext>, (w, h): (u32, u32), budget_ms: f64) -> Self {
         let mut lamps = lamps::build("night-street", 48, 27, budget_ms).unwrap();
         let camera = lamps.camera;
         let (gb, _) = lamps::look(&mut lamps.scene, camera, w, h);
@@ -75,9 +75,9 @@ impl GpuStreet {
     }
 
     /// One frame, the swinging lamp moved to swing frame `swing`: the pipeline, every lamp's
-    /// `V` recorded, submitted, its timestamps asked back (where timed) and the device waited
-    /// for. Returns the statistics and the frame's wall time, milliseconds.
-    fn frame(&mut self, swing: u32) -> (FrameStats, f64) {
+    /// `V` recorded, submitted, its timestamps and probe asked back (where the world holds a
+    /// `GpuTiming`, a `ShadowProbe`) and the device waited for. Returns the statistics and the frame's wall time, milliseconds.
+    pub(crate) fn frame(&mut self, swing: u32) -> (FrameStats, f64) {
         let start = Instant::now();
         self.lamps.swing(swing);
         let world = &mut self.lamps.scene.world;
@@ -97,6 +97,9 @@ impl GpuStreet {
         self.gpu.queue.submit([enc.finish()]);
         if let Some(mut t) = world.get_resource_mut::<GpuTiming>() {
             t.submitted();
+        }
+        if let Some(mut p) = world.get_resource_mut::<shadow_frame::ShadowProbe>() {
+            p.submitted();
         }
         self.gpu.wait().unwrap();
         (stats, start.elapsed().as_secs_f64() * 1e3)

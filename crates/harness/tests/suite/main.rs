@@ -7,6 +7,7 @@ mod calls;
 mod dependencies;
 mod frame;
 mod frame_budget;
+mod frame_gpu_probe;
 mod frame_gpu_timing;
 mod frame_seen;
 mod fuzz;
