@@ -133,8 +133,9 @@ pub const NO_SHADOW_255: f64 = 15.0;
 /// over the frame's receivers (at most [`RECEIVER_SAMPLES`] of them, evenly spread): the rms of
 /// `(1 - V) 255 w` over the receivers it lights within its influence, `w` its
 /// [`irradiance_estimate`] over the largest (the report's image error, with `V` standing in for
-/// the reference; every receiver where it lights none of those). `None` where it lights no
-/// receiver or `visibility` is not the frame's.
+/// the reference; every receiver where it lights none of those). Receivers whose `V` is not a
+/// number are left out (a GPU frame's probe measures the sampled ones only). `None` where it
+/// lights no receiver with a measurement or `visibility` is not the frame's.
 pub fn missing_shadow_255(
     light: &Light,
     config: &ShadowConfig,
@@ -157,7 +158,10 @@ pub fn missing_shadow_255(
                     frame.positions[i],
                     frame.normals[i],
                 );
-                (e > 0.0).then(|| (f64::from(e), f64::from(1.0 - visibility[i])))
+                // A receiver without a measurement (NaN, a GPU probe's unsampled one) counts
+                // for nothing.
+                (e > 0.0 && visibility[i].is_finite())
+                    .then(|| (f64::from(e), f64::from(1.0 - visibility[i])))
             })
             .collect()
     };

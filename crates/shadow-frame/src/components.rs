@@ -293,7 +293,9 @@ pub struct RecordedTexels(pub usize);
 pub struct ProbedVisibility {
     /// The frame's receivers it was recorded for (a hash of them).
     pub receivers: u64,
-    /// Per light, `V` per frame receiver: measured at the sampled ones, 1 at the others.
+    /// Per light, `V` per frame receiver: measured at the sampled ones, NaN at the others (no
+    /// measurement; [`crate::budget::missing_shadow_255`] skips them). A light that made its
+    /// maps again since leaves it.
     pub lights: std::collections::HashMap<Entity, Vec<f32>>,
 }
 

@@ -117,6 +117,11 @@ pub fn record_visibility(
         }
         world.insert_resource(t);
     }
+    let texels = RecordedTexels(size.0 as usize * size.1 as usize);
+    if recorded.is_ok() && world.get_resource::<RecordedTexels>() != Some(&texels) {
+        // A new count shares the budget again (the predictions count texels).
+        world.insert_resource(texels);
+    }
     // Where a `ShadowProbe` asks for it, every light's `V` at the frame's sampled receivers.
     if recorded.is_ok()
         && let Some(mut probe) = world.remove_resource::<ShadowProbe>()
@@ -124,11 +129,6 @@ pub fn record_visibility(
         let probed = probe.record(world, gpu, enc, layers);
         world.insert_resource(probe);
         probed?;
-    }
-    let texels = RecordedTexels(size.0 as usize * size.1 as usize);
-    if recorded.is_ok() && world.get_resource::<RecordedTexels>() != Some(&texels) {
-        // A new count shares the budget again (the predictions count texels).
-        world.insert_resource(texels);
     }
     recorded
 }

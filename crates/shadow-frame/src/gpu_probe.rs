@@ -36,14 +36,19 @@ const LAYER_BYTES: u64 = (SIDE * SIDE * 4) as u64;
 
 /// Measures the GPU frame's lights' missing shadows (see the module docs): insert one into the
 /// world to turn it on, and call [`ShadowProbe::submitted`] after each submission of an encoder
-/// [`crate::gpu_frame::record_visibility`] recorded into.
+/// [`crate::gpu_frame::record_visibility`] recorded into. One encoder at a time: the sampled
+/// receivers are uploaded with the queue's next submission, and an encoder recorded into but
+/// never submitted leaves its slot holding no probe of this frame (it is read all the same).
 #[derive(Resource, Default)]
 pub struct ShadowProbe {
     /// The sampled receivers' textures and the probe's `V`, made for a device and a layer count.
     textures: Option<Textures>,
-    /// The receivers the textures hold (a hash of the frame's).
-    uploaded: Option<u64>,
+    /// The sampled receivers the textures hold, positions then normals.
+    uploaded: Option<Vec<[f32; 4]>>,
     slots: Vec<Slot>,
+    /// The frame each light last made its maps in: a probe recorded before holds another
+    /// shadow.
+    made: HashMap<Entity, u64>,
 }
 
 struct Textures {
@@ -72,6 +77,8 @@ struct Slot {
     lights: Vec<(Entity, u32)>,
     /// The order the probes were recorded in.
     order: u64,
+    /// The frame it was recorded in ([`crate::FrameStats::frame`]).
+    frame: u64,
 }
 
 impl ShadowProbe {
@@ -152,6 +159,9 @@ impl ShadowProbe {
         }
         let step = FrameReceivers::sample_step(n);
         let hash = fingerprint(frame);
+        let frame_number = world
+            .get_resource::<crate::FrameStats>()
+            .map_or(0, |s| s.frame);
         let texels = |v: &[glam::Vec3], w: f32| -> Vec<[f32; 4]> {
             let mut t: Vec<[f32; 4]> = (0..n)
                 .step_by(step)
@@ -174,6 +184,7 @@ impl ShadowProbe {
                 receivers: (0, 0, 1),
                 lights: Vec::new(),
                 order: 0,
+                frame: 0,
             });
         }
         let order = self.slots.iter().map(|s| s.order).max().unwrap_or(0) + 1;
@@ -185,7 +196,8 @@ impl ShadowProbe {
             return Ok(());
         };
         let t = self.textures.as_ref().expect("made above");
-        if self.uploaded != Some(hash) {
+        let sampled: Vec<[f32; 4]> = positions.iter().chain(&normals).copied().collect();
+        if self.uploaded.as_ref() != Some(&sampled) {
             for (texture, data) in [(&t.positions, &positions), (&t.normals, &normals)] {
                 gpu.queue.write_texture(
                     texture.as_image_copy(),
@@ -198,7 +210,7 @@ impl ShadowProbe {
                     texture.size(),
                 );
             }
-            self.uploaded = Some(hash);
+            self.uploaded = Some(sampled);
         }
         let (pv, nv) = (
             t.positions.create_view(&Default::default()),
@@ -260,6 +272,7 @@ impl ShadowProbe {
         s.receivers = (hash, n, step);
         s.lights = lights;
         s.order = order;
+        s.frame = frame_number;
         Ok(())
     }
 
@@ -267,6 +280,7 @@ impl ShadowProbe {
     fn take(&mut self, gpu: &GpuContext) -> Option<ProbedVisibility> {
         let _ = gpu.device.poll(wgpu::PollType::Poll);
         let mut newest: Option<(u64, ProbedVisibility)> = None;
+        let made = &self.made;
         for slot in &mut self.slots {
             let SlotState::Mapping(flag) = &slot.state else {
                 continue;
@@ -281,9 +295,13 @@ impl ShadowProbe {
                     };
                     if let Ok(bytes) = slot.buffer.get_mapped_range(..) {
                         let v: &[f32] = bytemuck::cast_slice(&bytes);
-                        for &(light, layer) in &slot.lights {
+                        let current =
+                            |light: &Entity| made.get(light).is_none_or(|&f| f <= slot.frame);
+                        for &(light, layer) in slot.lights.iter().filter(|(l, _)| current(l)) {
                             let at = (LAYER_BYTES / 4 * u64::from(layer)) as usize;
-                            let mut all = vec![1.0; n];
+                            // Unsampled receivers hold no measurement (NaN: the estimate
+                            // skips them, and never falls back to them).
+                            let mut all = vec![f32::NAN; n];
                             for (k, i) in (0..n).step_by(step).enumerate() {
                                 all[i] = v.get(at + k).copied().unwrap_or(1.0);
                             }
@@ -304,20 +322,43 @@ impl ShadowProbe {
 }
 
 /// Takes the probes of `world`'s [`ShadowProbe`] that have arrived into its
-/// [`ProbedVisibility`] (on the GPU backend, where it holds one).
+/// [`ProbedVisibility`] (on the GPU backend, where it holds one; elsewhere the probed `V` goes).
 pub(crate) fn begin_frame(world: &mut World) {
     let backend = world.resource::<crate::FrameBackend>();
-    let Some(gpu) = backend
+    let gpu = backend
         .gpu
         .clone()
-        .filter(|_| backend.backend == soft_shadow_core::Backend::Gpu)
-    else {
+        .filter(|_| backend.backend == soft_shadow_core::Backend::Gpu);
+    let Some((gpu, true)) = gpu.map(|g| (g, world.contains_resource::<ShadowProbe>())) else {
+        world.remove_resource::<ProbedVisibility>();
         return;
     };
-    let arrived = world
-        .get_resource_mut::<ShadowProbe>()
-        .and_then(|mut p| p.take(&gpu));
+    let arrived = world.resource_mut::<ShadowProbe>().take(&gpu);
     if let Some(p) = arrived {
         world.insert_resource(p);
+    }
+}
+
+/// After a frame: the lights that made their maps again (`stats`) leave the probed `V`, which
+/// held their old shadow, and probes recorded before now no longer count for them.
+pub(crate) fn end_frame(world: &mut World, stats: &crate::FrameStats) {
+    let made: Vec<Entity> = stats
+        .lights
+        .iter()
+        .filter(|l| l.views_generated > 0)
+        .map(|l| l.light)
+        .collect();
+    if made.is_empty() {
+        return;
+    }
+    if let Some(mut probe) = world.get_resource_mut::<ShadowProbe>() {
+        for &e in &made {
+            probe.made.insert(e, stats.frame);
+        }
+    }
+    if let Some(mut probed) = world.get_resource_mut::<ProbedVisibility>() {
+        for e in &made {
+            probed.lights.remove(e);
+        }
     }
 }

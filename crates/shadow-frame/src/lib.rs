@@ -176,6 +176,8 @@ impl FramePipeline {
         if let Some(mut t) = world.get_resource_mut::<GpuTiming>() {
             t.end_run(&stats.lights);
         }
+        #[cfg(feature = "gpu")]
+        gpu_probe::end_frame(world, &stats);
         if settings.calibrating {
             // A GPU frame that reads nothing back times only its recording of the lights' work:
             // its lights calibrate by their device times, where a `GpuTiming` brings them.

@@ -89,3 +89,45 @@ fn the_gpu_frame_measures_its_lights_missing_shadows() {
     }
     assert!(checked >= 2, "{checked} lamps measured");
 }
+
+/// A probe measures the sampled receivers only (every other one of 8192 here); where none of
+/// them is lit, the missing shadow is not measured (`None`: the light takes the catalogue's
+/// median), never the 0 of the unsampled receivers read as lit. Where they are, it is their rms.
+#[test]
+fn a_probe_measures_only_the_receivers_it_sampled() {
+    use glam::Vec3;
+    let n = 8192;
+    let light = soft_shadow_core::Light::Point {
+        position: Vec3::new(0.0, 2.0, 0.0),
+    };
+    let config = ShadowConfig::shared();
+    let positions: Vec<Vec3> = (0..n)
+        .map(|i| Vec3::new((i % 64) as f32 * 0.01, 0.0, (i / 64) as f32 * 0.01))
+        .collect();
+    // The sampled receivers (even indices) face away from the light, the others face it.
+    let normals: Vec<Vec3> = (0..n)
+        .map(|i| if i % 2 == 0 { Vec3::NEG_Y } else { Vec3::Y })
+        .collect();
+    let frame = FrameReceivers {
+        positions,
+        normals,
+        camera: None,
+    };
+    assert_eq!(FrameReceivers::sample_step(n), 2);
+    let probed: Vec<f32> = (0..n)
+        .map(|i| if i % 2 == 0 { 0.0 } else { f32::NAN })
+        .collect();
+    assert_eq!(missing_shadow_255(&light, &config, &frame, &probed), None);
+    // Lit sampled receivers, half of them in shadow.
+    let mut frame = frame;
+    frame.normals = vec![Vec3::Y; n];
+    let probed: Vec<f32> = (0..n)
+        .map(|i| match i % 4 {
+            0 => 0.0,
+            2 => 1.0,
+            _ => f32::NAN,
+        })
+        .collect();
+    let m = missing_shadow_255(&light, &config, &frame, &probed).unwrap();
+    assert!(m > 100.0 && m.is_finite(), "{m}");
+}
