@@ -152,7 +152,8 @@ pub struct LightState {
     /// Why this light casts no shadows, when it does not (e.g. no technique fits the budget).
     pub error: Option<String>,
     /// Milliseconds of the last frame that generated this light's maps (generation and
-    /// evaluation), until the budget check reads it.
+    /// evaluation), until the budget check reads it. On a GPU frame timed by a
+    /// [`crate::GpuTiming`], its device time, a frame or two later.
     pub generated_ms: Option<f64>,
     /// For a light that shares the [`crate::FrameBudget`]: its part (`None` before the first
     /// share, and for other lights).

@@ -402,3 +402,29 @@ pub(crate) fn begin_frame(world: &mut World, frame: u64) -> Vec<Vec<LightStats>>
         None => Vec::new(),
     }
 }
+
+/// The lights of the frames whose device times arrived (`arrived`) that made their maps then:
+/// their device time (generation and `V`) becomes what `Auto` holds to its budget
+/// ([`crate::LightState::generated_ms`], read by [`crate::tracking::keep_budgets`]).
+pub(crate) fn measured(world: &mut World, arrived: &[Vec<LightStats>]) {
+    for l in arrived.iter().flatten().filter(|l| l.views_generated > 0) {
+        if let Some(mut state) = world.get_mut::<crate::LightState>(l.light) {
+            state.generated_ms = Some(l.generate_ms + l.evaluate_ms);
+        }
+    }
+}
+
+/// After a frame whose passes are timed on the device: the wall time the lights' generation
+/// took there is only its recording, not what `Auto` holds to its budget; the device's comes
+/// with its timestamps ([`measured`]).
+pub(crate) fn end_frame(world: &mut World) {
+    if world
+        .get_resource::<GpuTiming>()
+        .is_some_and(GpuTiming::timing)
+    {
+        let mut states = world.query::<&mut crate::LightState>();
+        for mut s in states.iter_mut(world) {
+            s.generated_ms = None;
+        }
+    }
+}

@@ -166,6 +166,8 @@ impl FramePipeline {
         // The device times of earlier GPU frames that have come back, where they are timed.
         #[cfg(feature = "gpu")]
         let arrived = gpu_timing::begin_frame(world, frame);
+        #[cfg(feature = "gpu")]
+        gpu_timing::measured(world, &arrived);
         // The lights' `V` at the sampled receivers of an earlier GPU frame, where it is probed.
         #[cfg(feature = "gpu")]
         gpu_probe::begin_frame(world);
@@ -178,6 +180,8 @@ impl FramePipeline {
         }
         #[cfg(feature = "gpu")]
         gpu_probe::end_frame(world, &stats);
+        #[cfg(feature = "gpu")]
+        gpu_timing::end_frame(world);
         if settings.calibrating {
             // A GPU frame that reads nothing back times only its recording of the lights' work:
             // its lights calibrate by their device times, where a `GpuTiming` brings them.

@@ -238,6 +238,59 @@ fn the_gpu_frame_times_its_lights_on_the_device() {
     assert!(checked > 0, "{ratios:?}");
 }
 
+/// An `Auto` light on a timed GPU frame holds its budget to its device time: a lamp of the
+/// street given `ShadowConfig::auto`, its maps made every frame (caching off), reads as its
+/// measured time the device time (generation and `V`) its last timed frame brought, not the
+/// wall time of recording its work (which is what it read before: the test fails there).
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn auto_holds_its_budget_to_the_device_time() {
+    let Some(ctx) = gpu_for_test("auto_holds_its_budget_to_the_device_time") else {
+        return;
+    };
+    let gpu = Arc::new(ctx);
+    if !gpu.has_timestamps() {
+        return;
+    }
+    let mut street = GpuStreet::new(gpu, (96, 54), 40.0);
+    let lamp = street.lamps.lamps[6];
+    let world = &mut street.lamps.scene.world;
+    world.insert_resource(GpuTiming::default());
+    world.insert_resource(
+        FrameSettings::default()
+            .with_evaluate_receivers(false)
+            .with_caching(false),
+    );
+    let range = world.get::<shadow_frame::ShadowConfig>(lamp).unwrap().range;
+    world
+        .entity_mut(lamp)
+        .insert(shadow_frame::ShadowConfig::auto(50.0).with_range(range));
+    let mut checked = 0;
+    for _ in 0..7 {
+        street.frame(0);
+        let world = &street.lamps.scene.world;
+        let auto = world
+            .get::<shadow_frame::ResolvedTechnique>(lamp)
+            .and_then(|r| r.auto);
+        let device = world
+            .resource::<GpuTiming>()
+            .latest()
+            .filter(|t| t.frame > 1)
+            .and_then(|t| t.lights.iter().find(|l| l.light == lamp))
+            .and_then(|l| Some(l.generate_ms? + l.evaluate_ms?));
+        // (A pick that stepped down has measured nothing yet.)
+        if let (Some(m), Some(d)) = (auto.and_then(|a| a.measured_ms), device) {
+            println!("measured {m:.3} ms, device {d:.3} ms");
+            assert!((m - d).abs() <= 1e-9 * d.max(1.0), "{m} against {d}");
+            checked += 1;
+        }
+    }
+    assert!(checked >= 2, "{checked} frames checked");
+}
+
 /// The device time of each lamp's `V` pass over its configuration's predicted evaluation in
 /// frame `before`, whose times `street`'s last frame brought, by configuration.
 fn own_ratios(street: &GpuStreet, before: &FrameStats) -> Vec<(String, f64)> {
