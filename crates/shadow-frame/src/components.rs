@@ -300,6 +300,11 @@ pub struct ProbedVisibility {
     pub lights: std::collections::HashMap<Entity, Vec<f32>>,
 }
 
+/// The layer of [`crate::gpu_frame::FrameTextures::visibility`] a light's `V` is written to: a
+/// component of the light's entity. Lights without one are not recorded.
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct VisibilityLayer(pub u32);
+
 /// Frame settings.
 #[derive(Resource, Clone, Copy)]
 #[non_exhaustive]

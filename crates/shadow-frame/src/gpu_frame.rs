@@ -12,17 +12,13 @@
 //! G-buffer, say its corners, or none where the casters' shadows fall within the casters'
 //! bounds): the maps are fitted to the casters and those receivers.
 
+pub use crate::components::VisibilityLayer;
 use crate::components::{LightState, RecordedTexels};
 use crate::gpu_probe::ShadowProbe;
 use crate::gpu_timing::GpuTiming;
 use bevy_ecs::prelude::*;
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::{GpuContext, Result, ShadowError};
-
-/// The layer of [`FrameTextures::visibility`] a light's `V` is written to: a component of the
-/// light's entity. Lights without one are not recorded.
-#[derive(Component, Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct VisibilityLayer(pub u32);
 
 /// Your G-buffer and the texture every light's `V` goes to.
 #[derive(Clone, Copy, Debug)]

@@ -15,8 +15,7 @@
 //! when every one of [`PROBE_FRAMES`] slots is taken goes unprobed.
 
 use crate::budget::fingerprint;
-use crate::components::{FrameReceivers, LightState, ProbedVisibility};
-use crate::gpu_frame::VisibilityLayer;
+use crate::components::{FrameReceivers, LightState, ProbedVisibility, VisibilityLayer};
 use bevy_ecs::prelude::*;
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::{GpuContext, Result};
