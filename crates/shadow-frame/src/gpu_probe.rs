@@ -90,12 +90,8 @@ impl ShadowProbe {
             .filter(|s| matches!(s.state, SlotState::Recorded))
             .min_by_key(|s| s.order);
         if let Some(slot) = oldest {
-            let flag = Arc::new(AtomicU8::new(0));
-            let f = flag.clone();
-            slot.buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-                f.store(if r.is_ok() { 1 } else { 2 }, Ordering::Release);
-            });
-            slot.state = SlotState::Mapping(flag);
+            let all = 0..slot.buffer.size();
+            slot.state = SlotState::Mapping(crate::gpu_timing::map_read(&slot.buffer, all));
         }
     }
 

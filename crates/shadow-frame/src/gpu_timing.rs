@@ -215,14 +215,8 @@ impl GpuTiming {
             .filter(|s| matches!(s.state, SlotState::Resolved))
             .min_by_key(|s| s.frame);
         if let Some(slot) = oldest {
-            let flag = Arc::new(AtomicU8::new(0));
-            let f = flag.clone();
             let bytes = 8 * u64::from(slot.stamps.used().max(2));
-            slot.readback
-                .map_async(wgpu::MapMode::Read, 0..bytes, move |r| {
-                    f.store(if r.is_ok() { 1 } else { 2 }, Ordering::Release);
-                });
-            slot.state = SlotState::Mapping(flag);
+            slot.state = SlotState::Mapping(map_read(&slot.readback, 0..bytes));
         }
     }
 
@@ -427,4 +421,16 @@ pub(crate) fn end_frame(world: &mut World) {
             s.generated_ms = None;
         }
     }
+}
+
+/// Asks for `range` of `buffer` to be mapped for reading, without waiting: the flag turns 1
+/// once it is mapped, 2 if the mapping failed (0 while on its way; a later poll of the device
+/// moves it).
+pub(crate) fn map_read(buffer: &wgpu::Buffer, range: Range<u64>) -> Arc<AtomicU8> {
+    let flag = Arc::new(AtomicU8::new(0));
+    let f = flag.clone();
+    buffer.map_async(wgpu::MapMode::Read, range, move |r| {
+        f.store(if r.is_ok() { 1 } else { 2 }, Ordering::Release);
+    });
+    flag
 }
