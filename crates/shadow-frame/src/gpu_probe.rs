@@ -17,11 +17,15 @@
 use crate::budget::fingerprint;
 use crate::components::{FrameReceivers, LightState, ProbedVisibility, VisibilityLayer};
 use bevy_ecs::prelude::*;
+use soft_shadow_core::gpu::resources::texture_2d;
 use soft_shadow_core::gpu::visibility::ReceiverTextures;
 use soft_shadow_core::{GpuContext, Result};
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};
+
+/// A probe texture's texels, row by row.
+type Texels = Vec<[f32; 4]>;
 
 /// Frames whose probes can be on their way back at once.
 pub const PROBE_FRAMES: usize = 3;
@@ -42,8 +46,8 @@ const LAYER_BYTES: u64 = (SIDE * SIDE * 4) as u64;
 pub struct ShadowProbe {
     /// The sampled receivers' textures and the probe's `V`, made for a device and a layer count.
     textures: Option<Textures>,
-    /// The sampled receivers the textures hold, positions then normals.
-    uploaded: Option<Vec<[f32; 4]>>,
+    /// The sampled receivers the textures hold, positions and normals.
+    uploaded: Option<(Texels, Texels)>,
     slots: Vec<Slot>,
     /// The frame each light last made its maps in: a probe recorded before holds another
     /// shadow.
@@ -102,20 +106,7 @@ impl ShadowProbe {
         });
         if !fits {
             let texture = |label: &str, format, usage, layers| {
-                gpu.device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: SIDE,
-                        height: SIDE,
-                        depth_or_array_layers: layers,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage,
-                    view_formats: &[],
-                })
+                texture_2d(gpu, label, SIDE, (layers, 1), format, usage)
             };
             let input = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
             let f = wgpu::TextureFormat::Rgba32Float;
@@ -191,9 +182,9 @@ impl ShadowProbe {
             return Ok(());
         };
         let t = self.textures.as_ref().expect("made above");
-        let sampled: Vec<[f32; 4]> = positions.iter().chain(&normals).copied().collect();
+        let sampled = (positions, normals);
         if self.uploaded.as_ref() != Some(&sampled) {
-            for (texture, data) in [(&t.positions, &positions), (&t.normals, &normals)] {
+            for (texture, data) in [(&t.positions, &sampled.0), (&t.normals, &sampled.1)] {
                 gpu.queue.write_texture(
                     texture.as_image_copy(),
                     bytemuck::cast_slice(data),
