@@ -344,10 +344,11 @@ fn a_window_screenshot_of_two_techniques_matches_the_offscreen_frame() {
 }
 
 /// A real window on the night street: the frame pipeline shares the budget among its 16 lamps
-/// (every lamp's pick printed, the lamps behind the camera and those the budget leaves out
-/// without a shadow, at least two with one: on lavapipe a lamp's passes take 15-30 ms of device
-/// time at this size, and the budget is in device time once the first frames' timestamps are
-/// back), the view shows lamp-lit ground beside dark, and
+/// (every lamp's pick printed, the lamps behind the camera without a shadow, at least two with
+/// one: on lavapipe a lamp's passes take 15-40 ms of device time at this size and the
+/// pipeline's own passes 10-15 ms, so the budget is 400 ms, which holds two lamps on a machine
+/// twice as slow; at 16 ms whether any lamp fits depends on the machine), the view shows
+/// lamp-lit ground beside dark, and
 /// a budget that is not a positive number of milliseconds is refused with a message.
 #[test]
 fn a_window_shows_the_night_streets_lamps_under_one_budget() {
@@ -358,7 +359,7 @@ fn a_window_shows_the_night_streets_lamps_under_one_budget() {
         "--size",
         "192x108",
         "--budget-ms",
-        "16",
+        "400",
         "--frames",
         "3",
         "--screenshot",
@@ -367,7 +368,10 @@ fn a_window_shows_the_night_streets_lamps_under_one_budget() {
         return;
     };
     let stdout = succeeded(&out);
-    assert!(stdout.contains("16 lamps under a 16 ms budget"), "{stdout}");
+    assert!(
+        stdout.contains("16 lamps under a 400 ms budget"),
+        "{stdout}"
+    );
     let lamps: Vec<&str> = stdout
         .lines()
         .filter(|l| l.trim_start().starts_with("lamp "))
