@@ -4,7 +4,9 @@
 //! slices are independent random occluders, a ray passes all of them with probability
 //! `prod(1 - I_k)` (equation 5); the true answer lies between the maximum (overlapping
 //! occluders) and the clamped sum (disjoint ones), and so does the product:
-//! `max I_k <= 1 - prod(1 - I_k) <= min(1, sum I_k)`.
+//! `max I_k <= 1 - prod(1 - I_k) <= min(1, sum I_k)`. The chain ([`Combination::Chain`])
+//! replaces a slice's factor by the share of the light it lets through given that its
+//! neighbour nearer the light let it through ([`Accumulator::add_given`]).
 
 use crate::params::Combination;
 
@@ -19,7 +21,7 @@ impl Accumulator {
     /// No occlusion yet.
     pub(crate) fn new(how: Combination) -> Self {
         let value = match how {
-            Combination::Product => 1.0,
+            Combination::Product | Combination::Chain => 1.0,
             Combination::Sum | Combination::Max => 0.0,
         };
         Self { how, value }
@@ -29,19 +31,37 @@ impl Accumulator {
     pub(crate) fn add(&mut self, i: f32) {
         let i = i.clamp(0.0, 1.0);
         match self.how {
-            Combination::Product => self.value *= 1.0 - i,
+            Combination::Product | Combination::Chain => self.value *= 1.0 - i,
             Combination::Sum => self.value += i,
             Combination::Max => self.value = self.value.max(i),
         }
     }
 
+    /// A slice that hides the fraction `union` of the light together with its neighbour nearer
+    /// the light, which alone hides `nearer` of it (both over this slice's kernel): the chain's
+    /// factor `(1 - union + CHAIN_EPSILON) / (1 - nearer + CHAIN_EPSILON)`, clamped to [0, 1].
+    pub(crate) fn add_given(&mut self, union: f32, nearer: f32) {
+        self.value *= given(union, nearer);
+    }
+
     /// The visible fraction of the light, in [0, 1].
     pub(crate) fn visibility(&self) -> f32 {
         match self.how {
-            Combination::Product => self.value.clamp(0.0, 1.0),
+            Combination::Product | Combination::Chain => self.value.clamp(0.0, 1.0),
             Combination::Sum | Combination::Max => 1.0 - self.value.clamp(0.0, 1.0),
         }
     }
+}
+
+/// What keeps [`Accumulator::add_given`]'s ratio finite where the neighbour hides the whole
+/// kernel: one step of the 8-bit filtered textures.
+pub(crate) const CHAIN_EPSILON: f32 = 1.0 / 255.0;
+
+/// The chain's factor: the share of the light that passes a slice among what passed its
+/// neighbour, from the union's occlusion and the neighbour's (`visibility.wgsl`'s `given`).
+pub(crate) fn given(union: f32, nearer: f32) -> f32 {
+    let (u, b) = (union.clamp(0.0, 1.0), nearer.clamp(0.0, 1.0));
+    ((1.0 - u + CHAIN_EPSILON) / (1.0 - b + CHAIN_EPSILON)).clamp(0.0, 1.0)
 }
 
 /// `V` of a set of slice occlusions combined by `how`.

@@ -7,7 +7,7 @@ use crate::frame::Frame;
 use crate::params::OcclusionSlices;
 use crate::slicing::{MAX_SLICES, Slices, slice};
 use rayon::prelude::*;
-use soft_shadow_core::{CpuContext, Generation, Map2D, Receivers};
+use soft_shadow_core::{CpuContext, Generation, Map2D, Receivers, Result, ShadowError};
 
 /// The prefiltered occlusion textures of one light.
 #[derive(Clone, Debug)]
@@ -18,8 +18,11 @@ pub struct CpuSliceMaps {
     pub(crate) masks: Map2D<u32>,
     /// Per texel and slice, the topmost fragment's [`Frame::top_code`].
     pub(crate) tops: Map2D<[u8; MAX_SLICES]>,
-    /// The filtered form the evaluation reads.
+    /// The filtered form the evaluation reads: slice `k` at `k`, and with
+    /// [`crate::Combination::Chain`] the union of slices `k - 1` and `k` at `slices + k`.
     pub(crate) filtered: Filtered,
+    /// Whether `filtered` holds the unions.
+    pub(crate) chained: bool,
 }
 
 /// Slices and prefilters (inputs already checked), the storage from `cpu`'s pool.
@@ -27,13 +30,29 @@ pub(crate) fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation
     let (geometry, resolution) = (input.geometry, input.resolution);
     let frame = Frame::fit(input.light, geometry, t, resolution, input.region);
     let Slices { masks, tops } = slice(cpu.pool(), &frame, geometry);
-    let filtered = Filtered::build(cpu.pool(), t.filter, resolution, masks.data(), frame.slices);
+    let chained = t.combination.chained();
+    let filtered = if chained {
+        let n = frame.slices;
+        let unions: Vec<u32> = masks.data().iter().map(|&m| with_unions(m, n)).collect();
+        Filtered::build(cpu.pool(), t.filter, resolution, &unions, 2 * n)
+    } else {
+        Filtered::build(cpu.pool(), t.filter, resolution, masks.data(), frame.slices)
+    };
     CpuSliceMaps {
         frame,
         masks,
         tops,
         filtered,
+        chained,
     }
+}
+
+/// A texel's mask of `n` slices with, at bit `n + k`, the union of slices `k - 1` and `k`
+/// (`sat_rows.wgsl`'s union layers).
+pub(crate) fn with_unions(m: u32, n: u32) -> u32 {
+    let all = (1u32 << n) - 1;
+    let m = m & all;
+    m | (((m | (m << 1)) & all) << n)
 }
 
 impl CpuSliceMaps {
@@ -45,9 +64,18 @@ impl CpuSliceMaps {
     }
 }
 
-/// `V` per receiver (inputs already checked).
-pub(crate) fn evaluate(t: &OcclusionSlices, maps: &CpuSliceMaps, r: &Receivers) -> Vec<f32> {
-    r.positions
+/// `V` per receiver (inputs already checked); maps without the unions the chain reads are
+/// [`ShadowError::MapsMismatch`].
+pub(crate) fn evaluate(
+    t: &OcclusionSlices,
+    maps: &CpuSliceMaps,
+    r: &Receivers,
+) -> Result<Vec<f32>> {
+    if t.combination.chained() && !maps.chained {
+        return Err(unions_missing());
+    }
+    let slices = maps.frame.slices as usize;
+    Ok(r.positions
         .par_iter()
         .zip(r.normals.par_iter())
         .map(|(&p, &n)| {
@@ -66,8 +94,18 @@ pub(crate) fn evaluate(t: &OcclusionSlices, maps: &CpuSliceMaps, r: &Receivers) 
                 p,
                 n,
                 |k, c, s| maps.filtered.mean(k, c, s),
+                |k, c, s| maps.filtered.mean(slices + k, c, s),
                 top,
             )
         })
-        .collect()
+        .collect())
+}
+
+/// The error of chained evaluation over maps made for another combination.
+pub(crate) fn unions_missing() -> ShadowError {
+    ShadowError::MapsMismatch(
+        "the chain combination reads the unions of neighbouring slices, which these maps \
+         (made for another combination) do not hold"
+            .into(),
+    )
 }

@@ -25,14 +25,20 @@ pub(crate) const TAPS: u32 = 8;
 /// away from the surface at the texel's centre).
 pub(crate) const SLAB_BIAS_TEXELS: f32 = 1.0;
 
-/// `V` at `p` (unit normal `n`) with `mean(k, centre, size)` the filtered occlusion of slice `k`
-/// and `top(k, x, y)` texel `(x, y)`'s [`Frame::top_code`] in slice `k` (0 outside the map).
+/// `V` at `p` (unit normal `n`) with `mean(k, centre, size)` the filtered occlusion of slice `k`,
+/// `union(k, centre, size)` that of slices `k - 1` and `k` together (read by
+/// [`crate::Combination::Chain`] only), and `top(k, x, y)` texel `(x, y)`'s [`Frame::top_code`]
+/// in slice `k` (0 outside the map).
+///
+/// The chain links slice `k` to slice `k - 1` where both are read filtered alone (weight 1);
+/// a slice that fades in, or follows one that does, multiplies as in the product.
 pub(crate) fn visibility(
     t: &OcclusionSlices,
     frame: &Frame,
     p: Vec3,
     n: Vec3,
     mean: impl Fn(usize, Vec2, f32) -> f32,
+    union: impl Fn(usize, Vec2, f32) -> f32,
     top: impl Fn(usize, i64, i64) -> u8,
 ) -> f32 {
     if frame.occupied == 0 {
@@ -44,17 +50,26 @@ pub(crate) fn visibility(
     let mut acc = Accumulator::new(t.combination);
     let fade_length = frame.fade_length(c.h);
     let receiver = Receiver::new(frame, c, n);
+    let chained = t.combination.chained();
+    // Whether the previous slice was read filtered alone.
+    let mut linked = false;
     for k in 0..frame.slices {
         let w = frame.fade(k, c.h, fade_length);
         let mut i = 0.0;
         if w > 0.0 {
             let (center, size) = frame.kernel(c, frame.plane(k));
+            if chained && linked && w >= 1.0 {
+                let k = k as usize;
+                acc.add_given(union(k, center, size), mean(k - 1, center, size));
+                continue;
+            }
             i = w * mean(k as usize, center, size);
         }
         if w < 1.0 {
             i += (1.0 - w) * slab_occlusion(frame, &receiver, k, &top);
         }
         acc.add(i);
+        linked = w >= 1.0;
         if w <= 0.0 {
             break;
         }

@@ -47,7 +47,7 @@ impl ShadowTechnique for OcclusionSlices {
         maps: &cpu::CpuSliceMaps,
         receivers: Checked<Receivers<'_>>,
     ) -> Result<Vec<f32>> {
-        Ok(cpu::evaluate(self, maps, &receivers))
+        cpu::evaluate(self, maps, &receivers)
     }
 
     #[cfg(feature = "gpu")]

@@ -15,11 +15,27 @@ pub enum Combination {
     Sum,
     /// The strongest slice only: `V = 1 - max I_k`.
     Max,
+    /// Equation 5 with neighbouring slices chained: after the first, slice `k` lets through the
+    /// share of the light that passes it among what passed slice `k - 1`,
+    /// `(1 - U_k + e) / (1 - I_{k-1} + e)`, with `U_k` the filtered union of slices `k - 1` and
+    /// `k` and `I_{k-1}`, both over slice `k`'s kernel (`e` = 1/255, so a kernel that slice
+    /// `k - 1` already hides gets nothing more from `k`). Neighbours are where the product's
+    /// independence fails most: a body that crosses a plane hides complementary parts of the
+    /// light from either side of it (the product lets a lighter line through its umbra), and a
+    /// shell's two faces in neighbouring slices hide the same part twice (the product darkens
+    /// its penumbra); the chain counts both once. Slices further apart stay independent. The
+    /// unions are prefiltered beside the slices, which doubles the maps' memory and filtering.
+    Chain,
 }
 
 impl Combination {
     /// Every combination.
-    pub const ALL: [Combination; 3] = [Combination::Product, Combination::Sum, Combination::Max];
+    pub const ALL: [Combination; 4] = [
+        Combination::Product,
+        Combination::Sum,
+        Combination::Max,
+        Combination::Chain,
+    ];
 
     /// Short name used in variant labels.
     pub fn name(self) -> &'static str {
@@ -27,6 +43,7 @@ impl Combination {
             Combination::Product => "product",
             Combination::Sum => "sum",
             Combination::Max => "max",
+            Combination::Chain => "chain",
         }
     }
 
@@ -36,7 +53,13 @@ impl Combination {
             Combination::Product => 0,
             Combination::Sum => 1,
             Combination::Max => 2,
+            Combination::Chain => 3,
         }
+    }
+
+    /// Whether the maps hold the unions of neighbouring slices beside the slices.
+    pub(crate) fn chained(self) -> bool {
+        self == Combination::Chain
     }
 }
 
@@ -96,15 +119,21 @@ impl OcclusionSlices {
         self
     }
 
-    /// The variants the report runs: every filter with 4, 8 and 16 slices (product), and the
-    /// sum and max combinations with the exact filter (SAT) and 8 slices, for the Figure 3 comparison.
+    /// The variants the report runs: every filter with 4, 8 and 16 slices (product), the sum,
+    /// max and chain combinations with the exact filter (SAT) and 8 slices, for the Figure 3
+    /// comparison, and the chain with N-Buffers and 8 and 16 slices.
     pub fn standard_set() -> Vec<OcclusionSlices> {
         let mut set: Vec<OcclusionSlices> = Prefilter::ALL
             .iter()
             .flat_map(|&f| [4, 8, 16].map(|n| OcclusionSlices::new(n, f)))
             .collect();
-        for c in [Combination::Sum, Combination::Max] {
+        for c in [Combination::Sum, Combination::Max, Combination::Chain] {
             set.push(OcclusionSlices::new(8, Prefilter::Sat).with_combination(c));
+        }
+        for n in [8, 16] {
+            set.push(
+                OcclusionSlices::new(n, Prefilter::NBuffer).with_combination(Combination::Chain),
+            );
         }
         set
     }
@@ -204,8 +233,8 @@ impl TechniqueInfo for OcclusionSlices {
         }
     }
 
-    /// Per slice: its occupancy, the summed-area table and its row pass, and the prefiltered
-    /// levels (one byte per level for N-Buffers, 4/3 for mipmaps); per texel, the CPU's 16 top
+    /// Per slice (and per union with [`Combination::Chain`]): its occupancy, the summed-area
+    /// table and its row pass, and the prefiltered levels (one byte per level for N-Buffers, 4/3 for mipmaps); per texel, the CPU's 16 top
     /// codes.
     fn memory_estimate(&self, _light: &Light, resolution: u32) -> u64 {
         let levels = match self.filter {
@@ -218,7 +247,9 @@ impl TechniqueInfo for OcclusionSlices {
             }
             Prefilter::Sat => 0,
         };
-        soft_shadow_core::memory::maps(self.slices as u64, resolution + 1, 9 + levels)
+        // The chain prefilters each slice's union with its neighbour beside it.
+        let filtered = self.slices as u64 * (1 + self.combination.chained() as u64);
+        soft_shadow_core::memory::maps(filtered, resolution + 1, 9 + levels)
             + soft_shadow_core::memory::maps(1, resolution, crate::slicing::MAX_SLICES as u64)
     }
 

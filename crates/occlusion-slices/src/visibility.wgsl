@@ -8,7 +8,8 @@ struct EvalParams {
     filter_kind: u32,
     combination: u32,
     levels: u32,
-    _pad_c: u32,
+    // Slice index where the unions of neighbouring slices begin (the chain's).
+    unions: u32,
     normal_offset: f32,
     groups: u32,
     _pad_a: u32,
@@ -21,6 +22,7 @@ const FILTER_SAT: u32 = 2u;
 const COMBINE_PRODUCT: u32 = 0u;
 const COMBINE_SUM: u32 = 1u;
 const COMBINE_MAX: u32 = 2u;
+const COMBINE_CHAIN: u32 = 3u;
 
 @group(#{MAPS_GROUP}) @binding(0) var<uniform> frame: Frame;
 @group(#{MAPS_GROUP}) @binding(1) var<uniform> ep: EvalParams;
@@ -241,6 +243,16 @@ fn slab_occlusion(r: Receiver, k: u32) -> f32 {
 
 // --- eval.rs::visibility with combine.rs::Accumulator
 
+// combine.rs::given: the share of the light that passes a slice among what passed its
+// neighbour nearer the light.
+const CHAIN_EPSILON: f32 = 1.0 / 255.0;
+
+fn given(union_occ: f32, nearer: f32) -> f32 {
+    let u = clamp(union_occ, 0.0, 1.0);
+    let b = clamp(nearer, 0.0, 1.0);
+    return clamp((1.0 - u + CHAIN_EPSILON) / (1.0 - b + CHAIN_EPSILON), 0.0, 1.0);
+}
+
 fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     if frame.occupied == 0u {
         return 1.0;
@@ -248,7 +260,10 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let h = light_coord(frame, p).z;
     let offset = ep.normal_offset * texel_size(frame, max(h, 0.0));
     let c = light_coord(frame, p + n * offset);
-    var acc = select(0.0, 1.0, ep.combination == COMBINE_PRODUCT);
+    let multiplies = ep.combination == COMBINE_PRODUCT || ep.combination == COMBINE_CHAIN;
+    var acc = select(0.0, 1.0, multiplies);
+    // Whether the previous slice was read filtered alone.
+    var linked = false;
     let len = fade_length(frame, c.z);
     var r: Receiver;
     r.c = c;
@@ -259,6 +274,11 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         var occ = 0.0;
         if w > 0.0 {
             let ker = kernel(frame, c, plane(frame, k));
+            if ep.combination == COMBINE_CHAIN && linked && w >= 1.0 {
+                let u = filtered_mean(ep.unions + k, ker.center, ker.size);
+                acc *= given(u, filtered_mean(k - 1u, ker.center, ker.size));
+                continue;
+            }
             occ = w * filtered_mean(k, ker.center, ker.size);
         }
         if w < 1.0 {
@@ -266,7 +286,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         }
         let i = clamp(occ, 0.0, 1.0);
         switch ep.combination {
-            case COMBINE_PRODUCT: {
+            case COMBINE_PRODUCT, COMBINE_CHAIN: {
                 acc *= 1.0 - i;
             }
             case COMBINE_SUM: {
@@ -276,11 +296,12 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
                 acc = max(acc, i);
             }
         }
+        linked = w >= 1.0;
         if w <= 0.0 {
             break;
         }
     }
-    if ep.combination == COMBINE_PRODUCT {
+    if multiplies {
         return clamp(acc, 0.0, 1.0);
     }
     return 1.0 - clamp(acc, 0.0, 1.0);

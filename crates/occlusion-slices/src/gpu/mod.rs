@@ -2,7 +2,9 @@
 //!
 //! 1. the slicing render pass (`slicing.wgsl`): casters from the COP into `ceil(n / 4)` RGBA8
 //!    layers, four slices per texel, `Max`-blended;
-//! 2. the summed-area table of integer counts (`sat_rows.wgsl`, `sat_cols.wgsl`);
+//! 2. the summed-area table of integer counts (`sat_rows.wgsl`, `sat_cols.wgsl`), with
+//!    [`crate::Combination::Chain`] also of the unions of neighbouring slices, in as many layers
+//!    again after the slices';
 //! 3. for N-Buffers and mipmaps, every level from the table (`levels.wgsl`), RGBA8.
 //!
 //! Evaluation is `visibility()` in `visibility.wgsl`.
@@ -31,20 +33,33 @@ pub struct GpuSliceMaps {
     pub(crate) filter: Prefilter,
     /// Groups of four slices (RGBA texels).
     pub(crate) groups: u32,
+    /// Whether the table and levels hold the unions of neighbouring slices
+    /// ([`crate::Combination::Chain`]) in `groups` layers after the slices'.
+    pub(crate) chained: bool,
     /// Mipmap or N-Buffer levels.
     pub(crate) levels: u32,
     /// The slices: `groups` RGBA8 layers, each channel a slice's top codes
     /// ([`Frame::top_code`] / 255; 0 where empty).
     pub(crate) occupancy: wgpu::Texture,
-    /// The summed-area table (`resolution + 1` a side, `groups` layers of RGBA32Uint); kept for
-    /// [`Prefilter::Sat`], a 1x1 placeholder otherwise.
+    /// The summed-area table (`resolution + 1` a side, [`GpuSliceMaps::table_groups`] layers
+    /// of RGBA32Uint); kept for [`Prefilter::Sat`], a 1x1 placeholder otherwise.
     pub(crate) sat: wgpu::Texture,
-    /// N-Buffer levels (`levels * groups` layers) or the mip pyramid (`groups` layers, `levels`
-    /// mips); a 1x1 placeholder for [`Prefilter::Sat`].
+    /// N-Buffer levels (`levels * table_groups` layers) or the mip pyramid (`table_groups`
+    /// layers, `levels` mips); a 1x1 placeholder for [`Prefilter::Sat`].
     pub(crate) filtered: wgpu::Texture,
 }
 
+/// Layers of the table and of each level: the slices' groups, twice over with the unions.
+fn table_groups(groups: u32, chained: bool) -> u32 {
+    groups * (1 + chained as u32)
+}
+
 impl GpuSliceMaps {
+    /// Layers of the table and of each level.
+    fn table_groups(&self) -> u32 {
+        table_groups(self.groups, self.chained)
+    }
+
     /// Reads the binary slices back (tests): `slices` maps of `resolution²` flags.
     pub fn read_slices(&self, ctx: &GpuContext) -> Result<Vec<Vec<bool>>> {
         let mut out = vec![Vec::new(); self.frame.slices as usize];
@@ -71,7 +86,7 @@ impl GpuSliceMaps {
         let mut out = vec![Vec::new(); slices];
         for l in 0..self.levels {
             for g in 0..self.groups {
-                let layer = l * self.groups + g;
+                let layer = l * self.table_groups() + g;
                 let texels: Vec<[u8; 4]> =
                     read_texture(ctx, &self.filtered, layer, wgpu::TextureAspect::All, 4)?;
                 for c in 0..4 {
@@ -107,11 +122,11 @@ pub(crate) struct EvalParams {
     pub combination: u32,
     /// Mipmap or N-Buffer levels.
     pub levels: u32,
-    /// Unused.
-    pub _reserved: u32,
+    /// Where the unions of neighbouring slices begin, as a slice index (`4 * groups`).
+    pub unions: u32,
     /// Receiver offset along its normal, in texels.
     pub normal_offset: f32,
-    /// Groups of four slices.
+    /// Layers of each level ([`GpuSliceMaps::table_groups`]).
     pub groups: u32,
     /// Padding to 16 bytes.
     pub _pad: [u32; 2],
@@ -251,10 +266,12 @@ pub(crate) fn generate(
     let limits = ctx.device.limits();
     let levels = level_count(resolution);
     let groups = t.slices.div_ceil(4);
-    if levels * groups > limits.max_texture_array_layers {
+    let chained = t.combination.chained();
+    let tables = table_groups(groups, chained);
+    if levels * tables > limits.max_texture_array_layers {
         return Err(ShadowError::Gpu(format!(
             "{} N-Buffer layers exceed the device's {}",
-            levels * groups,
+            levels * tables,
             limits.max_texture_array_layers
         )));
     }
@@ -276,7 +293,7 @@ pub(crate) fn generate(
             ctx,
             label,
             resolution + 1,
-            (groups, 1),
+            (tables, 1),
             SAT_FORMAT,
             storage_usage(),
         )
@@ -291,7 +308,7 @@ pub(crate) fn generate(
             ctx,
             "n-buffers",
             resolution,
-            (levels * groups, 1),
+            (levels * tables, 1),
             LEVEL_FORMAT,
             storage_usage(),
         ),
@@ -302,7 +319,7 @@ pub(crate) fn generate(
             ctx,
             "mipmaps",
             resolution.next_power_of_two(),
-            (groups, levels),
+            (tables, levels),
             LEVEL_FORMAT,
             storage_usage(),
         ),
@@ -334,7 +351,7 @@ pub(crate) fn generate(
         "sat rows",
         &pre.sat_rows.pipeline,
         &b,
-        (scan_groups, groups, 1),
+        (scan_groups, tables, 1),
     );
     let b = bind(&pre.sat_cols, &rows_view, &sat_view);
     compute::dispatch(
@@ -343,11 +360,11 @@ pub(crate) fn generate(
         "sat cols",
         &pre.sat_cols.pipeline,
         &b,
-        (scan_groups, groups, 1),
+        (scan_groups, tables, 1),
     );
     if t.filter != Prefilter::Sat {
         encode_levels(
-            ctx, enc, &pre, &uniform, &sat_view, &filtered, t.filter, resolution, groups,
+            ctx, enc, &pre, &uniform, &sat_view, &filtered, t.filter, resolution, tables,
         );
     }
     ctx.recycle_texture(rows);
@@ -361,6 +378,7 @@ pub(crate) fn generate(
         frame,
         filter: t.filter,
         groups,
+        chained,
         levels,
         occupancy,
         sat,
@@ -385,13 +403,16 @@ pub(crate) fn bind_maps(
             t.slices
         )));
     }
+    if t.combination.chained() && !maps.chained {
+        return Err(crate::cpu::unions_missing());
+    }
     let prm = EvalParams {
         filter: t.filter.index(),
         combination: t.combination.index(),
         levels: maps.levels,
-        _reserved: 0,
+        unions: 4 * maps.groups,
         normal_offset: t.normal_offset,
-        groups: maps.groups,
+        groups: maps.table_groups(),
         _pad: [0; 2],
     };
     let fb = ctx.uniform_buffer("slicing frame", bytemuck::bytes_of(&maps.frame));

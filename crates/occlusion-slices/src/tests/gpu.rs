@@ -48,3 +48,51 @@ fn gpu_nbuffer_levels_equal_the_cpu() {
         }
     }
 }
+
+/// The chain reads the unions of neighbouring slices: maps made for another combination are a
+/// [`soft_shadow_core::ShadowError::MapsMismatch`] that names it, on both backends, and maps
+/// made for the chain serve the product, which reads their slices alone, with the `V` of
+/// its own maps, bit for bit.
+#[test]
+fn the_chain_reads_only_maps_made_for_it() {
+    use crate::Combination;
+    use soft_shadow_core::{CpuContext, Receivers, ShadowError};
+    let spec = soft_shadow_reference::scenes::catalogue::build("overlap").unwrap();
+    let geometry = spec.to_scene().unwrap().geometry();
+    let product = OcclusionSlices::new(8, Prefilter::NBuffer);
+    let chain = product.clone().with_combination(Combination::Chain);
+    let points: Vec<glam::Vec3> = (0..64)
+        .map(|i| glam::Vec3::new(-2.0 + i as f32 / 16.0, 0.0, 0.1))
+        .collect();
+    let receivers = Receivers::new(&points, &[glam::Vec3::Y; 64]);
+    let cpu = CpuContext::new();
+    let refused =
+        |e: ShadowError| matches!(&e, ShadowError::MapsMismatch(m) if m.contains("chain"));
+    let plain = product
+        .generate_cpu(&cpu, &geometry, &spec.light, 128)
+        .unwrap();
+    let err = chain.evaluate_cpu(&plain, &receivers).unwrap_err();
+    assert!(refused(err), "CPU");
+    let unions = chain
+        .generate_cpu(&cpu, &geometry, &spec.light, 128)
+        .unwrap();
+    assert_eq!(
+        product.evaluate_cpu(&unions, &receivers).unwrap(),
+        product.evaluate_cpu(&plain, &receivers).unwrap()
+    );
+    let Some(ctx) = gpu_for_test("the_chain_reads_only_maps_made_for_it") else {
+        return;
+    };
+    let plain = product
+        .generate_gpu(&ctx, &geometry, &spec.light, 128)
+        .unwrap();
+    let err = chain.evaluate_gpu(&ctx, &plain, &receivers).unwrap_err();
+    assert!(refused(err), "GPU");
+    let unions = chain
+        .generate_gpu(&ctx, &geometry, &spec.light, 128)
+        .unwrap();
+    assert_eq!(
+        product.evaluate_gpu(&ctx, &unions, &receivers).unwrap(),
+        product.evaluate_gpu(&ctx, &plain, &receivers).unwrap()
+    );
+}

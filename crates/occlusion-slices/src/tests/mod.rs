@@ -13,7 +13,7 @@ fn pool() -> Arc<Pool> {
     Arc::new(Pool::new(0))
 }
 
-use crate::combine::combine;
+use crate::combine::{Accumulator, CHAIN_EPSILON, combine};
 use crate::filters::mipmap::mip_size;
 use crate::filters::{Mipmap, NBuffer, Sat, unorm8};
 use crate::{Combination, OcclusionSlices, Prefilter};
@@ -80,6 +80,29 @@ proptest! {
         y in 0.01f32..0.99,
     ) {
         prop_assert_eq!(independent(Combination::Product, &a, &b, x, y), Ok(()));
+    }
+
+    /// The chain is exact for two neighbouring slices however their occluders overlap: with
+    /// `a`, `b` and `u` the shares of a kernel that slice `k - 1`, slice `k` and their union
+    /// hide, the first slice's factor times the chain's leaves `1 - u` of the light, within
+    /// [`CHAIN_EPSILON`] (the error is `e (u - a) / (1 - a + e)`); the product assumes
+    /// independence and leaves `(1 - a)(1 - b)`.
+    #[test]
+    fn chain_is_exact_for_two_neighbouring_slices(
+        cells in prop::collection::vec((any::<bool>(), any::<bool>()), 1..300),
+    ) {
+        let n = cells.len() as f32;
+        let a = cells.iter().filter(|c| c.0).count() as f32 / n;
+        let b = cells.iter().filter(|c| c.1).count() as f32 / n;
+        let u = cells.iter().filter(|c| c.0 || c.1).count() as f32 / n;
+        let mut chain = Accumulator::new(Combination::Chain);
+        chain.add(a);
+        chain.add_given(u, a);
+        let exact = 1.0 - u;
+        prop_assert!(
+            (chain.visibility() - exact).abs() <= CHAIN_EPSILON + 1e-6,
+            "a {a} b {b} u {u}: chain {} against {exact}", chain.visibility()
+        );
     }
 
     /// The summed-area table's box sums equal brute force exactly for random binary masks and
@@ -206,6 +229,32 @@ fn independent(how: Combination, a: &[f32], b: &[f32], x: f32, y: f32) -> Result
         return Err(format!("{x} and {y} block {occluded}, their sum"));
     }
     Ok(())
+}
+
+/// Where the product fails and the chain does not: complementary halves (a body that crosses a
+/// slice plane, seen from under it) leave the product a quarter of the light, the chain none;
+/// the same half hidden twice (a shell's two faces) leaves the product a quarter, the chain
+/// half.
+#[test]
+fn the_chain_counts_complementary_and_repeated_neighbours_once() {
+    let two = |how, a: f32, u: f32| {
+        let mut acc = Accumulator::new(how);
+        acc.add(a);
+        if how == Combination::Chain {
+            acc.add_given(u, a);
+        } else {
+            acc.add(a);
+        }
+        acc.visibility()
+    };
+    // Complementary: each hides half, together all of it.
+    assert_eq!(two(Combination::Product, 0.5, 1.0), 0.25);
+    assert!(two(Combination::Chain, 0.5, 1.0) <= CHAIN_EPSILON);
+    // Repeated: each hides the same half.
+    assert_eq!(two(Combination::Product, 0.5, 0.5), 0.25);
+    assert!((two(Combination::Chain, 0.5, 0.5) - 0.5).abs() <= 1e-6);
+    // A neighbour that hides the whole kernel leaves the chain's factor at 1.
+    assert_eq!(crate::combine::given(1.0, 1.0), 1.0);
 }
 
 /// The independence property can fail: the strongest slice alone and the clamped sum break it
