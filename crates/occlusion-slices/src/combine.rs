@@ -38,10 +38,13 @@ impl Accumulator {
     }
 
     /// A slice that hides the fraction `union` of the light together with its neighbour nearer
-    /// the light, which alone hides `nearer` of it (both over this slice's kernel): the chain's
-    /// factor `(1 - union + CHAIN_EPSILON) / (1 - nearer + CHAIN_EPSILON)`, clamped to [0, 1].
-    pub(crate) fn add_given(&mut self, union: f32, nearer: f32) {
-        self.value *= given(union, nearer);
+    /// the light, which alone hides `nearer` of it (both over this slice's kernel), read with
+    /// weight `w` (the rest of its weight `1 - w` the share `slab` of [`Accumulator::add`]'s
+    /// unfiltered read, as a fading slice is): the factor `w given(union, nearer) + (1 - w)
+    /// (1 - slab)`, which at `w = 0` is the product's.
+    pub(crate) fn add_given(&mut self, union: f32, nearer: f32, w: f32, slab: f32) {
+        debug_assert!(self.how.chained(), "{:?} has no chain", self.how);
+        self.value *= w * given(union, nearer) + (1.0 - w) * (1.0 - slab.clamp(0.0, 1.0));
     }
 
     /// The visible fraction of the light, in [0, 1].
@@ -53,15 +56,16 @@ impl Accumulator {
     }
 }
 
-/// What keeps [`Accumulator::add_given`]'s ratio finite where the neighbour hides the whole
-/// kernel: one step of the 8-bit filtered textures.
+/// The least share of the light [`given`] divides by: one step of the 8-bit filtered textures.
 pub(crate) const CHAIN_EPSILON: f32 = 1.0 / 255.0;
 
 /// The chain's factor: the share of the light that passes a slice among what passed its
-/// neighbour, from the union's occlusion and the neighbour's (`visibility.wgsl`'s `given`).
+/// neighbour, `1 - (union - nearer) / (1 - nearer)` from the union's occlusion and the
+/// neighbour's, clamped to [0, 1]; exact where the neighbour lets at least [`CHAIN_EPSILON`]
+/// through, and 1 where it hides everything the union does (`visibility.wgsl`'s `given`).
 pub(crate) fn given(union: f32, nearer: f32) -> f32 {
     let (u, b) = (union.clamp(0.0, 1.0), nearer.clamp(0.0, 1.0));
-    ((1.0 - u + CHAIN_EPSILON) / (1.0 - b + CHAIN_EPSILON)).clamp(0.0, 1.0)
+    (1.0 - (u - b) / (1.0 - b).max(CHAIN_EPSILON)).clamp(0.0, 1.0)
 }
 
 /// `V` of a set of slice occlusions combined by `how`.

@@ -33,8 +33,14 @@ pub(crate) fn generate(t: &OcclusionSlices, cpu: &CpuContext, input: &Generation
     let chained = t.combination.chained();
     let filtered = if chained {
         let n = frame.slices;
-        let unions: Vec<u32> = masks.data().iter().map(|&m| with_unions(m, n)).collect();
-        Filtered::build(cpu.pool(), t.filter, resolution, &unions, 2 * n)
+        let mut unions = cpu.pool().overwrite(masks.data().len(), 0u32);
+        unions
+            .par_iter_mut()
+            .zip(masks.data().par_iter())
+            .for_each(|(u, &m)| *u = with_unions(m, n));
+        let filtered = Filtered::build(cpu.pool(), t.filter, resolution, &unions, 2 * n);
+        cpu.pool().give(unions);
+        filtered
     } else {
         Filtered::build(cpu.pool(), t.filter, resolution, masks.data(), frame.slices)
     };

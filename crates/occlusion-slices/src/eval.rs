@@ -30,8 +30,9 @@ pub(crate) const SLAB_BIAS_TEXELS: f32 = 1.0;
 /// [`crate::Combination::Chain`] only), and `top(k, x, y)` texel `(x, y)`'s [`Frame::top_code`]
 /// in slice `k` (0 outside the map).
 ///
-/// The chain links slice `k` to slice `k - 1` where both are read filtered alone (weight 1);
-/// a slice that fades in, or follows one that does, multiplies as in the product.
+/// The chain links slice `k` to slice `k - 1` where the previous slice is read filtered alone
+/// (weight 1): the filtered part of a slice that fades in is chained too, its unfiltered part
+/// multiplies as in the product, so `V` has no step where the fade ends.
 pub(crate) fn visibility(
     t: &OcclusionSlices,
     frame: &Frame,
@@ -56,17 +57,23 @@ pub(crate) fn visibility(
     for k in 0..frame.slices {
         let w = frame.fade(k, c.h, fade_length);
         let mut i = 0.0;
+        let slab = || slab_occlusion(frame, &receiver, k, &top);
         if w > 0.0 {
             let (center, size) = frame.kernel(c, frame.plane(k));
-            if chained && linked && w >= 1.0 {
-                let k = k as usize;
-                acc.add_given(union(k, center, size), mean(k - 1, center, size));
+            if chained && linked {
+                let (u, nearer) = (
+                    union(k as usize, center, size),
+                    mean(k as usize - 1, center, size),
+                );
+                let s = if w < 1.0 { slab() } else { 0.0 };
+                acc.add_given(u, nearer, w, s);
+                linked = w >= 1.0;
                 continue;
             }
             i = w * mean(k as usize, center, size);
         }
         if w < 1.0 {
-            i += (1.0 - w) * slab_occlusion(frame, &receiver, k, &top);
+            i += (1.0 - w) * slab();
         }
         acc.add(i);
         linked = w >= 1.0;

@@ -250,7 +250,7 @@ const CHAIN_EPSILON: f32 = 1.0 / 255.0;
 fn given(union_occ: f32, nearer: f32) -> f32 {
     let u = clamp(union_occ, 0.0, 1.0);
     let b = clamp(nearer, 0.0, 1.0);
-    return clamp((1.0 - u + CHAIN_EPSILON) / (1.0 - b + CHAIN_EPSILON), 0.0, 1.0);
+    return clamp(1.0 - (u - b) / max(1.0 - b, CHAIN_EPSILON), 0.0, 1.0);
 }
 
 fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
@@ -274,9 +274,16 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         var occ = 0.0;
         if w > 0.0 {
             let ker = kernel(frame, c, plane(frame, k));
-            if ep.combination == COMBINE_CHAIN && linked && w >= 1.0 {
+            if ep.combination == COMBINE_CHAIN && linked {
+                // combine.rs::Accumulator::add_given.
                 let u = filtered_mean(ep.unions + k, ker.center, ker.size);
-                acc *= given(u, filtered_mean(k - 1u, ker.center, ker.size));
+                let nearer = filtered_mean(k - 1u, ker.center, ker.size);
+                var s = 0.0;
+                if w < 1.0 {
+                    s = slab_occlusion(r, k);
+                }
+                acc *= w * given(u, nearer) + (1.0 - w) * (1.0 - clamp(s, 0.0, 1.0));
+                linked = w >= 1.0;
                 continue;
             }
             occ = w * filtered_mean(k, ker.center, ker.size);

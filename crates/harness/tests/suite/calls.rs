@@ -69,7 +69,6 @@ fn every_configuration_is_built_by_its_call() {
         OcclusionSlices::new(8, Prefilter::Sat).with_combination(Combination::Max),
         OcclusionSlices::new(8, Prefilter::Sat).with_combination(Combination::Chain),
         OcclusionSlices::new(8, Prefilter::NBuffer).with_combination(Combination::Chain),
-        OcclusionSlices::new(16, Prefilter::NBuffer).with_combination(Combination::Chain),
         LinearLight::new(2),
         LinearLight::new(3),
         LinearLight::new(5),
