@@ -211,7 +211,7 @@ pub const AS_SEEN: [&str; 7] = [
     "accumulation:n16",
     "shadow-width:edt",
     "penumbra-limit:silhouette-f32",
-    "occlusion-slices:nbuffer-8",
+    "occlusion-slices:nbuffer-8-chain",
 ];
 
 /// Pixels around the reference's shadow kept in the "as seen" crops.

@@ -83,11 +83,11 @@ impl ShadowTechnique for OcclusionSlices {
 }
 
 /// This crate's technique for a [`Registry`](soft_shadow_core::Registry): one family, the default
-/// (8 slices filtered by N-Buffers, `OcclusionSlices::new(8, Prefilter::NBuffer)`) first, then
+/// (8 slices filtered by N-Buffers and chained,
+/// `OcclusionSlices::new(8, Prefilter::NBuffer).with_combination(Combination::Chain)`: no light
+/// lines through the umbra where a body crosses a slice plane) first, then
 /// [`OcclusionSlices::standard_set`], all run by the quick report and wider ([`Tier::Quick`]).
 pub fn families() -> Vec<Family> {
-    vec![
-        Family::new(OcclusionSlices::new(8, Prefilter::NBuffer), Tier::Quick)
-            .with_all(OcclusionSlices::standard_set(), Tier::Quick),
-    ]
+    let default = OcclusionSlices::new(8, Prefilter::NBuffer).with_combination(Combination::Chain);
+    vec![Family::new(default, Tier::Quick).with_all(OcclusionSlices::standard_set(), Tier::Quick)]
 }
