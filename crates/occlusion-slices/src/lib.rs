@@ -86,8 +86,17 @@ impl ShadowTechnique for OcclusionSlices {
 /// (8 slices filtered by N-Buffers and chained,
 /// `OcclusionSlices::new(8, Prefilter::NBuffer).with_combination(Combination::Chain)`: no light
 /// lines through the umbra where a body crosses a slice plane) first, then
-/// [`OcclusionSlices::standard_set`], all run by the quick report and wider ([`Tier::Quick`]).
+/// [`OcclusionSlices::standard_set`], all run by the quick report and wider ([`Tier::Quick`])
+/// but the chained SAT slices, which the full report runs ([`Tier::Report`]: the quick one
+/// stays under two minutes).
 pub fn families() -> Vec<Family> {
-    let default = OcclusionSlices::new(8, Prefilter::NBuffer).with_combination(Combination::Chain);
-    vec![Family::new(default, Tier::Quick).with_all(OcclusionSlices::standard_set(), Tier::Quick)]
+    let chain = |f| OcclusionSlices::new(8, f).with_combination(Combination::Chain);
+    let (full, quick): (Vec<_>, Vec<_>) = OcclusionSlices::standard_set()
+        .into_iter()
+        .partition(|t| *t == chain(Prefilter::Sat));
+    vec![
+        Family::new(chain(Prefilter::NBuffer), Tier::Quick)
+            .with_all(quick, Tier::Quick)
+            .with_all(full, Tier::Report),
+    ]
 }
