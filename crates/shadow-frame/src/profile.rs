@@ -211,7 +211,8 @@ const BUILTIN: &str = include_str!("builtin_profile.txt");
 
 impl TechniqueProfile {
     /// The built-in profile: fitted from `harness report --backend cpu` (map sides 16 to 2048,
-    /// every catalogue scene) on a 2-core CPU by `harness profile`.
+    /// every catalogue scene) on a 2-core CPU by `harness profile`; occlusion-slices' chained
+    /// rows from a later report of its 8-slice variants on the same kind of machine.
     pub fn builtin() -> Self {
         Self::parse(BUILTIN).unwrap_or_default()
     }
