@@ -70,16 +70,14 @@ impl CpuSliceMaps {
     }
 }
 
-/// `V` per receiver (inputs already checked); maps without the unions the chain reads are
-/// [`ShadowError::MapsMismatch`].
+/// `V` per receiver (inputs already checked); maps made for another filter, slice count or
+/// (without the unions the chain reads) combination are [`ShadowError::MapsMismatch`].
 pub(crate) fn evaluate(
     t: &OcclusionSlices,
     maps: &CpuSliceMaps,
     r: &Receivers,
 ) -> Result<Vec<f32>> {
-    if t.combination.chained() && !maps.chained {
-        return Err(unions_missing());
-    }
+    check_maps(t, maps.filtered.filter(), maps.frame.slices, maps.chained)?;
     let slices = maps.frame.slices as usize;
     Ok(r.positions
         .par_iter()
@@ -107,11 +105,29 @@ pub(crate) fn evaluate(
         .collect())
 }
 
-/// The error of chained evaluation over maps made for another combination.
-pub(crate) fn unions_missing() -> ShadowError {
-    ShadowError::MapsMismatch(
-        "the chain combination reads the unions of neighbouring slices, which these maps \
-         (made for another combination) do not hold"
-            .into(),
-    )
+/// Whether `t` can read maps of `filter` and `slices` slices, with the unions of neighbouring
+/// slices where `chained`: [`ShadowError::MapsMismatch`] where not (both backends).
+pub(crate) fn check_maps(
+    t: &OcclusionSlices,
+    filter: crate::Prefilter,
+    slices: u32,
+    chained: bool,
+) -> Result<()> {
+    if filter != t.filter || slices != t.slices {
+        return Err(ShadowError::MapsMismatch(format!(
+            "maps hold {} {}-slice textures, the technique reads {} with {}",
+            filter.name(),
+            slices,
+            t.filter.name(),
+            t.slices
+        )));
+    }
+    if t.combination.chained() && !chained {
+        return Err(ShadowError::MapsMismatch(
+            "the chain combination reads the unions of neighbouring slices, which these maps \
+             (made for another combination) do not hold"
+                .into(),
+        ));
+    }
+    Ok(())
 }

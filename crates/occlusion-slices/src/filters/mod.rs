@@ -161,6 +161,15 @@ impl Filtered {
         }
     }
 
+    /// The filter these slices were prefiltered with.
+    pub(crate) fn filter(&self) -> Prefilter {
+        match self {
+            Filtered::Mipmap(_) => Prefilter::Mipmap,
+            Filtered::NBuffer(_) => Prefilter::NBuffer,
+            Filtered::Sat(_) => Prefilter::Sat,
+        }
+    }
+
     /// Mean occupancy of slice `k` over the square of side `size` texels centred at `c`.
     pub(crate) fn mean(&self, k: usize, c: Vec2, size: f32) -> f32 {
         match self {

@@ -394,18 +394,7 @@ pub(crate) fn bind_maps(
     t: &OcclusionSlices,
     maps: &GpuSliceMaps,
 ) -> Result<wgpu::BindGroup> {
-    if maps.filter != t.filter || maps.frame.slices != t.slices {
-        return Err(ShadowError::MapsMismatch(format!(
-            "maps hold {} {}-slice textures, the technique reads {} with {}",
-            maps.filter.name(),
-            maps.frame.slices,
-            t.filter.name(),
-            t.slices
-        )));
-    }
-    if t.combination.chained() && !maps.chained {
-        return Err(crate::cpu::unions_missing());
-    }
+    crate::cpu::check_maps(t, maps.filter, maps.frame.slices, maps.chained)?;
     let prm = EvalParams {
         filter: t.filter.index(),
         combination: t.combination.index(),

@@ -161,3 +161,36 @@ fn the_chain_agrees_between_cpu_and_gpu_for_every_filter() {
         );
     }
 }
+
+/// Maps read by a technique of another filter or slice count are a
+/// [`soft_shadow_core::ShadowError::MapsMismatch`] that names both, on both backends (the CPU
+/// read them as if they were its own before).
+#[test]
+fn maps_of_another_filter_or_slice_count_are_refused() {
+    use soft_shadow_core::{CpuContext, Receivers, ShadowError};
+    let spec = soft_shadow_reference::scenes::catalogue::build("overlap").unwrap();
+    let geometry = spec.to_scene().unwrap().geometry();
+    let points = [glam::Vec3::ZERO];
+    let receivers = Receivers::new(&points, &[glam::Vec3::Y]);
+    let made = OcclusionSlices::new(8, Prefilter::NBuffer);
+    let others = [
+        OcclusionSlices::new(8, Prefilter::Sat),
+        OcclusionSlices::new(4, Prefilter::NBuffer),
+    ];
+    let refused = |e: ShadowError| matches!(&e, ShadowError::MapsMismatch(m) if m.contains("nbuffer 8-slice"));
+    let cpu = made
+        .generate_cpu(&CpuContext::new(), &geometry, &spec.light, 64)
+        .unwrap();
+    for t in &others {
+        let err = t.evaluate_cpu(&cpu, &receivers).unwrap_err();
+        assert!(refused(err), "CPU, {}", t.label());
+    }
+    let Some(ctx) = gpu_for_test("maps_of_another_filter_or_slice_count_are_refused") else {
+        return;
+    };
+    let gpu = made.generate_gpu(&ctx, &geometry, &spec.light, 64).unwrap();
+    for t in &others {
+        let err = t.evaluate_gpu(&ctx, &gpu, &receivers).unwrap_err();
+        assert!(refused(err), "GPU, {}", t.label());
+    }
+}
