@@ -41,6 +41,13 @@ pub const CALIBRATION_MAX_FACTOR: f64 = 16.0;
 /// magnitude faster, and a software rasterizer slower.
 pub const CALIBRATION_MAX_GPU_FACTOR: f64 = 16384.0;
 
+/// A timed GPU frame in which the shared budget bought no light its maps measures nothing: it
+/// moves every measured ratio (and every factor set by [`Calibration::new`] and not measured
+/// since) this share of the way to 1, in log scale. A budget that a slow device (or a heavy view) priced out thus buys
+/// the most valuable light its cheapest shadow again within tens of frames, which times the
+/// device once more, and follows a device that got faster.
+pub const CALIBRATION_RELAX: f64 = 1.0 / 32.0;
+
 /// How the frames' measured times compare with the profile's predictions, kept by
 /// [`crate::FramePipeline::run`] after every frame ([`Calibration::update`]): `Auto` and the
 /// shared budget multiply a configuration's predicted generation by its
@@ -205,8 +212,39 @@ impl Calibration {
                 self.per_configuration_eval.clear();
             }
         }
-        self.generate = median(&self.recent[0], 1.0);
-        self.evaluate = median(&self.recent[1], 1.0);
+        // Until a ratio is measured, a factor set by hand ([`Calibration::new`]) holds.
+        if !self.recent[0].is_empty() {
+            self.generate = median(&self.recent[0], 1.0);
+        }
+        if !self.recent[1].is_empty() {
+            self.evaluate = median(&self.recent[1], 1.0);
+        }
+    }
+
+    /// Moves every measured ratio [`CALIBRATION_RELAX`] of the way to 1 in log scale (a ratio
+    /// `r` becomes `r^(1 - CALIBRATION_RELAX)`), the factors with them: what a timed GPU frame
+    /// that made and recorded no light's maps does in place of a measurement.
+    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
+    pub(crate) fn relax(&mut self) {
+        let toward_one = |r: &mut f64| *r = r.powf(1.0 - CALIBRATION_RELAX);
+        let windows = self.recent[..2]
+            .iter_mut()
+            .chain(self.per_configuration.values_mut())
+            .chain(self.per_configuration_eval.values_mut());
+        for w in windows {
+            w.iter_mut().for_each(toward_one);
+        }
+        // A factor set without measurements ([`Calibration::new`]) relaxes itself.
+        for (factor, window) in [&mut self.generate, &mut self.evaluate]
+            .into_iter()
+            .zip(&self.recent)
+        {
+            if window.is_empty() {
+                toward_one(factor);
+            } else {
+                *factor = median(window, 1.0);
+            }
+        }
     }
 
     /// The factor on configuration `technique variant`'s predicted generation: the median of

@@ -182,6 +182,9 @@ impl FramePipeline {
         gpu_probe::end_frame(world, &stats);
         #[cfg(feature = "gpu")]
         gpu_timing::end_frame(world);
+        // A timed GPU frame whose budget bought no light a shadow times nothing of the lights.
+        #[cfg(feature = "gpu")]
+        let priced_out = gpu_timing::priced_out(world);
         if settings.calibrating {
             // A GPU frame that reads nothing back times only its recording of the lights' work:
             // its lights calibrate by their device times, where a `GpuTiming` brings them.
@@ -191,6 +194,10 @@ impl FramePipeline {
             #[cfg(feature = "gpu")]
             for lights in &arrived {
                 calibration.update_gpu(lights);
+            }
+            #[cfg(feature = "gpu")]
+            if priced_out {
+                calibration.relax();
             }
         }
         stats

@@ -391,3 +391,69 @@ fn the_budget_predicts_the_texels_a_gpu_frame_evaluates() {
     let after = predicted_v(&pipeline.run(world));
     assert_ne!(after, still, "shared again on the new texels");
 }
+
+/// A budget that prices every lamp out measures nothing, so before it relaxed, the calibration
+/// that priced them out held for good. Each such frame now relaxes every factor toward 1
+/// (`Calibration::relax`): the night street with 8 ms beyond the pipeline's own work, from a
+/// calibration set to 16 times the profile (every lamp's cheapest shadow then over the
+/// budget), buys a lamp its shadow again within 64 frames (18 on lavapipe, at a factor of
+/// 4.8), and the next frame brings its device time; until then no lamp has maps and the factor
+/// falls every frame. (Before, it stayed at 16: the test fails on its first frame.)
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn a_budget_that_prices_every_lamp_out_measures_the_device_again() {
+    let Some(ctx) = gpu_for_test("a_budget_that_prices_every_lamp_out_measures_the_device_again")
+    else {
+        return;
+    };
+    let gpu = Arc::new(ctx);
+    if !gpu.has_timestamps() {
+        println!("the device has no timestamps: nothing to time");
+        return;
+    }
+    const BEYOND_CORE_MS: f64 = 8.0;
+    let mut street = GpuStreet::new(gpu, (96, 54), BEYOND_CORE_MS);
+    let world = &mut street.lamps.scene.world;
+    world.insert_resource(GpuTiming::default());
+    world.insert_resource(Calibration::new(16.0, 16.0, 0.0));
+    let mut last = 16.0;
+    let mut bought = None;
+    for f in 0..64u32 {
+        let (stats, _) = street.frame(f);
+        let world = &mut street.lamps.scene.world;
+        let with_maps = street
+            .lamps
+            .lamps
+            .iter()
+            .filter(|e| world.get::<LightState>(**e).unwrap().maps.is_some())
+            .count();
+        let c = world.resource::<Calibration>().clone();
+        // The budget beyond the pipeline's own work, whatever this machine takes for that.
+        world.insert_resource(shadow_frame::FrameBudget {
+            ms: BEYOND_CORE_MS + c.core_ms,
+        });
+        if with_maps > 0 {
+            assert!(f > 0, "a lamp fitted the budget at 16 times the profile");
+            bought = Some((f, stats.frame, with_maps, c.generate));
+            break;
+        }
+        assert!(c.generate < last, "frame {f}: {} after {last}", c.generate);
+        last = c.generate;
+    }
+    let (f, frame, n, factor) = bought.expect("no lamp bought a shadow in 64 frames");
+    println!("frame {f}: {n} lamps bought a shadow at a generation factor of {factor:.2}");
+    street.frame(f + 1);
+    let world = &street.lamps.scene.world;
+    let times = world
+        .resource::<GpuTiming>()
+        .latest()
+        .expect("times arrived");
+    assert_eq!(times.frame, frame);
+    assert!(
+        times.lights.iter().any(|t| t.evaluate_ms.is_some()),
+        "the lamps with a shadow are timed on the device again: {times:?}"
+    );
+}

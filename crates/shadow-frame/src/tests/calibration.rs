@@ -191,3 +191,57 @@ fn device_times_calibrate_each_configurations_evaluation() {
     assert!(near(cpu.evaluate, 5.0), "{cpu:?}");
     assert_eq!(cpu.evaluate_for("pcf", "r2"), cpu.evaluate);
 }
+
+/// A frame that measures nothing because the budget priced every light out relaxes every
+/// factor toward 1 in log scale, [`CALIBRATION_RELAX`] of the way a frame: measured factors
+/// (the global ones and each configuration's) and factors set by hand alike, never past 1,
+/// and a measured frame afterwards takes its measurement as before. A frame whose lights
+/// measured nothing leaves a factor set by hand as it was.
+#[test]
+fn a_priced_out_frame_relaxes_every_factor_toward_one() {
+    use crate::calibration::CALIBRATION_RELAX;
+    let mut c = Calibration::default();
+    for _ in 0..3 {
+        c.update_gpu(&[
+            light("pcf r2", true, 64.0),
+            light("pcss 7x7-9x9", true, 1.0 / 4.0),
+        ]);
+    }
+    let (generate, pcf, pcss) = (
+        c.generate,
+        c.evaluate_for("pcf", "r2"),
+        c.evaluate_for("pcss", "7x7-9x9"),
+    );
+    assert_eq!((pcf, pcss), (64.0, 0.25), "{c:?}");
+    let k = 1.0 - CALIBRATION_RELAX;
+    let near = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-9;
+    for n in 1..=40 {
+        c.relax();
+        let relaxed = |f: f64| f.powf(k.powi(n));
+        assert!(near(c.generate, relaxed(generate)), "frame {n}: {c:?}");
+        assert!(near(c.evaluate_for("pcf", "r2"), relaxed(pcf)), "frame {n}");
+        assert!(
+            near(c.evaluate_for("pcss", "7x7-9x9"), relaxed(pcss)),
+            "frame {n}"
+        );
+    }
+    assert!(c.evaluate_for("pcf", "r2") > 1.0 && c.evaluate_for("pcss", "7x7-9x9") < 1.0);
+    let mut set = Calibration::new(16.0, 4.0, 1.0);
+    // A frame whose lights measured nothing keeps a factor set by hand (it was reset to 1).
+    let idle = LightStats {
+        views_generated: 0,
+        receivers_evaluated: 0,
+        ..light("pcf r2", false, 1.0)
+    };
+    set.update_gpu(std::slice::from_ref(&idle));
+    set.update(&frame(3, 1.0, vec![idle]), true);
+    assert_eq!((set.generate, set.evaluate), (16.0, 4.0));
+    set.relax();
+    assert!(near(set.generate, 16f64.powf(k)) && near(set.evaluate, 4f64.powf(k)));
+    assert_eq!(set.core_ms, 1.0);
+    // Measured again: the new ratios take the window over as they arrive.
+    for _ in 0..CALIBRATION_FRAMES {
+        c.update_gpu(&[light("pcf r2", true, 64.0)]);
+    }
+    assert_eq!(c.evaluate_for("pcf", "r2"), 64.0);
+}
