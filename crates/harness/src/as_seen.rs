@@ -71,29 +71,52 @@ impl Artefacts {
     }
 }
 
-/// The artefacts of `v` (one value per receiver of `scene`) against the scene's reference.
-pub fn artefacts(scene: &PreparedScene, v: &[f32]) -> Artefacts {
-    let reference = scene.reference_v();
-    let (w, h) = (scene.gbuffer.width() as i64, scene.gbuffer.height() as i64);
-    // The reference over the frame, NaN where no receiver is.
-    let mut image = vec![f32::NAN; (w * h) as usize];
-    for (&i, &r) in scene.pixels.iter().zip(&reference) {
-        image[i] = r;
+/// The reference of `scene`'s frame around its receivers: whether every reference value within
+/// [`ISOLATION`] pixels of a receiver satisfies a condition (pixels without a receiver, and
+/// outside the frame, do).
+pub struct Around {
+    /// The reference over the frame, NaN where no receiver is.
+    image: Vec<f32>,
+    /// The frame's size.
+    size: (i64, i64),
+}
+
+impl Around {
+    /// `scene`'s reference, `reference` (one value per receiver), over its frame.
+    pub fn new(scene: &PreparedScene, reference: &[f32]) -> Self {
+        let (w, h) = (scene.gbuffer.width() as i64, scene.gbuffer.height() as i64);
+        let mut image = vec![f32::NAN; (w * h) as usize];
+        for (&i, &r) in scene.pixels.iter().zip(reference) {
+            image[i] = r;
+        }
+        Self {
+            image,
+            size: (w, h),
+        }
     }
-    // Whether every reference value around pixel `i` satisfies `keep`.
-    let around = |i: usize, keep: &dyn Fn(f32) -> bool| {
+
+    /// Whether every reference value within [`ISOLATION`] pixels of pixel `i` satisfies
+    /// `keep`.
+    pub fn all(&self, i: usize, keep: impl Fn(f32) -> bool) -> bool {
+        let (w, h) = self.size;
         let (x, y) = (i as i64 % w, i as i64 / w);
         (y - ISOLATION..=y + ISOLATION).all(|yy| {
             (x - ISOLATION..=x + ISOLATION).all(|xx| {
                 let r = if (0..w).contains(&xx) && (0..h).contains(&yy) {
-                    image[(yy * w + xx) as usize]
+                    self.image[(yy * w + xx) as usize]
                 } else {
                     f32::NAN
                 };
                 r.is_nan() || keep(r)
             })
         })
-    };
+    }
+}
+
+/// The artefacts of `v` (one value per receiver of `scene`) against the scene's reference.
+pub fn artefacts(scene: &PreparedScene, v: &[f32]) -> Artefacts {
+    let reference = scene.reference_v();
+    let around = Around::new(scene, &reference);
     let mut a = Artefacts {
         receivers: v.len(),
         ..Default::default()
@@ -106,10 +129,10 @@ pub fn artefacts(scene: &PreparedScene, v: &[f32]) -> Artefacts {
         if r >= 0.5 && got < 0.5 * r {
             a.darkened += 1;
         }
-        if got < r - ARTEFACT_STEP && around(i, &|r| r >= PENUMBRA_HI) {
+        if got < r - ARTEFACT_STEP && around.all(i, |r| r >= PENUMBRA_HI) {
             a.false_umbra += 1;
         }
-        if got > r + ARTEFACT_STEP && around(i, &|r| r <= PENUMBRA_LO) {
+        if got > r + ARTEFACT_STEP && around.all(i, |r| r <= PENUMBRA_LO) {
             a.leaks += 1;
             if scene.shading.object[k] {
                 a.object_leaks += 1;

@@ -114,14 +114,14 @@ fn no_more_dark_blotches_than_pcss_at_viewing_resolution() {
 /// a slice plane, the slices on either side of it hide complementary parts of the light, and
 /// the product of their factors lets through a share that no ray finds (a faint arc under the
 /// bunny). In the bunny's and the low-poly rocks' frames (1280 x 720, 1024² maps), the
-/// receivers in the reference's umbra all around ([`ISOLATION`] pixels) that occlusion-slices'
-/// default draws lighter than the reference by 1/16 of the light: at most 0.5% of them, on
-/// both backends. Measured: the default (8 N-Buffer slices, chained) 0 of 6,900 and 9 of
+/// receivers in the reference's umbra all around (`harness::as_seen::ISOLATION` pixels) that
+/// occlusion-slices' default draws lighter than the reference by 1/16 of the light: at most
+/// 0.5% of them, on both backends. Measured: the default (8 N-Buffer slices, chained) 0 of 6,900 and 9 of
 /// 10,880 on both; the product, the default before, 466 and 340, which the test also checks so
 /// that it can fail.
 #[test]
 fn occlusion_slices_draws_no_light_lines_through_the_umbra() {
-    use harness::as_seen::{ISOLATION, LIT_WEIGHT};
+    use harness::as_seen::{Around, LIT_WEIGHT};
     use harness::metrics::PENUMBRA_LO;
     use occlusion_slices::{Combination, OcclusionSlices, Prefilter};
     use soft_shadow_core::TechniqueInfo;
@@ -143,25 +143,12 @@ fn occlusion_slices_draws_no_light_lines_through_the_umbra() {
     for name in ["bunny", "low-poly-rocks"] {
         let scene = frame(build(name).unwrap()).unwrap();
         let reference = scene.reference_v();
-        let (w, h) = (scene.gbuffer.width() as i64, scene.gbuffer.height() as i64);
-        let mut image = vec![f32::NAN; (w * h) as usize];
-        for (&i, &r) in scene.pixels.iter().zip(&reference) {
-            image[i] = r;
-        }
-        let umbra = |i: usize| {
-            let (x, y) = (i as i64 % w, i as i64 / w);
-            (y - ISOLATION..=y + ISOLATION).all(|yy| {
-                (x - ISOLATION..=x + ISOLATION).all(|xx| {
-                    let inside = (0..w).contains(&xx) && (0..h).contains(&yy);
-                    !inside || {
-                        let r = image[(yy * w + xx) as usize];
-                        r.is_nan() || r <= PENUMBRA_LO
-                    }
-                })
-            })
-        };
+        let around = Around::new(&scene, &reference);
         let counted: Vec<usize> = (0..reference.len())
-            .filter(|&k| scene.shading.weight[k] >= LIT_WEIGHT && umbra(scene.pixels[k]))
+            .filter(|&k| {
+                scene.shading.weight[k] >= LIT_WEIGHT
+                    && around.all(scene.pixels[k], |r| r <= PENUMBRA_LO)
+            })
             .collect();
         let lines = |t: &soft_shadow_core::Technique, backend: Backend| {
             let ctx = match backend {
