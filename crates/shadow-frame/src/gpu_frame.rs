@@ -2,7 +2,8 @@
 //! [`record_visibility`] records every light's `V` over your G-buffer into your command encoder,
 //! each light into its layer ([`VisibilityLayer`]) of a texture you own. Nothing is read back
 //! (but the passes' timestamps and the lights' `V` at the sampled receivers, where you ask for
-//! them with a [`crate::GpuTiming`] and a [`crate::ShadowProbe`]):
+//! them with a [`crate::GpuTiming`] and a [`crate::ShadowProbe`]; [`submitted`] after you submit
+//! the encoder asks for both back):
 //! the maps stay where the pipeline keeps them (made again only for stale lights), and `V` is the
 //! same function the CPU path evaluates for [`FrameReceivers`](crate::FrameReceivers) within the
 //! light's influence; beyond it (`ShadowConfig::with_range`, where the light adds nothing) the
@@ -127,6 +128,22 @@ pub fn record_visibility(
         probed?;
     }
     recorded
+}
+
+/// Call after each submission of an encoder [`record_visibility`] recorded into, in the order
+/// you submit them: asks for what that frame recorded to be read back, without waiting: the
+/// passes' timestamps where the world holds a [`GpuTiming`], and the lights' `V` at the sampled
+/// receivers where it holds a [`ShadowProbe`] (with neither, it does nothing). A later
+/// [`crate::FramePipeline::run`] takes what has arrived. A frame recorded but never reported
+/// submitted holds a slot of each until its readback is asked for: with every slot held, frames
+/// go untimed ([`GpuTiming::untimed`]) and unprobed.
+pub fn submitted(world: &mut World) {
+    if let Some(mut timing) = world.get_resource_mut::<GpuTiming>() {
+        timing.ask_back();
+    }
+    if let Some(mut probe) = world.get_resource_mut::<ShadowProbe>() {
+        probe.ask_back();
+    }
 }
 
 /// [`record_visibility`]'s recording, every layer checked.

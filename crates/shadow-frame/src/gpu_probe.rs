@@ -6,7 +6,7 @@
 //! world, [`crate::gpu_frame::record_visibility`] also records every light's `V` at the frame's
 //! sampled receivers (every `k`-th, at most [`crate::RECEIVER_SAMPLES`], the ones the estimate
 //! reads) into a small texture of its own and copies it into a buffer; after you submit,
-//! [`ShadowProbe::submitted`] asks for it back, and a later [`crate::FramePipeline::run`] hands
+//! [`crate::gpu_frame::submitted`] asks for it back, and a later [`crate::FramePipeline::run`] hands
 //! it to the budget ([`ProbedVisibility`]) while the frame's receivers are still those it was
 //! recorded for.
 //!
@@ -38,7 +38,7 @@ const SIDE: u32 = 64;
 const LAYER_BYTES: u64 = (SIDE * SIDE * 4) as u64;
 
 /// Measures the GPU frame's lights' missing shadows (see the module docs): insert one into the
-/// world to turn it on, and call [`ShadowProbe::submitted`] after each submission of an encoder
+/// world to turn it on, and call [`crate::gpu_frame::submitted`] after each submission of an encoder
 /// [`crate::gpu_frame::record_visibility`] recorded into. One encoder at a time: the sampled
 /// receivers are uploaded with the queue's next submission, and an encoder recorded into but
 /// never submitted leaves its slot holding no probe of this frame (it is read all the same).
@@ -85,9 +85,18 @@ struct Slot {
 }
 
 impl ShadowProbe {
-    /// Call after each submission of an encoder `record_visibility` recorded into, in the order
-    /// you submit them: asks for the oldest recorded probe back.
+    /// The probe's half of [`crate::gpu_frame::submitted`], which calls it with the timing's.
+    #[deprecated(
+        note = "call `gpu_frame::submitted(world)`, which asks back the probe's `V` and the \
+                timestamps together"
+    )]
     pub fn submitted(&mut self) {
+        self.ask_back();
+    }
+
+    /// After a submission of an encoder `record_visibility` recorded into: asks for the oldest
+    /// recorded probe back.
+    pub(crate) fn ask_back(&mut self) {
         let oldest = self
             .slots
             .iter_mut()

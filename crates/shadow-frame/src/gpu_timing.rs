@@ -4,7 +4,7 @@
 //! measure is only the recording of it. With a [`GpuTiming`] in the world, every pass a light
 //! records (its maps' generation in [`crate::FramePipeline::run`], its `V` in
 //! [`crate::gpu_frame::record_visibility`]) writes timestamps; `record_visibility` resolves them
-//! into your encoder, [`GpuTiming::submitted`] (after you submit it) asks for them back, and a
+//! into your encoder, [`crate::gpu_frame::submitted`] (after you submit it) asks for them back, and a
 //! later frame's `run` takes what has arrived: the lights' device times
 //! ([`GpuTiming::latest`]), which then calibrate `Auto` and the shared budget
 //! ([`crate::Calibration`]) in device milliseconds, as the CPU frames calibrate in wall time.
@@ -55,7 +55,7 @@ pub struct GpuFrameTimes {
 }
 
 /// Times the GPU frame's lights on the device (see the module docs): insert one into the world
-/// to turn it on, and call [`GpuTiming::submitted`] after each submission of the encoder
+/// to turn it on, and call [`crate::gpu_frame::submitted`] after each submission of the encoder
 /// [`crate::gpu_frame::record_visibility`] recorded into.
 #[derive(Resource, Default)]
 pub struct GpuTiming {
@@ -197,18 +197,27 @@ impl GpuTiming {
     }
 
     /// Frames that went untimed: every slot was still on its way back (call
-    /// [`GpuTiming::submitted`] after each submission), or a frame recorded more than
+    /// [`crate::gpu_frame::submitted`] after each submission), or a frame recorded more than
     /// [`TIMED_PASSES`] passes.
     pub fn untimed(&self) -> u64 {
         self.untimed
     }
 
-    /// Call after each submission of an encoder [`crate::gpu_frame::record_visibility`]
-    /// recorded into, in the order you submit them: asks for the oldest resolved frame's
-    /// timestamps back (mapped when the device is done with them; a later
-    /// [`crate::FramePipeline::run`] takes them). A frame never reported submitted holds its
-    /// slot: with every slot held, frames go untimed ([`GpuTiming::untimed`]).
+    /// The timing half of [`crate::gpu_frame::submitted`], which calls it with the probe's.
+    #[deprecated(
+        note = "call `gpu_frame::submitted(world)`, which asks back the timestamps and the \
+                probe's `V` together"
+    )]
     pub fn submitted(&mut self) {
+        self.ask_back();
+    }
+
+    /// After a submission of an encoder [`crate::gpu_frame::record_visibility`] recorded into:
+    /// asks for the oldest resolved frame's timestamps back (mapped when the device is done
+    /// with them; a later [`crate::FramePipeline::run`] takes them). A frame never reported
+    /// submitted holds its slot: with every slot held, frames go untimed
+    /// ([`GpuTiming::untimed`]).
+    pub(crate) fn ask_back(&mut self) {
         let oldest = self
             .slots
             .iter_mut()

@@ -354,16 +354,9 @@ impl LampsView {
     }
 
     /// Call after submitting the encoder [`LampsView::encode`] recorded into: asks for the
-    /// lamps' device times and their probed `V` back ([`GpuTiming::submitted`],
-    /// [`ShadowProbe::submitted`]).
+    /// lamps' device times and their probed `V` back ([`shadow_frame::gpu_frame::submitted`]).
     pub fn submitted(&mut self) {
-        let world = &mut self.lamps.scene.world;
-        if let Some(mut t) = world.get_resource_mut::<GpuTiming>() {
-            t.submitted();
-        }
-        if let Some(mut p) = world.get_resource_mut::<ShadowProbe>() {
-            p.submitted();
-        }
+        shadow_frame::gpu_frame::submitted(&mut self.lamps.scene.world);
     }
 
     /// Every lamp's line for the panel, in layer order.

@@ -95,12 +95,7 @@ impl GpuStreet {
         )
         .unwrap();
         self.gpu.queue.submit([enc.finish()]);
-        if let Some(mut t) = world.get_resource_mut::<GpuTiming>() {
-            t.submitted();
-        }
-        if let Some(mut p) = world.get_resource_mut::<shadow_frame::ShadowProbe>() {
-            p.submitted();
-        }
+        shadow_frame::gpu_frame::submitted(world);
         self.gpu.wait().unwrap();
         (stats, start.elapsed().as_secs_f64() * 1e3)
     }
