@@ -14,6 +14,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 use soft_shadow_core::light::orthonormal_basis;
+use soft_shadow_core::light_space::sphere_spread;
 use soft_shadow_core::view::{ProjectionKind, View, look_to_up};
 use soft_shadow_core::{Light, LightPoint, Region, SceneGeometry};
 
@@ -49,7 +50,8 @@ pub(crate) struct Frame {
     pub axis_x: [f32; 4],
     /// Unit image y axis (xyz, up in the image).
     pub axis_y: [f32; 4],
-    /// Unit emission normal (xyz), towards the scene.
+    /// Unit emission normal (xyz), towards the scene; `w` is 1 for a sphere light, whose
+    /// kernels widen off the normal ([`Frame::kernel`]), 0 otherwise.
     pub normal: [f32; 4],
     /// Light half extent along `axis_x`.
     pub half_x: f32,
@@ -257,7 +259,13 @@ impl Frame {
             center: center.extend(1.0).to_array(),
             axis_x: axis_x.extend(0.0).to_array(),
             axis_y: axis_y.extend(0.0).to_array(),
-            normal: normal.extend(0.0).to_array(),
+            normal: normal
+                .extend(if matches!(light, Light::Sphere { .. }) {
+                    1.0
+                } else {
+                    0.0
+                })
+                .to_array(),
             half_x,
             half_y,
             d: (0.98 * d).max(MIN_APEX * half_x.min(half_y)),
@@ -375,7 +383,9 @@ impl Frame {
 
     /// The kernel of section 3.1 for a receiver at `c` on plane depth `p < c.h`: the centre in
     /// continuous texel coordinates (texel `i` covers `[i, i + 1)`) and the side in texels of the
-    /// intersection of the plane with the pyramid from the receiver to the light.
+    /// intersection of the plane with the pyramid from the receiver to the light. A sphere's
+    /// square faces the normal, and the receiver sees the sphere's whole disc facing it: the side
+    /// grows by [`sphere_spread`] of the receiver's angle off the normal.
     pub(crate) fn kernel(&self, c: LightCoord, p: f32) -> (Vec2, f32) {
         let along = p / c.h;
         let z = self.d + p;
@@ -386,7 +396,20 @@ impl Frame {
             (c.x * along * sx * 0.5 + 0.5) * resolution,
             (0.5 - c.y * along * sy * 0.5) * resolution,
         );
-        (center, (1.0 - along) * self.d / z * resolution)
+        (
+            center,
+            (1.0 - along) * self.d / z * resolution * self.spread(c),
+        )
+    }
+
+    /// [`sphere_spread`] of a receiver at `c` for a sphere light, 1 for the others.
+    fn spread(&self, c: LightCoord) -> f32 {
+        let length = (c.x * c.x + c.y * c.y + c.h * c.h).sqrt();
+        if self.normal[3] == 1.0 && length > 0.0 {
+            sphere_spread(c.h / length)
+        } else {
+            1.0
+        }
     }
 
     /// Weight of slice `k` for a receiver at depth `h`: 0 while the receiver lies above the

@@ -1,4 +1,5 @@
 #define_import_path occlusion_slices::frame
+#import soft_shadow_core::light_space::sphere_spread
 
 // The slicing frame (frame.rs): COP view, light axes, slice planes, imported by the crate's
 // other shaders.
@@ -91,6 +92,15 @@ struct Kernel {
     size: f32,
 };
 
+// Frame::spread.
+fn spread(f: Frame, c: vec3<f32>) -> f32 {
+    let l = length(c);
+    if f.normal.w == 1.0 && l > 0.0 {
+        return sphere_spread(c.z / l);
+    }
+    return 1.0;
+}
+
 // Frame::kernel: the pyramid from c to the light cut by plane depth p, in texels.
 fn kernel(f: Frame, c: vec3<f32>, p: f32) -> Kernel {
     let along = p / c.z;
@@ -100,6 +110,6 @@ fn kernel(f: Frame, c: vec3<f32>, p: f32) -> Kernel {
     let sy = f.d / (f.half_y * z);
     var k: Kernel;
     k.center = vec2<f32>((c.x * along * sx * 0.5 + 0.5) * resolution, (0.5 - c.y * along * sy * 0.5) * resolution);
-    k.size = (1.0 - along) * f.d / z * resolution;
+    k.size = (1.0 - along) * f.d / z * resolution * spread(f, c);
     return k;
 }

@@ -161,7 +161,11 @@ pub(crate) fn shade(
     };
     let z = (prm.warp.receiver_depth(co.z) - prm.tolerance).min(DEPTH_SPAN);
     let taps = map.bilinear_taps(co.st);
-    let t = interpolate(&taps);
+    let mut t = interpolate(&taps);
+    // A sphere's penumbra is wider here than the ribbons' (`Warp::spread_at`): the distance
+    // from the edge, `p_i`, counts for less, and the lower casters' disc is wider.
+    let spread = prm.warp.spread_at(&prm.map, p);
+    t.p /= spread;
     let inside = t.p < 0.0;
     let edge = if inside {
         let lower = taps
@@ -178,7 +182,13 @@ pub(crate) fn shade(
         .fold((0.0f32, 0.0f32), |(b, s), (x, w)| (b + x.b * w, s + w));
     // Nothing to soften where the edge leaves no light (the umbra): no taps there.
     if w > 0.0 && z >= t.g && edge > 0.0 {
-        return edge.min(lower_shadow(map, co.st, z, b / w, prm.warp.p_per_texel));
+        return edge.min(lower_shadow(
+            map,
+            co.st,
+            z,
+            b / w,
+            prm.warp.p_per_texel / spread,
+        ));
     }
     edge
 }

@@ -1,6 +1,6 @@
 #define_import_path penumbra_limit::visibility
 #import soft_shadow_core::light_space::{Bias, MapView, bilinear_taps, shadow_coord}
-#import penumbra_limit::warp::{DEPTH_SPAN, Warp, receiver_depth}
+#import penumbra_limit::warp::{DEPTH_SPAN, Warp, receiver_depth, spread_at}
 
 // Evaluation as `visibility(world_pos, normal)`; mirrors penumbra_limit::eval: project the
 // receiver, bilinear (c, g, p_i) and each tap's lower limit, equation 2, then the
@@ -118,10 +118,10 @@ var<private> LOWER_SPIRAL: array<vec3<f32>, 32> = array<vec3<f32>, 32>(
 
 // The soft shadow of the casters below the edge a receiver reads: the
 // fraction of LOWER_TAPS taps on a Vogel spiral (LOWER_SPIRAL) over the disc of radius
-// (z - b) / p_per_texel texels whose texel holds no caster above z; see
+// (z - b) / ppt texels whose texel holds no caster above z; see
 // penumbra_limit::eval::lower_shadow.
-fn lower_shadow(st: vec2<f32>, z: f32, b: f32) -> f32 {
-    let radius = clamp((z - b) / max(prm.warp.p_per_texel, 1.17549435e-38), 1.0, f32(prm.map.resolution));
+fn lower_shadow(st: vec2<f32>, z: f32, b: f32, ppt: f32) -> f32 {
+    let radius = clamp((z - b) / max(ppt, 1.17549435e-38), 1.0, f32(prm.map.resolution));
     var lit = 0u;
     for (var i = 0u; i < LOWER_TAPS; i = i + 1u) {
         let tap = LOWER_SPIRAL[i];
@@ -140,7 +140,10 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     }
     let z = min(receiver_depth(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
     let q = taps4(co.st);
-    let t = q.a * q.w.x + q.b * q.w.y + q.c * q.w.z + q.d * q.w.w;
+    var t = q.a * q.w.x + q.b * q.w.y + q.c * q.w.z + q.d * q.w.w;
+    // A sphere's penumbra is wider here than the ribbons' (Warp::spread_at).
+    let spread = spread_at(prm.warp, prm.map, p);
+    t.w /= spread;
     // Inside the silhouette: each tap's lower limit, weighted as the taps are.
     let inside = t.w < 0.0;
     var lower = 1.0;
@@ -160,7 +163,7 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let s = o.x + o.y + o.z + o.w;
     if s > 0.0 && z >= t.y && edge > 0.0 {
         let b = dot(o, vec4<f32>(q.a.z, q.b.z, q.c.z, q.d.z)) / s;
-        return min(edge, lower_shadow(co.st, z, b));
+        return min(edge, lower_shadow(co.st, z, b, prm.warp.p_per_texel / spread));
     }
     return edge;
 }

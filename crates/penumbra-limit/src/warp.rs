@@ -19,6 +19,8 @@
 //! nearer where the frustum is shallower than [`MAX_P_PER_TEXEL`] allows.
 
 use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3, Vec4};
+use soft_shadow_core::light_space::{sphere_spread, sphere_spread_at};
 use soft_shadow_core::view::NO_OCCLUDER;
 use soft_shadow_core::{Light, MapParams};
 
@@ -68,8 +70,10 @@ pub(crate) struct Warp {
     pub p_per_texel: f32,
     /// Normalised depth of the far plane `zeta` (the deepest receiver).
     pub far_norm: f32,
-    /// Padding to 16 bytes.
-    pub _pad: f32,
+    /// The most a sphere light's penumbra widens over the map: [`sphere_spread`] at its
+    /// corners. Ribbons reach that much farther, and each receiver's penumbra widens by its own
+    /// [`sphere_spread_at`], at most this ([`Warp::spread_at`]). Exactly 1 for other lights.
+    pub spread: f32,
 }
 
 impl Warp {
@@ -108,7 +112,21 @@ impl Warp {
             rate,
             p_per_texel: (unit * rate * zeta_scale).min(MAX_RATE),
             far_norm: DEPTH_SPAN,
-            _pad: 0.0,
+            spread: if matches!(light, Light::Sphere { .. }) {
+                corner_spread(m)
+            } else {
+                1.0
+            },
+        }
+    }
+
+    /// How much wider than the map's ribbons model it the penumbra is at receiver `p`: a
+    /// sphere's [`sphere_spread_at`], at most [`Warp::spread`]; 1 for other lights.
+    pub(crate) fn spread_at(&self, m: &MapParams, p: Vec3) -> f32 {
+        if self.spread > 1.0 {
+            sphere_spread_at(m, p).min(self.spread)
+        } else {
+            1.0
         }
     }
 
@@ -156,9 +174,33 @@ impl Warp {
     }
 
     /// Half-width in texels of the ribbon of an edge at normalised depth `c`: the widest penumbra
-    /// (at the far plane), plus two texels so bilinear neighbours of a penumbra texel carry it.
+    /// (at the far plane, widened by [`Warp::spread`]), plus two texels so bilinear neighbours
+    /// of a penumbra texel carry it.
     pub(crate) fn ribbon_texels(&self, c: f32) -> f32 {
-        let depth = (self.far_norm - c).max(0.0);
+        let depth = (self.far_norm - c).max(0.0) * self.spread;
         (depth / self.p_per_texel.max(f32::MIN_POSITIVE)).min(1.0e6) + 2.0
     }
+}
+
+/// [`sphere_spread`] at the farthest of a perspective map's corners from its axis (1 for an
+/// orthographic map).
+fn corner_spread(m: &MapParams) -> f32 {
+    if m.ortho == 1 {
+        return 1.0;
+    }
+    let to_world = Mat4::from_cols_array(&m.view_proj).inverse();
+    let eye = Vec4::from(m.light).truncate();
+    [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .into_iter()
+        .map(|(x, y)| {
+            let q = to_world * Vec4::new(x, y, 0.5, 1.0);
+            let q = q.truncate() / q.w;
+            let d = (q - eye).length();
+            if d > 0.0 && d.is_finite() {
+                sphere_spread(m.linear_depth(q) / d)
+            } else {
+                1.0
+            }
+        })
+        .fold(1.0, f32::max)
 }

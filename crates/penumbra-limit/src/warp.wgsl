@@ -1,5 +1,5 @@
 #define_import_path penumbra_limit::warp
-#import soft_shadow_core::light_space::{MapView, NO_OCCLUDER}
+#import soft_shadow_core::light_space::{MapView, NO_OCCLUDER, sphere_spread_at}
 
 // Map depths of a penumbra limit map; mirrors warp.rs and the shared generation parameters,
 // imported by the crate's other shaders.
@@ -12,7 +12,7 @@ struct Warp {
     rate: f32,
     p_per_texel: f32,
     far_norm: f32,
-    _pad_a: f32,
+    spread: f32,
 };
 
 const DEPTH_SPAN: f32 = 0.99;
@@ -58,8 +58,16 @@ fn depth_gap(w: Warp, z: f32, texels: f32) -> f32 {
     return texels * w.unit / max(z, 1.17549435e-38) * w.zeta_scale;
 }
 
+// Warp::spread_at.
+fn spread_at(w: Warp, m: MapView, p: vec3<f32>) -> f32 {
+    if w.spread > 1.0 {
+        return min(sphere_spread_at(m, p), w.spread);
+    }
+    return 1.0;
+}
+
 fn ribbon_texels(w: Warp, c: f32) -> f32 {
-    let depth = max(w.far_norm - c, 0.0);
+    let depth = max(w.far_norm - c, 0.0) * w.spread;
     return min(depth / max(w.p_per_texel, 1.17549435e-38), 1.0e6) + 2.0;
 }
 

@@ -293,6 +293,41 @@ pub fn above_horizon(m: &MapParams, p: Vec3, n: Vec3) -> bool {
     n.dot(to_light) > 0.0
 }
 
+/// Smallest cosine [`sphere_spread`] takes: it widens a kernel at most `1/sqrt(0.05)` = 4.5
+/// times (a cube face's corner is at 0.577: 1.32 times).
+pub const SPHERE_SPREAD_MIN_COS: f32 = 0.05;
+
+/// How much wider a sphere light's penumbra is, for a receiver whose direction from the light's
+/// centre makes an angle with cosine `cos_theta` with a perspective view's axis, than the
+/// penumbra of the disc facing along that axis that a map-space kernel models.
+///
+/// A sphere shows every receiver its whole silhouette disc, facing the receiver. The map's plane
+/// stretches what a disc facing the receiver occludes by `1 / cos` along the direction away
+/// from the axis and leaves it as it is across that direction, so the facing disc's kernel is
+/// `cos` too narrow one way (a room lamp's shadows read `+10` to `+25`/255 too sharp 35 to 50
+/// degrees off its cube faces' axes). A kernel of one size takes the one of the same area:
+/// `1 / sqrt(cos)`, with `cos` at least [`SPHERE_SPREAD_MIN_COS`]. 1 on the axis.
+pub fn sphere_spread(cos_theta: f32) -> f32 {
+    // `max` then `min`, as the WGSL does: a NaN cosine gives the widest kernel, not NaN.
+    #[allow(clippy::manual_clamp)]
+    let c = cos_theta.max(SPHERE_SPREAD_MIN_COS).min(1.0);
+    1.0 / c.sqrt()
+}
+
+/// [`sphere_spread`] at a receiver `p` of the perspective map `m`, whose eye is the light's
+/// centre (its centre view, or one of its cube faces); 1 for an orthographic map.
+pub fn sphere_spread_at(m: &MapParams, p: Vec3) -> f32 {
+    if m.ortho == 1 {
+        return 1.0;
+    }
+    let to = p - Vec4::from(m.light).truncate();
+    let d = to.length();
+    if d <= 0.0 {
+        return 1.0;
+    }
+    sphere_spread(m.linear_depth(p) / d)
+}
+
 /// `|cos|` and `tan` of the angle between a normal and the light, `tan` clamped to [`MAX_TAN`].
 fn clamped_cos_tan(cos: f32) -> (f32, f32) {
     let c = cos.abs().max(1.0 / (1.0 + MAX_TAN * MAX_TAN).sqrt());
@@ -360,4 +395,46 @@ pub fn shadow_coord(m: &MapParams, bias: &Bias, p: Vec3, n: Vec3) -> Option<Shad
         z_receiver: z,
         facing: cos > 0.0,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::view::View;
+
+    /// The disc a sphere shows a receiver `theta` off the axis, stretched by `1 / cos` one way
+    /// on the map, has the area of the facing disc widened by `sphere_spread` both ways; on the
+    /// axis nothing widens. A map's receiver: the cosine is taken from the light's centre.
+    #[test]
+    fn sphere_spread_keeps_the_stretched_discs_area() {
+        for deg in [0.0f32, 20.0, 45.0, 54.7, 80.0] {
+            let cos = deg.to_radians().cos();
+            let s = sphere_spread(cos);
+            assert!((s * s - 1.0 / cos).abs() < 1e-4 * s * s, "{deg}: {s}");
+        }
+        assert_eq!(sphere_spread(1.0), 1.0);
+        assert_eq!(sphere_spread(-1.0), sphere_spread(SPHERE_SPREAD_MIN_COS));
+        assert_eq!(
+            sphere_spread(f32::NAN),
+            sphere_spread(SPHERE_SPREAD_MIN_COS)
+        );
+        let eye = Vec3::new(1.0, 2.0, 3.0);
+        let m = SampleView {
+            view: View::perspective(
+                eye,
+                Vec3::NEG_Y,
+                std::f32::consts::FRAC_PI_2,
+                1.0,
+                0.1,
+                10.0,
+            ),
+            weight: 1.0,
+            light: eye.extend(1.0),
+            cell: [Vec2::ZERO; 2],
+        }
+        .params(64);
+        let off = eye + Vec3::new(1.0, -1.0, 0.0);
+        assert!((sphere_spread_at(&m, eye + Vec3::NEG_Y) - 1.0).abs() < 1e-5);
+        assert!((sphere_spread_at(&m, off) - sphere_spread(0.5f32.sqrt())).abs() < 1e-4);
+    }
 }

@@ -23,6 +23,9 @@ pub struct CpuWidthMaps {
     pub(crate) width: Map2D<f32>,
     /// [`crate::params::softness_size`] of the light: its size over the fit factor.
     pub(crate) light_size: f32,
+    /// Whether the light is a sphere, whose softness grows off the map's axis
+    /// ([`soft_shadow_core::light_space::sphere_spread_at`]).
+    pub(crate) sphere: bool,
 }
 
 impl CpuWidthMaps {
@@ -51,6 +54,7 @@ pub(crate) fn generate(t: &ShadowWidth, cpu: &CpuContext, input: &Generation) ->
         back,
         width,
         light_size: crate::params::softness_size(light),
+        sphere: matches!(light, soft_shadow_core::Light::Sphere { .. }),
     }
 }
 
@@ -61,6 +65,7 @@ pub(crate) fn evaluate(t: &ShadowWidth, maps: &CpuWidthMaps, r: &Receivers) -> V
         t,
         maps.params,
         maps.light_size,
+        maps.sphere,
         table.as_ref().map_or(0, |t| t.values.len() as u32),
     );
     let falloff: &FalloffKind = &t.falloff;

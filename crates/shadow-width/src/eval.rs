@@ -5,7 +5,7 @@ use crate::attenuation::{AttenuationTable, Falloff, FalloffKind, attenuation, ta
 use crate::params::{DepthLayer, ShadowWidth, Softness};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
-use soft_shadow_core::light_space::shadow_coord;
+use soft_shadow_core::light_space::{shadow_coord, sphere_spread_at};
 use soft_shadow_core::{Bias, Map2D, MapParams};
 
 /// Largest `c_scale` used (beyond it `I` is a hard shadow to f32 precision; keeps products finite).
@@ -21,8 +21,8 @@ pub(crate) struct EvalParams {
     pub bias: Bias,
     /// 0: the linear falloff evaluated directly; 1: the lookup table.
     pub use_table: u32,
-    /// Unused (keeps the WGSL layout).
-    pub _reserved: u32,
+    /// 1 for a sphere light: its softness grows by [`sphere_spread_at`] off the map's axis.
+    pub sphere: u32,
     /// 1 when `c_scale` comes from the light size ([`Softness::FromLight`]).
     pub from_light: u32,
     /// Constant `c_scale` (when `from_light == 0`).
@@ -39,8 +39,14 @@ pub(crate) struct EvalParams {
 }
 
 impl EvalParams {
-    /// Parameters of `t` for a map `map` and a light of `light_size`.
-    pub(crate) fn new(t: &ShadowWidth, map: MapParams, light_size: f32, table_size: u32) -> Self {
+    /// Parameters of `t` for a map `map` and a light of `light_size` (a sphere where `sphere`).
+    pub(crate) fn new(
+        t: &ShadowWidth,
+        map: MapParams,
+        light_size: f32,
+        sphere: bool,
+        table_size: u32,
+    ) -> Self {
         let (from_light, c_scale) = match t.softness {
             Softness::FromLight => (1, 0.0),
             Softness::Constant(c) => (0, c),
@@ -53,7 +59,7 @@ impl EvalParams {
             map,
             bias: t.bias,
             use_table: (table_size > 0) as u32,
-            _reserved: 0,
+            sphere: sphere as u32,
             from_light,
             c_scale,
             c_bias,
@@ -66,9 +72,10 @@ impl EvalParams {
         }
     }
 
-    /// `c_scale` for a blocker at depth `z_b` and a receiver at `z_r`; `None` for a hard shadow
-    /// (a light of size 0 with physical softness).
-    pub(crate) fn c_scale_at(&self, z_b: f32, z_r: f32) -> Option<f32> {
+    /// `c_scale` for a blocker at depth `z_b` and a receiver `p` at `z_r`; `None` for a hard
+    /// shadow (a light of size 0 with physical softness). A sphere's size grows by
+    /// [`sphere_spread_at`] of `p`.
+    pub(crate) fn c_scale_at(&self, z_b: f32, z_r: f32, p: glam::Vec3) -> Option<f32> {
         if self.from_light == 0 {
             return Some(self.c_scale.min(MAX_C_SCALE));
         }
@@ -78,7 +85,12 @@ impl EvalParams {
         let c = if self.map.ortho == 1 {
             2.0 / self.light_size
         } else {
-            2.0 * z_b * z_r / self.light_size
+            let spread = if self.sphere == 1 {
+                sphere_spread_at(&self.map, p)
+            } else {
+                1.0
+            };
+            2.0 * z_b * z_r / (self.light_size * spread)
         };
         Some(c.min(MAX_C_SCALE))
     }
@@ -141,7 +153,7 @@ pub(crate) fn shade(
         return 1.0;
     }
     let sw = bilinear(width, c.st) * prm.width_unit();
-    let Some(cs) = prm.c_scale_at(z_b, c.z_receiver) else {
+    let Some(cs) = prm.c_scale_at(z_b, c.z_receiver, p) else {
         return if sw > 0.0 { 0.0 } else { 1.0 };
     };
     match shader {

@@ -24,6 +24,9 @@ pub struct GpuWidthMaps {
     pub(crate) width: wgpu::Buffer,
     /// [`crate::params::softness_size`] of the light: its size over the fit factor.
     pub(crate) light_size: f32,
+    /// Whether the light is a sphere, whose softness grows off the map's axis
+    /// ([`soft_shadow_core::light_space::sphere_spread_at`]).
+    pub(crate) sphere: bool,
 }
 
 impl GpuWidthMaps {
@@ -262,6 +265,7 @@ pub(crate) fn generate(
         depth,
         width,
         light_size: crate::params::softness_size(light),
+        sphere: matches!(light, soft_shadow_core::Light::Sphere { .. }),
     })
 }
 
@@ -282,6 +286,7 @@ pub(crate) fn bind_maps(
         t,
         maps.params,
         maps.light_size,
+        maps.sphere,
         table.as_ref().map_or(0, |t| t.values.len() as u32),
     );
     let values = table.map_or(vec![1.0f32; 2], |t| t.values);

@@ -1,5 +1,5 @@
 #define_import_path shadow_width::visibility
-#import soft_shadow_core::light_space::{Bias, MapView, bilinear_taps, linear_from_ndc, shadow_coord}
+#import soft_shadow_core::light_space::{Bias, MapView, bilinear_taps, linear_from_ndc, shadow_coord, sphere_spread_at}
 
 // Evaluation of Kirsch & Döllner's I(sd, sw) as `visibility(world_pos, normal)`. Mirrors
 // shadow_width::eval::shade.
@@ -8,7 +8,7 @@ struct EvalParams {
     map: MapView,
     bias: Bias,
     use_table: u32,
-    _reserved: u32,
+    sphere: u32,
     from_light: u32,
     c_scale: f32,
     c_bias: f32,
@@ -84,7 +84,11 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
         if prm.map.ortho == 1u {
             cs = 2.0 / prm.light_size;
         } else {
-            cs = 2.0 * z_b * c.z_receiver / prm.light_size;
+            var spread = 1.0;
+            if prm.sphere == 1u {
+                spread = sphere_spread_at(prm.map, p);
+            }
+            cs = 2.0 * z_b * c.z_receiver / (prm.light_size * spread);
         }
     }
     cs = min(cs, MAX_C_SCALE);

@@ -51,7 +51,7 @@ pub static SHADERS: Library = Library {
             source: include_str!("../visibility.wgsl"),
         },
     ],
-    depends: &[],
+    depends: &[&soft_shadow_core::gpu::shader::SHADERS],
     programs: &[&SLICING, &SAT_ROWS, &SAT_COLS, &LEVELS],
 };
 

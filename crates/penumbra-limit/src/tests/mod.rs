@@ -373,7 +373,7 @@ fn depth_image_seeds_are_the_near_side_tests() {
         rate: 1.0,
         p_per_texel: 0.01,
         far_norm: 1.0,
-        _pad: 0.0,
+        spread: 1.0,
     };
     let mut rng = soft_shadow_core::rng::SplitMix(5);
     let mut next = |n: u64| rng.below(n);

@@ -75,6 +75,25 @@ fn above_horizon(m: MapView, p: vec3<f32>, n: vec3<f32>) -> bool {
     return dot(n, to_light) > 0.0;
 }
 
+const SPHERE_SPREAD_MIN_COS: f32 = 0.05;
+
+// `sphere_spread` in light_space.rs.
+fn sphere_spread(cos_theta: f32) -> f32 {
+    return 1.0 / sqrt(min(max(cos_theta, SPHERE_SPREAD_MIN_COS), 1.0));
+}
+
+// `sphere_spread_at` in light_space.rs.
+fn sphere_spread_at(m: MapView, p: vec3<f32>) -> f32 {
+    if m.ortho == 1u {
+        return 1.0;
+    }
+    let d = length(p - m.light.xyz);
+    if d <= 0.0 {
+        return 1.0;
+    }
+    return sphere_spread(linear_depth(m, p) / d);
+}
+
 // Map position in texels and linear depth of `q` (w < 0: at or behind the eye).
 fn map_project(m: MapView, q: vec3<f32>) -> vec4<f32> {
     let clip = m.view_proj * vec4<f32>(q, 1.0);
