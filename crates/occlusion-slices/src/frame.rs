@@ -204,6 +204,8 @@ impl Frame {
         // corner of the light's rectangle, down to the deepest geometry, clamped into the scene.
         // A receiver outside the frustum has kernels that leave the slices (section 3.1's
         // pyramid only stays inside for points inside the frustum), so it must be covered too.
+        // A sphere's kernels widen off the normal (`Frame::kernel`) beyond this outline: their
+        // outer edge can reach past the frustum, where the slices read empty.
         let casters = soft_shadow_core::Aabb::of_triangles(&geometry.casters);
         let scene = geometry.bounds;
         let deepest = scene.corners().iter().map(|c| depth(*c)).fold(hi, f32::max);

@@ -167,7 +167,7 @@ pub(crate) fn seeds(
 /// widest ribbon is an edge's at the nearest depth, [`Warp::ribbon_texels`] at 0 (seeds are
 /// casters' texels, at or beyond the near plane), so a texel with a seed more than
 /// `ribbon_texels(0) + 1/2` away is in no ribbon. One more texel covers the rounding of depths
-/// at the near plane (`torus` at 2048²: 201 texels).
+/// at the near plane.
 pub(crate) fn ribbon_reach(warp: &Warp) -> u32 {
     // Saturating: a light too small for its ribbons to fit the map skips no texel.
     (warp.ribbon_texels(0.0) + 1.5).ceil() as u32

@@ -4,7 +4,7 @@
 //! visibility-to-illumination table; below a caster under another caster's edge, that caster's
 //! own soft shadow ([`lower_shadow`]).
 
-use crate::storage::{Storage, Texel};
+use crate::storage::{MAX_P, Storage, Texel};
 use crate::table::IlluminationTable;
 use crate::visibility::{limited_visibility, lower_visibility};
 use crate::warp::{DEPTH_SPAN, Warp};
@@ -163,9 +163,12 @@ pub(crate) fn shade(
     let taps = map.bilinear_taps(co.st);
     let mut t = interpolate(&taps);
     // A sphere's penumbra is wider here than the ribbons' (`Warp::spread_at`): the distance
-    // from the edge, `p_i`, counts for less, and the lower casters' disc is wider.
+    // from the edge, `p_i`, counts for less, and the lower casters' disc is wider. A saturated
+    // `p_i` (a covered texel's umbra, a ribbon's far end) means "at least that far" and stays.
     let spread = prm.warp.spread_at(&prm.map, p);
-    t.p /= spread;
+    if t.p.abs() < MAX_P {
+        t.p /= spread;
+    }
     let inside = t.p < 0.0;
     let edge = if inside {
         let lower = taps

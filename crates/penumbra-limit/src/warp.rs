@@ -10,7 +10,9 @@
 //!   exactly a distant light of "half-angle tangent" `R`: `r = 1 / R`. Straight world edges stay
 //!   straight and planes stay planes (the map is a projective transform), so the straight-edge
 //!   construction and its bilinear exactness carry over. Spheres (their silhouette disc) and
-//!   rectangles (the disk of equal area) are modelled by a facing disk: an approximation.
+//!   rectangles (the disk of equal area) are modelled by a facing disk: an approximation. A
+//!   sphere faces every receiver with its whole disc, which the map stretches away from its
+//!   axis: a receiver's penumbra widens by [`sphere_spread_at`] ([`Warp::spread`]).
 //!
 //! Both share `r = 2 / size` with [`Light::size`] (`2 tan(a)` or `2 R`). Stored depths are
 //! normalised: `n = (zeta - zeta(near)) / (zeta(far) - zeta(near)) * DEPTH_SPAN`, so every depth
@@ -18,8 +20,9 @@
 //! The near plane is the frustum's (a distant light's starts just before the casters), moved
 //! nearer where the frustum is shallower than [`MAX_P_PER_TEXEL`] allows.
 
+use crate::storage::MAX_P;
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3, Vec4};
+use glam::Vec3;
 use soft_shadow_core::light_space::{sphere_spread, sphere_spread_at};
 use soft_shadow_core::view::NO_OCCLUDER;
 use soft_shadow_core::{Light, MapParams};
@@ -49,6 +52,10 @@ pub(crate) const MAX_P_PER_TEXEL: f32 = std::f32::consts::SQRT_2;
 /// penumbra stays under a texel (a hard edge) would otherwise spend every stored step on depths
 /// nothing occupies.
 pub(crate) const MAX_RANGE_GROWTH: f32 = 16.0;
+/// Most a sphere's penumbra widens in a map ([`Warp::spread`]): the stored `p_i` saturates at
+/// [`MAX_P`], so a ribbon holds the widened penumbra of every receiver in the normalised range
+/// ([`DEPTH_SPAN`]) only up to `MAX_P / DEPTH_SPAN`.
+pub(crate) const MAX_SPREAD: f32 = MAX_P / DEPTH_SPAN;
 /// Depth rate used for a light of size 0 (a hard, antialiased edge).
 pub(crate) const MAX_RATE: f32 = 1.0e30;
 
@@ -71,8 +78,10 @@ pub(crate) struct Warp {
     /// Normalised depth of the far plane `zeta` (the deepest receiver).
     pub far_norm: f32,
     /// The most a sphere light's penumbra widens over the map: [`sphere_spread`] at its
-    /// corners. Ribbons reach that much farther, and each receiver's penumbra widens by its own
-    /// [`sphere_spread_at`], at most this ([`Warp::spread_at`]). Exactly 1 for other lights.
+    /// corners (1.42 to 2.01 for a cube face, whose corners lie 60 to 76 degrees off its axis),
+    /// at most [`MAX_SPREAD`]. Ribbons reach that much farther, and each receiver's penumbra
+    /// widens by its own [`sphere_spread_at`], at most this ([`Warp::spread_at`]). Exactly 1
+    /// for other lights.
     pub spread: f32,
 }
 
@@ -182,25 +191,12 @@ impl Warp {
     }
 }
 
-/// [`sphere_spread`] at the farthest of a perspective map's corners from its axis (1 for an
-/// orthographic map).
+/// [`sphere_spread`] at a perspective map's corners (its square window's half side is
+/// `texel_a * resolution / 2` at unit depth), at most [`MAX_SPREAD`]; 1 for an orthographic map.
 fn corner_spread(m: &MapParams) -> f32 {
     if m.ortho == 1 {
         return 1.0;
     }
-    let to_world = Mat4::from_cols_array(&m.view_proj).inverse();
-    let eye = Vec4::from(m.light).truncate();
-    [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-        .into_iter()
-        .map(|(x, y)| {
-            let q = to_world * Vec4::new(x, y, 0.5, 1.0);
-            let q = q.truncate() / q.w;
-            let d = (q - eye).length();
-            if d > 0.0 && d.is_finite() {
-                sphere_spread(m.linear_depth(q) / d)
-            } else {
-                1.0
-            }
-        })
-        .fold(1.0, f32::max)
+    let half = 0.5 * m.texel_a * m.resolution as f32;
+    sphere_spread(1.0 / (1.0 + 2.0 * half * half).sqrt()).min(MAX_SPREAD)
 }

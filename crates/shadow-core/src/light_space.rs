@@ -294,7 +294,7 @@ pub fn above_horizon(m: &MapParams, p: Vec3, n: Vec3) -> bool {
 }
 
 /// Smallest cosine [`sphere_spread`] takes: it widens a kernel at most `1/sqrt(0.05)` = 4.5
-/// times (a cube face's corner is at 0.577: 1.32 times).
+/// times (a cube face's receivers lie within 57 degrees of its axis: 1.36 times).
 pub const SPHERE_SPREAD_MIN_COS: f32 = 0.05;
 
 /// How much wider a sphere light's penumbra is, for a receiver whose direction from the light's
@@ -306,9 +306,10 @@ pub const SPHERE_SPREAD_MIN_COS: f32 = 0.05;
 /// from the axis and leaves it as it is across that direction, so the facing disc's kernel is
 /// `cos` too narrow one way (a room lamp's shadows read `+10` to `+25`/255 too sharp 35 to 50
 /// degrees off its cube faces' axes). A kernel of one size takes the one of the same area:
-/// `1 / sqrt(cos)`, with `cos` at least [`SPHERE_SPREAD_MIN_COS`]. 1 on the axis.
+/// `1 / sqrt(cos)`, with `cos` held to `[SPHERE_SPREAD_MIN_COS, 1]` (NaN gives the lower end on
+/// the CPU). 1 on the axis.
 pub fn sphere_spread(cos_theta: f32) -> f32 {
-    // `max` then `min`, as the WGSL does: a NaN cosine gives the widest kernel, not NaN.
+    // `max` then `min`, as the WGSL does (`clamp` would keep a NaN).
     #[allow(clippy::manual_clamp)]
     let c = cos_theta.max(SPHERE_SPREAD_MIN_COS).min(1.0);
     1.0 / c.sqrt()

@@ -2,7 +2,7 @@
 //! its whole disc, while a map's kernel models the disc facing along the view's axis, which a
 //! receiver off that axis sees foreshortened (`soft_shadow_core::light_space::sphere_spread`).
 //! On `room-lamp-corner` (a sphere lamp among furniture, its shadows in five cube faces at up to
-//! 55 degrees off a face's axis), the defaults of penumbra-limit and occlusion-slices, whose
+//! 57 degrees off a face's axis), the defaults of penumbra-limit and occlusion-slices, whose
 //! kernels take the light's size, read the penumbrae 35 degrees and more off a face's axis no
 //! sharper than those near its axis, against the reference, CPU and GPU.
 //!

@@ -553,3 +553,51 @@ fn the_lower_shadows_spiral_is_one_table_on_both_backends() {
         .collect();
     assert_eq!(shader, LOWER_SPIRAL.to_vec());
 }
+
+/// A covered texel's umbra (`p_i` saturated at `-MAX_P`: "at least that far inside") stays
+/// umbra where a sphere's penumbra widens (`Warp::spread_at`). A caster nearer than the warp's
+/// near plane stores a depth below 0 (f32), and a receiver 60 degrees off the axis far below it
+/// (normalised depths more than `MAX_P / 1.41` apart) read 0.046 of the light while the spread
+/// (1.41 there) divided the saturated `p_i` too.
+#[test]
+fn a_spheres_spread_leaves_the_umbra_dark() {
+    use crate::eval::{EvalParams, shade};
+    use crate::warp::{NONE_DEPTH, Warp};
+    use glam::{Vec2, Vec4};
+    use soft_shadow_core::light_space::sphere_spread;
+    use soft_shadow_core::view::View;
+    use soft_shadow_core::{Map2D, SampleView};
+    let fov = 130f32.to_radians();
+    let m = SampleView {
+        view: View::perspective(Vec3::ZERO, Vec3::NEG_Z, fov, 1.0, 0.1, 10.0),
+        weight: 1.0,
+        light: Vec4::W,
+        cell: [Vec2::ZERO; 2],
+    }
+    .params(8);
+    let light = Light::Sphere {
+        center: Vec3::ZERO,
+        radius: 0.1,
+    };
+    let warp = Warp::new(&m, &light);
+    let receiver = Vec3::new(9.9 * 3f32.sqrt(), 0.0, -9.9);
+    let spread = warp.spread_at(&m, receiver);
+    assert!((spread - sphere_spread(0.5)).abs() < 1e-3, "{spread}");
+    let c = warp.normalized(0.15);
+    let z = warp.normalized(9.9);
+    assert!(
+        c < 0.0 && z - c > MAX_P / spread && z - c < MAX_P,
+        "c {c}, z {z}"
+    );
+    let umbra = Texel {
+        c,
+        g: c,
+        b: NONE_DEPTH,
+        p: -MAX_P,
+    };
+    let map = Map2D::new(8, 8, umbra);
+    let prm = EvalParams::new(m, Bias::NONE, warp, Storage::F32, 64);
+    let table = IlluminationTable::new(Profile::UniformDisk, 64);
+    let v = shade(&prm, &map, &table, receiver, -receiver.normalize());
+    assert_eq!(v, 0.0, "umbra read {v}");
+}
