@@ -4,7 +4,7 @@
 //! visibility-to-illumination table; below a caster under another caster's edge, that caster's
 //! own soft shadow ([`lower_shadow`]).
 
-use crate::storage::{MAX_P, Storage, Texel};
+use crate::storage::{Storage, Texel};
 use crate::table::IlluminationTable;
 use crate::visibility::{limited_visibility, lower_visibility};
 use crate::warp::{DEPTH_SPAN, Warp};
@@ -163,12 +163,10 @@ pub(crate) fn shade(
     let taps = map.bilinear_taps(co.st);
     let mut t = interpolate(&taps);
     // A sphere's penumbra is wider here than the ribbons' (`Warp::spread_at`): the distance
-    // from the edge, `p_i`, counts for less, and the lower casters' disc is wider. A saturated
-    // `p_i` (a covered texel's umbra, a ribbon's far end) means "at least that far" and stays.
+    // from the edge, `p_i`, counts for less, and the lower casters' disc is wider. A covered
+    // texel's `p_i` (`-MAX_P`) stays umbra: the spread is at most `MAX_SPREAD`.
     let spread = prm.warp.spread_at(&prm.map, p);
-    if t.p.abs() < MAX_P {
-        t.p /= spread;
-    }
+    t.p /= spread;
     let inside = t.p < 0.0;
     let edge = if inside {
         let lower = taps

@@ -1,6 +1,6 @@
 #define_import_path penumbra_limit::visibility
 #import soft_shadow_core::light_space::{Bias, MapView, bilinear_taps, shadow_coord}
-#import penumbra_limit::warp::{DEPTH_SPAN, MAX_P, Warp, receiver_depth, spread_at}
+#import penumbra_limit::warp::{DEPTH_SPAN, Warp, receiver_depth, spread_at}
 
 // Evaluation as `visibility(world_pos, normal)`; mirrors penumbra_limit::eval: project the
 // receiver, bilinear (c, g, p_i) and each tap's lower limit, equation 2, then the
@@ -141,12 +141,9 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let z = min(receiver_depth(prm.warp, co.z) - prm.tolerance, DEPTH_SPAN);
     let q = taps4(co.st);
     var t = q.a * q.w.x + q.b * q.w.y + q.c * q.w.z + q.d * q.w.w;
-    // A sphere's penumbra is wider here than the ribbons' (Warp::spread_at); a saturated p_i
-    // stays.
+    // A sphere's penumbra is wider here than the ribbons' (Warp::spread_at).
     let spread = spread_at(prm.warp, prm.map, p);
-    if abs(t.w) < MAX_P {
-        t.w /= spread;
-    }
+    t.w /= spread;
     // Inside the silhouette: each tap's lower limit, weighted as the taps are.
     let inside = t.w < 0.0;
     var lower = 1.0;

@@ -39,7 +39,8 @@ pub(crate) const FRONT_DEPTH: f32 = -1.0;
 /// reaching the light's plane pulls the frustum's near plane towards 0, and `-1/z` then spends
 /// almost all of the stored range on the first centimetres: every receiver's depth rounds to
 /// the same f16 or 8-bit value and the map casts nothing. Depths nearer than `far /
-/// MAX_DEPTH_RATIO` store below 0 (f32, f16) or at 0 (RGBA8): nearer than every receiver.
+/// MAX_DEPTH_RATIO` store at 0 (`Texel::encode` clamps every depth to `[0, 1]`): nearer than
+/// every receiver.
 pub(crate) const MAX_DEPTH_RATIO: f32 = 16.0;
 /// Largest change of the normalised `p_i` from one texel to the next. `p_i` is stored clamped to
 /// `[-MAX_P, MAX_P]`, and bilinear interpolation of clamped values moves an edge's zero crossing
@@ -54,7 +55,8 @@ pub(crate) const MAX_P_PER_TEXEL: f32 = std::f32::consts::SQRT_2;
 pub(crate) const MAX_RANGE_GROWTH: f32 = 16.0;
 /// Most a sphere's penumbra widens in a map ([`Warp::spread`]): the stored `p_i` saturates at
 /// [`MAX_P`], so a ribbon holds the widened penumbra of every receiver in the normalised range
-/// ([`DEPTH_SPAN`]) only up to `MAX_P / DEPTH_SPAN`.
+/// ([`DEPTH_SPAN`]), and a covered texel's `-MAX_P` stays umbra for every receiver below it
+/// (stored depths are at least 0), only up to `MAX_P / DEPTH_SPAN`.
 pub(crate) const MAX_SPREAD: f32 = MAX_P / DEPTH_SPAN;
 /// Depth rate used for a light of size 0 (a hard, antialiased edge).
 pub(crate) const MAX_RATE: f32 = 1.0e30;

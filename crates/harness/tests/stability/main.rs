@@ -15,8 +15,9 @@
 //! - `convergence`: from 64² up, a finer map never raises a technique's image error by more than
 //!   1/255 (every technique but PCF, on `torus`, `bunny`, `contact`, `overlap`).
 //! - `tiny_light`: as the light shrinks to 0.2 mm every technique converges to the hard shadow.
-//! - `sphere_spread`: a sphere lamp's penumbrae read no sharper off its cube faces' axes than
-//!   near them (penumbra-limit's and occlusion-slices' defaults, on `room-lamp-corner`).
+//! - `sphere_spread`: a sphere lamp's penumbrae read at most 5.5/255 sharper off its cube faces'
+//!   axes than near them (penumbra-limit's and occlusion-slices' defaults, on
+//!   `room-lamp-corner`).
 //! - `random_scenes`: proptest scenes of random triangles and lights at scales 1e-3..1e4, with
 //!   the assertions of `catalogue`.
 //!

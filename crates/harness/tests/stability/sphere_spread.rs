@@ -3,8 +3,9 @@
 //! receiver off that axis sees foreshortened (`soft_shadow_core::light_space::sphere_spread`).
 //! On `room-lamp-corner` (a sphere lamp among furniture, its shadows in five cube faces at up to
 //! 57 degrees off a face's axis), the defaults of penumbra-limit and occlusion-slices, whose
-//! kernels take the light's size, read the penumbrae 35 degrees and more off a face's axis no
-//! sharper than those near its axis, against the reference, CPU and GPU.
+//! kernels take the light's size, read the penumbrae 35 degrees and more off a face's axis at
+//! most [`OFF_AXIS_SHARPER`] sharper than those near its axis, against the reference, CPU and
+//! GPU.
 //!
 //! The measure is how much too sharp a penumbra reads: the mean over the reference's penumbra
 //! receivers of `(V - V_ref)` signed towards 1/2 (positive: the lit half too light and the dark
