@@ -621,6 +621,23 @@ pub fn share_budget(
 /// Steps the budget is divided into when [`cheapest_error`] buys configurations.
 pub const BUDGET_STEPS: usize = 1024;
 
+/// Whether the shared budget left every light that lights something in view without maps: a
+/// frame that measures none of the lights, after which a measuring frame relaxes the
+/// calibration ([`crate::Calibration::relax`]) rather than hold the factors that priced them
+/// out.
+pub(crate) fn priced_out(world: &mut World) -> bool {
+    let mut states = world.query::<&LightState>();
+    let mut shared = states
+        .iter(world)
+        .filter_map(|s| Some((s.share?, s.maps.is_some())));
+    let mut wanted = false;
+    let none = shared.all(|(share, has_maps)| {
+        wanted |= share.contribution > 0.0;
+        !has_maps
+    });
+    none && wanted
+}
+
 /// The configurations a budget of `available` ms buys: for light `i`, a rung of `ladders[i]`
 /// (`(ms, image error)`) or none (`None`), so that the lights' summed image error, each
 /// weighted by its part (`weights[i]`: part, and the error it has with no shadow), is the least

@@ -41,11 +41,13 @@ pub const CALIBRATION_MAX_FACTOR: f64 = 16.0;
 /// magnitude faster, and a software rasterizer slower.
 pub const CALIBRATION_MAX_GPU_FACTOR: f64 = 16384.0;
 
-/// A timed GPU frame in which the shared budget bought no light its maps measures nothing: it
-/// moves every measured ratio (and every factor set by [`Calibration::new`] and not measured
-/// since) this share of the way to 1, in log scale. A budget that a slow device (or a heavy view) priced out thus buys
-/// the most valuable light its cheapest shadow again within tens of frames, which times the
-/// device once more, and follows a device that got faster.
+/// A frame that measures its lights (a CPU frame, or a GPU frame read back or timed on the
+/// device) in which the shared budget bought no light its maps measures nothing: it moves every
+/// measured ratio (and every factor set by [`Calibration::new`] and not measured since) this
+/// share of the way to 1, in log scale. A budget that a slow machine or device (or a heavy
+/// view, or a hitch that inflated the factors) priced out thus buys the most valuable light its
+/// cheapest shadow again within tens of frames, which measures it once more, and follows a
+/// machine that got faster.
 pub const CALIBRATION_RELAX: f64 = 1.0 / 32.0;
 
 /// How the frames' measured times compare with the profile's predictions, kept by
@@ -222,9 +224,8 @@ impl Calibration {
     }
 
     /// Moves every measured ratio [`CALIBRATION_RELAX`] of the way to 1 in log scale (a ratio
-    /// `r` becomes `r^(1 - CALIBRATION_RELAX)`), the factors with them: what a timed GPU frame
+    /// `r` becomes `r^(1 - CALIBRATION_RELAX)`), the factors with them: what a measuring frame
     /// that made and recorded no light's maps does in place of a measurement.
-    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
     pub(crate) fn relax(&mut self) {
         let toward_one = |r: &mut f64| *r = r.powf(1.0 - CALIBRATION_RELAX);
         let windows = self.recent[..2]

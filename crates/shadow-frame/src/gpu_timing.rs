@@ -417,26 +417,11 @@ pub(crate) fn measured(world: &mut World, arrived: &[Vec<LightStats>]) {
     }
 }
 
-/// Whether this frame's passes are timed on the device and the shared budget left every light
-/// that lights something in view without maps: a frame that measures nothing, after which the
-/// calibration relaxes ([`crate::Calibration::relax`]).
-pub(crate) fn priced_out(world: &mut World) -> bool {
-    if !world
+/// Whether this frame's passes are timed on the device.
+pub(crate) fn timing(world: &World) -> bool {
+    world
         .get_resource::<GpuTiming>()
         .is_some_and(GpuTiming::timing)
-    {
-        return false;
-    }
-    let mut states = world.query::<&crate::LightState>();
-    let mut shared = states
-        .iter(world)
-        .filter_map(|s| Some((s.share?, s.maps.is_some())));
-    let mut wanted = false;
-    let none = shared.all(|(share, has_maps)| {
-        wanted |= share.contribution > 0.0;
-        !has_maps
-    });
-    none && wanted
 }
 
 /// After a frame whose passes are timed on the device: the wall time the lights' generation

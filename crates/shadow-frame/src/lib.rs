@@ -182,20 +182,22 @@ impl FramePipeline {
         gpu_probe::end_frame(world, &stats);
         #[cfg(feature = "gpu")]
         gpu_timing::end_frame(world);
-        // A timed GPU frame whose budget bought no light a shadow times nothing of the lights.
+        // A GPU frame that reads nothing back times only its recording of the lights' work:
+        // its lights calibrate by their device times, where a `GpuTiming` brings them.
+        let timed = !on_gpu || settings.evaluate_receivers;
         #[cfg(feature = "gpu")]
-        let priced_out = gpu_timing::priced_out(world);
+        let measuring = timed || gpu_timing::timing(world);
+        #[cfg(not(feature = "gpu"))]
+        let measuring = timed;
+        // A measuring frame whose budget bought no light a shadow measures none of the lights.
+        let priced_out = measuring && budget::priced_out(world);
         if settings.calibrating {
-            // A GPU frame that reads nothing back times only its recording of the lights' work:
-            // its lights calibrate by their device times, where a `GpuTiming` brings them.
-            let timed = !on_gpu || settings.evaluate_receivers;
             let mut calibration = world.resource_mut::<Calibration>();
             calibration.update(&stats, timed);
             #[cfg(feature = "gpu")]
             for lights in &arrived {
                 calibration.update_gpu(lights);
             }
-            #[cfg(feature = "gpu")]
             if priced_out {
                 calibration.relax();
             }

@@ -834,3 +834,44 @@ fn two_lamps_get_a_shadow_where_their_cheapest_fit_together() {
         first.no_shadow_255
     );
 }
+
+/// On the CPU too, a budget that prices every lamp out measures none of them, so the
+/// calibration that priced them out (a slow machine, or a hitch that inflated the factors) held
+/// for good. Each such frame now relaxes every factor toward 1 (`Calibration::relax`): the
+/// night street with 8 ms beyond the pipeline's own work, from a calibration set to 16 times
+/// the profile (every lamp's cheapest shadow then over the budget), buys a lamp its shadow
+/// again within 64 frames (on 2 cores: the fifth frame, at a factor of 11.5), and until then
+/// the factor falls every frame. (Before, it stayed at 16: the test fails on its first frame.)
+#[test]
+fn a_cpu_budget_that_prices_every_lamp_out_measures_again() {
+    const BEYOND_CORE_MS: f64 = 8.0;
+    let mut street =
+        soft_shadow_reference::scenes::lamps::street::street(16, 96, 54, BEYOND_CORE_MS).unwrap();
+    let world = &mut street.scene.world;
+    world.insert_resource(shadow_frame::Calibration::new(16.0, 16.0, 0.0));
+    let mut p = pipeline();
+    let mut last = 16.0;
+    for f in 0..64u32 {
+        p.run(world);
+        let with_maps = street
+            .lamps
+            .iter()
+            .filter(|e| world.get::<LightState>(**e).unwrap().maps.is_some())
+            .count();
+        let c = world.resource::<shadow_frame::Calibration>().clone();
+        // The budget beyond the pipeline's own work, whatever this machine takes for that.
+        world.insert_resource(FrameBudget {
+            ms: BEYOND_CORE_MS + c.core_ms,
+        });
+        if with_maps > 0 {
+            assert!(f > 0, "a lamp fitted the budget at 16 times the profile");
+            println!(
+                "frame {f}: {with_maps} lamps bought a shadow at a generation factor of {last:.2}"
+            );
+            return;
+        }
+        assert!(c.generate < last, "frame {f}: {} after {last}", c.generate);
+        last = c.generate;
+    }
+    panic!("no lamp bought a shadow in 64 frames (generation factor {last:.2})");
+}
