@@ -59,7 +59,7 @@ pub(crate) fn visibility(
         let mut i = 0.0;
         let slab = || slab_occlusion(frame, &receiver, k, &top);
         if w > 0.0 {
-            let (center, size) = frame.kernel(c, frame.plane(k));
+            let (center, size) = frame.kernel(c, frame.plane(k), receiver.widen);
             if chained && linked {
                 let (u, nearer) = (
                     union(k as usize, center, size),
@@ -93,6 +93,8 @@ pub(crate) struct Receiver {
     pub n: Vec3,
     /// [`SLAB_BIAS_TEXELS`] at its depth, in world units, and one step of [`Frame::top_code`].
     pub margin: f32,
+    /// What its kernels widen by ([`Frame::spread`]).
+    pub widen: f32,
 }
 
 impl Receiver {
@@ -102,6 +104,7 @@ impl Receiver {
             c,
             n: frame.direction(n),
             margin: SLAB_BIAS_TEXELS * frame.texel_size(c.h.max(0.0)) + frame.spacing / TOP_STEPS,
+            widen: frame.spread(c),
         }
     }
 
@@ -132,8 +135,8 @@ pub(crate) fn slab_occlusion(
     if !(limit > upper && c.h > 0.0) {
         return 0.0;
     }
-    let (a, sa) = frame.kernel(c, upper);
-    let (b, sb) = frame.kernel(c, limit);
+    let (a, sa) = frame.kernel(c, upper, r.widen);
+    let (b, sb) = frame.kernel(c, limit, r.widen);
     let lo = (a - Vec2::splat(0.5 * sa)).min(b - Vec2::splat(0.5 * sb));
     let hi = (a + Vec2::splat(0.5 * sa)).max(b + Vec2::splat(0.5 * sb));
     let extent = hi - lo;
@@ -159,7 +162,7 @@ pub(crate) fn slab_occlusion(
             if z <= 0.0 || !r.hidden_by(frame.texel_point(centre, z)) {
                 continue;
             }
-            let (kc, ks) = frame.kernel(c, z);
+            let (kc, ks) = frame.kernel(c, z, r.widen);
             if ks.is_nan() || ks <= 0.0 {
                 continue;
             }

@@ -385,10 +385,9 @@ impl Frame {
 
     /// The kernel of section 3.1 for a receiver at `c` on plane depth `p < c.h`: the centre in
     /// continuous texel coordinates (texel `i` covers `[i, i + 1)`) and the side in texels of the
-    /// intersection of the plane with the pyramid from the receiver to the light. A sphere's
-    /// square faces the normal, and the receiver sees the sphere's whole disc facing it: the side
-    /// grows by [`sphere_spread`] of the receiver's angle off the normal.
-    pub(crate) fn kernel(&self, c: LightCoord, p: f32) -> (Vec2, f32) {
+    /// intersection of the plane with the pyramid from the receiver to the light, widened by
+    /// `widen`, the receiver's [`Frame::spread`] (computed once per receiver).
+    pub(crate) fn kernel(&self, c: LightCoord, p: f32, widen: f32) -> (Vec2, f32) {
         let along = p / c.h;
         let z = self.d + p;
         let resolution = self.resolution as f32;
@@ -398,14 +397,13 @@ impl Frame {
             (c.x * along * sx * 0.5 + 0.5) * resolution,
             (0.5 - c.y * along * sy * 0.5) * resolution,
         );
-        (
-            center,
-            (1.0 - along) * self.d / z * resolution * self.spread(c),
-        )
+        (center, (1.0 - along) * self.d / z * resolution * widen)
     }
 
-    /// [`sphere_spread`] of a receiver at `c` for a sphere light, 1 for the others.
-    fn spread(&self, c: LightCoord) -> f32 {
+    /// How much wider than the light's rectangle a receiver at `c` sees the light: a sphere's
+    /// square faces the normal, and the receiver sees the sphere's whole disc facing it, so its
+    /// kernels grow by [`sphere_spread`] of its angle off the normal; 1 for the other lights.
+    pub(crate) fn spread(&self, c: LightCoord) -> f32 {
         let length = (c.x * c.x + c.y * c.y + c.h * c.h).sqrt();
         if self.normal[3] == 1.0 && length > 0.0 {
             sphere_spread(c.h / length)
@@ -480,7 +478,7 @@ mod tests {
                 y: y * along,
                 h: 10.0,
             };
-            let (centre, _) = frame.kernel(receiver, h);
+            let (centre, _) = frame.kernel(receiver, h, 1.0);
             let p = frame.texel_point(centre, h);
             assert!(
                 (p.x - x).abs() < 1e-4 && (p.y - y).abs() < 1e-4 && p.h == h,

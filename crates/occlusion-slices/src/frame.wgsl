@@ -101,8 +101,9 @@ fn spread(f: Frame, c: vec3<f32>) -> f32 {
     return 1.0;
 }
 
-// Frame::kernel: the pyramid from c to the light cut by plane depth p, in texels.
-fn kernel(f: Frame, c: vec3<f32>, p: f32) -> Kernel {
+// Frame::kernel: the pyramid from c to the light cut by plane depth p, in texels, widened by
+// the receiver's spread.
+fn kernel(f: Frame, c: vec3<f32>, p: f32, widen: f32) -> Kernel {
     let along = p / c.z;
     let z = f.d + p;
     let resolution = f32(f.resolution);
@@ -110,6 +111,6 @@ fn kernel(f: Frame, c: vec3<f32>, p: f32) -> Kernel {
     let sy = f.d / (f.half_y * z);
     var k: Kernel;
     k.center = vec2<f32>((c.x * along * sx * 0.5 + 0.5) * resolution, (0.5 - c.y * along * sy * 0.5) * resolution);
-    k.size = (1.0 - along) * f.d / z * resolution * spread(f, c);
+    k.size = (1.0 - along) * f.d / z * resolution * widen;
     return k;
 }

@@ -1,5 +1,5 @@
 #define_import_path occlusion_slices::visibility
-#import occlusion_slices::frame::{Frame, TOP_STEPS, direction, fade, fade_length, kernel, light_coord, plane, texel_size, texel_point, top_depth}
+#import occlusion_slices::frame::{Frame, TOP_STEPS, direction, fade, fade_length, kernel, light_coord, plane, spread, texel_size, texel_point, top_depth}
 
 // Evaluation (sections 3.3-3.5) as `visibility(world_pos, normal)`: eval.rs, combine.rs and the
 // lookups of filters/*.rs, operation for operation.
@@ -185,11 +185,12 @@ fn top_at(k: u32, x: i32, y: i32) -> u32 {
     return u32(round(v * 255.0));
 }
 
-// eval.rs::Receiver: c and n in light coordinates, and the margin.
+// eval.rs::Receiver: c and n in light coordinates, the margin and what its kernels widen by.
 struct Receiver {
     c: vec3<f32>,
     n: vec3<f32>,
     margin: f32,
+    widen: f32,
 };
 
 // Receiver::hidden_by.
@@ -204,8 +205,8 @@ fn slab_occlusion(r: Receiver, k: u32) -> f32 {
     if !(limit > upper && c.z > 0.0) {
         return 0.0;
     }
-    let a = kernel(frame, c, upper);
-    let b = kernel(frame, c, limit);
+    let a = kernel(frame, c, upper, r.widen);
+    let b = kernel(frame, c, limit, r.widen);
     let lo = min(a.center - vec2<f32>(0.5 * a.size), b.center - vec2<f32>(0.5 * b.size));
     let hi = max(a.center + vec2<f32>(0.5 * a.size), b.center + vec2<f32>(0.5 * b.size));
     let extent = hi - lo;
@@ -228,7 +229,7 @@ fn slab_occlusion(r: Receiver, k: u32) -> f32 {
             if z <= 0.0 || !hidden_by(r, texel_point(frame, centre, z)) {
                 continue;
             }
-            let ker = kernel(frame, c, z);
+            let ker = kernel(frame, c, z, r.widen);
             if !(ker.size > 0.0) {
                 continue;
             }
@@ -269,11 +270,12 @@ fn visibility(p: vec3<f32>, n: vec3<f32>) -> f32 {
     r.c = c;
     r.n = direction(frame, n);
     r.margin = SLAB_BIAS_TEXELS * texel_size(frame, max(c.z, 0.0)) + frame.spacing / TOP_STEPS;
+    r.widen = spread(frame, c);
     for (var k = 0u; k < frame.slices; k++) {
         let w = fade(frame, k, c.z, len);
         var occ = 0.0;
         if w > 0.0 {
-            let ker = kernel(frame, c, plane(frame, k));
+            let ker = kernel(frame, c, plane(frame, k), r.widen);
             if ep.combination == COMBINE_CHAIN && linked {
                 // combine.rs::Accumulator::add_given.
                 let u = filtered_mean(ep.unions + k, ker.center, ker.size);
