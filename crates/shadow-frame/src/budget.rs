@@ -624,12 +624,16 @@ pub const BUDGET_STEPS: usize = 1024;
 /// Whether the shared budget left every light that lights something in view without maps: a
 /// frame that measures none of the lights, after which a measuring frame relaxes the
 /// calibration ([`crate::Calibration::relax`]) rather than hold the factors that priced them
-/// out.
+/// out. (A light whose maps wait a frame, [`crate::deadline`], was not priced out.)
 pub(crate) fn priced_out(world: &mut World) -> bool {
-    let mut states = world.query::<&LightState>();
+    let waiting = world
+        .get_resource::<crate::deadline::Deadline>()
+        .map(|d| d.waiting().to_vec())
+        .unwrap_or_default();
+    let mut states = world.query::<(Entity, &LightState)>();
     let mut shared = states
         .iter(world)
-        .filter_map(|s| Some((s.share?, s.maps.is_some())));
+        .filter_map(|(e, s)| Some((s.share?, s.maps.is_some() || waiting.contains(&e))));
     let mut wanted = false;
     let none = shared.all(|(share, has_maps)| {
         wanted |= share.contribution > 0.0;

@@ -318,9 +318,11 @@ pub struct FrameSettings {
     /// lights' `V` at the sampled receivers where a `GpuTiming` and a `ShadowProbe` ask for them; the receivers still bound what the maps cover, and
     /// predictions count the texels `V` is recorded over, [`RecordedTexels`]).
     pub evaluate_receivers: bool,
-    /// Keep the [`crate::Calibration`] from what every frame measures (off: it stays as it is,
-    /// the profile as fitted unless you set it, and picks follow predictions alone: the same
-    /// picks on every run).
+    /// Keep the [`crate::Calibration`] from what every frame measures, and keep a CPU
+    /// frame's shared budget as it runs, a light's maps waiting a frame where the frame's
+    /// measured times say they would pass it ([`crate::deadline`]) (off: the calibration stays
+    /// as it is, the profile as fitted unless you set it, and picks follow predictions alone:
+    /// the same picks on every run).
     pub calibrating: bool,
 }
 

@@ -3,6 +3,7 @@
 pub mod budget;
 pub mod calibration;
 pub mod components;
+pub mod deadline;
 #[cfg(feature = "gltf")]
 pub mod gltf;
 #[cfg(feature = "gpu")]
@@ -133,6 +134,9 @@ impl FramePipeline {
     /// [`FrameStats`] resource). Missing resources get their defaults; a [`TechniqueProfile`]
     /// defaults to [`FramePipeline::profile_defaults`].
     pub fn run(&mut self, world: &mut World) -> FrameStats {
+        world
+            .get_resource_or_insert_with(deadline::Deadline::default)
+            .begin_frame(std::time::Instant::now());
         if self.world.is_some_and(|id| id != world.id()) {
             self.schedule = core_schedule();
             for name in &self.techniques {
@@ -265,6 +269,10 @@ fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
               backend: Res<FrameBackend>,
               settings: Res<FrameSettings>,
               stats: ResMut<FrameStats>,
+              (calibration, mut deadline): (
+            Res<Calibration>,
+            Option<ResMut<deadline::Deadline>>,
+        ),
               #[cfg(feature = "gpu")] mut timing: Option<ResMut<GpuTiming>>| {
             // A light's generation, its passes timed on the device where a `GpuTiming` is on.
             #[cfg(feature = "gpu")]
@@ -280,8 +288,11 @@ fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
             technique_system::run_technique_timed(
                 name,
                 (lights, casters, index, frame, receivers_error),
-                &backend,
-                &settings,
+                (
+                    &backend,
+                    &settings,
+                    deadline.as_deref_mut().map(|d| (d, &*calibration)),
+                ),
                 stats,
                 &mut timed,
             )

@@ -52,6 +52,10 @@ pub struct LightStats {
     /// The budget that prediction times its margin had to fit (the light's own, or its part of
     /// the [`crate::FrameBudget`]).
     pub budget_ms: Option<f64>,
+    /// Its maps were to be made and waited for the next frame, where this frame, running over
+    /// its predictions, would have passed the [`crate::FrameBudget`] with them
+    /// ([`crate::deadline`]): it evaluated its old maps, or, with none, had no shadow.
+    pub waited: bool,
 }
 
 /// The wall time of the pipeline's core sets in a frame, milliseconds: what the frame costs
@@ -110,7 +114,7 @@ impl FrameStats {
             self.maps_generated += 1;
             t.views_generated += light.views_generated;
             self.views_generated += light.views_generated;
-        } else {
+        } else if !light.waited || light.receivers_evaluated > 0 {
             t.maps_reused += 1;
             self.maps_reused += 1;
         }

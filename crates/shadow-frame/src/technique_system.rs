@@ -2,7 +2,9 @@
 //! of stale lights (from the casters within the light's influence), reuse the others, and
 //! evaluate the frame receivers within the influence.
 
+use crate::calibration::Calibration;
 use crate::components::*;
+use crate::deadline::{Deadline, Pending, worth};
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
 use crate::stats::{FrameStats, LightStats};
 use bevy_ecs::prelude::*;
@@ -129,7 +131,51 @@ fn light_stats(
         }),
         predicted_ms: resolved.auto.map(|a| a.time_ms),
         budget_ms: resolved.auto.map(|a| a.budget_ms),
+        waited: false,
     }
+}
+
+/// Whether a light takes a part of the [`crate::FrameBudget`] this frame.
+fn shared(state: &LightState) -> bool {
+    state.share.is_some_and(|s| s.budget_ms > 0.0)
+}
+
+/// Keeps one light's `line` in the frame's statistics (`waited`: its maps waited a frame),
+/// and, with the frame's clock, what a shared light spent against its predictions (its
+/// generation as the calibration predicts it, and its evaluation as `evaluation_ms` predicts
+/// it, to which its share of its system's own work, `overhead_ms`, is added).
+fn keep(
+    stats: &mut FrameStats,
+    name: &str,
+    mut line: LightStats,
+    (waited, shared): (bool, bool),
+    clock: Option<&mut ((&mut Deadline, &Calibration), f64)>,
+    (evaluation_ms, overhead_ms): (f64, f64),
+) {
+    line.waited = waited;
+    if let (Some(((deadline, calibration), _)), Some([g, _]), true) =
+        (clock, line.profile_ms, shared)
+    {
+        let (t, v) = line
+            .technique
+            .split_once(' ')
+            .unwrap_or((line.technique.as_str(), ""));
+        let generation = if line.views_generated > 0 {
+            g * calibration.generate_for(t, v)
+        } else {
+            0.0
+        };
+        let evaluation = if line.receivers_evaluated > 0 {
+            evaluation_ms
+        } else {
+            0.0
+        };
+        deadline.ran(
+            [line.generate_ms, line.evaluate_ms + overhead_ms],
+            [generation, evaluation],
+        );
+    }
+    stats.record(name, line);
 }
 
 /// One frame of technique `name`.
@@ -148,8 +194,7 @@ pub fn run_technique(
     run_technique_timed(
         name,
         (lights, casters, index, frame, receivers_error),
-        &backend,
-        &settings,
+        (&backend, &settings, None),
         stats,
         &mut |_, work| work(),
     );
@@ -166,18 +211,54 @@ pub(crate) type TechniqueInputs<'w, 's> = (
 );
 
 /// [`run_technique`], each light's generation on the GPU backend run through `timed` (with
-/// the light), which times its passes on the device where the frame asks for it.
+/// the light), which times its passes on the device where the frame asks for it; with a
+/// `clock`, a calibrating CPU frame's shared lights keep to the [`crate::FrameBudget`] as it
+/// runs ([`crate::deadline`]).
 pub(crate) fn run_technique_timed(
     name: &str,
     (mut lights, casters, index, frame, receivers_error): TechniqueInputs,
-    backend: &FrameBackend,
-    settings: &FrameSettings,
+    (backend, settings, clock): (
+        &FrameBackend,
+        &FrameSettings,
+        Option<(&mut Deadline, &Calibration)>,
+    ),
     mut stats: ResMut<FrameStats>,
     timed: &mut dyn FnMut(Entity, &mut dyn FnMut()),
 ) {
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
     let on_gpu = backend.backend == soft_shadow_core::Backend::Gpu;
+    // The frame's clock for its shared lights, and the evaluations still to come: those of the
+    // shared lights of this technique and of the techniques yet to run.
+    let mut clock = clock
+        .filter(|_| !on_gpu && settings.calibrating && settings.evaluate_receivers)
+        .zip(stats.budget_ms);
+    let mut pending: Vec<Pending> = match &clock {
+        Some(((_, calibration), _)) => lights
+            .iter()
+            .filter(|(_, _, _, r, s)| {
+                shared(s)
+                    && (r.technique.name() == name
+                        || !stats.system_ms.contains_key(r.technique.name()))
+            })
+            .filter_map(|(e, _, _, r, s)| {
+                let a = r.auto?;
+                let (t, v) = (r.technique.name(), r.technique.variant());
+                let makes = s.stale || s.maps.is_none();
+                Some(Pending {
+                    light: e,
+                    generate_ms: if makes {
+                        a.profile_ms[0] * calibration.generate_for(t, &v)
+                    } else {
+                        0.0
+                    },
+                    evaluate_ms: a.profile_ms[1] * calibration.evaluate_for(t, &v),
+                    worth: worth(s),
+                })
+            })
+            .collect(),
+        None => Vec::new(),
+    };
     let mut timed = |light: Entity, work: &mut dyn FnMut()| {
         if on_gpu { timed(light, work) } else { work() }
     };
@@ -185,10 +266,38 @@ pub(crate) fn run_technique_timed(
     // is served.
     let seen = std::cell::OnceCell::new();
     let seen = || seen.get_or_init(|| frame.seen()).as_ref();
-    for (entity, light, config, resolved, mut state) in &mut lights {
-        if resolved.technique.name() != name {
-            continue;
+    // This technique's lights, in the query's order; with the frame's clock, the shared ones
+    // whose shadows are worth most first: where the frame runs over, those worth least wait.
+    let mut order: Vec<(Entity, f64)> = lights
+        .iter()
+        .filter(|(.., r, _)| r.technique.name() == name)
+        .map(|(e, .., s)| (e, worth(s)))
+        .collect();
+    if clock.is_some() {
+        order.sort_by(|a, b| b.1.total_cmp(&a.1));
+    }
+    let mut outside: Option<Instant> = None;
+    for (entity, _) in order {
+        let iteration = Instant::now();
+        // The light before, outside the budget, took until now (whichever way it left).
+        if let (Some(since), Some(((deadline, _), _))) = (outside.take(), clock.as_mut()) {
+            deadline.ran_outside(since.elapsed().as_secs_f64() * 1e3);
         }
+        let Ok((entity, light, config, resolved, mut state)) = lights.get_mut(entity) else {
+            continue;
+        };
+        let is_shared = shared(&state);
+        if !is_shared {
+            outside = Some(iteration);
+        }
+        // A shared light leaves what is still to come.
+        let own = pending
+            .iter()
+            .position(|p| p.light == entity)
+            .map(|i| pending.swap_remove(i));
+        let own_evaluation = own.map_or(0.0, |p| p.evaluate_ms);
+        // Whether it shows a shadow from the last frame: it does not wait without one.
+        let shown = state.evaluated > 0 && state.error.is_none();
         if let Some(m) = &receivers_error.0 {
             state.error = Some(m.clone());
             state.visibility.clear();
@@ -236,7 +345,37 @@ pub(crate) fn run_technique_timed(
                 }
             }
         }
-        let generated = state.stale || state.maps.is_none() || planned.is_some();
+        let mut generated = state.stale || state.maps.is_none() || planned.is_some();
+        let mut waited = false;
+        // A light whose shadow was on screen and whose maps a new pick dropped makes them now:
+        // waiting would take its shadow off for a frame. Cascades planned again for a moved
+        // camera follow it now too: their maps are not stale, so a wait would keep the old
+        // ones until the camera moved again.
+        let may_wait =
+            generated && is_shared && planned.is_none() && (state.maps.is_some() || !shown);
+        if let (true, Some(((deadline, calibration), budget_ms)), Some(auto), Some(own)) =
+            (may_wait, clock.as_mut(), resolved.auto, own)
+        {
+            let t = &resolved.technique;
+            // Its maps are made here whatever the staleness predicted (a cascade planned again).
+            let own = Pending {
+                generate_ms: auto.profile_ms[0] * calibration.generate_for(t.name(), &t.variant()),
+                ..own
+            };
+            let spent = deadline.spent_ms();
+            if let Some(need) = deadline.waits(own, &pending, *budget_ms, spent) {
+                (generated, waited) = (false, true);
+                if state.maps.is_none() {
+                    state.error = Some(format!(
+                        "its maps wait a frame: this frame, running over its predictions, would \
+                         take {need:.2} ms of its {budget_ms} ms with them"
+                    ));
+                    let line = light_stats(entity, resolved, (0, 0), 0, Instant::now(), None);
+                    keep(&mut stats, name, line, (true, true), None, (0.0, 0.0));
+                    continue;
+                }
+            }
+        }
         if generated {
             // The maps are made from the casters as they are: nothing waits any more.
             state.unseen_changes.clear();
@@ -248,6 +387,8 @@ pub(crate) fn run_technique_timed(
             state.maps = None;
             if g.casters.is_empty() {
                 state.stale = false;
+                // Nothing to cast: no shadow, and no wait it had to say.
+                state.error = None;
                 continue;
             }
             (views_generated, views_total) = (views.len(), views.len());
@@ -289,7 +430,17 @@ pub(crate) fn run_technique_timed(
                 light_start,
                 None,
             );
-            stats.record(name, line);
+            keep(
+                &mut stats,
+                name,
+                line,
+                (waited, is_shared),
+                clock.as_mut(),
+                (
+                    own_evaluation,
+                    (light_start - iteration).as_secs_f64() * 1e3,
+                ),
+            );
             continue;
         }
         let recv = Receivers::new(&positions, &normals);
@@ -314,7 +465,20 @@ pub(crate) fn run_technique_timed(
             light_start,
             Some(evaluating),
         );
-        stats.record(name, line);
+        keep(
+            &mut stats,
+            name,
+            line,
+            (waited, is_shared),
+            clock.as_mut(),
+            (
+                own_evaluation,
+                (light_start - iteration).as_secs_f64() * 1e3,
+            ),
+        );
+    }
+    if let (Some(since), Some(((deadline, _), _))) = (outside, clock.as_mut()) {
+        deadline.ran_outside(since.elapsed().as_secs_f64() * 1e3);
     }
     let ms = start.elapsed().as_secs_f64() * 1e3;
     *stats.system_ms.entry(name.to_string()).or_default() += ms;

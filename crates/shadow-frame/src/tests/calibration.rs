@@ -20,6 +20,7 @@ fn light(technique: &str, generated: bool, factor: f64) -> LightStats {
         profile_ms: Some([g, e]),
         predicted_ms: Some(g + e),
         budget_ms: Some(10.0),
+        waited: false,
     }
 }
 
