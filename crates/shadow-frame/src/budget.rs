@@ -124,6 +124,17 @@ pub fn contribution(light: &Light, config: &ShadowConfig, frame: &FrameReceivers
     }
 }
 
+/// What a shared light's shadow is worth to the frame, as the budget weighs it: its part of
+/// the frame's light times the image error its missing shadow costs
+/// ([`LightShare::missing_255`], [`NO_SHADOW_255`] before it is
+/// measured). Where a frame runs over, the lights worth least wait first
+/// ([`crate::deadline`]).
+pub(crate) fn worth(state: &LightState) -> f64 {
+    state.share.map_or(0.0, |s| {
+        s.contribution * s.missing_255.unwrap_or(NO_SHADOW_255)
+    })
+}
+
 /// The image error a light without a shadow is taken to cost, 1/255, until its own is measured
 /// ([`missing_shadow_255`]): the median over the catalogue's scenes of the image error of
 /// `V` = 1 against the reference (64² G-buffers: 14.85; 1.8 to 62 by scene).

@@ -28,19 +28,8 @@
 //! for a moved camera does not wait either. The clock starts with [`crate::FramePipeline::run`],
 //! so the frame's spent time holds everything the call does before the light.
 
-use crate::components::LightState;
 use bevy_ecs::prelude::*;
 use std::time::Instant;
-
-/// What a shared light's shadow is worth to the frame, as the budget weighs it: its part of
-/// the frame's light times the image error its missing shadow costs
-/// ([`crate::LightShare::missing_255`], [`crate::budget::NO_SHADOW_255`] before it is
-/// measured). Where the frame runs over, the lights worth least wait first.
-pub(crate) fn worth(state: &LightState) -> f64 {
-    state.share.map_or(0.0, |s| {
-        s.contribution * s.missing_255.unwrap_or(crate::budget::NO_SHADOW_255)
-    })
-}
 
 /// One frame's clock for the shared budget ([`crate::deadline`]).
 #[derive(Resource, Debug, Default)]
@@ -69,7 +58,7 @@ pub(crate) struct Pending {
     pub generate_ms: f64,
     /// Its evaluation.
     pub evaluate_ms: f64,
-    /// What its shadow is worth to the frame ([`worth`]).
+    /// What its shadow is worth to the frame ([`crate::budget::worth`]).
     pub worth: f64,
 }
 
@@ -107,7 +96,7 @@ impl Deadline {
     /// them: `spent_ms` ([`Deadline::spent_ms`]) and what is still to come would pass
     /// `budget_ms`. What is still to come: `light`'s generation and evaluation, the
     /// evaluations of the shared lights yet to run (`rest`), and the generations of those of
-    /// them whose shadows are worth more ([`worth`]) or that waited in the last frame (their
+    /// them whose shadows are worth more ([`crate::budget::worth`]) or that waited in the last frame (their
     /// generations count first),
     /// each scaled by how far this frame's measured generations or evaluations ran over their
     /// predictions. A light never waits in two frames in a row.

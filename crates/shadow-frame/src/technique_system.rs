@@ -2,9 +2,10 @@
 //! of stale lights (from the casters within the light's influence), reuse the others, and
 //! evaluate the frame receivers within the influence.
 
+use crate::budget::worth;
 use crate::calibration::Calibration;
 use crate::components::*;
-use crate::deadline::{Deadline, Pending, worth};
+use crate::deadline::{Deadline, Pending};
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
 use crate::stats::{FrameStats, LightStats};
 use bevy_ecs::prelude::*;
@@ -430,17 +431,8 @@ pub(crate) fn run_technique_timed(
                 light_start,
                 None,
             );
-            keep(
-                &mut stats,
-                name,
-                line,
-                (waited, is_shared),
-                clock.as_mut(),
-                (
-                    own_evaluation,
-                    (light_start - iteration).as_secs_f64() * 1e3,
-                ),
-            );
+            // No clock keeps a frame that does not evaluate: nothing waited.
+            stats.record(name, line);
             continue;
         }
         let recv = Receivers::new(&positions, &normals);
