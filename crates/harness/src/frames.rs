@@ -107,7 +107,8 @@ pub fn walk(
                 reference[i] += k * r.visibility;
             }
             let ones = vec![1.0; want.len()];
-            let waited = stats.lights.iter().any(|l| l.light == e && l.waited);
+            let waited =
+                state.maps.is_none() && stats.lights.iter().any(|l| l.light == e && l.waited);
             let pick = match (world.get::<ResolvedTechnique>(e), &state.error) {
                 // Its maps wait a frame (`shadow_frame::deadline`): no shadow in this one.
                 (Some(r), Some(why)) if waited => format!(

@@ -16,8 +16,8 @@
 //! technique's system runs its shared lights worth most first. Where that sum passes the budget,
 //! the light keeps its old maps (a frame late; its `V` then shows the shadow before the change
 //! that made them stale) or, with none, has no shadow this frame ([`crate::LightState::error`]
-//! and [`crate::LightStats::waited`] say so), and makes them in the next frame whatever the
-//! clock says, so no light waits two frames in a row. A light whose shadow was on screen in
+//! and [`crate::LightStats::waited`] say so), and does not wait in the next frame: no light
+//! waits two frames in a row. A light whose shadow was on screen in
 //! the last frame and whose maps a new pick dropped does not wait: that would take its shadow
 //! off for a frame.
 //!
@@ -60,6 +60,9 @@ pub(crate) struct Pending {
     pub evaluate_ms: f64,
     /// What its shadow is worth to the frame ([`crate::budget::worth`]).
     pub worth: f64,
+    /// Its maps are made this frame whatever the clock says (its shadow was on screen and a
+    /// new pick dropped its maps).
+    pub must: bool,
 }
 
 impl Deadline {
@@ -96,8 +99,9 @@ impl Deadline {
     /// them: `spent_ms` ([`Deadline::spent_ms`]) and what is still to come would pass
     /// `budget_ms`. What is still to come: `light`'s generation and evaluation, the
     /// evaluations of the shared lights yet to run (`rest`), and the generations of those of
-    /// them whose shadows are worth more ([`crate::budget::worth`]) or that waited in the last frame (their
-    /// generations count first),
+    /// them whose shadows are worth more ([`crate::budget::worth`]), whose maps are made for
+    /// sure ([`Pending::must`]) or that waited in the last frame (their generations count
+    /// first),
     /// each scaled by how far this frame's measured generations or evaluations ran over their
     /// predictions. A light never waits in two frames in a row.
     pub(crate) fn waits(
@@ -111,7 +115,7 @@ impl Deadline {
             return None;
         }
         let [g, e] = self.overrun();
-        let first = |p: &Pending| p.worth > light.worth || self.waited.contains(&p.light);
+        let first = |p: &Pending| p.worth > light.worth || p.must || self.waited.contains(&p.light);
         let need = spent_ms
             + std::iter::once(&light)
                 .chain(rest)
@@ -170,6 +174,7 @@ mod tests {
             generate_ms: 2.0,
             evaluate_ms: 1.0,
             worth,
+            must: false,
         }
     }
 
@@ -190,6 +195,12 @@ mod tests {
         // 4 spent + 2 x 2 + 2 x 1 = 10 > 9; at the predictions, 4 + 2 + 2 = 8 would fit.
         assert_eq!(d.waits(pending(1, 0.5), &rest, 9.0, 4.0), Some(10.0));
         assert_eq!(d.waits(pending(2, 0.5), &rest, 10.5, 4.0), None);
+        // Maps made for sure count whatever they are worth (10 + 2 x 2 = 14).
+        let forced = Pending {
+            must: true,
+            ..pending(6, 0.01)
+        };
+        assert_eq!(d.waits(pending(7, 0.5), &[forced], 13.0, 4.0), Some(14.0));
         // Light 3's shadow is worth more than light 4's: its generation counts too (10 + 2 x 2 = 14).
         assert_eq!(d.waits(pending(4, 0.05), &rest, 13.0, 4.0), Some(14.0));
         d.begin_frame(Instant::now());

@@ -32,7 +32,8 @@ pub struct LightStats {
     pub technique: String,
     /// Map side.
     pub resolution: u32,
-    /// Views it generated (0: its maps were reused).
+    /// Views it generated (0: its maps were reused, or, [`LightStats::waited`], they wait
+    /// with none made yet).
     pub views_generated: usize,
     /// Receivers it evaluated.
     pub receivers_evaluated: usize,
@@ -114,12 +115,22 @@ impl FrameStats {
             self.maps_generated += 1;
             t.views_generated += light.views_generated;
             self.views_generated += light.views_generated;
-        } else if !light.waited || light.receivers_evaluated > 0 {
+        } else {
             t.maps_reused += 1;
             self.maps_reused += 1;
         }
         t.receivers_evaluated += light.receivers_evaluated;
         self.receivers_evaluated += light.receivers_evaluated;
+        self.lights.push(light);
+    }
+
+    /// Keeps the line of a light whose maps wait a frame with none made yet
+    /// ([`LightStats::waited`]): it neither made nor reused maps.
+    pub(crate) fn record_waiting(&mut self, technique: &str, light: LightStats) {
+        self.techniques
+            .entry(technique.to_string())
+            .or_default()
+            .lights += 1;
         self.lights.push(light);
     }
 

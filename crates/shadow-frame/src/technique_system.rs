@@ -246,6 +246,8 @@ pub(crate) fn run_technique_timed(
                 let a = r.auto?;
                 let (t, v) = (r.technique.name(), r.technique.variant());
                 let makes = s.stale || s.maps.is_none();
+                // A shadow on screen whose maps a new pick dropped: made this frame for sure.
+                let must = s.maps.is_none() && s.evaluated > 0 && s.error.is_none();
                 Some(Pending {
                     light: e,
                     generate_ms: if makes {
@@ -255,6 +257,7 @@ pub(crate) fn run_technique_timed(
                     },
                     evaluate_ms: a.profile_ms[1] * calibration.evaluate_for(t, &v),
                     worth: worth(s),
+                    must,
                 })
             })
             .collect(),
@@ -297,7 +300,8 @@ pub(crate) fn run_technique_timed(
             .position(|p| p.light == entity)
             .map(|i| pending.swap_remove(i));
         let own_evaluation = own.map_or(0.0, |p| p.evaluate_ms);
-        // Whether it shows a shadow from the last frame: it does not wait without one.
+        // Whether it showed a shadow in the last frame: one that did and lost its maps to a new
+        // pick does not wait.
         let shown = state.evaluated > 0 && state.error.is_none();
         if let Some(m) = &receivers_error.0 {
             state.error = Some(m.clone());
@@ -354,15 +358,8 @@ pub(crate) fn run_technique_timed(
         // ones until the camera moved again.
         let may_wait =
             generated && is_shared && planned.is_none() && (state.maps.is_some() || !shown);
-        if let (true, Some(((deadline, calibration), budget_ms)), Some(auto), Some(own)) =
-            (may_wait, clock.as_mut(), resolved.auto, own)
+        if let (true, Some(((deadline, _), budget_ms)), Some(own)) = (may_wait, clock.as_mut(), own)
         {
-            let t = &resolved.technique;
-            // Its maps are made here whatever the staleness predicted (a cascade planned again).
-            let own = Pending {
-                generate_ms: auto.profile_ms[0] * calibration.generate_for(t.name(), &t.variant()),
-                ..own
-            };
             let spent = deadline.spent_ms();
             if let Some(need) = deadline.waits(own, &pending, *budget_ms, spent) {
                 (generated, waited) = (false, true);
@@ -371,8 +368,9 @@ pub(crate) fn run_technique_timed(
                         "its maps wait a frame: this frame, running over its predictions, would \
                          take {need:.2} ms of its {budget_ms} ms with them"
                     ));
-                    let line = light_stats(entity, resolved, (0, 0), 0, Instant::now(), None);
-                    keep(&mut stats, name, line, (true, true), None, (0.0, 0.0));
+                    let mut line = light_stats(entity, resolved, (0, 0), 0, Instant::now(), None);
+                    line.waited = true;
+                    stats.record_waiting(name, line);
                     continue;
                 }
             }
