@@ -17,9 +17,8 @@
 //! the light keeps its old maps (a frame late; its `V` then shows the shadow before the change
 //! that made them stale) or, with none, has no shadow this frame ([`crate::LightState::error`]
 //! and [`crate::LightStats::waited`] say so), and does not wait in the next frame: no light
-//! waits two frames in a row. A light whose shadow was on screen in
-//! the last frame and whose maps a new pick dropped does not wait: that would take its shadow
-//! off for a frame.
+//! waits two frames in a row. A light whose shadow was on screen in the last frame and whose
+//! maps a new pick dropped does not wait: that would take its shadow off for a frame.
 //!
 //! GPU frames are not held (their passes run on the device after the frame's systems, so the
 //! systems' clock does not measure them), nor frames that do not calibrate
@@ -36,7 +35,7 @@ use std::time::Instant;
 pub(crate) struct Deadline {
     /// When the frame started.
     start: Option<Instant>,
-    /// The lights that waited in the last frame: they make their maps in this one.
+    /// The lights that waited in the last frame: they do not wait in this one.
     waited: Vec<Entity>,
     /// The lights that wait in this frame.
     waiting: Vec<Entity>,
@@ -66,8 +65,7 @@ pub(crate) struct Pending {
 }
 
 impl Deadline {
-    /// Starts a frame at `now`: the lights that waited in the last one are kept to make their
-    /// maps.
+    /// Starts a frame at `now`: the lights that waited in the last one do not wait in it.
     pub(crate) fn begin_frame(&mut self, now: Instant) {
         self.start = Some(now);
         self.waited = std::mem::take(&mut self.waiting);
@@ -101,9 +99,8 @@ impl Deadline {
     /// evaluations of the shared lights yet to run (`rest`), and the generations of those of
     /// them whose shadows are worth more ([`crate::budget::worth`]), whose maps are made for
     /// sure ([`Pending::must`]) or that waited in the last frame (their generations count
-    /// first),
-    /// each scaled by how far this frame's measured generations or evaluations ran over their
-    /// predictions. A light never waits in two frames in a row.
+    /// first), each scaled by how far this frame's measured generations or evaluations ran
+    /// over their predictions. A light never waits in two frames in a row.
     pub(crate) fn waits(
         &mut self,
         light: Pending,
