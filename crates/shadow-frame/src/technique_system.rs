@@ -141,6 +141,12 @@ fn shared(state: &LightState) -> bool {
     state.share.is_some_and(|s| s.budget_ms > 0.0)
 }
 
+/// Whether a light showed a shadow in the last frame and has no maps now (a new pick dropped
+/// them): its maps are made this frame, since waiting would take its shadow off for a frame.
+fn dropped_a_shown_shadow(state: &LightState) -> bool {
+    state.maps.is_none() && state.evaluated > 0 && state.error.is_none()
+}
+
 /// Keeps one light's `line` in the frame's statistics (`waited`: its maps waited a frame),
 /// and, with the frame's clock, what a shared light spent against its predictions (its
 /// generation as the calibration predicts it, and its evaluation as `evaluation_ms` predicts
@@ -246,8 +252,6 @@ pub(crate) fn run_technique_timed(
                 let a = r.auto?;
                 let (t, v) = (r.technique.name(), r.technique.variant());
                 let makes = s.stale || s.maps.is_none();
-                // A shadow on screen whose maps a new pick dropped: made this frame for sure.
-                let must = s.maps.is_none() && s.evaluated > 0 && s.error.is_none();
                 Some(Pending {
                     light: e,
                     generate_ms: if makes {
@@ -257,7 +261,7 @@ pub(crate) fn run_technique_timed(
                     },
                     evaluate_ms: a.profile_ms[1] * calibration.evaluate_for(t, &v),
                     worth: worth(s),
-                    must,
+                    must: dropped_a_shown_shadow(s),
                 })
             })
             .collect(),
@@ -300,9 +304,8 @@ pub(crate) fn run_technique_timed(
             .position(|p| p.light == entity)
             .map(|i| pending.swap_remove(i));
         let own_evaluation = own.map_or(0.0, |p| p.evaluate_ms);
-        // Whether it showed a shadow in the last frame: one that did and lost its maps to a new
-        // pick does not wait.
-        let shown = state.evaluated > 0 && state.error.is_none();
+        // Read before the frame resets what it evaluated.
+        let dropped = dropped_a_shown_shadow(&state);
         if let Some(m) = &receivers_error.0 {
             state.error = Some(m.clone());
             state.visibility.clear();
@@ -356,8 +359,7 @@ pub(crate) fn run_technique_timed(
         // waiting would take its shadow off for a frame. Cascades planned again for a moved
         // camera follow it now too: their maps are not stale, so a wait would keep the old
         // ones until the camera moved again.
-        let may_wait =
-            generated && is_shared && planned.is_none() && (state.maps.is_some() || !shown);
+        let may_wait = generated && is_shared && planned.is_none() && !dropped;
         if let (true, Some(((deadline, _), budget_ms)), Some(own)) = (may_wait, clock.as_mut(), own)
         {
             let spent = deadline.spent_ms();
