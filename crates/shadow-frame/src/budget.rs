@@ -28,6 +28,14 @@
 //! keeps its configuration and its maps while it fits its new part and predicts no more than
 //! [`KEEP_ERROR`] times the new pick's error. A pick measured over its part for
 //! [`crate::tracking::STEP_DOWN_FRAMES`] frames steps down as `Auto` does.
+//!
+//! The configurations are bought at their full price, generation and evaluation, as if every
+//! map were made again. A light whose maps stay as they are this frame (nothing that makes
+//! them again changed) and that those prices would leave with no shadow, or with a
+//! configuration no better than the one its maps hold, keeps its maps at their evaluation's
+//! price while what the picks leave of the budget covers it ([`LightShare::kept`]); the first
+//! frame in which its maps must be made again (the light moved, a caster in its range changed)
+//! shares the budget again, pricing it in full.
 
 use crate::calibration::Calibration;
 use crate::components::*;
@@ -215,6 +223,17 @@ struct Pick {
     /// The budget its cheapest configuration within the frame budget needs and its predicted
     /// image error.
     cheapest: Option<(f64, f64)>,
+    /// Its present pick (technique, variant, map side), where its maps are kept this frame
+    /// ([`maps_kept`]).
+    present: Option<(String, String, u32)>,
+    /// Keeping that pick and its maps: the budget it needs for its evaluation alone
+    /// ([`crate::profile::Pick::keeps_ms`]) and its predicted image error.
+    keep: Option<(f64, f64)>,
+    /// What the budget bought it at full price: the budget, the predicted image error, and
+    /// whether it is its present pick.
+    bought: Option<(f64, f64, bool)>,
+    /// Whether it keeps its present pick and maps at their evaluation's price ([`hold_kept`]).
+    keeps: bool,
 }
 
 /// The lights [`share_budget`] reads and updates.
@@ -308,12 +327,20 @@ pub fn share_budget(
                     || (probed_shadow(s, inputs.probed(e, receivers))
                         && s.share.is_some_and(|sh| sh.missing_255.is_none())))
         });
+    // A light the last share priced at its evaluation alone whose maps must be made again
+    // this frame: it is priced in full.
+    let kept_remade = lights.iter().any(|(_, l, c, r, s)| {
+        c.shares_budget(&l.0)
+            && s.share.is_some_and(|sh| sh.kept)
+            && !maps_kept((&l, &c, r, s), &inputs, &settings)
+    });
     if !(budget.is_changed()
         || frame.is_changed()
         || changed_config
         || moved
         || config_removed
         || recalibrated
+        || kept_remade
         || inputs.texels_changed()
         || settings.is_changed())
     {
@@ -381,6 +408,7 @@ pub fn share_budget(
         || config_removed
         || drifted
         || recalibrated
+        || kept_remade
         || texels)
     {
         for (e, l, c, _, mut s) in &mut lights {
@@ -402,10 +430,27 @@ pub fn share_budget(
     // receivers are those its `V` was evaluated on (a camera holding still), kept from the last
     // share while its part stays within the band and no caster changed in its range, the
     // prior otherwise.
-    let bringing: Vec<(Entity, &Light, f32, Option<f64>)> = lights
+    #[allow(clippy::type_complexity)]
+    let bringing: Vec<(
+        Entity,
+        &Light,
+        f32,
+        Option<f64>,
+        Option<(String, String, u32)>,
+    )> = lights
         .iter()
         .filter(|(e, l, c, ..)| c.shares_budget(&l.0) && part(*e) > 0.0)
-        .map(|(e, l, c, _, s)| {
+        .map(|(e, l, c, r, s)| {
+            // Its present pick, where its maps are kept this frame.
+            let present = r
+                .filter(|&r| maps_kept((&l, &c, Some(r), s), &inputs, &settings))
+                .map(|r| {
+                    (
+                        r.technique.name().to_string(),
+                        r.technique.variant().to_string(),
+                        r.resolution,
+                    )
+                });
             let kept = s.share.and_then(|sh| {
                 let within = in_band(available * fraction(e), sh.proportional_ms);
                 sh.missing_255.filter(|_| within)
@@ -429,34 +474,39 @@ pub fn share_budget(
             } else {
                 kept
             };
-            (e, &l.into_inner().0, c.range, missing)
+            (e, &l.into_inner().0, c.range, missing, present)
         })
         .collect();
     let sizes: Vec<crate::SceneSize> = {
         use rayon::prelude::*;
         bringing
             .par_iter()
-            .map(|(_, l, range, _)| inputs.size(l, *range))
+            .map(|(_, l, range, ..)| inputs.size(l, *range))
             .collect()
     };
     let mut picks: Vec<Pick> = bringing
         .iter()
         .zip(sizes)
-        .map(|(&(e, l, _, missing), size)| Pick {
-            entity: e,
-            part: part(e),
+        .map(|((e, l, _, missing, present), size)| Pick {
+            entity: *e,
+            part: part(*e),
             kind: l.kind(),
             size,
-            proportional: available * fraction(e),
+            proportional: available * fraction(*e),
             within: 0.0,
-            missing,
+            missing: *missing,
             over_budget: None,
             cheapest: None,
+            present: present.clone(),
+            keep: None,
+            bought: None,
+            keeps: false,
         })
         .collect();
     // Each light's configurations worth buying, cheapest first: every pick `Auto` makes at
     // some budget, with the budget it needs.
-    let ladders: Vec<Vec<(f64, f64)>> = picks
+    #[allow(clippy::type_complexity)]
+    let ladders: Vec<(Vec<(f64, f64)>, Vec<bool>)> = picks
         .iter_mut()
         .map(|p| {
             let frontier = inputs.frontier(p.kind, p.size);
@@ -472,13 +522,26 @@ pub fn share_budget(
                         o.needs_ms(),
                     )
                 });
-            let ladder: Vec<(f64, f64)> = frontier
+            let is_present = |o: &crate::profile::Pick| {
+                p.present.as_ref().is_some_and(|(t, v, side)| {
+                    o.entry.technique == *t && o.entry.variant == *v && o.resolution == *side
+                })
+            };
+            let (ladder, present): (Vec<(f64, f64)>, Vec<bool>) = frontier
                 .iter()
                 .filter(|o| o.needs_ms() <= available)
-                .map(|o| (o.needs_ms(), o.error_255))
-                .collect();
+                .map(|o| ((o.needs_ms(), o.error_255), is_present(o)))
+                .unzip();
             p.cheapest = ladder.first().copied();
-            ladder
+            // Keeping its present pick and maps costs the frame their evaluation alone.
+            p.keep = p.present.as_ref().and_then(|_| {
+                inputs
+                    .options(p.kind, p.size)
+                    .into_iter()
+                    .find(is_present)
+                    .map(|o| (o.keeps_ms(), o.error_255))
+            });
+            (ladder, present)
         })
         .collect();
     // The configurations bought: the least image error, weighted by what each light brings,
@@ -487,10 +550,13 @@ pub fn share_budget(
         .iter()
         .map(|p| (p.part, p.missing.unwrap_or(NO_SHADOW_255)))
         .collect();
-    let at = cheapest_error(&ladders, &weights, available);
-    for ((p, ladder), k) in picks.iter_mut().zip(&ladders).zip(&at) {
-        p.within = k.map_or(0.0, |k| ladder[k].0);
+    let rungs: Vec<Vec<(f64, f64)>> = ladders.iter().map(|l| l.0.clone()).collect();
+    let at = cheapest_error(&rungs, &weights, available);
+    for ((p, (ladder, present)), k) in picks.iter_mut().zip(&ladders).zip(&at) {
+        p.bought = k.map(|k| (ladder[k].0, ladder[k].1, present[k]));
+        p.within = p.bought.map_or(0.0, |b| b.0);
     }
+    hold_kept(&mut picks, available);
     for (e, l, c, resolved, mut state) in &mut lights {
         if !c.shares_budget(&l.0) {
             continue;
@@ -503,6 +569,7 @@ pub fn share_budget(
             missing,
             ref over_budget,
             cheapest,
+            keeps,
             ..
         }) = picks.iter().find(|p| p.entity == e)
         else {
@@ -515,6 +582,7 @@ pub fn share_budget(
                 proportional_ms: 0.0,
                 budget_ms: 0.0,
                 missing_255: None,
+                kept: false,
             });
             idle_visibility(&mut state);
             continue;
@@ -524,6 +592,7 @@ pub fn share_budget(
             proportional_ms: proportional,
             budget_ms: within,
             missing_255: missing,
+            kept: keeps,
         });
         // The present pick stays while it fits the new part and is nearly as good as the new
         // pick: its maps are kept.
@@ -536,8 +605,10 @@ pub fn share_budget(
                     && o.entry.variant == r.technique.variant()
                     && o.resolution == r.resolution
             })?;
-            let fits = o.needs_ms() <= within
-                && proposed_error.is_some_and(|b| o.error_255 <= b * KEEP_ERROR);
+            // Bought at its evaluation's price, or in full where it fits and is nearly as good.
+            let fits = keeps
+                || (o.needs_ms() <= within
+                    && proposed_error.is_some_and(|b| o.error_255 <= b * KEEP_ERROR));
             fits.then(|| {
                 let mut r = r.clone();
                 if let Some(a) = r.auto.as_mut() {
@@ -553,8 +624,14 @@ pub fn share_budget(
                     .split_once("; ")
                     .map_or(next.reason.as_str(), |w| w.1);
                 next.reason = format!(
-                    "shared: {:.1}% of the frame's light, {within:.2} of the frame's {frame_ms}; {}",
+                    "shared: {:.1}% of the frame's light, {within:.2} of the frame's {frame_ms}{}; \
+                     {}",
                     100.0 * fraction(e),
+                    if keeps {
+                        " for its evaluation, its maps kept"
+                    } else {
+                        ""
+                    },
                     why.trim_start_matches("auto: ")
                 );
                 if let Some(a) = next.auto.as_mut() {
@@ -625,6 +702,45 @@ pub fn share_budget(
                     size.receivers
                 ));
             }
+        }
+    }
+}
+
+/// Where the configurations bought at full price ([`cheapest_error`]) would make a light
+/// whose maps are kept this frame ([`maps_kept`]) lose them, the light keeps its present pick
+/// and maps at their evaluation's price ([`crate::profile::Pick::keeps_ms`]): a frame pays for
+/// a map's generation only when it makes it. First, a light bought another configuration that
+/// predicts no less than its present pick's image error over [`KEEP_ERROR`], for no less than
+/// keeping it needs, keeps it instead. Then the lights bought nothing keep theirs, worth most
+/// first ([`worth`]), while what the picks leave of the budget covers their evaluation and
+/// their shadow is predicted to take error off. The configurations bought at full price stay:
+/// what a kept light lends the others is only ever spent on keeping maps, so one whose maps
+/// must be made again (it moved) takes its full price back at the next share without another
+/// light's configuration changing.
+fn hold_kept(picks: &mut [Pick], available: f64) {
+    let mut spare = available - picks.iter().map(|p| p.within).sum::<f64>();
+    for p in picks.iter_mut() {
+        if let (Some((keeps_ms, kept)), Some((ms, error, false))) = (p.keep, p.bought)
+            && kept <= error * KEEP_ERROR
+            && keeps_ms <= ms
+        {
+            spare += ms - keeps_ms;
+            (p.within, p.keeps) = (keeps_ms, true);
+        }
+    }
+    let worth = |p: &Pick| p.part * p.missing.unwrap_or(NO_SHADOW_255);
+    let mut waiting: Vec<usize> = (0..picks.len())
+        .filter(|&i| picks[i].bought.is_none() && picks[i].keep.is_some())
+        .collect();
+    waiting.sort_by(|&a, &b| worth(&picks[b]).total_cmp(&worth(&picks[a])));
+    for i in waiting {
+        let p = &mut picks[i];
+        if let Some((keeps_ms, kept)) = p.keep
+            && keeps_ms <= spare
+            && kept < p.missing.unwrap_or(NO_SHADOW_255)
+        {
+            spare -= keeps_ms;
+            (p.within, p.keeps) = (keeps_ms, true);
         }
     }
 }
@@ -740,6 +856,36 @@ pub(crate) fn fingerprint(frame: &FrameReceivers) -> u64 {
         }
     }
     h.finish()
+}
+
+/// Whether a shared light's maps are kept this frame, so that its present pick costs the frame
+/// its evaluation alone: it has maps, made for its present pick, and nothing that makes them
+/// again changed (the light or its config, a caster region within its range, the frame's
+/// settings or backend, a change out of view the moved receivers may bring into it, and for a
+/// distant light the receivers its cascades follow), with caching on.
+fn maps_kept(
+    (light, config, resolved, state): (
+        &Ref<LightSource>,
+        &Ref<ShadowConfig>,
+        Option<&ResolvedTechnique>,
+        &LightState,
+    ),
+    inputs: &AutoInputs,
+    settings: &Res<FrameSettings>,
+) -> bool {
+    let frame = &inputs.frame;
+    let distant = matches!(light.0.center(), LightPoint::Direction(_));
+    resolved.is_some()
+        && state.maps.is_some()
+        && !state.stale
+        && state.error.is_none()
+        && settings.caching
+        && !settings.is_changed()
+        && !inputs.backend.is_changed()
+        && !light.is_changed()
+        && !config.is_changed()
+        && !inputs.caster_changed_for(&light.0, config.range)
+        && !(frame.is_changed() && (distant || !state.unseen_changes.is_empty()))
 }
 
 /// Whether a light's missing shadow can be measured from its `V`: it has maps and, with the

@@ -185,6 +185,10 @@ pub struct LightShare {
     /// its band and no caster within its range changed; `None` where the share took
     /// [`crate::budget::NO_SHADOW_255`].
     pub missing_255: Option<f64>,
+    /// Whether the budget priced its pick at its evaluation alone, its maps kept
+    /// ([`crate::profile::Pick::keeps_ms`]): a frame that must make them again shares the
+    /// budget again first.
+    pub kept: bool,
 }
 
 /// Receivers an estimate over the frame's receivers reads at most (every `k`-th, evenly

@@ -180,6 +180,9 @@ pub struct Pick<'a> {
     /// Predicted generation + evaluation milliseconds (before the margin), calibrated where
     /// the pick came from [`Calibrated`].
     pub time_ms: f64,
+    /// The evaluation's part of [`Pick::time_ms`], milliseconds: what a frame that keeps the
+    /// pick's maps spends on it.
+    pub evaluate_ms: f64,
     /// The profile's own predictions (before calibration and margin): generation (every
     /// view) and evaluation, milliseconds.
     pub profile_ms: [f64; 2],
@@ -193,6 +196,12 @@ impl Pick<'_> {
     /// The budget the pick needs: its predicted time times its configuration's margin.
     pub fn needs_ms(&self) -> f64 {
         self.time_ms * self.entry.margin.max(1.0)
+    }
+
+    /// The budget the pick needs in a frame that keeps its maps: its predicted evaluation
+    /// ([`Pick::evaluate_ms`]) times its configuration's margin.
+    pub fn keeps_ms(&self) -> f64 {
+        self.evaluate_ms * self.entry.margin.max(1.0)
     }
 }
 
@@ -428,6 +437,7 @@ impl<'a> Calibrated<'a> {
                     entry: e,
                     resolution: side,
                     time_ms: e.predict_scaled_ms(size, side, factors),
+                    evaluate_ms: e.predict_evaluate_ms(size) * factors[1],
                     profile_ms: [
                         e.predict_generate_ms(size, side),
                         e.predict_evaluate_ms(size),

@@ -306,6 +306,15 @@ impl AutoInputs<'_, '_> {
         p.lights.get(&light).map(Vec::as_slice)
     }
 
+    /// Whether a caster region that changed this frame reaches `light` with influence radius
+    /// `range` ([`caster_reaches`]): its maps may be made again ([`mark_stale`]).
+    pub(crate) fn caster_changed_for(&self, light: &soft_shadow_core::Light, range: f32) -> bool {
+        self.index
+            .changed
+            .iter()
+            .any(|b| caster_reaches(light, range, b))
+    }
+
     /// Whether the texels `V` is recorded over changed since the last frame (their first
     /// count too): the predictions of [`AutoInputs::size`] changed with them.
     pub(crate) fn texels_changed(&self) -> bool {
