@@ -33,9 +33,10 @@
 //! map were made again. A light whose maps stay as they are this frame (nothing that makes
 //! them again changed) and that those prices would leave with no shadow, or with a
 //! configuration no better than the one its maps hold, keeps its maps at their evaluation's
-//! price while what the picks leave of the budget covers it ([`LightShare::kept`]); the first
-//! frame in which its maps must be made again (the light moved, a caster in its range changed)
-//! shares the budget again, pricing it in full.
+//! price while what the picks leave of the budget covers it ([`LightShare::kept`]), and what
+//! keeping saves buys the lights still without a shadow; the first frame in which a kept
+//! light's maps must be made again (the light moved, a caster in its range changed) shares the
+//! budget again, pricing it in full.
 
 use crate::calibration::Calibration;
 use crate::components::*;
@@ -556,7 +557,23 @@ pub fn share_budget(
         p.bought = k.map(|k| (ladder[k].0, ladder[k].1, present[k]));
         p.within = p.bought.map_or(0.0, |b| b.0);
     }
-    hold_kept(&mut picks, available);
+    let spare = hold_kept(&mut picks, available);
+    // What keeping saves buys the lights left with nothing their shadows, at full price.
+    let idle: Vec<usize> = (0..picks.len())
+        .filter(|&i| picks[i].bought.is_none() && !picks[i].keeps)
+        .collect();
+    if spare > 0.0 && !idle.is_empty() {
+        let idle_rungs: Vec<Vec<(f64, f64)>> = idle.iter().map(|&i| rungs[i].clone()).collect();
+        let idle_weights: Vec<(f64, f64)> = idle.iter().map(|&i| weights[i]).collect();
+        let at = cheapest_error(&idle_rungs, &idle_weights, spare);
+        for (&i, k) in idle.iter().zip(at) {
+            if let Some(k) = k {
+                let (ladder, present) = &ladders[i];
+                picks[i].bought = Some((ladder[k].0, ladder[k].1, present[k]));
+                picks[i].within = ladder[k].0;
+            }
+        }
+    }
     for (e, l, c, resolved, mut state) in &mut lights {
         if !c.shares_budget(&l.0) {
             continue;
@@ -613,6 +630,10 @@ pub fn share_budget(
                 let mut r = r.clone();
                 if let Some(a) = r.auto.as_mut() {
                     (a.time_ms, a.profile_ms, a.error_255) = (o.time_ms, o.profile_ms, o.error_255);
+                    if keeps {
+                        // What this frame spends on it: its evaluation.
+                        (a.time_ms, a.frames_over) = (o.evaluate_ms, 0);
+                    }
                 }
                 r
             })
@@ -713,11 +734,14 @@ pub fn share_budget(
 /// predicts no less than its present pick's image error over [`KEEP_ERROR`], for no less than
 /// keeping it needs, keeps it instead. Then the lights bought nothing keep theirs, worth most
 /// first ([`worth`]), while what the picks leave of the budget covers their evaluation and
-/// their shadow is predicted to take error off. The configurations bought at full price stay:
-/// what a kept light lends the others is only ever spent on keeping maps, so one whose maps
-/// must be made again (it moved) takes its full price back at the next share without another
-/// light's configuration changing.
-fn hold_kept(picks: &mut [Pick], available: f64) {
+/// their shadow is predicted to take error off. Returns what is left of the budget, which
+/// [`share_budget`] spends on the lights still without a shadow, at full price. The
+/// configurations bought first do not depend on what is kept: when a kept light must make its
+/// maps again (it moved), the next share prices it in full and buys the rest as before, and
+/// what it takes back costs only lights kept or bought with what keeping saved. (Keeping as a
+/// rung of each light's ladder would buy the least error for one frame, and would let a kept
+/// light's next move take back the maps of any light.)
+fn hold_kept(picks: &mut [Pick], available: f64) -> f64 {
     let mut spare = available - picks.iter().map(|p| p.within).sum::<f64>();
     for p in picks.iter_mut() {
         if let (Some((keeps_ms, kept)), Some((ms, error, false))) = (p.keep, p.bought)
@@ -743,30 +767,32 @@ fn hold_kept(picks: &mut [Pick], available: f64) {
             (p.within, p.keeps) = (keeps_ms, true);
         }
     }
+    spare
 }
 
 /// Steps the budget is divided into when [`cheapest_error`] buys configurations.
 pub const BUDGET_STEPS: usize = 1024;
 
-/// Whether the shared budget left every light that lights something in view without maps: a
-/// frame that measures none of the lights, after which a measuring frame relaxes the
-/// calibration ([`crate::Calibration::relax`]) rather than hold the factors that priced them
-/// out. (A light whose maps wait a frame, [`crate::deadline`], was not priced out.)
+/// Whether the shared budget bought no light its maps at their full price while a light that
+/// lights something in view has none: a frame that measures no generation, after which a
+/// measuring frame relaxes the calibration ([`crate::Calibration::relax`]) rather than hold
+/// the factors that priced it out. (A light whose maps wait a frame, [`crate::deadline`], was
+/// not priced out; one that keeps its maps at its evaluation's price, [`LightShare::kept`],
+/// was not bought them, and measures no generation either.)
 pub(crate) fn priced_out(world: &mut World) -> bool {
     let waiting = world
         .get_resource::<crate::deadline::Deadline>()
         .map(|d| d.waiting().to_vec())
         .unwrap_or_default();
     let mut states = world.query::<(Entity, &LightState)>();
-    let mut shared = states
-        .iter(world)
-        .filter_map(|(e, s)| Some((s.share?, s.maps.is_some() || waiting.contains(&e))));
-    let mut wanted = false;
-    let none = shared.all(|(share, has_maps)| {
-        wanted |= share.contribution > 0.0;
-        !has_maps
-    });
-    none && wanted
+    let (mut bought, mut wanted) = (false, false);
+    for (e, s) in states.iter(world) {
+        let Some(share) = s.share else { continue };
+        let waits = waiting.contains(&e);
+        bought |= (s.maps.is_some() && !share.kept) || waits;
+        wanted |= share.contribution > 0.0 && s.maps.is_none() && !waits;
+    }
+    !bought && wanted
 }
 
 /// The configurations a budget of `available` ms buys: for light `i`, a rung of `ladders[i]`
@@ -859,10 +885,11 @@ pub(crate) fn fingerprint(frame: &FrameReceivers) -> u64 {
 }
 
 /// Whether a shared light's maps are kept this frame, so that its present pick costs the frame
-/// its evaluation alone: it has maps, made for its present pick, and nothing that makes them
-/// again changed (the light or its config, a caster region within its range, the frame's
-/// settings or backend, a change out of view the moved receivers may bring into it, and for a
-/// distant light the receivers its cascades follow), with caching on.
+/// its evaluation alone: it has maps, made for its present pick, and nothing makes them again
+/// this frame: not the light or its config, not the frame's backend, not a caster change as
+/// [`crate::tracking::mark_stale`] will judge it after the share, with caching on.
+/// A distant light whose receivers moved is taken to make its cascades again (they follow
+/// the camera and may make none: the share does not plan them).
 fn maps_kept(
     (light, config, resolved, state): (
         &Ref<LightSource>,
@@ -873,19 +900,17 @@ fn maps_kept(
     inputs: &AutoInputs,
     settings: &Res<FrameSettings>,
 ) -> bool {
-    let frame = &inputs.frame;
     let distant = matches!(light.0.center(), LightPoint::Direction(_));
     resolved.is_some()
         && state.maps.is_some()
         && !state.stale
         && state.error.is_none()
         && settings.caching
-        && !settings.is_changed()
         && !inputs.backend.is_changed()
         && !light.is_changed()
         && !config.is_changed()
-        && !inputs.caster_changed_for(&light.0, config.range)
-        && !(frame.is_changed() && (distant || !state.unseen_changes.is_empty()))
+        && !(distant && inputs.frame.is_changed())
+        && !inputs.casters_remake((&light.0, config.range), &state.unseen_changes, settings)
 }
 
 /// Whether a light's missing shadow can be measured from its `V`: it has maps and, with the

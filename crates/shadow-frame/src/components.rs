@@ -121,7 +121,8 @@ pub struct AutoPrediction {
     /// The budget, milliseconds per frame (generation + evaluation).
     pub budget_ms: f64,
     /// Predicted generation + evaluation milliseconds for this scene (calibrated,
-    /// [`crate::Calibration`]).
+    /// [`crate::Calibration`]); for a light that keeps its maps at the price of its evaluation
+    /// ([`LightShare::kept`]), what the frame spends on it: its evaluation alone.
     pub time_ms: f64,
     /// The profile's own predictions for this scene, generation (every view) and evaluation,
     /// milliseconds (before calibration and margin): what [`crate::Calibration`] compares the

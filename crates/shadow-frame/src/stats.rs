@@ -48,7 +48,8 @@ pub struct LightStats {
     /// margin), for an automatic or shared choice ([`crate::Calibration`] compares them).
     pub profile_ms: Option<[f64; 2]>,
     /// What `Auto` predicted for a frame that generates (generation + evaluation, before the
-    /// configuration's margin), for an automatic or shared choice.
+    /// configuration's margin), for an automatic or shared choice; for a light that keeps its
+    /// maps at the price of its evaluation ([`crate::LightShare::kept`]), its evaluation.
     pub predicted_ms: Option<f64>,
     /// The budget that prediction times its margin had to fit (the light's own, or its part of
     /// the [`crate::FrameBudget`]).

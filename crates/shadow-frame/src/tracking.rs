@@ -306,13 +306,23 @@ impl AutoInputs<'_, '_> {
         p.lights.get(&light).map(Vec::as_slice)
     }
 
-    /// Whether a caster region that changed this frame reaches `light` with influence radius
-    /// `range` ([`caster_reaches`]): its maps may be made again ([`mark_stale`]).
-    pub(crate) fn caster_changed_for(&self, light: &soft_shadow_core::Light, range: f32) -> bool {
-        self.index
-            .changed
-            .iter()
-            .any(|b| caster_reaches(light, range, b))
+    /// Whether this frame's changed casters make the maps of `light` (influence radius
+    /// `range`, changes out of view waiting in `unseen`) again, as [`mark_stale`] will decide
+    /// after the share ([`caster_changes`]).
+    pub(crate) fn casters_remake(
+        &self,
+        (light, range): (&soft_shadow_core::Light, f32),
+        unseen: &[Aabb],
+        settings: &FrameSettings,
+    ) -> bool {
+        caster_changes(
+            (light, range),
+            unseen,
+            &self.index,
+            (&self.frame, self.frame.is_changed()),
+            settings,
+        )
+        .1
     }
 
     /// Whether the texels `V` is recorded over changed since the last frame (their first
@@ -525,6 +535,11 @@ pub fn keep_budgets(
         let Some(mut auto) = resolved.auto else {
             continue;
         };
+        // A light that keeps its maps at the price of its evaluation makes none: a generation
+        // measured now (a GPU frame's timestamps come back frames late) was bought before.
+        if state.share.is_some_and(|s| s.kept) {
+            continue;
+        }
         auto.measured_ms = Some(measured);
         auto.frames_over = if measured > auto.budget_ms {
             auto.frames_over + 1
@@ -606,42 +621,64 @@ pub fn mark_stale(
             continue;
         }
         let state = &mut *state;
-        let changed = index
-            .changed
-            .iter()
-            .filter(|b| caster_reaches(&light.0, config.range, b));
-        // Without evaluated receivers (the GPU frame's G-buffer is the view) the frame's
-        // receivers need not be what the camera sees: every change in range counts.
-        let distant = matches!(light.0.center(), soft_shadow_core::LightPoint::Direction(_));
-        if distant || !settings.evaluate_receivers {
-            if changed.count() > 0 {
-                state.stale = true;
-                forget_missing(state);
-            }
-            continue;
-        }
-        let before = state.unseen_changes.len();
-        state.unseen_changes.extend(changed);
-        let fresh = state.unseen_changes.len() > before;
-        if state.unseen_changes.len() > UNSEEN_CHANGES {
-            // A caster that keeps moving out of view: one box over its regions.
-            let mut all = Aabb::EMPTY;
-            for b in state.unseen_changes.drain(..) {
-                all.grow(b.min);
-                all.grow(b.max);
-            }
-            state.unseen_changes.push(all);
-        }
-        if state.unseen_changes.is_empty() || !(fresh || frame.is_changed()) {
-            continue;
-        }
-        let hull = seen_hull(&light.0, config.range, &frame.positions);
-        if state.unseen_changes.iter().any(|b| boxes_meet(b, &hull)) {
+        let (unseen, stale) = caster_changes(
+            (&light.0, config.range),
+            &state.unseen_changes,
+            &index,
+            (&frame, frame.is_changed()),
+            &settings,
+        );
+        state.unseen_changes = unseen;
+        if stale {
             // What its shadow was missing was measured on the casters as they were.
             state.stale = true;
             forget_missing(state);
-            state.unseen_changes.clear();
         }
+    }
+}
+
+/// What this frame's changed caster regions ([`CasterIndex::changed`]) do to a light (`light`
+/// with influence radius `range`) whose changes out of view wait in `unseen`
+/// ([`LightState::unseen_changes`]), as [`mark_stale`] decides it (caching on, the backend
+/// unchanged): the changes that wait after this frame, and whether its maps must be made
+/// again. `frame_changed`: the frame's receivers changed this frame.
+pub(crate) fn caster_changes(
+    (light, range): (&soft_shadow_core::Light, f32),
+    unseen: &[Aabb],
+    index: &CasterIndex,
+    (frame, frame_changed): (&FrameReceivers, bool),
+    settings: &FrameSettings,
+) -> (Vec<Aabb>, bool) {
+    let changed = index
+        .changed
+        .iter()
+        .filter(|b| caster_reaches(light, range, b));
+    // Without evaluated receivers (the GPU frame's G-buffer is the view) the frame's
+    // receivers need not be what the camera sees: every change in range counts.
+    let distant = matches!(light.center(), soft_shadow_core::LightPoint::Direction(_));
+    if distant || !settings.evaluate_receivers {
+        return (unseen.to_vec(), changed.count() > 0);
+    }
+    let mut waiting = unseen.to_vec();
+    waiting.extend(changed);
+    let fresh = waiting.len() > unseen.len();
+    if waiting.len() > UNSEEN_CHANGES {
+        // A caster that keeps moving out of view: one box over its regions.
+        let mut all = Aabb::EMPTY;
+        for b in waiting.drain(..) {
+            all.grow(b.min);
+            all.grow(b.max);
+        }
+        waiting.push(all);
+    }
+    if waiting.is_empty() || !(fresh || frame_changed) {
+        return (waiting, false);
+    }
+    let hull = seen_hull(light, range, &frame.positions);
+    if waiting.iter().any(|b| boxes_meet(b, &hull)) {
+        (Vec::new(), true)
+    } else {
+        (waiting, false)
     }
 }
 

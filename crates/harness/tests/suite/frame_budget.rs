@@ -130,20 +130,15 @@ fn calibrating_off(world: &mut bevy_ecs::world::World) {
     world.insert_resource(settings.with_calibrating(false));
 }
 
-/// What the picks of `lamps` need of the budget this frame: predicted time times margin,
-/// summed, for a lamp that keeps its maps (`LightShare::kept`) its evaluation alone (the
-/// budget it was given).
+/// What the picks of `lamps` need of the budget: predicted time (for a lamp that keeps its
+/// maps at the price of its evaluation, `LightShare::kept`, its evaluation) times margin,
+/// summed.
 fn needs(world: &bevy_ecs::world::World, lamps: &[Entity]) -> f64 {
     lamps
         .iter()
-        .filter_map(|&e| {
-            let a = world.get::<ResolvedTechnique>(e)?.auto?;
-            let share = world.get::<LightState>(e)?.share;
-            Some(match share {
-                Some(s) if s.kept => s.budget_ms,
-                _ => a.time_ms * a.margin,
-            })
-        })
+        .filter_map(|&e| world.get::<ResolvedTechnique>(e))
+        .filter_map(|r| r.auto)
+        .map(|a| a.time_ms * a.margin)
         .sum()
 }
 
@@ -436,6 +431,16 @@ fn walking_down_the_night_street_remakes_few_maps() {
         let s = p.run(&mut street.scene.world);
         let world = &street.scene.world;
         assert!(needs(world, &street.lamps) <= 16.0, "{}", s.summary());
+        // A lamp priced at its evaluation alone made no map.
+        for l in &s.lights {
+            let kept = world
+                .get::<LightState>(l.light)
+                .unwrap()
+                .share
+                .unwrap()
+                .kept;
+            assert!(!kept || l.views_generated == 0, "{}", s.summary());
+        }
         remade.push(s.maps_generated);
         let now = parts(world);
         if now != before {
@@ -967,14 +972,18 @@ fn a_frame_whose_predictions_run_over_makes_the_rest_of_its_maps_a_frame_late() 
 /// otherwise take its shadow off (before, the budget priced every frame as if every lamp's
 /// maps were made again: in the room at 16 ms with the camera still, a calibration measured
 /// after the panel's maps were made priced every lamp's cheapest shadow over what was left, and
-/// 3 walks of 10 lost every shadow for good). In the room at 16 ms, its frames settled, a
-/// calibration that finds generation 8 times the profile prices every lamp's cheapest shadow
-/// over the budget: the lamps with maps keep them and their shadows, priced at their
-/// evaluation, within the budget, and no map is made (the test fails there before: every lamp
-/// lost its maps). When the swinging lamp then moves, its maps must be made again: the budget
-/// prices it in full, and the lamps that did not move keep theirs.
+/// 11 of 20 walks of 8 frames lost every shadow for the rest of the walk). In the room at 16 ms,
+/// its frames settled, a calibration that finds generation 8 times the profile prices every
+/// lamp's cheapest shadow over the budget: the lamps with maps keep them and their shadows,
+/// priced at their evaluation, within the budget, and no map is made (the test fails there
+/// before: every lamp lost its maps). With the calibration on, a lamp left without a shadow
+/// relaxes the factors though the kept lamps have theirs (before kept lamps stopped counting
+/// as bought, nothing relaxed: the factor stayed at 8). A kept lamp that moves, or whose
+/// casters move, must make its maps again: the budget prices it in full.
 #[test]
 fn a_lamp_whose_maps_are_kept_costs_the_frame_its_evaluation() {
+    use bevy_ecs::query::With;
+    use shadow_frame::scene::{LightSource, ShadowCaster, Transform};
     let mut room = soft_shadow_reference::scenes::lamps::room::room(160, 90, 16.0).unwrap();
     calibrating_off(&mut room.scene.world);
     let mut p = pipeline();
@@ -988,13 +997,26 @@ fn a_lamp_whose_maps_are_kept_costs_the_frame_its_evaluation() {
             .filter(|&e| w.get::<LightState>(e).unwrap().maps.is_some())
             .collect()
     };
+    let kept = |w: &bevy_ecs::world::World| -> Vec<Entity> {
+        lamps
+            .iter()
+            .copied()
+            .filter(|&e| {
+                w.get::<LightState>(e)
+                    .unwrap()
+                    .share
+                    .is_some_and(|s| s.kept)
+            })
+            .collect()
+    };
     let before = with_maps(&room.scene.world);
-    assert!(!before.is_empty());
+    assert!(!before.is_empty() && before.len() < 3, "{before:?}");
     let slow = shadow_frame::Calibration::new(8.0, 1.0, 0.0);
-    room.scene.world.insert_resource(slow);
-    let stats = p.run(&mut room.scene.world);
-    let world = &room.scene.world;
+    let world = &mut room.scene.world;
+    world.insert_resource(slow.clone());
+    let stats = p.run(world);
     assert_eq!(with_maps(world), before, "{}", stats.summary());
+    assert_eq!(kept(world), before, "{}", stats.summary());
     assert_eq!(stats.maps_generated, 0, "{}", stats.summary());
     assert!(
         needs(world, &lamps) <= 16.0,
@@ -1003,27 +1025,44 @@ fn a_lamp_whose_maps_are_kept_costs_the_frame_its_evaluation() {
     );
     for &e in &before {
         let s = world.get::<LightState>(e).unwrap();
-        let share = s.share.unwrap();
-        assert!(share.kept, "{share:?}");
         assert!(s.visibility.iter().any(|&v| v < 0.5), "no shadow");
-        // Its full price is over the budget it was given.
-        let a = world.get::<ResolvedTechnique>(e).unwrap().auto.unwrap();
-        assert!(a.time_ms * a.margin > share.budget_ms, "{a:?}");
     }
-    // The swinging lamp moves: its maps must be made again, at their full price.
-    let swinging = lamps[room.swinging];
-    room.swing(1);
-    let stats = p.run(&mut room.scene.world);
-    let world = &room.scene.world;
-    let s = world.get::<LightState>(swinging).unwrap();
-    assert!(!s.share.unwrap().kept, "{:?}", s.share);
+    // Calibrating: with a lamp that lights the view left without a shadow and no map bought at
+    // full price, the factors relax every frame, though the kept lamps have theirs (the table
+    // lamp's cheapest shadow and the panel's kept maps still do not fit together at 1.3 times
+    // the profile, so it stays without one).
+    let settings = *world.resource::<shadow_frame::FrameSettings>();
+    world.insert_resource(settings.with_calibrating(true));
+    for _ in 0..16 {
+        p.run(world);
+    }
+    let generate = world.resource::<shadow_frame::Calibration>().generate;
+    println!("generation factor after 16 frames: {generate:.2}");
+    assert!(generate < 5.0, "{generate}");
+    // Priced out again, the lamps with maps kept: one moves 5 cm, and it alone is priced in
+    // full.
+    world.insert_resource(settings.with_calibrating(false));
+    world.insert_resource(slow);
+    p.run(world);
+    let held = kept(world);
+    assert!(!held.is_empty(), "{:?}", with_maps(world));
+    let moved = held[0];
+    let light = world.get::<LightSource>(moved).unwrap().0;
+    world
+        .entity_mut(moved)
+        .insert(LightSource(light.translated(glam::Vec3::X * 0.05)));
+    let stats = p.run(world);
+    let now = kept(world);
+    assert!(!now.contains(&moved), "{}", stats.summary());
+    assert_eq!(now.len(), held.len() - 1, "{}", stats.summary());
     assert!(needs(world, &lamps) <= 16.0, "{}", stats.summary());
-    for &e in before.iter().filter(|&&e| e != swinging) {
-        let s = world.get::<LightState>(e).unwrap();
-        assert!(
-            s.maps.is_some() && s.share.unwrap().kept,
-            "{}",
-            stats.summary()
-        );
+    // Every caster moves a centimetre: each kept lamp's shadow changes, and it is priced in
+    // full.
+    let mut casters = world.query_filtered::<&mut Transform, With<ShadowCaster>>();
+    for mut t in casters.iter_mut(world) {
+        t.0 = glam::Mat4::from_translation(glam::Vec3::X * 0.01) * t.0;
     }
+    let stats = p.run(world);
+    assert!(kept(world).is_empty(), "{}", stats.summary());
+    assert!(needs(world, &lamps) <= 16.0, "{}", stats.summary());
 }
