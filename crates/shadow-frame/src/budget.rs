@@ -32,8 +32,9 @@
 //! The configurations are bought at their full price, generation and evaluation, as if every
 //! map were made again. A light whose maps stay as they are this frame (nothing that makes
 //! them again changed) and that those prices would leave with no shadow, or with a
-//! configuration no better than the one its maps hold, keeps its maps at their evaluation's
-//! price while what the picks leave of the budget covers it ([`LightShare::kept`]), and what
+//! configuration at most [`KEEP_ERROR`] better than the one its maps hold, keeps its maps at
+//! their evaluation's price where what the picks leave of the budget covers it
+//! ([`LightShare::kept`]), and what
 //! keeping saves buys the lights still without a shadow; the first frame in which a kept
 //! light's maps must be made again (the light moved, a caster in its range changed) shares the
 //! budget again, pricing it in full.
@@ -729,11 +730,12 @@ pub fn share_budget(
 
 /// Where the configurations bought at full price ([`cheapest_error`]) would make a light
 /// whose maps are kept this frame ([`maps_kept`]) lose them, the light keeps its present pick
-/// and maps at their evaluation's price ([`crate::profile::Pick::keeps_ms`]): a frame pays for
-/// a map's generation only when it makes it. First, a light bought another configuration that
+/// and maps at their evaluation's price ([`crate::profile::Pick::keeps_ms`]), what a frame
+/// that does not make them spends. (A light bought its present pick at full price keeps its
+/// maps at that price.) First, a light bought another configuration that
 /// predicts no less than its present pick's image error over [`KEEP_ERROR`], for no less than
 /// keeping it needs, keeps it instead. Then the lights bought nothing keep theirs, worth most
-/// first ([`worth`]), while what the picks leave of the budget covers their evaluation and
+/// first ([`worth`]), each where what the picks leave of the budget covers its evaluation and
 /// their shadow is predicted to take error off. Returns what is left of the budget, which
 /// [`share_budget`] spends on the lights still without a shadow, at full price. The
 /// configurations bought first do not depend on what is kept: when a kept light must make its

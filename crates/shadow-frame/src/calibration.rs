@@ -42,9 +42,10 @@ pub const CALIBRATION_MAX_FACTOR: f64 = 16.0;
 pub const CALIBRATION_MAX_GPU_FACTOR: f64 = 16384.0;
 
 /// A frame that measures its lights (a CPU frame, or a GPU frame read back or timed on the
-/// device) in which the shared budget bought no light its maps measures nothing: it moves every
-/// measured ratio (and every factor set by [`Calibration::new`] and not measured since) this
-/// share of the way to 1, in log scale. A budget that a slow machine or device (or a heavy
+/// device) in which the shared budget bought no light its maps measures no generation: it moves
+/// every measured ratio (and every factor set by [`Calibration::new`] and not measured since)
+/// this share of the way to 1, in log scale (the evaluation's not, where lights that keep their
+/// maps measured it). A budget that a slow machine or device (or a heavy
 /// view, or a hitch that inflated the factors) priced out thus buys the most valuable light its
 /// cheapest shadow again within tens of frames, which measures it once more, and follows a
 /// machine that got faster.
@@ -225,20 +226,28 @@ impl Calibration {
 
     /// Moves every measured ratio [`CALIBRATION_RELAX`] of the way to 1 in log scale (a ratio
     /// `r` becomes `r^(1 - CALIBRATION_RELAX)`), the factors with them: what a measuring frame
-    /// that made and recorded no light's maps does in place of a measurement.
-    pub(crate) fn relax(&mut self) {
+    /// whose budget bought no light's maps does in place of a measurement of their generation.
+    /// With `evaluation` false (the frame measured its lights' evaluations: lights that keep
+    /// their maps, [`crate::LightShare::kept`]) the evaluation's ratios stay as measured.
+    pub(crate) fn relax(&mut self, evaluation: bool) {
         let toward_one = |r: &mut f64| *r = r.powf(1.0 - CALIBRATION_RELAX);
-        let windows = self.recent[..2]
+        let windows = self.recent[..1 + evaluation as usize]
             .iter_mut()
             .chain(self.per_configuration.values_mut())
-            .chain(self.per_configuration_eval.values_mut());
+            .chain(
+                self.per_configuration_eval
+                    .values_mut()
+                    .filter(|_| evaluation),
+            );
         for w in windows {
             w.iter_mut().for_each(toward_one);
         }
         // A factor set without measurements ([`Calibration::new`]) relaxes itself.
-        for (factor, window) in [&mut self.generate, &mut self.evaluate]
+        let factors = [&mut self.generate, &mut self.evaluate];
+        for (factor, window) in factors
             .into_iter()
             .zip(&self.recent)
+            .take(1 + evaluation as usize)
         {
             if window.is_empty() {
                 toward_one(factor);

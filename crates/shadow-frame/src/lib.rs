@@ -193,8 +193,17 @@ impl FramePipeline {
         let measuring = timed || gpu_timing::timing(world);
         #[cfg(not(feature = "gpu"))]
         let measuring = timed;
-        // A measuring frame whose budget bought no light a shadow measures none of the lights.
+        // A measuring frame whose budget bought no light its maps measures no generation; its
+        // lights that keep their maps measure their evaluations.
         let priced_out = measuring && budget::priced_out(world);
+        let measured = |lights: &[LightStats]| {
+            lights
+                .iter()
+                .any(|l| l.receivers_evaluated > 0 && l.profile_ms.is_some())
+        };
+        let evaluated = timed && measured(&stats.lights);
+        #[cfg(feature = "gpu")]
+        let evaluated = evaluated || arrived.iter().any(|l| measured(l));
         if settings.calibrating {
             let mut calibration = world.resource_mut::<Calibration>();
             calibration.update(&stats, timed);
@@ -203,7 +212,7 @@ impl FramePipeline {
                 calibration.update_gpu(lights);
             }
             if priced_out {
-                calibration.relax();
+                calibration.relax(!evaluated);
             }
         }
         stats

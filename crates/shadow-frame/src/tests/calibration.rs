@@ -217,7 +217,7 @@ fn a_priced_out_frame_relaxes_every_factor_toward_one() {
     let k = 1.0 - CALIBRATION_RELAX;
     let near = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-9;
     for n in 1..=40 {
-        c.relax();
+        c.relax(true);
         let relaxed = |f: f64| f.powf(k.powi(n));
         assert!(near(c.generate, relaxed(generate)), "frame {n}: {c:?}");
         assert!(near(c.evaluate_for("pcf", "r2"), relaxed(pcf)), "frame {n}");
@@ -237,7 +237,7 @@ fn a_priced_out_frame_relaxes_every_factor_toward_one() {
     set.update_gpu(std::slice::from_ref(&idle));
     set.update(&frame(3, 1.0, vec![idle]), true);
     assert_eq!((set.generate, set.evaluate), (16.0, 4.0));
-    set.relax();
+    set.relax(true);
     assert!(near(set.generate, 16f64.powf(k)) && near(set.evaluate, 4f64.powf(k)));
     assert_eq!(set.core_ms, 1.0);
     // Measured again: the new ratios take the window over as they arrive.
