@@ -246,3 +246,23 @@ fn a_priced_out_frame_relaxes_every_factor_toward_one() {
     }
     assert_eq!(c.evaluate_for("pcf", "r2"), 64.0);
 }
+
+/// A priced-out frame whose lamps that keep their maps measured their evaluation relaxes the
+/// generation's factor alone: the evaluation's stays as measured (before, relaxing every frame
+/// pulled a measured 3 down to about 2.6, underpricing the kept maps).
+#[test]
+fn a_priced_out_frame_that_measured_evaluations_keeps_their_factor() {
+    let mut c = Calibration::default();
+    for n in 2..6 {
+        c.update(&frame(n, 0.0, vec![light("pcf r2", true, 3.0)]), true);
+    }
+    assert_eq!((c.generate, c.evaluate), (3.0, 3.0));
+    for n in 6..22 {
+        // Kept maps: evaluated at 3x, nothing generated.
+        c.update(&frame(n, 0.0, vec![light("pcf r2", false, 3.0)]), true);
+        c.relax(false);
+    }
+    assert_eq!(c.evaluate, 3.0, "{c:?}");
+    let k = (1.0 - crate::calibration::CALIBRATION_RELAX).powi(16);
+    assert!((c.generate / 3f64.powf(k) - 1.0).abs() < 1e-9, "{c:?}");
+}
