@@ -209,33 +209,33 @@ fn in_band(now: f64, was: f64) -> bool {
 }
 
 /// A shared light while the budget is shared.
-struct Pick {
-    entity: Entity,
+pub(crate) struct Pick {
+    pub(crate) entity: Entity,
     /// Its contribution.
-    part: f64,
-    kind: soft_shadow_core::LightKind,
-    size: crate::SceneSize,
-    proportional: f64,
-    within: f64,
+    pub(crate) part: f64,
+    pub(crate) kind: soft_shadow_core::LightKind,
+    pub(crate) size: crate::SceneSize,
+    pub(crate) proportional: f64,
+    pub(crate) within: f64,
     /// The image error its missing shadow costs ([`LightShare::missing_255`], or the prior).
-    missing: Option<f64>,
+    pub(crate) missing: Option<f64>,
     /// Its cheapest configuration, `name variant side²`, and the budget it needs (with its
     /// margin), where it needs more than the whole frame budget.
-    over_budget: Option<(String, f64)>,
+    pub(crate) over_budget: Option<(String, f64)>,
     /// The budget its cheapest configuration within the frame budget needs and its predicted
     /// image error.
-    cheapest: Option<(f64, f64)>,
+    pub(crate) cheapest: Option<(f64, f64)>,
     /// Its present pick (technique, variant, map side), where its maps are kept this frame
     /// ([`maps_kept`]).
-    present: Option<(String, String, u32)>,
+    pub(crate) present: Option<(String, String, u32)>,
     /// Keeping that pick and its maps: the budget it needs for its evaluation alone
     /// ([`crate::profile::Pick::keeps_ms`]) and its predicted image error.
-    keep: Option<(f64, f64)>,
+    pub(crate) keep: Option<(f64, f64)>,
     /// What the budget bought it at full price: the budget, the predicted image error, and
     /// whether it is its present pick.
-    bought: Option<(f64, f64, bool)>,
+    pub(crate) bought: Option<(f64, f64, bool)>,
     /// Whether it keeps its present pick and maps at their evaluation's price ([`hold_kept`]).
-    keeps: bool,
+    pub(crate) keeps: bool,
 }
 
 /// The lights [`share_budget`] reads and updates.
@@ -743,7 +743,7 @@ pub fn share_budget(
 /// what it takes back costs only lights kept or bought with what keeping saved. (Keeping as a
 /// rung of each light's ladder would buy the least error for one frame, and would let a kept
 /// light's next move take back the maps of any light.)
-fn hold_kept(picks: &mut [Pick], available: f64) -> f64 {
+pub(crate) fn hold_kept(picks: &mut [Pick], available: f64) -> f64 {
     let mut spare = available - picks.iter().map(|p| p.within).sum::<f64>();
     for p in picks.iter_mut() {
         if let (Some((keeps_ms, kept)), Some((ms, error, false))) = (p.keep, p.bought)

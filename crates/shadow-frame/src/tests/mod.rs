@@ -4,5 +4,6 @@
 #[cfg(feature = "gltf")]
 mod bad_input;
 mod calibration;
+mod kept;
 mod knapsack;
 mod scene;
