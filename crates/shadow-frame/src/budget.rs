@@ -34,10 +34,9 @@
 //! them again changed) and that those prices would leave with no shadow, or with a
 //! configuration at most [`KEEP_ERROR`] better than the one its maps hold, keeps its maps at
 //! their evaluation's price where what the picks leave of the budget covers it
-//! ([`LightShare::kept`]), and what
-//! keeping saves buys the lights still without a shadow; the first frame in which a kept
-//! light's maps must be made again (the light moved, a caster in its range changed) shares the
-//! budget again, pricing it in full.
+//! ([`LightShare::kept`], `hold_kept`), and what keeping saves buys the lights still without
+//! a shadow; the first frame in which a kept light's maps must be made again (the light moved,
+//! a caster in its range changed) shares the budget again, pricing it in full.
 
 use crate::calibration::Calibration;
 use crate::components::*;
@@ -507,8 +506,9 @@ pub fn share_budget(
         .collect();
     // Each light's configurations worth buying, cheapest first: every pick `Auto` makes at
     // some budget, with the budget it needs.
+    // (With, for each rung, whether it is the light's present pick.)
     #[allow(clippy::type_complexity)]
-    let ladders: Vec<(Vec<(f64, f64)>, Vec<bool>)> = picks
+    let (rungs, presents): (Vec<Vec<(f64, f64)>>, Vec<Vec<bool>>) = picks
         .iter_mut()
         .map(|p| {
             let frontier = inputs.frontier(p.kind, p.size);
@@ -545,17 +545,17 @@ pub fn share_budget(
             });
             (ladder, present)
         })
-        .collect();
+        .unzip();
     // The configurations bought: the least image error, weighted by what each light brings,
     // the budget can buy.
     let weights: Vec<(f64, f64)> = picks
         .iter()
         .map(|p| (p.part, p.missing.unwrap_or(NO_SHADOW_255)))
         .collect();
-    let rungs: Vec<Vec<(f64, f64)>> = ladders.iter().map(|l| l.0.clone()).collect();
     let at = cheapest_error(&rungs, &weights, available);
-    for ((p, (ladder, present)), k) in picks.iter_mut().zip(&ladders).zip(&at) {
-        p.bought = k.map(|k| (ladder[k].0, ladder[k].1, present[k]));
+    for (i, k) in at.into_iter().enumerate() {
+        let p = &mut picks[i];
+        p.bought = k.map(|k| (rungs[i][k].0, rungs[i][k].1, presents[i][k]));
         p.within = p.bought.map_or(0.0, |b| b.0);
     }
     let spare = hold_kept(&mut picks, available);
@@ -569,9 +569,8 @@ pub fn share_budget(
         let at = cheapest_error(&idle_rungs, &idle_weights, spare);
         for (&i, k) in idle.iter().zip(at) {
             if let Some(k) = k {
-                let (ladder, present) = &ladders[i];
-                picks[i].bought = Some((ladder[k].0, ladder[k].1, present[k]));
-                picks[i].within = ladder[k].0;
+                picks[i].bought = Some((rungs[i][k].0, rungs[i][k].1, presents[i][k]));
+                picks[i].within = rungs[i][k].0;
             }
         }
     }
