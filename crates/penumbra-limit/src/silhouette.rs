@@ -6,7 +6,8 @@
 //!    border) that outlines its caster ([`Ribbon::is_outline`]: not a fold whose outside the
 //!    caster itself covers) becomes two ribbons in the map: an inner strip over the silhouette's
 //!    inside and an outer strip on the outside, each extended past both ends to cover the
-//!    corners (an inner strip's fragments land only over a caster), each as wide as the widest
+//!    corners (an inner strip's fragments land only over a caster, an outer strip's only where
+//!    no caster lies at the edge's own depth: [`SAME_DEPTH`]), each as wide as the widest
 //!    penumbra of that edge ([`Warp::ribbon_texels`]). A ribbon fragment at
 //!    distance `d` texels from the edge *segment* carries `c` (the edge's depth at the nearest
 //!    point) and `p_i = -/+ d * p_per_texel`; its depth-test key is the penumbra limit
@@ -272,6 +273,12 @@ pub(crate) fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
     })
 }
 
+/// Depth, in texels of the map's width at the edge (`Warp::depth_gap`), within which a caster
+/// under an outer ribbon fragment lies at the edge's own depth: the rounding between the
+/// rasterized depth and the edge's interpolated one, well under any gap between two casters
+/// that the map resolves (a caster a texel below an edge still gets its outer penumbra).
+pub(crate) const SAME_DEPTH: f32 = 0.25;
+
 /// Texels outside an edge, along its outward normal, at which [`Ribbon::is_outline`] reads the
 /// geometry.
 pub(crate) const OUTLINE_PROBE: f32 = 1.5;
@@ -357,11 +364,14 @@ const BAND: u32 = 16;
 pub(crate) const KEY_SCALE: f32 = 1.0 / (1.0 + crate::storage::MAX_P);
 
 /// One map row of a band while ribbons are rasterized: each texel's key and `[c, p_i]`.
-struct Row<'a> {
+struct Row<'a, G> {
     keys: &'a mut [f32],
     out: &'a mut [[f32; 2]],
-    /// The row's geometry depths: an inner fragment lands only where a caster is.
+    /// The row's geometry depths: an inner fragment lands only where a caster is, an outer one
+    /// only where none is at the edge's own depth.
     geom: &'a [f32],
+    /// [`SAME_DEPTH`] at an edge depth `c`, normalised.
+    gap: &'a G,
     /// The row's texel centre y.
     y: f32,
 }
@@ -370,7 +380,7 @@ struct Row<'a> {
 /// vectorizes, and the block's keys and values stored whole (branch-free).
 const LANES: usize = 8;
 
-impl Row<'_> {
+impl<G: Fn(f32) -> f32> Row<'_, G> {
     /// Offers `ribbon`'s fragments to texels `x0..=x1`, keeping a strictly smaller key.
     fn fill(mut self, ribbon: &Ribbon, sign: f32, ppt: f32, x0: usize, x1: usize) {
         let floor = ribbon.key_floor();
@@ -401,8 +411,14 @@ impl Row<'_> {
         for l in 0..L {
             // An inner fragment over no caster: past a corner of the outline (an inner strip's
             // cap) or past a part thinner than the penumbra.
-            let outside = sign < 0.0 && self.geom[x + l] >= NONE_DEPTH;
-            let nearer = f[l].0 < keys[l] && !outside;
+            let g = self.geom[x + l];
+            let outside = sign < 0.0 && g >= NONE_DEPTH;
+            // An outer fragment over a caster at the edge's own depth ([`SAME_DEPTH`]): a
+            // coplanar caster continues the surface past the edge (overlapping plates, a mesh
+            // in parts), so no light passes there, and the edge's outer penumbra drew a lit band
+            // inside the umbra.
+            let inside = sign > 0.0 && g < NONE_DEPTH && (g - f[l].1).abs() <= (self.gap)(f[l].1);
+            let nearer = f[l].0 < keys[l] && !outside && !inside;
             keys[l] = if nearer { f[l].0 } else { keys[l] };
             out[l] = if nearer { [f[l].1, f[l].2] } else { out[l] };
         }
@@ -417,6 +433,7 @@ pub(crate) fn rasterize_ribbons(
     ribbons: &[Ribbon],
     geom: &Map2D<f32>,
     ppt: f32,
+    gap: impl Fn(f32) -> f32 + Sync,
 ) -> Map2D<[f32; 2]> {
     let resolution = geom.width();
     // Each quad as the GPU draws it: triangles (0, 1, 2) and (0, 2, 3), inner strip first.
@@ -457,6 +474,7 @@ pub(crate) fn rasterize_ribbons(
                         keys: &mut keys[at..at + w],
                         out: &mut rows[at..at + w],
                         geom: &geom.data()[y as usize * w..(y as usize + 1) * w],
+                        gap: &gap,
                         y: y as f32 + 0.5,
                     };
                     row.fill(&ribbons[*i], *sign, ppt, sx0 as usize, sx1 as usize);

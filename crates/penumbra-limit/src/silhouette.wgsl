@@ -49,6 +49,9 @@ fn faces_light(n: vec3<f32>, p: vec3<f32>) -> bool {
 
 const MIN_FACE_TEXELS: f32 = 1.0e-3;
 
+// Texels of depth within which a caster lies at an edge's own depth (SAME_DEPTH).
+const SAME_DEPTH: f32 = 0.25;
+
 // Texels outside an edge at which is_outline reads the geometry (OUTLINE_PROBE).
 const OUTLINE_PROBE: f32 = 1.5;
 
@@ -166,8 +169,14 @@ fn fs_ribbon(v: RibbonVarying) -> RibbonFragment {
     let dist = length(q - (v.a + d * t));
     let c = v.c.x + (v.c.y - v.c.x) * t;
     let p = clamp(v.sign * dist * gp.warp.p_per_texel, -MAX_P, MAX_P);
-    // An inner fragment lands only over a caster (past a corner, an inner strip's cap is outside).
-    if v.sign < 0.0 && geom[u32(q.y) * gp.resolution + u32(q.x)] >= NONE_DEPTH {
+    // An inner fragment lands only over a caster (past a corner, an inner strip's cap is outside);
+    // an outer one not over a caster at the edge's own depth (SAME_DEPTH: a coplanar caster
+    // continues the surface past the edge).
+    let g = geom[u32(q.y) * gp.resolution + u32(q.x)];
+    if v.sign < 0.0 && g >= NONE_DEPTH {
+        discard;
+    }
+    if v.sign > 0.0 && g < NONE_DEPTH && abs(g - c) <= depth_gap(gp.warp, linear(gp.warp, c), SAME_DEPTH) {
         discard;
     }
     var f: RibbonFragment;

@@ -134,10 +134,11 @@ const KNOWN: &[(&str, u32, &str)] = &[
     ),
     (
         "penumbra-limit",
-        22,
-        "of 64 cases: 14 at 16² (texels wider than the triangles' edges, ribbons of two texels \
-         and more overlap into false umbra); 8 under the 100:1 rect a segment is recast as; \
-         worst 14.3/255 of V above the hard map",
+        20,
+        "of 64 cases: 8 under the 100:1 rect a segment is recast as; 12 others, 7 of them at 16² \
+         (texels wider than the triangles' edges, ribbons of two texels and more overlap into \
+         false umbra); worst 12.3/255 of V above the hard map (22 cases before outer ribbons \
+         kept off a caster at their edge's own depth)",
     ),
     (
         "pcf",

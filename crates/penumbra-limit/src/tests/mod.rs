@@ -598,3 +598,69 @@ fn a_spheres_spread_leaves_the_umbra_dark() {
     let v = shade(&prm, &map, &table, receiver, -receiver.normalize());
     assert_eq!(v, 0.0, "umbra read {v}");
 }
+
+/// Two coplanar plates at height 1 that overlap (a caster made of parts): `A` covers `x < 0`,
+/// `B` covers `-0.5 < x < 1.5` for `z < 0`. `A`'s edge at `x = 0` outlines it for `z > 0`; for
+/// `z < 0` its outer ribbon lies over `B` at the edge's own depth, where no light passes. Every
+/// ground receiver under `B` farther than the penumbra's half-width (0.15) from `B`'s edges is
+/// in umbra: `V` at most 1/255, both generators, CPU and GPU, 16² to 512². Before outer ribbon
+/// fragments kept off a caster at their edge's depth, the silhouette generator read them fully
+/// lit: 28 of the 60 receivers at 16² (a band 0.54 m wide), 2 at 512².
+#[test]
+fn an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark() {
+    let plate = |x0: f32, x1: f32, z0: f32, z1: f32| {
+        let p = |x: f32, z: f32| Vec3::new(x, 1.0, z);
+        [
+            [p(x0, z0), p(x0, z1), p(x1, z1)],
+            [p(x0, z0), p(x1, z1), p(x1, z0)],
+        ]
+    };
+    let casters: Vec<[Vec3; 3]> = plate(-2.0, 0.0, -2.0, 2.0)
+        .into_iter()
+        .chain(plate(-0.5, 1.5, -2.0, 0.0))
+        .collect();
+    let g = SceneGeometry {
+        bounds: Aabb::of_triangles(&casters),
+        receivers: quad(-2.0, 2.0, 0.0, 2.0).to_vec(),
+        casters,
+    };
+    let light = Light::Distant {
+        direction: Vec3::Y,
+        angular_diameter: 0.3,
+        profile: DistantProfile::UniformDisk,
+    };
+    // Under `B`, from beside `A`'s edge to 0.3 m from `B`'s far edge.
+    let positions: Vec<Vec3> = (0..60)
+        .map(|i| Vec3::new(0.02 + i as f32 * 0.02, LIFT, -1.0))
+        .collect();
+    let normals = vec![Vec3::Y; positions.len()];
+    let receivers = Receivers::new(&positions, &normals);
+    let gpu = harness::testing::gpu_for_test(
+        "an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark",
+    );
+    for generator in [Generator::Silhouette, Generator::DepthImage] {
+        let t = PenumbraLimit::new(generator);
+        for resolution in [16, 32, 64, 128, 256, 512] {
+            let maps = t
+                .generate_cpu(&CpuContext::new(), &g, &light, resolution)
+                .unwrap();
+            let mut runs = vec![("cpu", t.evaluate_cpu(&maps, &receivers).unwrap())];
+            if let Some(ctx) = &gpu {
+                let maps = t.generate_gpu(ctx, &g, &light, resolution).unwrap();
+                runs.push(("gpu", t.evaluate_gpu(ctx, &maps, &receivers).unwrap()));
+            }
+            for (backend, v) in runs {
+                let lit: Vec<f32> = positions
+                    .iter()
+                    .zip(&v)
+                    .filter(|(_, v)| **v > 1.0 / 255.0)
+                    .map(|(p, _)| p.x)
+                    .collect();
+                assert!(
+                    lit.is_empty(),
+                    "{generator:?} {backend} {resolution}²: lit under the plate at x = {lit:?}"
+                );
+            }
+        }
+    }
+}
