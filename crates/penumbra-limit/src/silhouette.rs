@@ -7,7 +7,7 @@
 //!    caster itself covers) becomes two ribbons in the map: an inner strip over the silhouette's
 //!    inside and an outer strip on the outside, each extended past both ends to cover the
 //!    corners (an inner strip's fragments land only over a caster, an outer strip's only where
-//!    no caster lies at the edge's own depth: [`SAME_DEPTH`]), each as wide as the widest
+//!    no caster lies on the plane of the edge's lit face: [`SAME_DEPTH`]), each as wide as the widest
 //!    penumbra of that edge ([`Warp::ribbon_texels`]). A ribbon fragment at
 //!    distance `d` texels from the edge *segment* carries `c` (the edge's depth at the nearest
 //!    point) and `p_i = -/+ d * p_per_texel`; its depth-test key is the penumbra limit
@@ -209,6 +209,11 @@ pub(crate) struct Ribbon {
     pub ha: f32,
     /// See `ha`.
     pub hb: f32,
+    /// The normalised depth's change per texel on the plane of the edge's lit face (face 0 of a
+    /// border): `ca + grad . (q - a)` is that plane's depth at `q` (a plane's normalised depth
+    /// is affine in the map's texels, `-1/z` in perspective); zero where that face is seen
+    /// edge-on.
+    pub grad: Vec2,
 }
 
 /// Whether a face with normal `n` through `p` faces the light of map `m`.
@@ -261,6 +266,21 @@ pub(crate) fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
         warp.normalized(m.linear_depth(a)),
         warp.normalized(m.linear_depth(b)),
     );
+    let lit = if border || faces_light(m, v(e.n0), a) {
+        e.o0
+    } else {
+        e.o1
+    };
+    let grad = m.project(v(lit)).map_or(Vec2::ZERO, |so| {
+        let w = so.truncate() - sa;
+        let det = d.perp_dot(w);
+        if det.abs().partial_cmp(&(MIN_FACE_TEXELS * len)) != Some(std::cmp::Ordering::Greater) {
+            return Vec2::ZERO;
+        }
+        // grad . d = cb - ca and grad . w = co - ca.
+        let (dc, dw) = (cb - ca, warp.normalized(so.z) - ca);
+        Vec2::new(dc * w.y - d.y * dw, d.x * dw - dc * w.x) / det
+    });
     let cap = 2.0 * m.resolution as f32;
     Some(Ribbon {
         a: sa,
@@ -270,13 +290,17 @@ pub(crate) fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
         out,
         ha: warp.ribbon_texels(ca).min(cap),
         hb: warp.ribbon_texels(cb).min(cap),
+        grad,
     })
 }
 
-/// Depth, in texels of the map's width at the edge (`Warp::depth_gap`), within which a caster
-/// under an outer ribbon fragment lies at the edge's own depth: the rounding between the
-/// rasterized depth and the edge's interpolated one, well under any gap between two casters
-/// that the map resolves (a caster a texel below an edge still gets its outer penumbra).
+/// Depth, in texels of the map's width at the edge (`Warp::depth_gap`, at the ribbon's deeper
+/// end), within which a caster under an outer ribbon fragment lies on the plane of the edge's
+/// lit face ([`Ribbon::grad`]), extended past the edge: a coplanar caster continues that face,
+/// so the edge outlines nothing there. The plane's depth is exact at the texel (affine in the
+/// map's texels), so this is the rounding between it and the rasterized depth, well under any
+/// gap between two casters that the map resolves (a caster a texel below the plane still
+/// gets the edge's outer penumbra).
 pub(crate) const SAME_DEPTH: f32 = 0.25;
 
 /// Texels outside an edge, along its outward normal, at which [`Ribbon::is_outline`] reads the
@@ -368,7 +392,7 @@ struct Row<'a, G> {
     keys: &'a mut [f32],
     out: &'a mut [[f32; 2]],
     /// The row's geometry depths: an inner fragment lands only where a caster is, an outer one
-    /// only where none is at the edge's own depth.
+    /// only where none continues the edge's lit face ([`Ribbon::grad`]).
     geom: &'a [f32],
     /// [`SAME_DEPTH`] at an edge depth `c`, normalised.
     gap: &'a G,
@@ -384,6 +408,9 @@ impl<G: Fn(f32) -> f32> Row<'_, G> {
     /// Offers `ribbon`'s fragments to texels `x0..=x1`, keeping a strictly smaller key.
     fn fill(mut self, ribbon: &Ribbon, sign: f32, ppt: f32, x0: usize, x1: usize) {
         let floor = ribbon.key_floor();
+        // [`SAME_DEPTH`] along the ribbon: the smaller of its ends' (`depth_gap` is monotonic
+        // in the depth, and `c` lies between the ends').
+        let same = (self.gap)(ribbon.ca).min((self.gap)(ribbon.cb));
         let mut x = x0;
         while x + LANES <= x1 + 1 {
             // A block whose every key is at or below anything this ribbon can offer keeps
@@ -392,17 +419,17 @@ impl<G: Fn(f32) -> f32> Row<'_, G> {
                 .iter()
                 .fold(f32::MIN, |a, &k| a.max(k));
             if kmax > floor {
-                self.block::<LANES>(ribbon, sign, ppt, x);
+                self.block::<LANES>(ribbon, sign, ppt, same, x);
             }
             x += LANES;
         }
         for x in x..=x1 {
-            self.block::<1>(ribbon, sign, ppt, x);
+            self.block::<1>(ribbon, sign, ppt, same, x);
         }
     }
 
     #[inline(always)]
-    fn block<const L: usize>(&mut self, ribbon: &Ribbon, sign: f32, ppt: f32, x: usize) {
+    fn block<const L: usize>(&mut self, ribbon: &Ribbon, sign: f32, ppt: f32, same: f32, x: usize) {
         let f: [(f32, f32, f32); L] = std::array::from_fn(|l| {
             ribbon.fragment(Vec2::new((x + l) as f32 + 0.5, self.y), ppt, sign)
         });
@@ -412,13 +439,17 @@ impl<G: Fn(f32) -> f32> Row<'_, G> {
             // An inner fragment over no caster: past a corner of the outline (an inner strip's
             // cap) or past a part thinner than the penumbra.
             let g = self.geom[x + l];
-            let outside = sign < 0.0 && g >= NONE_DEPTH;
-            // An outer fragment over a caster at the edge's own depth ([`SAME_DEPTH`]): a
-            // coplanar caster continues the surface past the edge (overlapping plates, a mesh
-            // in parts), so no light passes there, and the edge's outer penumbra drew a lit band
-            // inside the umbra.
-            let inside = sign > 0.0 && g < NONE_DEPTH && (g - f[l].1).abs() <= (self.gap)(f[l].1);
-            let nearer = f[l].0 < keys[l] && !outside && !inside;
+            let outside = (sign < 0.0) & (g >= NONE_DEPTH);
+            // An outer fragment over a caster on the plane of the edge's lit face (within
+            // `same`): a coplanar caster continues that face past the edge (overlapping plates,
+            // a mesh in parts), so the edge outlines nothing there and no light passes; its
+            // outer penumbra drew a lit band inside the umbra.
+            let plane = ribbon.ca
+                + ribbon
+                    .grad
+                    .dot(Vec2::new((x + l) as f32 + 0.5, self.y) - ribbon.a);
+            let continued = (sign > 0.0) & (g < NONE_DEPTH) & ((g - plane).abs() <= same);
+            let nearer = (f[l].0 < keys[l]) & !outside & !continued;
             keys[l] = if nearer { f[l].0 } else { keys[l] };
             out[l] = if nearer { [f[l].1, f[l].2] } else { out[l] };
         }

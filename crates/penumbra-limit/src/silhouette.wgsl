@@ -87,6 +87,8 @@ struct RibbonVarying {
     @location(1) @interpolate(flat) b: vec2<f32>,
     @location(2) @interpolate(flat) c: vec2<f32>,
     @location(3) @interpolate(flat) sign: f32,
+    // Ribbon::grad: the normalised depth's change per texel on the lit face's plane.
+    @location(4) @interpolate(flat) grad: vec2<f32>,
 };
 
 const KEY_SCALE: f32 = 1.0 / (1.0 + MAX_P);
@@ -133,6 +135,22 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
     let ca = normalized(gp.warp, linear_depth(gp.map, a));
     let cb = normalized(gp.warp, linear_depth(gp.map, b));
     let cap = 2.0 * f32(gp.map.resolution);
+    // The lit face's plane (face 0 of a border), as Ribbon::grad; zero where it is edge-on.
+    var lit = e.o1.xyz;
+    if border || faces_light(e.n0.xyz, a) {
+        lit = e.o0.xyz;
+    }
+    var grad = vec2<f32>(0.0);
+    let pl = project(lit);
+    if pl.ok {
+        let w = pl.q - sa;
+        let det = d.x * w.y - d.y * w.x;
+        if abs(det) > MIN_FACE_TEXELS * len {
+            let dc = cb - ca;
+            let dw = normalized(gp.warp, linear_depth(gp.map, lit)) - ca;
+            grad = vec2<f32>(dc * w.y - d.y * dw, d.x * dw - dc * w.x) / det;
+        }
+    }
     let ha = min(ribbon_texels(gp.warp, ca), cap);
     let hb = min(ribbon_texels(gp.warp, cb), cap);
     // A fold inside the caster's outline (its outside covered at its depth or nearer): no ribbon.
@@ -153,6 +171,7 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
     v.b = sb;
     v.c = vec2<f32>(ca, cb);
     v.sign = select(1.0, -1.0, k < 6u);
+    v.grad = grad;
     return v;
 }
 
@@ -169,14 +188,18 @@ fn fs_ribbon(v: RibbonVarying) -> RibbonFragment {
     let dist = length(q - (v.a + d * t));
     let c = v.c.x + (v.c.y - v.c.x) * t;
     let p = clamp(v.sign * dist * gp.warp.p_per_texel, -MAX_P, MAX_P);
-    // An inner fragment lands only over a caster (past a corner, an inner strip's cap is outside);
-    // an outer one not over a caster at the edge's own depth (SAME_DEPTH: a coplanar caster
-    // continues the surface past the edge).
-    let g = geom[u32(q.y) * gp.resolution + u32(q.x)];
-    if v.sign < 0.0 && g >= NONE_DEPTH {
+    // An inner fragment lands only over a caster (past a corner, an inner strip's cap is outside).
+    if v.sign < 0.0 && geom[u32(q.y) * gp.resolution + u32(q.x)] >= NONE_DEPTH {
         discard;
     }
-    if v.sign > 0.0 && g < NONE_DEPTH && abs(g - c) <= depth_gap(gp.warp, linear(gp.warp, c), SAME_DEPTH) {
+    // An outer one not over a caster that continues the edge's lit face, coplanar
+    // (Ribbon::continued; SAME_DEPTH at the deeper end, as Row::fill).
+    let same = min(
+        depth_gap(gp.warp, linear(gp.warp, v.c.x), SAME_DEPTH),
+        depth_gap(gp.warp, linear(gp.warp, v.c.y), SAME_DEPTH),
+    );
+    let g = geom_at(q);
+    if v.sign > 0.0 && g < NONE_DEPTH && abs(g - (v.c.x + dot(v.grad, q - v.a))) <= same {
         discard;
     }
     var f: RibbonFragment;

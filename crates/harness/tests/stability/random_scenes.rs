@@ -134,11 +134,11 @@ const KNOWN: &[(&str, u32, &str)] = &[
     ),
     (
         "penumbra-limit",
-        20,
-        "of 64 cases: 8 under the 100:1 rect a segment is recast as; 12 others, 7 of them at 16² \
+        19,
+        "of 64 cases: 8 under the 100:1 rect a segment is recast as; 11 others, 7 of them at 16² \
          (texels wider than the triangles' edges, ribbons of two texels and more overlap into \
-         false umbra); worst 12.3/255 of V above the hard map (22 cases before outer ribbons \
-         kept off a caster at their edge's own depth)",
+         false umbra); worst 12.5/255 of V above the hard map (22 cases before outer ribbons \
+         kept off a caster on their edge's lit plane)",
     ),
     (
         "pcf",

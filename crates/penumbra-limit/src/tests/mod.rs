@@ -122,6 +122,7 @@ proptest! {
             out: Vec2::Y,
             ha: 4.0,
             hb: 4.0,
+            grad: Vec2::ZERO,
         };
         let q = match (end, outer) {
             (true, true) => r.a,
@@ -601,11 +602,14 @@ fn a_spheres_spread_leaves_the_umbra_dark() {
 
 /// Two coplanar plates at height 1 that overlap (a caster made of parts): `A` covers `x < 0`,
 /// `B` covers `-0.5 < x < 1.5` for `z < 0`. `A`'s edge at `x = 0` outlines it for `z > 0`; for
-/// `z < 0` its outer ribbon lies over `B` at the edge's own depth, where no light passes. Every
-/// ground receiver under `B` farther than the penumbra's half-width (0.15) from `B`'s edges is
-/// in umbra: `V` at most 1/255, both generators, CPU and GPU, 16² to 512². Before outer ribbon
-/// fragments kept off a caster at their edge's depth, the silhouette generator read them fully
-/// lit: 28 of the 60 receivers at 16² (a band 0.54 m wide), 2 at 512².
+/// `z < 0` its outer ribbon lies over `B` on the plane of `A`'s top, where no light passes.
+/// Under a 0.3 rad sun overhead and leaning 15, 30 and 45 degrees towards `+x` (the plates then
+/// tilt against the map's plane), every ground receiver under `B`'s shadow at least 0.5 m from
+/// its far edge is in umbra (`V` at most 1/255), and beside `A`'s edge where it outlines `A`,
+/// beyond its outer penumbra, lit (at least 254/255): both generators, CPU and GPU, 16² to
+/// 512². Before outer ribbon fragments kept off a caster on their edge's lit plane, the
+/// silhouette generator read up to 28, 34, 42 and 43 of the 60 umbra receivers lit (16² to 32²;
+/// 2, 6, 11 and 18 at 512²).
 #[test]
 fn an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark() {
     let plate = |x0: f32, x1: f32, z0: f32, z1: f32| {
@@ -621,46 +625,90 @@ fn an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark() {
         .collect();
     let g = SceneGeometry {
         bounds: Aabb::of_triangles(&casters),
-        receivers: quad(-2.0, 2.0, 0.0, 2.0).to_vec(),
+        receivers: quad(-3.0, 2.0, 0.0, 2.0).to_vec(),
         casters,
     };
-    let light = Light::Distant {
-        direction: Vec3::Y,
-        angular_diameter: 0.3,
-        profile: DistantProfile::UniformDisk,
-    };
-    // Under `B`, from beside `A`'s edge to 0.3 m from `B`'s far edge.
-    let positions: Vec<Vec3> = (0..60)
-        .map(|i| Vec3::new(0.02 + i as f32 * 0.02, LIFT, -1.0))
-        .collect();
-    let normals = vec![Vec3::Y; positions.len()];
-    let receivers = Receivers::new(&positions, &normals);
     let gpu = harness::testing::gpu_for_test(
         "an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark",
     );
-    for generator in [Generator::Silhouette, Generator::DepthImage] {
-        let t = PenumbraLimit::new(generator);
-        for resolution in [16, 32, 64, 128, 256, 512] {
-            let maps = t
-                .generate_cpu(&CpuContext::new(), &g, &light, resolution)
-                .unwrap();
-            let mut runs = vec![("cpu", t.evaluate_cpu(&maps, &receivers).unwrap())];
-            if let Some(ctx) = &gpu {
-                let maps = t.generate_gpu(ctx, &g, &light, resolution).unwrap();
-                runs.push(("gpu", t.evaluate_gpu(ctx, &maps, &receivers).unwrap()));
-            }
-            for (backend, v) in runs {
-                let lit: Vec<f32> = positions
-                    .iter()
-                    .zip(&v)
-                    .filter(|(_, v)| **v > 1.0 / 255.0)
-                    .map(|(p, _)| p.x)
-                    .collect();
-                assert!(
-                    lit.is_empty(),
-                    "{generator:?} {backend} {resolution}²: lit under the plate at x = {lit:?}"
-                );
+    // tan of the sun's lean: the shadows move by as much towards -x on the ground.
+    for lean in [0.0f32, 0.27, 0.58, 1.0] {
+        let light = Light::Distant {
+            direction: Vec3::new(lean, 1.0, 0.0).normalize(),
+            angular_diameter: 0.3,
+            profile: DistantProfile::UniformDisk,
+        };
+        // Under `B`'s shadow, from beside `A`'s edge's shadow; then beside it where `A`'s edge
+        // outlines `A` (`z = 0.5`), beyond its outer penumbra (0.15 m overhead, 0.30 at 45
+        // degrees).
+        let under = 50;
+        let positions: Vec<Vec3> = (0..under)
+            .map(|i| Vec3::new(0.02 - lean + i as f32 * 0.02, LIFT, -1.0))
+            .chain((0..30).map(|i| Vec3::new(0.7 - lean + i as f32 * 0.02, LIFT, 0.5)))
+            .collect();
+        let normals = vec![Vec3::Y; positions.len()];
+        let receivers = Receivers::new(&positions, &normals);
+        for generator in [Generator::Silhouette, Generator::DepthImage] {
+            let t = PenumbraLimit::new(generator);
+            for resolution in [16, 32, 64, 128, 256, 512] {
+                let maps = t
+                    .generate_cpu(&CpuContext::new(), &g, &light, resolution)
+                    .unwrap();
+                let mut runs = vec![("cpu", t.evaluate_cpu(&maps, &receivers).unwrap())];
+                if let Some(ctx) = &gpu {
+                    let maps = t.generate_gpu(ctx, &g, &light, resolution).unwrap();
+                    runs.push(("gpu", t.evaluate_gpu(ctx, &maps, &receivers).unwrap()));
+                }
+                for (backend, v) in runs {
+                    let what = format!("{generator:?} {backend} {resolution}², lean {lean}");
+
+                    let (dark, light) = v.split_at(under);
+                    // A texel of the map (the plates' 4 m over `resolution` texels) as it lands
+                    // on the ground beside `A`'s edge's shadow: there the edge's own inner
+                    // penumbra, interpolated, reads up to 0.44.
+                    let texel = 4.0 / resolution as f32 * (1.0 + lean);
+                    let lit: Vec<(f32, f32)> = positions
+                        .iter()
+                        .zip(dark)
+                        .filter(|(p, v)| **v > if p.x + lean < texel { 0.5 } else { 1.0 / 255.0 })
+                        .map(|(p, v)| (p.x, *v))
+                        .collect();
+                    assert!(
+                        lit.is_empty(),
+                        "{what}: lit under the plate at (x, V) = {lit:?}"
+                    );
+                    let shaded: Vec<f32> = positions[under..]
+                        .iter()
+                        .zip(light)
+                        .filter(|(_, v)| **v < 254.0 / 255.0)
+                        .map(|(p, _)| p.x)
+                        .collect();
+                    assert!(
+                        shaded.is_empty(),
+                        "{what}: shaded beside the edge at x = {shaded:?}"
+                    );
+                }
             }
         }
+    }
+}
+
+/// The silhouette generator's constants that `silhouette.wgsl` repeats are the Rust ones.
+#[test]
+fn the_ribbon_shader_constants_are_the_cpus() {
+    use crate::silhouette::{MIN_FACE_TEXELS, OUTLINE_PROBE, SAME_DEPTH};
+    let wgsl = include_str!("../silhouette.wgsl");
+    for (name, value) in [
+        ("MIN_FACE_TEXELS", MIN_FACE_TEXELS),
+        ("OUTLINE_PROBE", OUTLINE_PROBE),
+        ("SAME_DEPTH", SAME_DEPTH),
+    ] {
+        let shader: f32 = wgsl
+            .split(&format!("const {name}: f32 = "))
+            .nth(1)
+            .and_then(|t| t.split(';').next())
+            .and_then(|t| t.trim().parse().ok())
+            .unwrap_or_else(|| panic!("the shader's {name}"));
+        assert_eq!(shader, value, "{name}");
     }
 }
