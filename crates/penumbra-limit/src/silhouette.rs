@@ -212,7 +212,7 @@ pub(crate) struct Ribbon {
     /// The normalised depth's change per texel on the plane of the edge's lit face (face 0 of a
     /// border): `ca + grad . (q - a)` is that plane's depth at `q` (a plane's normalised depth
     /// is affine in the map's texels, `-1/z` in perspective); zero where that face is seen
-    /// edge-on.
+    /// edge-on or its third vertex lies behind the eye (the edge's own depth then stands in).
     pub grad: Vec2,
 }
 

@@ -49,7 +49,7 @@ fn faces_light(n: vec3<f32>, p: vec3<f32>) -> bool {
 
 const MIN_FACE_TEXELS: f32 = 1.0e-3;
 
-// Texels of depth within which a caster lies at an edge's own depth (SAME_DEPTH).
+// Texels of depth within which a caster lies on the plane of an edge's lit face (SAME_DEPTH).
 const SAME_DEPTH: f32 = 0.25;
 
 // Texels outside an edge at which is_outline reads the geometry (OUTLINE_PROBE).
@@ -192,8 +192,8 @@ fn fs_ribbon(v: RibbonVarying) -> RibbonFragment {
     if v.sign < 0.0 && geom[u32(q.y) * gp.resolution + u32(q.x)] >= NONE_DEPTH {
         discard;
     }
-    // An outer one not over a caster that continues the edge's lit face, coplanar
-    // (Ribbon::continued; SAME_DEPTH at the deeper end, as Row::fill).
+    // An outer one not over a caster that continues the edge's lit face, coplanar (Ribbon::grad;
+    // SAME_DEPTH at the deeper end, as Row::fill).
     let same = min(
         depth_gap(gp.warp, linear(gp.warp, v.c.x), SAME_DEPTH),
         depth_gap(gp.warp, linear(gp.warp, v.c.y), SAME_DEPTH),

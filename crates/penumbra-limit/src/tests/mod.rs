@@ -603,13 +603,14 @@ fn a_spheres_spread_leaves_the_umbra_dark() {
 /// Two coplanar plates at height 1 that overlap (a caster made of parts): `A` covers `x < 0`,
 /// `B` covers `-0.5 < x < 1.5` for `z < 0`. `A`'s edge at `x = 0` outlines it for `z > 0`; for
 /// `z < 0` its outer ribbon lies over `B` on the plane of `A`'s top, where no light passes.
-/// Under a 0.3 rad sun overhead and leaning 15, 30 and 45 degrees towards `+x` (the plates then
-/// tilt against the map's plane), every ground receiver under `B`'s shadow at least 0.5 m from
-/// its far edge is in umbra (`V` at most 1/255), and beside `A`'s edge where it outlines `A`,
-/// beyond its outer penumbra, lit (at least 254/255): both generators, CPU and GPU, 16² to
-/// 512². Before outer ribbon fragments kept off a caster on their edge's lit plane, the
-/// silhouette generator read up to 28, 34, 42 and 43 of the 60 umbra receivers lit (16² to 32²;
-/// 2, 6, 11 and 18 at 512²).
+/// Under a 0.3 rad sun overhead, and leaning 15, 30 and 45 degrees towards `+x` and 15 and 30
+/// towards `+z` (the plates then tilt against the map's plane), every ground receiver under
+/// `B`'s shadow at least 0.5 m from its far edge is in umbra (`V` at most 1/255; under a
+/// leaning sun, at most 0.5 within a texel of `A`'s edge's shadow), and beside `A`'s edge
+/// where it outlines `A`, beyond its outer penumbra, lit (at least 254/255): both generators,
+/// CPU and GPU, 16² to 512². Before outer ribbon fragments kept off a caster on their edge's
+/// lit plane, the silhouette generator read up to 28, 34, 42 and 43 receivers lit (2 cm
+/// apart, overhead and leaning in `x`; 16² to 32²), 2, 6, 11 and 18 at 512².
 #[test]
 fn an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark() {
     let plate = |x0: f32, x1: f32, z0: f32, z1: f32| {
@@ -631,10 +632,18 @@ fn an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark() {
     let gpu = harness::testing::gpu_for_test(
         "an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark",
     );
-    // tan of the sun's lean: the shadows move by as much towards -x on the ground.
-    for lean in [0.0f32, 0.27, 0.58, 1.0] {
+    // tan of the sun's lean towards +x and +z: the shadows move by as much towards -x and -z
+    // on the ground (along `z` the edge's depth varies along it).
+    for (lean, lean_z) in [
+        (0.0f32, 0.0f32),
+        (0.27, 0.0),
+        (0.58, 0.0),
+        (1.0, 0.0),
+        (0.0, 0.27),
+        (0.0, 0.58),
+    ] {
         let light = Light::Distant {
-            direction: Vec3::new(lean, 1.0, 0.0).normalize(),
+            direction: Vec3::new(lean, 1.0, lean_z).normalize(),
             angular_diameter: 0.3,
             profile: DistantProfile::UniformDisk,
         };
@@ -660,13 +669,19 @@ fn an_outer_ribbon_over_a_coplanar_caster_leaves_its_umbra_dark() {
                     runs.push(("gpu", t.evaluate_gpu(ctx, &maps, &receivers).unwrap()));
                 }
                 for (backend, v) in runs {
-                    let what = format!("{generator:?} {backend} {resolution}², lean {lean}");
+                    let what =
+                        format!("{generator:?} {backend} {resolution}², lean {lean}, {lean_z}");
 
                     let (dark, light) = v.split_at(under);
-                    // A texel of the map (the plates' 4 m over `resolution` texels) as it lands
-                    // on the ground beside `A`'s edge's shadow: there the edge's own inner
-                    // penumbra, interpolated, reads up to 0.44.
-                    let texel = 4.0 / resolution as f32 * (1.0 + lean);
+                    // Under a leaning sun, a texel of the map (the plates' 4 m over
+                    // `resolution` texels) as it lands on the ground beside `A`'s edge's
+                    // shadow: there the edge's own inner penumbra, interpolated, reads up to
+                    // 0.44. Overhead, none.
+                    let texel = if lean > 0.0 {
+                        4.0 / resolution as f32 * (1.0 + lean * lean).sqrt()
+                    } else {
+                        0.0
+                    };
                     let lit: Vec<(f32, f32)> = positions
                         .iter()
                         .zip(dark)
