@@ -63,10 +63,7 @@ pub(crate) fn layers(
                     r.is_outline(&geom, |c| warp.depth_gap(warp.linear(c), t.transition_gap))
                 })
                 .collect();
-            let edge =
-                silhouette::rasterize_ribbons(pool, &ribbons, &geom, warp.p_per_texel, |c| {
-                    warp.depth_gap(warp.linear(c), silhouette::SAME_DEPTH)
-                });
+            let edge = silhouette::rasterize_ribbons(pool, &ribbons, &geom, warp.p_per_texel);
             let lower = silhouette::lower_limit(pool, &view.view, warp, tris, &edge, t.layer_gap);
             (edge, lower)
         }

@@ -214,6 +214,9 @@ pub(crate) struct Ribbon {
     /// is affine in the map's texels, `-1/z` in perspective); zero where that face is seen
     /// edge-on or its third vertex lies behind the eye (the edge's own depth then stands in).
     pub grad: Vec2,
+    /// [`SAME_DEPTH`] along the ribbon, normalised: the smaller of its ends' (`depth_gap` is
+    /// monotonic in the depth, and `c` lies between the ends').
+    pub same: f32,
 }
 
 /// Whether a face with normal `n` through `p` faces the light of map `m`.
@@ -291,6 +294,9 @@ pub(crate) fn ribbon(m: &MapParams, warp: &Warp, e: &Edge) -> Option<Ribbon> {
         ha: warp.ribbon_texels(ca).min(cap),
         hb: warp.ribbon_texels(cb).min(cap),
         grad,
+        same: warp
+            .depth_gap(warp.linear(ca), SAME_DEPTH)
+            .min(warp.depth_gap(warp.linear(cb), SAME_DEPTH)),
     })
 }
 
@@ -388,14 +394,12 @@ const BAND: u32 = 16;
 pub(crate) const KEY_SCALE: f32 = 1.0 / (1.0 + crate::storage::MAX_P);
 
 /// One map row of a band while ribbons are rasterized: each texel's key and `[c, p_i]`.
-struct Row<'a, G> {
+struct Row<'a> {
     keys: &'a mut [f32],
     out: &'a mut [[f32; 2]],
     /// The row's geometry depths: an inner fragment lands only where a caster is, an outer one
     /// only where none continues the edge's lit face ([`Ribbon::grad`]).
     geom: &'a [f32],
-    /// [`SAME_DEPTH`] at an edge depth `c`, normalised.
-    gap: &'a G,
     /// The row's texel centre y.
     y: f32,
 }
@@ -404,13 +408,10 @@ struct Row<'a, G> {
 /// vectorizes, and the block's keys and values stored whole (branch-free).
 const LANES: usize = 8;
 
-impl<G: Fn(f32) -> f32> Row<'_, G> {
+impl Row<'_> {
     /// Offers `ribbon`'s fragments to texels `x0..=x1`, keeping a strictly smaller key.
     fn fill(mut self, ribbon: &Ribbon, sign: f32, ppt: f32, x0: usize, x1: usize) {
         let floor = ribbon.key_floor();
-        // [`SAME_DEPTH`] along the ribbon: the smaller of its ends' (`depth_gap` is monotonic
-        // in the depth, and `c` lies between the ends').
-        let same = (self.gap)(ribbon.ca).min((self.gap)(ribbon.cb));
         let mut x = x0;
         while x + LANES <= x1 + 1 {
             // A block whose every key is at or below anything this ribbon can offer keeps
@@ -419,20 +420,23 @@ impl<G: Fn(f32) -> f32> Row<'_, G> {
                 .iter()
                 .fold(f32::MIN, |a, &k| a.max(k));
             if kmax > floor {
-                self.block::<LANES>(ribbon, sign, ppt, same, x);
+                self.block::<LANES>(ribbon, sign, ppt, x);
             }
             x += LANES;
         }
         for x in x..=x1 {
-            self.block::<1>(ribbon, sign, ppt, same, x);
+            self.block::<1>(ribbon, sign, ppt, x);
         }
     }
 
     #[inline(always)]
-    fn block<const L: usize>(&mut self, ribbon: &Ribbon, sign: f32, ppt: f32, same: f32, x: usize) {
+    fn block<const L: usize>(&mut self, ribbon: &Ribbon, sign: f32, ppt: f32, x: usize) {
         let f: [(f32, f32, f32); L] = std::array::from_fn(|l| {
             ribbon.fragment(Vec2::new((x + l) as f32 + 0.5, self.y), ppt, sign)
         });
+        // The lit face's plane at this row, and its tolerance, as locals the lanes share.
+        let (same, grad) = (ribbon.same, ribbon.grad);
+        let row = ribbon.ca + grad.y * (self.y - ribbon.a.y);
         let mut keys: [f32; L] = std::array::from_fn(|l| self.keys[x + l]);
         let mut out: [[f32; 2]; L] = std::array::from_fn(|l| self.out[x + l]);
         for l in 0..L {
@@ -441,13 +445,10 @@ impl<G: Fn(f32) -> f32> Row<'_, G> {
             let g = self.geom[x + l];
             let outside = (sign < 0.0) & (g >= NONE_DEPTH);
             // An outer fragment over a caster on the plane of the edge's lit face (within
-            // `same`): a coplanar caster continues that face past the edge (overlapping plates,
+            // `Ribbon::same`): a coplanar caster continues that face past the edge (overlapping plates,
             // a mesh in parts), so the edge outlines nothing there and no light passes; its
             // outer penumbra drew a lit band inside the umbra.
-            let plane = ribbon.ca
-                + ribbon
-                    .grad
-                    .dot(Vec2::new((x + l) as f32 + 0.5, self.y) - ribbon.a);
+            let plane = row + grad.x * ((x + l) as f32 + 0.5 - ribbon.a.x);
             let continued = (sign > 0.0) & (g < NONE_DEPTH) & ((g - plane).abs() <= same);
             let nearer = (f[l].0 < keys[l]) & !outside & !continued;
             keys[l] = if nearer { f[l].0 } else { keys[l] };
@@ -464,7 +465,6 @@ pub(crate) fn rasterize_ribbons(
     ribbons: &[Ribbon],
     geom: &Map2D<f32>,
     ppt: f32,
-    gap: impl Fn(f32) -> f32 + Sync,
 ) -> Map2D<[f32; 2]> {
     let resolution = geom.width();
     // Each quad as the GPU draws it: triangles (0, 1, 2) and (0, 2, 3), inner strip first.
@@ -505,7 +505,6 @@ pub(crate) fn rasterize_ribbons(
                         keys: &mut keys[at..at + w],
                         out: &mut rows[at..at + w],
                         geom: &geom.data()[y as usize * w..(y as usize + 1) * w],
-                        gap: &gap,
                         y: y as f32 + 0.5,
                     };
                     row.fill(&ribbons[*i], *sign, ppt, sx0 as usize, sx1 as usize);

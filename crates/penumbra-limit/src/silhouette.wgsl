@@ -89,6 +89,8 @@ struct RibbonVarying {
     @location(3) @interpolate(flat) sign: f32,
     // Ribbon::grad: the normalised depth's change per texel on the lit face's plane.
     @location(4) @interpolate(flat) grad: vec2<f32>,
+    // Ribbon::same: SAME_DEPTH at the ribbon's deeper end, normalised.
+    @location(5) @interpolate(flat) same: f32,
 };
 
 const KEY_SCALE: f32 = 1.0 / (1.0 + MAX_P);
@@ -172,6 +174,10 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32) -> RibbonVarying {
     v.c = vec2<f32>(ca, cb);
     v.sign = select(1.0, -1.0, k < 6u);
     v.grad = grad;
+    v.same = min(
+        depth_gap(gp.warp, linear(gp.warp, ca), SAME_DEPTH),
+        depth_gap(gp.warp, linear(gp.warp, cb), SAME_DEPTH),
+    );
     return v;
 }
 
@@ -192,14 +198,10 @@ fn fs_ribbon(v: RibbonVarying) -> RibbonFragment {
     if v.sign < 0.0 && geom[u32(q.y) * gp.resolution + u32(q.x)] >= NONE_DEPTH {
         discard;
     }
-    // An outer one not over a caster that continues the edge's lit face, coplanar (Ribbon::grad;
-    // SAME_DEPTH at the deeper end, as Row::fill).
-    let same = min(
-        depth_gap(gp.warp, linear(gp.warp, v.c.x), SAME_DEPTH),
-        depth_gap(gp.warp, linear(gp.warp, v.c.y), SAME_DEPTH),
-    );
+    // An outer one not over a caster that continues the edge's lit face, coplanar (Ribbon::grad,
+    // Ribbon::same).
     let g = geom_at(q);
-    if v.sign > 0.0 && g < NONE_DEPTH && abs(g - (v.c.x + dot(v.grad, q - v.a))) <= same {
+    if v.sign > 0.0 && g < NONE_DEPTH && abs(g - (v.c.x + dot(v.grad, q - v.a))) <= v.same {
         discard;
     }
     var f: RibbonFragment;

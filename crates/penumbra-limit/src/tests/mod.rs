@@ -123,6 +123,7 @@ proptest! {
             ha: 4.0,
             hb: 4.0,
             grad: Vec2::ZERO,
+            same: 0.0,
         };
         let q = match (end, outer) {
             (true, true) => r.a,
