@@ -55,7 +55,8 @@ pub const MARGIN: f32 = 0.06;
 /// The region a light's maps must cover.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coverage {
-    /// Bounds of the shadow casters (empty when nothing casts).
+    /// Bounds of the shadow casters (empty when nothing casts); in a cube face's coverage of a
+    /// generation ([`crate::Generation::coverage`]), of the parts of them inside the face.
     pub casters: Aabb,
     /// Bounds of all geometry, casters and receivers: caps every window and sets the depth range.
     pub scene: Aabb,
@@ -101,6 +102,19 @@ impl Coverage {
             texels,
             ..self
         }
+    }
+
+    /// For a cube face's coverage ([`Region::Face`]), `casters` narrowed to the casters inside
+    /// the face's pyramid around `light`'s centre, grown by its radius so that the face's
+    /// pyramid from any point of the light holds none beyond them
+    /// ([`crate::views::face_casters`]): the face's depth range then starts just before the
+    /// nearest of them ([`crate::View::fit_light`]). Other coverages are returned as they are.
+    pub(crate) fn in_face_of(mut self, geometry: &SceneGeometry, light: &Light) -> Self {
+        if let (Region::Face { .. }, LightPoint::Position(c)) = (self.region, light.center()) {
+            let r = light_radius(light, c);
+            self.casters = crate::views::face_casters(&geometry.casters, &self.region, c, r);
+        }
+        self
     }
 
     /// Coverage of a whole box (every point of it may cast, no penumbra beyond it): for maps of

@@ -118,9 +118,12 @@ impl Generation<'_> {
     }
 
     /// What this view's maps cover for `light` (a part of the light, such as one segment of a
-    /// triangle light), within the region.
+    /// triangle light), within the region; a cube face's holds the casters inside the face of
+    /// the whole light's cube ([`Coverage::casters`]).
     pub fn coverage_of(&self, light: &Light) -> Coverage {
-        Coverage::new(self.geometry, light).within(self.region, self.resolution)
+        Coverage::new(self.geometry, light)
+            .within(self.region, self.resolution)
+            .in_face_of(self.geometry, self.light)
     }
 }
 

@@ -165,7 +165,8 @@ impl View {
     /// fitted to the casters and their penumbrae, clamped to 2 x 80 degrees
     /// ([`crate::views::LightViews::plan`] gives a light whose casters need more than 2 x 75
     /// degrees cube faces instead); for a cube face, the face's axis and window. The depth range
-    /// spans the whole scene. Orthographic for a direction: the window is centred on what it
+    /// spans the whole scene; a cube face's starts just before the nearest caster it holds
+    /// (`coverage.casters`, as [`crate::Generation::coverage`] narrows it). Orthographic for a direction: the window is centred on what it
     /// covers (a cascade: its own window, centred on whole texels), the depth range starts just
     /// before the nearest caster (1% of the range before it) and ends beyond the scene's
     /// deepest point.
@@ -190,12 +191,25 @@ impl View {
                         (view, half)
                     }
                 };
-                let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
-                for c in bounds.corners() {
-                    let z = -view.transform_point3(c).z;
-                    zmax = zmax.max(z);
-                    zmin = zmin.min(z);
-                }
+                let depth = |c: Vec3| -view.transform_point3(c).z;
+                let zmax = bounds
+                    .corners()
+                    .map(depth)
+                    .into_iter()
+                    .fold(0.0f32, f32::max);
+                // A cube face starts before its own nearest caster (what it holds:
+                // `Coverage::casters`), as a distant light's window does: an 8-bit or 16-bit
+                // map spends its steps on what casts; nothing nearer can shadow a receiver
+                // in it.
+                let near_box = match coverage.region {
+                    Region::Face { .. } if !coverage.casters.is_empty() => &coverage.casters,
+                    _ => bounds,
+                };
+                let zmin = near_box
+                    .corners()
+                    .map(depth)
+                    .into_iter()
+                    .fold(f32::INFINITY, f32::min);
                 let far = (zmax * 1.01).max(1e-3 * diag);
                 // The box's nearest point is at depth max(zmin, 0): when a corner lies behind the
                 // eye's plane, geometry can come arbitrarily close, so the near plane goes down to

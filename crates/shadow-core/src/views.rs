@@ -33,6 +33,7 @@ use crate::coverage::{Coverage, MARGIN};
 use crate::error::Result;
 use crate::geometry::SceneGeometry;
 use crate::light::{Light, LightPoint, orthonormal_basis};
+use crate::mesh::Aabb;
 use crate::receivers::Receivers;
 use crate::view::View;
 use bytemuck::{Pod, Zeroable};
@@ -243,7 +244,6 @@ impl LightViews {
         // blends with its neighbour.
         let reach = (1.0 / (1.0 - FACE_BLEND)).atan();
         let half_angle = ((reach + guard).tan() * (1.0 + 2.0 * MARGIN)).atan();
-        let tan_half = half_angle.tan();
         let mut regions = Vec::new();
         let mut face_view = [-1i32; 6];
         for (f, view) in face_view.iter_mut().enumerate() {
@@ -253,15 +253,7 @@ impl LightViews {
                 continue;
             }
             let up = basis[(k + 1) % 3];
-            let right = axis.cross(up);
-            // The pyramid's side planes (inward normals) and the plane through the apex.
-            let planes = [
-                axis * tan_half + right,
-                axis * tan_half - right,
-                axis * tan_half + up,
-                axis * tan_half - up,
-                axis,
-            ];
+            let planes = face_planes(axis, up, half_angle);
             let holds = geometry.casters.iter().any(|t| {
                 let in_front = front.is_none_or(|n| t.iter().any(|v| (*v - c).dot(n) > 0.0));
                 in_front
@@ -592,7 +584,9 @@ impl LightViews {
             .regions
             .iter()
             .map(|r| {
-                let coverage = Coverage::new(geometry, light).within(*r, 0);
+                let coverage = Coverage::new(geometry, light)
+                    .within(*r, 0)
+                    .in_face_of(geometry, light);
                 View::for_light_center(light, &coverage)
             })
             .collect();
@@ -729,6 +723,79 @@ impl ViewSelect {
 /// The bounding sphere (centre, radius) of the camera frustum's slice between view depths
 /// `from` and `to`: its centre on the axis, where the nearest and the farthest corners are
 /// equally far (or at the far end).
+/// The inward normals of a cube face's pyramid (apex at the light, looking along `axis` with
+/// its image's y axis along `up`, a square window of half-angle `half_angle`): its four side
+/// planes, then the plane through the apex. A point `q` lies inside where `(q - apex) . n >= 0`
+/// for every `n`.
+fn face_planes(axis: Vec3, up: Vec3, half_angle: f32) -> [Vec3; 5] {
+    let tan_half = half_angle.tan();
+    let right = axis.cross(up);
+    [
+        axis * tan_half + right,
+        axis * tan_half - right,
+        axis * tan_half + up,
+        axis * tan_half - up,
+        axis,
+    ]
+}
+
+/// The bounds of the parts of `casters` inside the pyramid of cube face `region` around `apex`,
+/// grown by `radius` (each plane moved out by it): the pyramid of every light point within
+/// `radius` of `apex` lies inside, so a face's map from any of them holds no caster outside these
+/// bounds. Each triangle is clipped to the grown pyramid (Sutherland-Hodgman); empty where none
+/// reaches it, and for another region.
+pub(crate) fn face_casters(
+    casters: &[[Vec3; 3]],
+    region: &Region,
+    apex: Vec3,
+    radius: f32,
+) -> Aabb {
+    let Region::Face {
+        axis,
+        up,
+        half_angle,
+    } = *region
+    else {
+        return Aabb::EMPTY;
+    };
+    // Each plane as `q . n >= w`: inside the grown pyramid.
+    let planes = face_planes(axis, up, half_angle).map(|n| (n, apex.dot(n) - radius * n.length()));
+    let mut bounds = Aabb::EMPTY;
+    let (mut poly, mut next) = (Vec::with_capacity(9), Vec::with_capacity(9));
+    for t in casters {
+        // Signed distances (scaled) of the three vertices to each plane.
+        let sides = planes.map(|(n, w)| t.map(|q| q.dot(n) - w));
+        if sides.iter().any(|s| s.iter().all(|&d| d < 0.0)) {
+            continue;
+        }
+        if sides.iter().all(|s| s.iter().all(|&d| d >= 0.0)) {
+            t.iter().for_each(|&q| bounds.grow(q));
+            continue;
+        }
+        poly.clear();
+        poly.extend_from_slice(t);
+        for &(n, w) in &planes {
+            next.clear();
+            for (i, &a) in poly.iter().enumerate() {
+                let b = poly[(i + 1) % poly.len()];
+                let (sa, sb) = (a.dot(n) - w, b.dot(n) - w);
+                if sa >= 0.0 {
+                    next.push(a);
+                }
+                if (sa >= 0.0) != (sb >= 0.0) {
+                    next.push(a + (b - a) * (sa / (sa - sb)));
+                }
+            }
+            std::mem::swap(&mut poly, &mut next);
+            if poly.is_empty() {
+                break;
+            }
+        }
+        poly.iter().for_each(|&q| bounds.grow(q));
+    }
+    bounds
+}
+
 fn slice_sphere(camera: &View, from: f32, to: f32) -> (Vec3, f32) {
     // The squared half-diagonals of the slice's near and far rectangles.
     let (a2, b2) = match camera.kind {

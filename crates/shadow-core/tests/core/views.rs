@@ -394,3 +394,70 @@ fn cascades_a_small_step_keeps_are_served_by_the_first_plan() {
     assert!(q.far >= seen.far && q.far < seen.far * 2f32.powf(0.125));
     assert_eq!(q.quantized(), q);
 }
+
+/// A cube face's depth range starts just before the nearest caster it holds, as a distant
+/// light's window does, so that an 8-bit or 16-bit map spends its steps on what casts: in the
+/// room, from the lamp's centre and from points of the lamp 0.12 m off it, every caster point
+/// inside a face's window lies at or beyond its near plane, and the nearest within 20% of it
+/// (the faces are fitted around the lamp's 0.12 m radius, then 5% nearer).
+/// With the range from the scene's box, which holds the lamp, every face started at 1e-5 of its
+/// far plane.
+#[test]
+fn a_cube_face_starts_at_the_nearest_caster_it_holds() {
+    let (geometry, _) = room();
+    let light = lamp();
+    let views = LightViews::plan(&light, &geometry, None);
+    assert_eq!(views.kind_name(), "cube");
+    // Points over every caster triangle (barycentric grid).
+    let n = 60;
+    let points: Vec<Vec3> = geometry
+        .casters
+        .iter()
+        .flat_map(|t| {
+            (0..=n).flat_map(move |i| {
+                (0..=n - i).map(move |j| {
+                    let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+                    t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v
+                })
+            })
+        })
+        .collect();
+    let centre = Vec3::new(0.0, 0.75, 0.0);
+    for region in views.regions() {
+        let Region::Face { axis, .. } = *region else {
+            panic!("not a face: {region:?}");
+        };
+        let coverage = soft_shadow_core::technique::Generation {
+            geometry: &geometry,
+            light: &light,
+            region: *region,
+            resolution: 256,
+        }
+        .coverage();
+        let offsets = [
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::NEG_X,
+            Vec3::Y,
+            Vec3::Z,
+            Vec3::NEG_Z,
+        ];
+        for offset in offsets.map(|d| d * 0.12) {
+            let view = View::fit_light(LightPoint::Position(centre + offset), axis, &coverage);
+            let nearest = points
+                .iter()
+                .filter_map(|&p| view.project(p))
+                .filter(|&(x, y, z)| {
+                    (0.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y) && z > 0.0
+                })
+                .map(|(_, _, z)| z)
+                .fold(f32::INFINITY, f32::min);
+            assert!(nearest.is_finite(), "face {axis} holds no caster");
+            assert!(
+                view.near <= nearest && view.near >= 0.8 * nearest,
+                "face {axis} from {offset}: near plane {} against the nearest caster at {nearest}",
+                view.near
+            );
+        }
+    }
+}
