@@ -66,7 +66,8 @@ fn generate_segment(
     let (geometry, resolution) = (input.geometry, input.resolution);
     let n = t.samples;
     let (a, b, w) = (seg.a, seg.b, seg.weight);
-    let coverage = input.coverage_of(&soft_shadow_core::Light::Linear { a, b });
+    // The grid maps hold the receivers too: a cube face starts before the nearest of either.
+    let coverage = input.coverage_with_receivers_of(&soft_shadow_core::Light::Linear { a, b });
     let views = sample_views(a, b, n, seg.axis, &coverage, w);
     let params: Vec<MapParams> = views.iter().map(|v| v.params(resolution)).collect();
     let pool = cpu.pool();

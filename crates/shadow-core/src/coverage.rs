@@ -104,15 +104,24 @@ impl Coverage {
         }
     }
 
-    /// For a cube face's coverage ([`Region::Face`]), `casters` narrowed to the casters inside
+    /// For a cube face's coverage ([`Region::Face`]), `casters` narrowed to the parts of `held`
+    /// (the triangles the maps hold: the casters, and for maps that hold more, those too) inside
     /// the face's pyramid around `light`'s centre, grown by its radius so that the face's
     /// pyramid from any point of the light holds none beyond them
     /// ([`crate::views::face_casters`]): the face's depth range then starts just before the
     /// nearest of them ([`crate::View::fit_light`]). Other coverages are returned as they are.
-    pub(crate) fn in_face_of(mut self, geometry: &SceneGeometry, light: &Light) -> Self {
+    pub(crate) fn in_face_of(mut self, held: &[&[[Vec3; 3]]], light: &Light) -> Self {
         if let (Region::Face { .. }, LightPoint::Position(c)) = (self.region, light.center()) {
             let r = light_radius(light, c);
-            self.casters = crate::views::face_casters(&geometry.casters, &self.region, c, r);
+            let mut bounds = Aabb::EMPTY;
+            for triangles in held {
+                let b = crate::views::face_casters(triangles, &self.region, c, r);
+                if !b.is_empty() {
+                    bounds.grow(b.min);
+                    bounds.grow(b.max);
+                }
+            }
+            self.casters = bounds;
         }
         self
     }

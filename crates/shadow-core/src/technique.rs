@@ -123,7 +123,19 @@ impl Generation<'_> {
     pub fn coverage_of(&self, light: &Light) -> Coverage {
         Coverage::new(self.geometry, light)
             .within(self.region, self.resolution)
-            .in_face_of(self.geometry, self.light)
+            .in_face_of(&[&self.geometry.casters], self.light)
+    }
+
+    /// [`Generation::coverage_of`] for maps that also hold the receivers (`linear-light`'s grid
+    /// maps): a cube face's depth range starts just before the nearest caster or receiver it
+    /// holds, so that none of them is clipped from the maps.
+    pub fn coverage_with_receivers_of(&self, light: &Light) -> Coverage {
+        Coverage::new(self.geometry, light)
+            .within(self.region, self.resolution)
+            .in_face_of(
+                &[&self.geometry.casters, &self.geometry.receivers],
+                self.light,
+            )
     }
 }
 

@@ -166,10 +166,10 @@ impl View {
     /// ([`crate::views::LightViews::plan`] gives a light whose casters need more than 2 x 75
     /// degrees cube faces instead); for a cube face, the face's axis and window. The depth range
     /// spans the whole scene; a cube face's starts just before the nearest caster it holds
-    /// (`coverage.casters`, as [`crate::Generation::coverage`] narrows it). Orthographic for a direction: the window is centred on what it
-    /// covers (a cascade: its own window, centred on whole texels), the depth range starts just
-    /// before the nearest caster (1% of the range before it) and ends beyond the scene's
-    /// deepest point.
+    /// (`coverage.casters`, as [`crate::Generation::coverage`] narrows it). Orthographic for a
+    /// direction: the window is centred on what it covers (a cascade: its own window, centred
+    /// on whole texels), the depth range starts just before the nearest caster (1% of the
+    /// range before it) and ends beyond the scene's deepest point.
     pub fn fit_light(sample: LightPoint, axis: Vec3, coverage: &Coverage) -> View {
         let axis = axis.normalize();
         let bounds = &coverage.scene;
@@ -197,10 +197,11 @@ impl View {
                     .map(depth)
                     .into_iter()
                     .fold(0.0f32, f32::max);
-                // A cube face starts before its own nearest caster (what it holds:
-                // `Coverage::casters`), as a distant light's window does: an 8-bit or 16-bit
-                // map spends its steps on what casts; nothing nearer can shadow a receiver
-                // in it.
+                // A cube face starts before the nearest caster it holds (`Coverage::casters`,
+                // narrowed to the face by `Generation::coverage`; with the receivers where the
+                // maps hold them too), as a distant light's window does: an 8-bit or 16-bit
+                // map spends its steps on what casts, and nothing nearer can shadow a
+                // receiver in the face.
                 let near_box = match coverage.region {
                     Region::Face { .. } if !coverage.casters.is_empty() => &coverage.casters,
                     _ => bounds,

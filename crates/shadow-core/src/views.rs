@@ -586,7 +586,7 @@ impl LightViews {
             .map(|r| {
                 let coverage = Coverage::new(geometry, light)
                     .within(*r, 0)
-                    .in_face_of(geometry, light);
+                    .in_face_of(&[&geometry.casters], light);
                 View::for_light_center(light, &coverage)
             })
             .collect();
@@ -720,9 +720,6 @@ impl ViewSelect {
     }
 }
 
-/// The bounding sphere (centre, radius) of the camera frustum's slice between view depths
-/// `from` and `to`: its centre on the axis, where the nearest and the farthest corners are
-/// equally far (or at the far end).
 /// The inward normals of a cube face's pyramid (apex at the light, looking along `axis` with
 /// its image's y axis along `up`, a square window of half-angle `half_angle`): its four side
 /// planes, then the plane through the apex. A point `q` lies inside where `(q - apex) . n >= 0`
@@ -796,6 +793,9 @@ pub(crate) fn face_casters(
     bounds
 }
 
+/// The bounding sphere (centre, radius) of the camera frustum's slice between view depths
+/// `from` and `to`: its centre on the axis, where the nearest and the farthest corners are
+/// equally far (or at the far end).
 fn slice_sphere(camera: &View, from: f32, to: f32) -> (Vec3, f32) {
     // The squared half-diagonals of the slice's near and far rectangles.
     let (a2, b2) = match camera.kind {

@@ -266,3 +266,76 @@ fn linear_light_agrees_between_cpu_and_gpu_on_every_scene() {
     }
     failures.assert_none();
 }
+
+/// A receiver-only plate 0.3 m under a segment lamp, over a box that casts, in a room whose
+/// walls and ceiling cast (so the lamp's views are cube faces): nothing casts between the plate
+/// and the lamp, so `V = 1` on it, CPU and GPU. The face below starts just before the nearest
+/// surface its grid maps hold, the plate (`Generation::coverage_with_receivers_of`): from the
+/// nearest caster alone (the box's top), the plate fell in front of the near plane, out of the
+/// grid maps, and read the skins of the box's edges behind it.
+#[test]
+fn a_receiver_before_every_caster_of_a_cube_face_reads_lit() {
+    use soft_shadow_core::DynTechnique;
+    use soft_shadow_reference::scenes::shapes::cuboid;
+    let tris = |m: TriangleMesh| m.world_triangles(glam::Mat4::IDENTITY).collect::<Vec<_>>();
+    let room = tris(cuboid(
+        "room",
+        Vec3::new(0.0, 1.5, 0.0),
+        Vec3::new(3.0, 1.5, 3.0),
+    ));
+    let mut casters = room.clone();
+    casters.extend(tris(cuboid(
+        "box",
+        Vec3::new(0.0, 0.2, 0.0),
+        Vec3::splat(0.25),
+    )));
+    let plate = tris(cuboid(
+        "plate",
+        Vec3::new(0.0, 0.69, 0.0),
+        Vec3::new(0.4, 0.01, 0.4),
+    ));
+    let mut receivers = room;
+    receivers.extend(plate.iter().copied());
+    let geometry = SceneGeometry::new(casters, receivers);
+    let light = Light::Linear {
+        a: Vec3::new(-0.2, 1.0, 0.0),
+        b: Vec3::new(0.2, 1.0, 0.0),
+    };
+    assert_eq!(
+        soft_shadow_core::LightViews::plan(&light, &geometry, None).kind_name(),
+        "cube"
+    );
+    // The plate's top, 0.3 m under the lamp.
+    let positions: Vec<Vec3> = (0..15 * 15)
+        .map(|i| {
+            Vec3::new(
+                -0.35 + 0.05 * (i % 15) as f32,
+                0.7,
+                -0.35 + 0.05 * (i / 15) as f32,
+            )
+        })
+        .collect();
+    let normals = vec![Vec3::Y; positions.len()];
+    let recv = Recv {
+        positions: &positions,
+        normals: &normals,
+    };
+    let gpu = gpu_for_test("a_receiver_before_every_caster_of_a_cube_face_reads_lit");
+    let mut backends = vec![soft_shadow_core::Backend::Cpu];
+    if gpu.is_some() {
+        backends.push(soft_shadow_core::Backend::Gpu);
+    }
+    for be in backends {
+        let ctx = crate::common::context(be, gpu.as_ref());
+        for t in LinearLight::standard_set() {
+            let maps = t.generate(ctx, &geometry, &light, 128).unwrap();
+            let v = maps.evaluate(gpu.as_ref(), &recv).unwrap();
+            let worst = v.iter().copied().fold(1.0f32, f32::min);
+            assert!(
+                worst >= 1.0 - 1.0 / 255.0,
+                "{} {be:?}: the plate reads V = {worst} under the lamp",
+                t.label()
+            );
+        }
+    }
+}

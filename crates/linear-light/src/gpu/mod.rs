@@ -243,7 +243,9 @@ pub(crate) fn generate(
     let mut samples = Vec::with_capacity(layers as usize);
     for seg in segments {
         let light = soft_shadow_core::Light::Linear { a: seg.a, b: seg.b };
-        let coverage = input.coverage_of(&light);
+        // The grid maps hold the receivers too: a cube face starts before the nearest of
+        // either.
+        let coverage = input.coverage_with_receivers_of(&light);
         for v in sample_views(seg.a, seg.b, n, seg.axis, &coverage, seg.weight) {
             let un = Unproject::new(&v.view, resolution);
             samples.push(SampleGpu {
