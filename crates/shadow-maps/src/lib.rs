@@ -201,11 +201,12 @@ impl ShadowTechnique for ShadowMapBaseline {
     type GpuMaps = soft_shadow_core::NoGpuMaps;
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> CpuShadowMaps {
-        let views = self.views(&input);
+        let coverage = input.coverage();
+        let views = sample_views(input.light, &coverage, self.map_count());
         CpuShadowMaps::render(
             cpu,
             input.light,
-            input.coverage().center(),
+            coverage.center(),
             &views,
             &input.geometry.casters,
             input.resolution,
@@ -234,12 +235,13 @@ impl ShadowTechnique for ShadowMapBaseline {
         scene: &GpuScene,
         input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuShadowMaps> {
-        let views = self.views(&input);
+        let coverage = input.coverage();
+        let views = sample_views(input.light, &coverage, self.map_count());
         gpu::GpuShadowMaps::record(
             gpu,
             enc,
             input.light,
-            input.coverage().center(),
+            coverage.center(),
             &views,
             scene,
             input.resolution,

@@ -161,10 +161,7 @@ fn eight_bit_maps_in_a_rooms_cube_faces_keep_to_f32s() {
     use soft_shadow_reference::ground_truth::irradiance::irradiance;
     let spec = build("room-lamp-corner").unwrap();
     let r = receivers(&spec, 96);
-    let recv = Recv {
-        positions: &r.positions,
-        normals: &r.normals,
-    };
+    let recv = r.as_receivers();
     let e0: Vec<f32> = r
         .positions
         .iter()
