@@ -56,7 +56,9 @@ pub const MARGIN: f32 = 0.06;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coverage {
     /// Bounds of the shadow casters (empty when nothing casts); in a cube face's coverage of a
-    /// generation ([`crate::Generation::coverage`]), of the parts of them inside the face.
+    /// generation ([`crate::Generation::coverage`]), of the parts of them inside the face (and
+    /// of the receivers there too, for maps that hold them:
+    /// [`crate::Generation::coverage_with_receivers_of`]).
     pub casters: Aabb,
     /// Bounds of all geometry, casters and receivers: caps every window and sets the depth range.
     pub scene: Aabb,
@@ -104,10 +106,10 @@ impl Coverage {
         }
     }
 
-    /// For a cube face's coverage ([`Region::Face`]), `casters` narrowed to the parts of `held`
-    /// (the triangles the maps hold: the casters, and for maps that hold more, those too) inside
-    /// the face's pyramid around `light`'s centre, grown by its radius so that the face's
-    /// pyramid from any point of the light holds none beyond them
+    /// For a cube face's coverage ([`Region::Face`]), `casters` set to the bounds of the parts
+    /// of `held` (the triangles the maps hold: the casters, and for maps that hold more, those
+    /// too) inside the face's pyramid around `light`'s centre, grown by its radius so that the
+    /// face's pyramid from any point of the light holds none beyond them
     /// ([`crate::views::face_casters`]): the face's depth range then starts just before the
     /// nearest of them ([`crate::View::fit_light`]). Other coverages are returned as they are.
     pub(crate) fn in_face_of(mut self, held: &[&[[Vec3; 3]]], light: &Light) -> Self {

@@ -736,7 +736,8 @@ fn face_planes(axis: Vec3, up: Vec3, half_angle: f32) -> [Vec3; 5] {
     ]
 }
 
-/// The bounds of the parts of `casters` inside the pyramid of cube face `region` around `apex`,
+/// The bounds of the parts of `casters` (the triangles a face's maps hold) inside the pyramid
+/// of cube face `region` around `apex`,
 /// grown by `radius` (each plane moved out by it): the pyramid of every light point within
 /// `radius` of `apex` lies inside, so a face's map from any of them holds no caster outside these
 /// bounds. Each triangle is clipped to the grown pyramid (Sutherland-Hodgman); empty where none
