@@ -110,14 +110,14 @@ impl Coverage {
     /// of `held` (the triangles the maps hold: the casters, and for maps that hold more, those
     /// too) inside the face's pyramid around `light`'s centre, grown by its radius so that the
     /// face's pyramid from any point of the light holds none beyond them
-    /// ([`crate::views::face_casters`]): the face's depth range then starts just before the
+    /// ([`face_casters`]): the face's depth range then starts just before the
     /// nearest of them ([`crate::View::fit_light`]). Other coverages are returned as they are.
     pub(crate) fn in_face_of(mut self, held: &[&[[Vec3; 3]]], light: &Light) -> Self {
         if let (Region::Face { .. }, LightPoint::Position(c)) = (self.region, light.center()) {
             let r = light_radius(light, c);
             let mut bounds = Aabb::EMPTY;
             for triangles in held {
-                let b = crate::views::face_casters(triangles, &self.region, c, r);
+                let b = face_casters(triangles, &self.region, c, r);
                 if !b.is_empty() {
                     bounds.grow(b.min);
                     bounds.grow(b.max);
@@ -315,4 +315,78 @@ pub fn casting_onto(
         receivers,
         bounds,
     }
+}
+
+/// The inward normals of a cube face's pyramid (apex at the light, looking along `axis` with
+/// its image's y axis along `up`, a square window of half-angle `half_angle`): its four side
+/// planes, then the plane through the apex. A point `q` lies inside where `(q - apex) . n >= 0`
+/// for every `n`.
+pub(crate) fn face_planes(axis: Vec3, up: Vec3, half_angle: f32) -> [Vec3; 5] {
+    let tan_half = half_angle.tan();
+    let right = axis.cross(up);
+    [
+        axis * tan_half + right,
+        axis * tan_half - right,
+        axis * tan_half + up,
+        axis * tan_half - up,
+        axis,
+    ]
+}
+
+/// The bounds of the parts of `casters` (the triangles a face's maps hold) inside the pyramid
+/// of cube face `region` around `apex`,
+/// grown by `radius` (each plane moved out by it): the pyramid of every light point within
+/// `radius` of `apex` lies inside, so a face's map from any of them holds no caster outside these
+/// bounds. Each triangle is clipped to the grown pyramid (Sutherland-Hodgman); empty where none
+/// reaches it, and for another region.
+pub(crate) fn face_casters(
+    casters: &[[Vec3; 3]],
+    region: &Region,
+    apex: Vec3,
+    radius: f32,
+) -> Aabb {
+    let Region::Face {
+        axis,
+        up,
+        half_angle,
+    } = *region
+    else {
+        return Aabb::EMPTY;
+    };
+    // Each plane as `q . n >= w`: inside the grown pyramid.
+    let planes = face_planes(axis, up, half_angle).map(|n| (n, apex.dot(n) - radius * n.length()));
+    let mut bounds = Aabb::EMPTY;
+    let (mut poly, mut next) = (Vec::with_capacity(9), Vec::with_capacity(9));
+    for t in casters {
+        // Signed distances (scaled) of the three vertices to each plane.
+        let sides = planes.map(|(n, w)| t.map(|q| q.dot(n) - w));
+        if sides.iter().any(|s| s.iter().all(|&d| d < 0.0)) {
+            continue;
+        }
+        if sides.iter().all(|s| s.iter().all(|&d| d >= 0.0)) {
+            t.iter().for_each(|&q| bounds.grow(q));
+            continue;
+        }
+        poly.clear();
+        poly.extend_from_slice(t);
+        for &(n, w) in &planes {
+            next.clear();
+            for (i, &a) in poly.iter().enumerate() {
+                let b = poly[(i + 1) % poly.len()];
+                let (sa, sb) = (a.dot(n) - w, b.dot(n) - w);
+                if sa >= 0.0 {
+                    next.push(a);
+                }
+                if (sa >= 0.0) != (sb >= 0.0) {
+                    next.push(a + (b - a) * (sa / (sa - sb)));
+                }
+            }
+            std::mem::swap(&mut poly, &mut next);
+            if poly.is_empty() {
+                break;
+            }
+        }
+        poly.iter().for_each(|&q| bounds.grow(q));
+    }
+    bounds
 }

@@ -29,11 +29,10 @@
 //! light's world size (or angular diameter) and each view's own texel size.
 
 pub use crate::coverage::Region;
-use crate::coverage::{Coverage, MARGIN};
+use crate::coverage::{Coverage, MARGIN, face_planes};
 use crate::error::Result;
 use crate::geometry::SceneGeometry;
 use crate::light::{Light, LightPoint, orthonormal_basis};
-use crate::mesh::Aabb;
 use crate::receivers::Receivers;
 use crate::view::View;
 use bytemuck::{Pod, Zeroable};
@@ -718,80 +717,6 @@ impl ViewSelect {
             1.0
         }
     }
-}
-
-/// The inward normals of a cube face's pyramid (apex at the light, looking along `axis` with
-/// its image's y axis along `up`, a square window of half-angle `half_angle`): its four side
-/// planes, then the plane through the apex. A point `q` lies inside where `(q - apex) . n >= 0`
-/// for every `n`.
-fn face_planes(axis: Vec3, up: Vec3, half_angle: f32) -> [Vec3; 5] {
-    let tan_half = half_angle.tan();
-    let right = axis.cross(up);
-    [
-        axis * tan_half + right,
-        axis * tan_half - right,
-        axis * tan_half + up,
-        axis * tan_half - up,
-        axis,
-    ]
-}
-
-/// The bounds of the parts of `casters` (the triangles a face's maps hold) inside the pyramid
-/// of cube face `region` around `apex`,
-/// grown by `radius` (each plane moved out by it): the pyramid of every light point within
-/// `radius` of `apex` lies inside, so a face's map from any of them holds no caster outside these
-/// bounds. Each triangle is clipped to the grown pyramid (Sutherland-Hodgman); empty where none
-/// reaches it, and for another region.
-pub(crate) fn face_casters(
-    casters: &[[Vec3; 3]],
-    region: &Region,
-    apex: Vec3,
-    radius: f32,
-) -> Aabb {
-    let Region::Face {
-        axis,
-        up,
-        half_angle,
-    } = *region
-    else {
-        return Aabb::EMPTY;
-    };
-    // Each plane as `q . n >= w`: inside the grown pyramid.
-    let planes = face_planes(axis, up, half_angle).map(|n| (n, apex.dot(n) - radius * n.length()));
-    let mut bounds = Aabb::EMPTY;
-    let (mut poly, mut next) = (Vec::with_capacity(9), Vec::with_capacity(9));
-    for t in casters {
-        // Signed distances (scaled) of the three vertices to each plane.
-        let sides = planes.map(|(n, w)| t.map(|q| q.dot(n) - w));
-        if sides.iter().any(|s| s.iter().all(|&d| d < 0.0)) {
-            continue;
-        }
-        if sides.iter().all(|s| s.iter().all(|&d| d >= 0.0)) {
-            t.iter().for_each(|&q| bounds.grow(q));
-            continue;
-        }
-        poly.clear();
-        poly.extend_from_slice(t);
-        for &(n, w) in &planes {
-            next.clear();
-            for (i, &a) in poly.iter().enumerate() {
-                let b = poly[(i + 1) % poly.len()];
-                let (sa, sb) = (a.dot(n) - w, b.dot(n) - w);
-                if sa >= 0.0 {
-                    next.push(a);
-                }
-                if (sa >= 0.0) != (sb >= 0.0) {
-                    next.push(a + (b - a) * (sa / (sa - sb)));
-                }
-            }
-            std::mem::swap(&mut poly, &mut next);
-            if poly.is_empty() {
-                break;
-            }
-        }
-        poly.iter().for_each(|&q| bounds.grow(q));
-    }
-    bounds
 }
 
 /// The bounding sphere (centre, radius) of the camera frustum's slice between view depths
