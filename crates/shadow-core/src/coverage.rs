@@ -109,9 +109,9 @@ impl Coverage {
     /// For a cube face's coverage ([`Region::Face`]), `casters` set to the bounds of the parts
     /// of `held` (the triangles the maps hold: the casters, and for maps that hold more, those
     /// too) inside the face's pyramid around `light`'s centre, grown by its radius so that the
-    /// face's pyramid from any point of the light holds none beyond them
-    /// ([`face_casters`]): the face's depth range then starts just before the
-    /// nearest of them ([`crate::View::fit_light`]). Other coverages are returned as they are.
+    /// face's pyramid from any point of the light holds none beyond them ([`face_casters`]):
+    /// the face's depth range then starts just before the nearest of them
+    /// ([`crate::View::fit_light`]). Other coverages are returned as they are.
     pub(crate) fn in_face_of(mut self, held: &[&[[Vec3; 3]]], light: &Light) -> Self {
         if let (Region::Face { .. }, LightPoint::Position(c)) = (self.region, light.center()) {
             let r = light_radius(light, c);
@@ -334,11 +334,10 @@ pub(crate) fn face_planes(axis: Vec3, up: Vec3, half_angle: f32) -> [Vec3; 5] {
 }
 
 /// The bounds of the parts of `casters` (the triangles a face's maps hold) inside the pyramid
-/// of cube face `region` around `apex`,
-/// grown by `radius` (each plane moved out by it): the pyramid of every light point within
-/// `radius` of `apex` lies inside, so a face's map from any of them holds no caster outside these
-/// bounds. Each triangle is clipped to the grown pyramid (Sutherland-Hodgman); empty where none
-/// reaches it, and for another region.
+/// of cube face `region` around `apex`, grown by `radius` (each plane moved out by it): the
+/// pyramid of every light point within `radius` of `apex` lies inside, so a face's map from
+/// any of them holds none of them outside these bounds. Each triangle is clipped to the grown
+/// pyramid (Sutherland-Hodgman); empty where none reaches it, and for another region.
 pub(crate) fn face_casters(
     casters: &[[Vec3; 3]],
     region: &Region,

@@ -167,10 +167,10 @@ impl View {
     /// degrees cube faces instead); for a cube face, the face's axis and window. The depth range
     /// spans the whole scene; a cube face's starts just before the nearest caster it holds
     /// (`coverage.casters`, as [`crate::Generation::coverage`] narrows it; with the receivers
-    /// for maps that hold them). Orthographic for a
-    /// direction: the window is centred on what it covers (a cascade: its own window, centred
-    /// on whole texels), the depth range starts just before the nearest caster (1% of the
-    /// range before it) and ends beyond the scene's deepest point.
+    /// for maps that hold them). Orthographic for a direction: the window is centred on what it
+    /// covers (a cascade: its own window, centred on whole texels), the depth range starts just
+    /// before the nearest caster (1% of the range before it) and ends beyond the scene's
+    /// deepest point.
     pub fn fit_light(sample: LightPoint, axis: Vec3, coverage: &Coverage) -> View {
         let axis = axis.normalize();
         let bounds = &coverage.scene;
