@@ -119,7 +119,16 @@ impl ShadowMapBaseline {
     /// The light-sample views of its maps for one view of the light, fitted to what it covers
     /// ([`Generation::coverage`]).
     pub fn views(&self, input: &Generation<'_>) -> Vec<soft_shadow_core::SampleView> {
-        sample_views(input.light, &input.coverage(), self.map_count())
+        self.views_of(input.light, &input.coverage())
+    }
+
+    /// [`ShadowMapBaseline::views`] over a coverage already computed.
+    fn views_of(
+        &self,
+        light: &Light,
+        coverage: &soft_shadow_core::Coverage,
+    ) -> Vec<soft_shadow_core::SampleView> {
+        sample_views(light, coverage, self.map_count())
     }
 
     /// Number of depth maps this baseline renders.
@@ -202,7 +211,7 @@ impl ShadowTechnique for ShadowMapBaseline {
 
     fn cpu_maps(&self, cpu: &CpuContext, input: Checked<Generation<'_>>) -> CpuShadowMaps {
         let coverage = input.coverage();
-        let views = sample_views(input.light, &coverage, self.map_count());
+        let views = self.views_of(input.light, &coverage);
         CpuShadowMaps::render(
             cpu,
             input.light,
@@ -236,7 +245,7 @@ impl ShadowTechnique for ShadowMapBaseline {
         input: Checked<Generation<'_>>,
     ) -> Result<gpu::GpuShadowMaps> {
         let coverage = input.coverage();
-        let views = sample_views(input.light, &coverage, self.map_count());
+        let views = self.views_of(input.light, &coverage);
         gpu::GpuShadowMaps::record(
             gpu,
             enc,

@@ -46,6 +46,15 @@ impl Receivers {
 
 pub use harness::testing::gpu_for_test;
 
+/// The CPU backend, and the GPU one where there is a context.
+pub fn backends(gpu: Option<&soft_shadow_core::GpuContext>) -> Vec<soft_shadow_core::Backend> {
+    let mut b = vec![soft_shadow_core::Backend::Cpu];
+    if gpu.is_some() {
+        b.push(soft_shadow_core::Backend::Gpu);
+    }
+    b
+}
+
 /// One CPU context for the whole test binary (its pool shared by the tests running in it).
 pub fn cpu() -> &'static soft_shadow_core::CpuContext {
     static CPU: std::sync::OnceLock<soft_shadow_core::CpuContext> = std::sync::OnceLock::new();

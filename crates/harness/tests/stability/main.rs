@@ -67,11 +67,7 @@ pub fn gpu() -> Option<&'static GpuContext> {
 
 /// The CPU backend, and the GPU one when there is an adapter.
 pub fn backends() -> Vec<Backend> {
-    let mut b = vec![Backend::Cpu];
-    if gpu().is_some() {
-        b.push(Backend::Gpu);
-    }
-    b
+    common::backends(gpu())
 }
 
 /// `spec` itself when `t` models its light, else `spec` under the nearest light `t` models.

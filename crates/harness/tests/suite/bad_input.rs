@@ -4,7 +4,7 @@ use crate::common::context;
 use crate::common::gpu_for_test;
 use glam::Vec3;
 use shadow_maps::{Filter, ShadowMapBaseline};
-use soft_shadow_core::{Backend, DynTechnique, Light, ShadowError};
+use soft_shadow_core::{DynTechnique, Light, ShadowError};
 use soft_shadow_reference::scenes::catalogue::build;
 
 #[test]
@@ -13,10 +13,7 @@ fn resolution_zero_and_zero_size_light_are_typed_errors() {
     let geo = spec.to_scene().unwrap().geometry();
     let b = ShadowMapBaseline::new(Filter::Pcss);
     let ctx = gpu_for_test("resolution_zero_and_zero_size_light_are_typed_errors");
-    let mut backends = vec![Backend::Cpu];
-    if ctx.is_some() {
-        backends.push(Backend::Gpu);
-    }
+    let backends = crate::common::backends(ctx.as_ref());
     let zero = Light::Rect {
         center: Vec3::Y,
         u_half: Vec3::ZERO,

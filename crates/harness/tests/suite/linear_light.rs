@@ -316,15 +316,9 @@ fn a_receiver_before_every_caster_of_a_cube_face_reads_lit() {
         })
         .collect();
     let normals = vec![Vec3::Y; positions.len()];
-    let recv = Recv {
-        positions: &positions,
-        normals: &normals,
-    };
+    let recv = Recv::new(&positions, &normals);
     let gpu = gpu_for_test("a_receiver_before_every_caster_of_a_cube_face_reads_lit");
-    let mut backends = vec![soft_shadow_core::Backend::Cpu];
-    if gpu.is_some() {
-        backends.push(soft_shadow_core::Backend::Gpu);
-    }
+    let backends = crate::common::backends(gpu.as_ref());
     for be in backends {
         let ctx = crate::common::context(be, gpu.as_ref());
         for t in LinearLight::standard_set() {

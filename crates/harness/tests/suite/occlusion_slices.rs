@@ -6,9 +6,7 @@ use crate::common::{Failures, gpu_for_test};
 use glam::Vec3;
 use harness::metrics::rms_255;
 use occlusion_slices::{OcclusionSlices, Prefilter};
-use soft_shadow_core::{
-    Backend, DynTechnique, Light, Receivers as Recv, ShadowTechnique, TechniqueInfo,
-};
+use soft_shadow_core::{DynTechnique, Light, Receivers as Recv, ShadowTechnique, TechniqueInfo};
 use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
 
 /// Section 3.1's closed form for `plane-occluder`: the pyramid from `p` to the square light cut
@@ -52,10 +50,7 @@ fn occlusion_slices_sat_matches_the_closed_form_on_plane_occluder() {
     assert!(penumbra > 500, "only {penumbra} penumbra receivers");
     for slices in [4, 8, 16] {
         let t = OcclusionSlices::new(slices, Prefilter::Sat);
-        let mut backends = vec![Backend::Cpu];
-        if ctx.is_some() {
-            backends.push(Backend::Gpu);
-        }
+        let backends = crate::common::backends(ctx.as_ref());
         for be in backends {
             let maps = t
                 .generate(

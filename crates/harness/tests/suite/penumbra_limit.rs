@@ -4,7 +4,7 @@
 use super::receivers;
 use crate::common::{Failures, gpu_for_test};
 use penumbra_limit::{PenumbraLimit, Storage};
-use soft_shadow_core::{Backend, DynTechnique, Receivers as Recv, ShadowTechnique, TechniqueInfo};
+use soft_shadow_core::{DynTechnique, Receivers as Recv, ShadowTechnique, TechniqueInfo};
 use soft_shadow_reference::scenes::catalogue::{SCENE_NAMES, build};
 
 /// Every variant, every catalogue scene whose light it models, two resolutions: `V` agrees between CPU and GPU ([`crate::common::Agreement`]),
@@ -123,10 +123,7 @@ fn receivers_beside_a_local_light_are_not_wrapped_into_umbra() {
     };
     let gpu = gpu_for_test("receivers_beside_a_local_light_are_not_wrapped_into_umbra");
     for t in PenumbraLimit::standard_set() {
-        let mut backends = vec![Backend::Cpu];
-        if gpu.is_some() {
-            backends.push(Backend::Gpu);
-        }
+        let backends = crate::common::backends(gpu.as_ref());
         for be in backends {
             let maps = t
                 .generate(
@@ -171,10 +168,7 @@ fn eight_bit_maps_in_a_rooms_cube_faces_keep_to_f32s() {
     let max = e0.iter().copied().fold(0.0f32, f32::max);
     let weights: Vec<f32> = e0.iter().map(|e| e / max).collect();
     let gpu = gpu_for_test("eight_bit_maps_in_a_rooms_cube_faces_keep_to_f32s");
-    let mut backends = vec![Backend::Cpu];
-    if gpu.is_some() {
-        backends.push(Backend::Gpu);
-    }
+    let backends = crate::common::backends(gpu.as_ref());
     for be in backends {
         let ctx = crate::common::context(be, gpu.as_ref());
         for g in [Generator::Silhouette, Generator::DepthImage] {
