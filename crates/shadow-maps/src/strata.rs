@@ -4,6 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{UVec2, Vec2, Vec3, Vec4};
+use soft_shadow_core::light_space::map_sample_depth;
 use soft_shadow_core::{Light, LightPoint, SampleView};
 
 /// Where a sample's map is read when the sample moves across its cell (see
@@ -43,20 +44,38 @@ const NODES: [(f32, f32); 8] = [
 ];
 
 /// Every view's [`Stratum`] for `light` sampled as seen from `receiver` (the views' coverage
-/// centre, as [`soft_shadow_core::light_space::sample_views`] samples it).
+/// centre, as [`soft_shadow_core::light_space::sample_views`] samples it). A sample moves over
+/// the points [`Light::sample`] maps its cell to, or, where `sample_views` put it inside a
+/// sphere's ball (a cube face's samples), over those [`Light::map_sample`] maps it to at the
+/// sample's own third coordinate, so that it stays in the ball.
 pub(crate) fn texel_strata(
     light: &Light,
     receiver: Vec3,
     views: &[SampleView],
     resolution: u32,
 ) -> Vec<Stratum> {
-    let point = |u: Vec2| match light.sample(u, receiver).0 {
+    let position = |q: LightPoint| match q {
         LightPoint::Position(p) => p,
         LightPoint::Direction(d) => d.normalize(),
     };
     views
         .iter()
-        .map(|v| {
+        .enumerate()
+        .map(|(k, v)| {
+            // `sample_views` places a cube face's samples with `map_sample`, the others with
+            // `sample`, from the same arguments and by the same code, so the view's eye is
+            // bit for bit the point of the one that placed it.
+            let [centre, size] = v.cell;
+            let depth = map_sample_depth(k as u32);
+            let in_ball = v.light.w == 1.0
+                && position(light.map_sample(centre, depth, receiver).0) == v.light.truncate();
+            let point = |u: Vec2| {
+                position(if in_ball {
+                    light.map_sample(u, depth, receiver).0
+                } else {
+                    light.sample(u, receiver).0
+                })
+            };
             let m = v.params(resolution);
             let forward = Vec4::from(m.depth_row).truncate();
             let st = |q: Vec3| m.project(q).map_or(Vec2::ZERO, |s| s.truncate());
@@ -81,7 +100,6 @@ pub(crate) fn texel_strata(
                     )
                 }
             };
-            let [centre, size] = v.cell;
             let mut out = Stratum::default();
             if m.ortho == 0 {
                 let c = st(ahead);
@@ -89,11 +107,11 @@ pub(crate) fn texel_strata(
             }
             if size != Vec2::ZERO {
                 let origin = point(centre);
-                for (k, (i, j)) in NODES.into_iter().enumerate() {
+                for (n, (i, j)) in NODES.into_iter().enumerate() {
                     let (shift, along) = moves(point(centre + Vec2::new(i, j) * size) - origin);
-                    out.shifts[k / 2][2 * (k % 2)] = shift.x;
-                    out.shifts[k / 2][2 * (k % 2) + 1] = shift.y;
-                    out.along[k / 4][k % 4] = along;
+                    out.shifts[n / 2][2 * (n % 2)] = shift.x;
+                    out.shifts[n / 2][2 * (n % 2) + 1] = shift.y;
+                    out.along[n / 4][n % 4] = along;
                 }
             }
             out

@@ -1,18 +1,21 @@
 //! A sphere lamp's penumbrae keep their width off its views' axes: a sphere shows every receiver
 //! its whole disc, while a map's kernel models the disc facing along the view's axis, which a
-//! receiver off that axis sees foreshortened (`soft_shadow_core::light_space::sphere_spread`).
-//! On `room-lamp-corner` (a sphere lamp among furniture, its shadows in five cube faces at up to
-//! 57 degrees off a face's axis), the defaults of penumbra-limit and occlusion-slices, whose
-//! kernels take the light's size, read the penumbrae 35 degrees and more off a face's axis at
-//! most [`OFF_AXIS_SHARPER`] sharper than those near its axis, against the reference, CPU and
-//! GPU.
+//! receiver off that axis sees foreshortened (`soft_shadow_core::light_space::sphere_spread`),
+//! and accumulation's samples on that disc show it foreshortened too
+//! (`soft_shadow_core::Light::map_sample`). On `room-lamp-corner` (a sphere lamp among
+//! furniture, its shadows in five cube faces at up to 57 degrees off a face's axis), every
+//! technique's default that models a sphere reads the penumbrae 35 degrees and more off a face's
+//! axis at most [`OFF_AXIS_SHARPER`] sharper than those near its axis, against the reference,
+//! CPU and GPU ([`EXCUSED`] names the one let off).
 //!
 //! The measure is how much too sharp a penumbra reads: the mean over the reference's penumbra
 //! receivers of `(V - V_ref)` signed towards 1/2 (positive: the lit half too light and the dark
 //! half too dark), near the axes (cosine above 0.95) and off them (below 0.82). Measured at 512²
 //! over a 128² G-buffer, CPU and lavapipe alike: penumbra-limit +4.3 near and +6.2 off,
 //! occlusion-slices +8.8 and +13.4 (its square kernel of the ellipse's area is still narrower
-//! than the ellipse across it); before the spread +5.0 and +11.9, +9.5 and +17.5.
+//! than the ellipse across it), 16-sample accumulation +3.8 and +1.3 (before its samples lay in
+//! the ball, +3.1 and +14.3), shadow-width +36.5 and +35.0 (inner penumbrae only), the hard
+//! map +54.3 and +52.9, PCF +33.7 and +32.6; before the spread +5.0 and +11.9, +9.5 and +17.5.
 
 use super::backends;
 use harness::setup::PreparedScene;
@@ -22,6 +25,20 @@ use soft_shadow_reference::scenes::catalogue::build;
 
 /// How much sharper (1/255) the penumbrae off the faces' axes may read than those near them.
 const OFF_AXIS_SHARPER: f64 = 5.5;
+
+/// `(technique, worst, why)`: defaults let off, with the measured reason; each may read its
+/// penumbrae off the axes at most `worst` sharper than near them (1/255: what it read when the
+/// excuse was written, plus 0.5), and fails where it no longer needs the excuse.
+const EXCUSED: &[(&str, f64, &str)] = &[(
+    "pcss",
+    15.3,
+    "PCSS as engines ship it: its blocker average reads every penumbra too wide (-19.9/255 near \
+     the axes, -5.1 off them). Widening its kernels off the axes by the sphere's spread, as \
+     penumbra-limit, occlusion-slices and shadow-width do, took off-axis to -12.4 (near -20.6, \
+     still over the bound) and made its image error worse (room-lamp 2048² 0.405 to 0.444, \
+     room-lamp-corner 0.456 to 0.478): the blocker average's bias, which depends on where the \
+     blockers lie, is what varies across the faces, not the views' foreshortening",
+)];
 
 #[test]
 fn a_sphere_lamps_penumbrae_keep_their_width_off_its_views_axes() {
@@ -47,8 +64,12 @@ fn a_sphere_lamps_penumbrae_keep_their_width_off_its_views_axes() {
         .collect();
     let registry = soft_shadow_techniques::registry();
     let mut failures = Vec::new();
-    for family in ["penumbra-limit", "occlusion-slices"] {
-        let t = registry.family(family).unwrap().default_variant().clone();
+    for family in registry.families() {
+        let t = family.default_variant().clone();
+        if !t.models(soft_shadow_core::LightKind::Sphere) {
+            continue;
+        }
+        let family = family.name();
         for backend in backends() {
             let ctx = match backend {
                 Backend::Cpu => Context::Cpu(super::common::cpu()),
@@ -74,9 +95,15 @@ fn a_sphere_lamps_penumbrae_keep_their_width_off_its_views_axes() {
             let (near, off) = (sharper(0.95..1.01), sharper(0.0..0.82));
             let what = format!("{family} {} {backend:?}", t.variant());
             println!("{what}: sharper near the axes {near:.2}, off them {off:.2}");
-            if off > near + OFF_AXIS_SHARPER {
+            let excuse = EXCUSED.iter().find(|(name, ..)| *name == family);
+            let bound = excuse.map_or(OFF_AXIS_SHARPER, |(_, worst, _)| *worst);
+            if off > near + bound {
                 failures.push(format!(
                     "{what}: penumbrae off the faces' axes {off:.2}/255 too sharp, near them {near:.2}"
+                ));
+            } else if excuse.is_some() && off <= near + OFF_AXIS_SHARPER {
+                failures.push(format!(
+                    "{what}: off the axes {off:.2}, near them {near:.2}: its excuse is no longer needed"
                 ));
             }
         }
