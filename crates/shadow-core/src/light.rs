@@ -593,16 +593,17 @@ impl Light {
     /// Every light but a sphere gives [`sample`](Self::sample)'s point and ignores `s`. A sphere
     /// shows each receiver its whole silhouette disc, facing that receiver, so points on the
     /// disc facing `toward` show a receiver seen at an angle from it that disc foreshortened by
-    /// the angle's cosine: a penumbra too sharp across it (a room lamp's, 35 degrees and more off
-    /// a cube face's axis, read +14/255 too sharp with 16 samples, +3 near the axis). Here a
-    /// sphere's sample lies inside the ball instead: the disc point `d = concentric_disk(u)`
-    /// (within the unit disc) lifted along the axis to `toward` by
-    /// `sqrt(1 - |d|²) sin(pi (s - 1/2))`, all times the radius, about the centre. Over
+    /// the angle's cosine: a penumbra too sharp across it (a room lamp's, 35 degrees and more
+    /// off a cube face's axis, read +14.3/255 too sharp with 16 samples, +3.1 near the axis; in
+    /// the ball +3.5 and +3.5). Here a sphere's sample lies inside the ball instead: the disc
+    /// point `d = concentric_disk(u)` (within the unit disc) lifted along the axis to `toward`
+    /// by `sqrt(1 - |d|²) sin(pi (s - 1/2))`, all times the radius, about the centre. Over
     /// uniform `u` and `s` that is the ball with density proportional to `1 / sqrt(1 - r²)`,
     /// whose projection along any direction is the uniform disc (its chord integral, an Abel
-    /// transform, is constant), so every receiver's rays through the samples cross its own
-    /// silhouette disc uniformly (`s = 1/2` keeps the point on the centre's plane). A receiver
-    /// inside the sphere gets the centre.
+    /// transform, is constant), so a receiver's rays through the samples cross its own
+    /// silhouette disc uniformly: exactly from afar, and from a distance `D` within about
+    /// `3 (R / D)²` (a perspective view weighs the rim a little less). `s = 1/2` keeps the point
+    /// on the centre's plane. A receiver inside the sphere gets the centre.
     pub fn map_sample(&self, u: Vec2, s: f32, toward: Vec3) -> (LightPoint, f32) {
         match *self {
             Light::Sphere { center, radius } => {

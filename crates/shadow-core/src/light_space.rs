@@ -123,17 +123,19 @@ impl SampleView {
 /// The views of `count` stratified light samples (1: the light's centre), covering `coverage`,
 /// each with its [`SampleView::cell`], placed for the coverage's centre: at [`Light::sample`] of
 /// each cell's centre, and in a cube face ([`Region::Face`]) at [`Light::map_sample`] of it
-/// and [`map_sample_depth`]`(k)` for the `k`-th, which puts a sphere's samples inside its ball.
+/// and [`map_sample_depth`]`(k, count)` for the `k`-th, which puts a sphere's samples inside
+/// its ball.
 ///
 /// A face's window is a fixed sixth of the directions around the light, whatever it holds, so
-/// its penumbrae lie anywhere out to its seams, 55 degrees off its axis, where the disc facing
-/// the axis is foreshortened to 0.58; a fitted view centres its window on its casters and their
-/// shadows. Measured with the ball's samples (image error against the reference, 128²
-/// G-buffer, 512² and 2048²): in `room-lamp` and `room-lamp-corner` every sample count is
-/// better at both sides (16 samples: `room-lamp-corner` 0.311 to 0.185 and 0.193 to 0.138,
-/// `room-lamp` 0.535 to 0.500 and 0.220 to 0.165), while in one fitted view the few sample
-/// counts lose more to the ball's scatter than the disc loses to foreshortening (`torus` 4
-/// samples 3.52 to 4.40, `teapot-sphere` 16 samples 0.60 to 0.69 at 2048²; 64 samples gain).
+/// its penumbrae lie anywhere out to its seams, up to 57 degrees off its axis, where the disc
+/// facing the axis is foreshortened to 0.55; a fitted view centres its window on its casters
+/// and their shadows. Measured with the ball's samples (image error against the reference,
+/// 128² G-buffer): in `room-lamp` and `room-lamp-corner` the grid's 4, 16 and 64 samples are
+/// better at 512² and 2048² (16 samples: `room-lamp-corner` 0.311 to 0.228 and 0.193 to
+/// 0.146, `room-lamp` 0.535 to 0.478 and 0.220 to 0.210), the rotated 4 worse at 2048² (0.365
+/// to 0.425 on the corner); in one fitted view the few sample counts lost more to the ball's
+/// scatter than the disc loses to foreshortening (`torus`, 4 samples, 3.52 to 4.40 at 2048²;
+/// `teapot-sphere`, 16, 0.60 to 0.69), so fitted views keep the disc.
 pub fn sample_views(light: &Light, coverage: &Coverage, count: u32) -> Vec<SampleView> {
     let center = coverage.center();
     let axis = light.axis(center);
@@ -147,7 +149,7 @@ pub fn sample_views(light: &Light, coverage: &Coverage, count: u32) -> Vec<Sampl
         .enumerate()
         .map(|(k, u)| {
             let (q, w) = if face {
-                light.map_sample(u, map_sample_depth(k as u32), center)
+                light.map_sample(u, map_sample_depth(k as u32, count), center)
             } else {
                 light.sample(u, center)
             };
@@ -159,14 +161,26 @@ pub fn sample_views(light: &Light, coverage: &Coverage, count: u32) -> Vec<Sampl
         .collect()
 }
 
-/// The third coordinate of [`Light::map_sample`] for the `k`-th of [`sample_views`]' samples
-/// in a cube face: `frac(1/2 + k / phi)`, the golden ratio's sequence, which spreads any number
-/// of samples evenly over `[0, 1)` and does not follow the rows or columns of their cells'
-/// grid.
-pub fn map_sample_depth(k: u32) -> f32 {
-    // 1 / phi, in f64 so that large `k` keep their digits.
-    const INV_PHI: f64 = 0.618_033_988_749_894_9;
-    (0.5 + f64::from(k) * INV_PHI).fract() as f32
+/// The third coordinate of [`Light::map_sample`] for the `k`-th of `n` samples of
+/// [`sample_views`] in a cube face: the midpoint of stratum `k m mod n` of `[0, 1)`, `m` the
+/// first integer from `n / phi` up that is coprime with `n`. Every stratum is used once, so
+/// the lifts of a set cancel (up to their cells' weights) and a sphere's samples do not lean
+/// towards either side, and consecutive samples (a row of the cells' grid) step by about
+/// `1 / phi` of the range, so the lifts do not follow the grid's rows or columns.
+pub fn map_sample_depth(k: u32, n: u32) -> f32 {
+    let n = n.max(1);
+    let gcd = |mut a: u32, mut b: u32| {
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        a
+    };
+    // The first multiplier from n / phi up that visits every stratum.
+    let mut m = (f64::from(n) * 0.618_033_988_749_894_9).ceil() as u32;
+    while gcd(m, n) != 1 {
+        m += 1;
+    }
+    ((u64::from(k) * u64::from(m) % u64::from(n)) as f32 + 0.5) / n as f32
 }
 
 /// Half the diagonal of a texel, in texels: how far a receiver can lie from the centre of the

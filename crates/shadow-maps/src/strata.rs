@@ -54,21 +54,13 @@ pub(crate) fn texel_strata(
     views: &[SampleView],
     resolution: u32,
 ) -> Vec<Stratum> {
-    let position = |q: LightPoint| match q {
-        LightPoint::Position(p) => p,
-        LightPoint::Direction(d) => d.normalize(),
-    };
     views
         .iter()
         .enumerate()
         .map(|(k, v)| {
-            // `sample_views` places a cube face's samples with `map_sample`, the others with
-            // `sample`, from the same arguments and by the same code, so the view's eye is
-            // bit for bit the point of the one that placed it.
             let [centre, size] = v.cell;
-            let depth = map_sample_depth(k as u32);
-            let in_ball = v.light.w == 1.0
-                && position(light.map_sample(centre, depth, receiver).0) == v.light.truncate();
+            let depth = map_sample_depth(k as u32, views.len() as u32);
+            let in_ball = placed_in_ball(light, receiver, v, depth);
             let point = |u: Vec2| {
                 position(if in_ball {
                     light.map_sample(u, depth, receiver).0
@@ -119,6 +111,24 @@ pub(crate) fn texel_strata(
         .collect()
 }
 
+/// A light point's position, or its direction's unit vector.
+fn position(q: LightPoint) -> Vec3 {
+    match q {
+        LightPoint::Position(p) => p,
+        LightPoint::Direction(d) => d.normalize(),
+    }
+}
+
+/// Whether [`soft_shadow_core::light_space::sample_views`] placed `v`, the sample whose third
+/// coordinate is `depth`, with [`Light::map_sample`] (a cube face's) rather than
+/// [`Light::sample`], seen from `receiver`: both come from the same arguments by the same
+/// code, so the view's eye is bit for bit the point of the one that placed it. Views passed
+/// out of `sample_views`' order lose it (their samples then move over the disc, not the ball).
+fn placed_in_ball(light: &Light, receiver: Vec3, v: &SampleView, depth: f32) -> bool {
+    v.light.w == 1.0
+        && position(light.map_sample(v.cell[0], depth, receiver).0) == v.light.truncate()
+}
+
 /// The texel change per unit of parallax for the point `cell` (in `[-1/2, 1/2)²`) of a sample's
 /// cell, read by a receiver at texel `st`: the quadratic through the [`Stratum`]'s 3 x 3 points
 /// (`moved` in WGSL, summed in the same order).
@@ -162,4 +172,52 @@ pub(crate) fn cell_point(p: Vec3, k: u32) -> Vec2 {
         (y >> 8).wrapping_add(k.wrapping_mul(9560334)) & 0xff_ffff,
     );
     u.as_vec2() / 16_777_216.0 - Vec2::splat(0.5)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use soft_shadow_core::light_space::sample_views;
+    use soft_shadow_core::{Coverage, Region, SceneGeometry};
+
+    /// A cube face's sphere samples are recognised as the ball's, a fitted view's as the disc's,
+    /// whatever the sample count.
+    #[test]
+    fn a_faces_sphere_samples_are_told_from_a_fitted_views() {
+        let light = Light::Sphere {
+            center: Vec3::new(0.0, 0.75, 0.0),
+            radius: 0.12,
+        };
+        let tri = |c: Vec3| [c, c + Vec3::X * 0.3, c + Vec3::Z * 0.3];
+        let geometry = SceneGeometry::new(
+            vec![
+                tri(Vec3::new(1.0, 0.5, 0.0)),
+                tri(Vec3::new(-1.0, 0.2, 0.4)),
+            ],
+            Vec::new(),
+        );
+        let whole = Coverage::new(&geometry, &light);
+        let face = Coverage::new(&geometry, &light).within(
+            Region::Face {
+                axis: Vec3::X,
+                up: Vec3::Y,
+                half_angle: 50f32.to_radians(),
+            },
+            256,
+        );
+        for n in [4, 16, 64] {
+            for (coverage, in_ball) in [(&whole, false), (&face, true)] {
+                let views = sample_views(&light, coverage, n);
+                for (k, v) in views.iter().enumerate() {
+                    let depth = map_sample_depth(k as u32, n);
+                    assert_eq!(
+                        placed_in_ball(&light, coverage.center(), v, depth),
+                        in_ball,
+                        "{n} samples, sample {k}, {:?}",
+                        coverage.region
+                    );
+                }
+            }
+        }
+    }
 }
