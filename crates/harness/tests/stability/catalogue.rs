@@ -793,7 +793,8 @@ fn the_tests_cover_the_catalogue() {
     let source = include_str!("catalogue.rs");
     for name in SCENE_NAMES {
         assert!(
-            source.contains(&format!("check(\"{name}\")")),
+            source.contains(&format!("check(\"{name}\")"))
+                || source.contains(&format!("check_at(\"{name}\", ")),
             "no test checks {name}"
         );
     }
