@@ -21,6 +21,8 @@ pub struct GpuShadowMaps {
     pub(crate) resolution: u32,
     /// [`soft_shadow_core::Light::size`] of the light.
     pub(crate) light_size: f32,
+    /// Whether PCSS's kernels are discs for the light ([`crate::filters::disc_kernel`]).
+    pub(crate) disc: bool,
     /// Each sample's cell in texels ([`crate::strata::texel_strata`]).
     pub(crate) strata: Vec<Stratum>,
 }
@@ -47,6 +49,7 @@ impl GpuShadowMaps {
             views: views.to_vec(),
             resolution,
             light_size: light.size(),
+            disc: crate::filters::disc_kernel(light),
             strata: texel_strata(light, sample_from, views, resolution),
         })
     }

@@ -232,6 +232,7 @@ impl ShadowTechnique for ShadowMapBaseline {
             maps.views.len() as u32,
             maps.resolution,
             maps.light_size,
+            maps.disc,
         );
         Ok(filters::evaluate_cpu(&params, maps, &receivers))
     }
@@ -277,6 +278,7 @@ impl ShadowTechnique for ShadowMapBaseline {
             maps.views.len() as u32,
             maps.resolution,
             maps.light_size,
+            maps.disc,
         );
         Ok(gpu::bind_maps(gpu, layout, &params, maps))
     }

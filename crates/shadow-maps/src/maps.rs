@@ -15,6 +15,8 @@ pub struct CpuShadowMaps {
     pub(crate) resolution: u32,
     /// [`soft_shadow_core::Light::size`] of the light.
     pub(crate) light_size: f32,
+    /// Whether PCSS's kernels are discs for the light ([`crate::filters::disc_kernel`]).
+    pub(crate) disc: bool,
     /// Each sample's cell in texels ([`crate::strata::texel_strata`]).
     pub(crate) strata: Vec<Stratum>,
 }
@@ -39,6 +41,7 @@ impl CpuShadowMaps {
             views: views.to_vec(),
             resolution,
             light_size: light.size(),
+            disc: crate::filters::disc_kernel(light),
             strata: texel_strata(light, sample_from, views, resolution),
         }
     }

@@ -12,7 +12,7 @@ struct Params {
     light_size: f32,
     search_max: f32,
     filter_max: f32,
-    _pad_a: f32,
+    disc: u32,
     bias: Bias,
 };
 
@@ -59,6 +59,12 @@ fn cone_radius(m: MapView, l: f32, z_block: f32, z_recv: f32) -> f32 {
     return world / (m.texel_a * z_block * z_recv);
 }
 
+// Whether PCSS keeps the tap (i, j) of a grid of half-side n (`filters.rs` `pcss_tap`): every
+// tap of the square, or where `prm.disc` those within its inscribed circle.
+fn pcss_tap(i: i32, j: i32, n: i32) -> bool {
+    return prm.disc == 0u || i * i + j * j <= n * n;
+}
+
 fn pcss(m: MapView, c: Coord) -> f32 {
     let z = c.z;
     let search = clamp(cone_radius(m, prm.light_size, m.near, z), 1.0, prm.search_max);
@@ -66,6 +72,9 @@ fn pcss(m: MapView, c: Coord) -> f32 {
     var count = 0.0;
     for (var j = -3; j <= 3; j++) {
         for (var i = -3; i <= 3; i++) {
+            if !pcss_tap(i, j, 3) {
+                continue;
+            }
             let off = vec2<f32>(f32(i), f32(j)) * (search / 3.0);
             let t = tap(m, 0u, c, off);
             if t.x < t.y {
@@ -80,12 +89,17 @@ fn pcss(m: MapView, c: Coord) -> f32 {
     let blocker = sum / count;
     let radius = clamp(cone_radius(m, prm.light_size, blocker, z), 0.5, prm.filter_max);
     var s = 0.0;
+    var taps = 0.0;
     for (var j = -4; j <= 4; j++) {
         for (var i = -4; i <= 4; i++) {
+            if !pcss_tap(i, j, 4) {
+                continue;
+            }
             s += lit(m, 0u, c, vec2<f32>(f32(i), f32(j)) * (radius / 4.0));
+            taps += 1.0;
         }
     }
-    return s / 81.0;
+    return s / taps;
 }
 
 fn parallax(m: MapView, z_block: f32, z_recv: f32) -> f32 {

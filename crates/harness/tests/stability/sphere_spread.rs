@@ -32,12 +32,10 @@ const OFF_AXIS_SHARPER: f64 = 5.5;
 const EXCUSED: &[(&str, f64, &str)] = &[(
     "pcss",
     15.3,
-    "PCSS as engines ship it: its blocker average reads every penumbra too wide (-19.9/255 near \
-     the axes, -5.1 off them). Widening its kernels off the axes by the sphere's spread, as \
-     penumbra-limit, occlusion-slices and shadow-width do, took off-axis to -12.4 (near -20.6, \
-     still over the bound) and made its image error worse (room-lamp 2048² 0.405 to 0.444, \
-     room-lamp-corner 0.456 to 0.478): the blocker average's bias, which depends on where the \
-     blockers lie, is what varies across the faces, not the views' foreshortening",
+    "PCSS as engines ship it: its disc kernels take the light's size in the map's plane, the disc \
+     facing the face's axis, which a receiver off the axis sees foreshortened (near the axes \
+     -3.8/255, off them +10.6; with square kernels, which read every penumbra too wide, -19.9 \
+     and -5.1)",
 )];
 
 #[test]
