@@ -164,6 +164,21 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
     Vec2::new(r * phi.cos(), r * phi.sin())
 }
 
+/// The silhouette disc of the sphere `(center, radius)` seen from `p`: its centre, its unit
+/// normal towards the sphere's centre and its radius; `None` where `p` lies inside the sphere
+/// (within 1e-4 of its radius).
+fn silhouette(center: Vec3, radius: f32, p: Vec3) -> Option<(Vec3, Vec3, f32)> {
+    let to_center = center - p;
+    let dist = to_center.length();
+    if dist <= radius * 1.0001 {
+        return None;
+    }
+    let w = to_center / dist;
+    let disc_center = center - w * (radius * radius / dist);
+    let disc_radius = radius * (1.0 - (radius / dist).powi(2)).max(0.0).sqrt();
+    Some((disc_center, w, disc_radius))
+}
+
 fn check_finite(what: &str, v: Vec3) -> Result<()> {
     if v.is_finite() {
         Ok(())
@@ -411,17 +426,10 @@ impl Light {
                 normal,
                 radius,
             } => disc(center, normal.normalize(), radius) > 0.0,
-            Light::Sphere { center, radius } => {
-                let to_center = center - p;
-                let dist = to_center.length();
-                if dist <= radius * 1.0001 {
-                    return n.dot(to_center) > 0.0;
-                }
-                let w = to_center / dist;
-                let disc_center = center - w * (radius * radius / dist);
-                let disc_radius = radius * (1.0 - (radius / dist).powi(2)).max(0.0).sqrt();
-                disc(disc_center, w, disc_radius) > 0.0
-            }
+            Light::Sphere { center, radius } => match silhouette(center, radius, p) {
+                Some((disc_center, w, disc_radius)) => disc(disc_center, w, disc_radius) > 0.0,
+                None => n.dot(center - p) > 0.0,
+            },
             Light::Distant {
                 direction,
                 angular_diameter,
@@ -470,17 +478,10 @@ impl Light {
                 normal,
                 radius,
             } => pos(octagon(center, normal.normalize(), radius)),
-            Light::Sphere { center, radius } => {
-                let to_center = center - p;
-                let dist = to_center.length();
-                if dist <= radius * 1.0001 {
-                    return vec![LightPoint::Position(center)];
-                }
-                let w = to_center / dist;
-                let disc_center = center - w * (radius * radius / dist);
-                let disc_radius = radius * (1.0 - (radius / dist).powi(2)).max(0.0).sqrt();
-                pos(octagon(disc_center, w, disc_radius))
-            }
+            Light::Sphere { center, radius } => match silhouette(center, radius, p) {
+                Some((disc_center, w, disc_radius)) => pos(octagon(disc_center, w, disc_radius)),
+                None => vec![LightPoint::Position(center)],
+            },
             Light::Distant {
                 direction,
                 angular_diameter,
@@ -544,14 +545,10 @@ impl Light {
                 (LightPoint::Position(center + d.x * t + d.y * b), 1.0)
             }
             Light::Sphere { center, radius } => {
-                let to_center = center - receiver;
-                let dist = to_center.length();
-                if dist <= radius * 1.0001 {
+                let Some((disc_center, w, disc_radius)) = silhouette(center, radius, receiver)
+                else {
                     return (LightPoint::Position(center), 1.0);
-                }
-                let w = to_center / dist;
-                let disc_center = center - w * (radius * radius / dist);
-                let disc_radius = radius * (1.0 - (radius / dist).powi(2)).max(0.0).sqrt();
+                };
                 let (t, b) = orthonormal_basis(w);
                 let d = concentric_disk(u) * disc_radius;
                 (LightPoint::Position(disc_center + d.x * t + d.y * b), 1.0)
@@ -607,12 +604,9 @@ impl Light {
     pub fn map_sample(&self, u: Vec2, s: f32, toward: Vec3) -> (LightPoint, f32) {
         match *self {
             Light::Sphere { center, radius } => {
-                let to_center = center - toward;
-                let dist = to_center.length();
-                if dist <= radius * 1.0001 {
+                let Some((_, w, _)) = silhouette(center, radius, toward) else {
                     return (LightPoint::Position(center), 1.0);
-                }
-                let w = to_center / dist;
+                };
                 let (t, b) = orthonormal_basis(w);
                 let d = concentric_disk(u);
                 let lift = (1.0 - d.length_squared()).max(0.0).sqrt()
