@@ -189,8 +189,8 @@ fn visibility(
 /// Whether PCSS's search and filter for `light` are discs rather than squares: where the light
 /// is a disc (a disk, a sphere's silhouette, the sun) or a triangle, whose size
 /// ([`Light::size`]) is the disc of its area. The disc's taps are the grid's within its
-/// inscribed circle ([`in_disc`]), as engines sample discs (Poisson or spiral), and over a
-/// straight edge they draw the disc's share beyond each chord: a quarter of the penumbra 0.016
+/// inscribed circle ([`pcss_tap`]), as engines sample discs (Poisson or spiral), and over a
+/// straight edge they draw the disc's share beyond each chord: an eighth of the penumbra 0.016
 /// off that closed form, where the 9 x 9 square's straight ramp, over 1.125 times the radius
 /// each side, was 0.086 off. A rectangle keeps the square (its own shape): the disc of its
 /// area measured worse there (`plane-occluder` 2048² image error 3.01 -> 3.57), as did a
@@ -257,7 +257,7 @@ pub(crate) fn evaluate_cpu(prm: &EvalParams, maps: &CpuShadowMaps, r: &Receivers
 mod tests {
     use super::*;
 
-    /// PCSS's discs hold the 29 and 49 taps `visibility.wgsl`'s comment names, their areas in
+    /// PCSS's discs hold 29 and 49 taps (as `visibility.wgsl`'s `pcss_tap` keeps them), their areas in
     /// taps (9 pi and 16 pi) to within 3%; its squares the 49 and 81.
     #[test]
     fn pcss_kernels_hold_their_areas_in_taps() {

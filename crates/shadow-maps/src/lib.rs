@@ -33,7 +33,8 @@ pub enum Filter {
         /// Kernel radius in texels.
         radius: u32,
     },
-    /// Percentage-closer soft shadows: 7x7 blocker search, 9x9 variable PCF.
+    /// Percentage-closer soft shadows: a 7x7 blocker search and a 9x9 variable PCF, each kept
+    /// to its grid's inscribed disc for a light that is a disc or a triangle (29 and 49 taps).
     Pcss,
     /// Average of `samples` hard shadow maps from stratified light samples.
     Accumulate {

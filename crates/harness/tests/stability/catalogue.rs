@@ -37,10 +37,10 @@ const SIZE: u32 = 48;
 /// G-buffer side of the receivers of a deep scene (`street-sun`: receivers from 2 to 400 m, the
 /// sun's penumbrae a centimetre wide): at [`SIZE`] its reference holds 17 penumbra receivers,
 /// and the three or four of them a technique's texels round the other way than the hard map's
-/// decided the scene (penumbra-limit at 256², 13.9 against the hard map's 12.6 in image error,
-/// where at 96² and 192² it is 1.3-1.4 better; PCF and penumbra-limit at 16², shadow-width at
-/// 256², each let off before); at this side it holds 64, and the street's test takes 4.8 s
-/// more on 2 cores.
+/// decided the scene (penumbra-limit at 256², 13.9-14.7 against the hard map's 12.6 in image
+/// error, where it is better at 96², 11.7-12.4 against 13.1, and at 192², 11.0-11.7 against
+/// 12.4; PCF and penumbra-limit at 16², shadow-width at 256², each let off before); at this
+/// side it holds 64, and the street's test takes 3.3 s more on 2 cores.
 const DEEP_SIZE: u32 = 96;
 
 /// Error (1/255) a configuration may add over the hard shadow map's, in either metric.
