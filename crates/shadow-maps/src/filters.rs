@@ -44,14 +44,13 @@ pub(crate) struct EvalParams {
 }
 
 impl EvalParams {
-    /// Parameters of `b` for `map_count` maps of side `resolution` and a light of `light_size`,
-    /// whose PCSS kernels are discs where `disc` ([`disc_kernel`]).
+    /// Parameters of `b` for `map_count` maps of side `resolution` of `light` (its
+    /// [`Light::size`] and [`disc_kernel`]).
     pub(crate) fn new(
         b: &ShadowMapBaseline,
         map_count: u32,
         resolution: u32,
-        light_size: f32,
-        disc: bool,
+        light: &Light,
     ) -> Self {
         let side = resolution as f32;
         let (mode, radius) = match b.filter {
@@ -65,10 +64,10 @@ impl EvalParams {
             mode,
             rotated: (b.pattern == SamplePattern::Rotated) as u32,
             pcf_radius: radius,
-            light_size,
+            light_size: light.size(),
             search_max: (PCSS_SEARCH_MAX * side).max(16.0),
             filter_max: (PCSS_FILTER_MAX * side).max(32.0),
-            disc: disc as u32,
+            disc: disc_kernel(light) as u32,
             bias: b.bias,
         }
     }

@@ -228,13 +228,8 @@ impl ShadowTechnique for ShadowMapBaseline {
         maps: &CpuShadowMaps,
         receivers: Checked<Receivers<'_>>,
     ) -> Result<Vec<f32>> {
-        let params = filters::EvalParams::new(
-            self,
-            maps.views.len() as u32,
-            maps.resolution,
-            maps.light_size,
-            maps.disc,
-        );
+        let params =
+            filters::EvalParams::new(self, maps.views.len() as u32, maps.resolution, &maps.light);
         Ok(filters::evaluate_cpu(&params, maps, &receivers))
     }
 
@@ -274,13 +269,8 @@ impl ShadowTechnique for ShadowMapBaseline {
         layout: &wgpu::BindGroupLayout,
         maps: &gpu::GpuShadowMaps,
     ) -> Result<wgpu::BindGroup> {
-        let params = filters::EvalParams::new(
-            self,
-            maps.views.len() as u32,
-            maps.resolution,
-            maps.light_size,
-            maps.disc,
-        );
+        let params =
+            filters::EvalParams::new(self, maps.views.len() as u32, maps.resolution, &maps.light);
         Ok(gpu::bind_maps(gpu, layout, &params, maps))
     }
 }

@@ -13,10 +13,8 @@ pub struct CpuShadowMaps {
     pub(crate) views: Vec<SampleView>,
     /// Map side.
     pub(crate) resolution: u32,
-    /// [`soft_shadow_core::Light::size`] of the light.
-    pub(crate) light_size: f32,
-    /// Whether PCSS's kernels are discs for the light ([`crate::filters::disc_kernel`]).
-    pub(crate) disc: bool,
+    /// The light the maps are of (its size and shape set PCSS's kernels).
+    pub(crate) light: Light,
     /// Each sample's cell in texels ([`crate::strata::texel_strata`]).
     pub(crate) strata: Vec<Stratum>,
 }
@@ -40,8 +38,7 @@ impl CpuShadowMaps {
             maps,
             views: views.to_vec(),
             resolution,
-            light_size: light.size(),
-            disc: crate::filters::disc_kernel(light),
+            light: *light,
             strata: texel_strata(light, sample_from, views, resolution),
         }
     }
