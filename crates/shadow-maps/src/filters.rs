@@ -256,8 +256,8 @@ pub(crate) fn evaluate_cpu(prm: &EvalParams, maps: &CpuShadowMaps, r: &Receivers
 mod tests {
     use super::*;
 
-    /// PCSS's discs hold 29 and 49 taps (as `visibility.wgsl`'s `pcss_tap` keeps them), their areas in
-    /// taps (9 pi and 16 pi) to within 3%; its squares the 49 and 81.
+    /// PCSS's discs hold 29 and 49 taps (as `visibility.wgsl`'s `pcss_tap` keeps them), their
+    /// areas in taps (9 pi and 16 pi) to within 3%; its squares the 49 and 81.
     #[test]
     fn pcss_kernels_hold_their_areas_in_taps() {
         let count = |n: i32, disc: u32| {
