@@ -126,19 +126,24 @@ const ROWS: usize = 48;
 /// a step of 16 samples' grid (a quarter of it).
 const BIN: usize = 12;
 
-/// The largest error of a bin's mean `V` against the bin's mean closed form, and the rms error
-/// over every receiver.
-fn errors(v: &[f32], positions: &[Vec3], exact: fn(f32) -> f32) -> (f32, f32) {
-    let per_bin = BIN * ROWS;
-    let worst = v
-        .chunks(per_bin)
+/// The largest error of a bin's mean `V` against the bin's mean closed form, bins of `columns`
+/// whole columns of [`ground`]'s receivers.
+fn worst_bin(v: &[f32], positions: &[Vec3], exact: fn(f32) -> f32, columns: usize) -> f32 {
+    let per_bin = columns * ROWS;
+    v.chunks(per_bin)
         .zip(positions.chunks(per_bin))
         .map(|(v, p)| {
             let mean = v.iter().sum::<f32>() / v.len() as f32;
             let want = p.iter().map(|p| exact(p.x)).sum::<f32>() / p.len() as f32;
             (mean - want).abs()
         })
-        .fold(0.0, f32::max);
+        .fold(0.0, f32::max)
+}
+
+/// The largest error of a bin's mean `V` against the bin's mean closed form ([`BIN`] columns a
+/// bin), and the rms error over every receiver.
+fn errors(v: &[f32], positions: &[Vec3], exact: fn(f32) -> f32) -> (f32, f32) {
+    let worst = worst_bin(v, positions, exact, BIN);
     let rms = (v
         .iter()
         .zip(positions)
@@ -271,16 +276,7 @@ fn pcss_draws_a_disc_lights_penumbra_over_a_straight_edge() {
     }
     for (backend, v) in runs {
         // Bins of 4 x BIN columns: 10 across the band, each an eighth of the penumbra.
-        let per_bin = 4 * BIN * ROWS;
-        let worst = v
-            .chunks(per_bin)
-            .zip(positions.chunks(per_bin))
-            .map(|(v, p)| {
-                let mean = v.iter().sum::<f32>() / v.len() as f32;
-                let want = p.iter().map(|p| (case.exact)(p.x)).sum::<f32>() / p.len() as f32;
-                (mean - want).abs()
-            })
-            .fold(0.0, f32::max);
+        let worst = worst_bin(&v, &positions, case.exact, 4 * BIN);
         eprintln!("pcss {backend}: worst bin {worst:.4}");
         assert!(
             worst <= PCSS_DISC_BIN,
