@@ -713,8 +713,10 @@ trait ErasedMaps: Send + Sync {
 }
 
 struct CpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::CpuMaps>);
+/// GPU maps with their technique, and their bind groups once a frame has recorded `V` from them
+/// (made again after the maps change).
 #[cfg(feature = "gpu")]
-struct GpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::GpuMaps>);
+struct GpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::GpuMaps>, std::sync::OnceLock<MapsBinding>);
 
 #[cfg(feature = "gpu")]
 fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
@@ -798,6 +800,8 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
         resolution: u32,
         indices: &[usize],
     ) -> Result<()> {
+        // The bind groups hold the maps and views it replaces: the next frame binds anew.
+        self.2 = std::sync::OnceLock::new();
         let Context::Gpu(gpu) = ctx else {
             return remade(&mut self.1, planned, indices, |_| {
                 Err(ShadowError::MapsMismatch(
@@ -806,7 +810,7 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
             })
             .map(drop);
         };
-        let Self(t, maps) = self;
+        let Self(t, maps, _) = self;
         let replaced = remade(maps, planned, indices, |views| {
             let scene = GpuScene::new(gpu, geometry)?;
             t.generate_gpu_on(gpu, &scene, light, views, resolution)
@@ -825,13 +829,20 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
         enc: &mut wgpu::CommandEncoder,
         target: &ReceiverTextures,
     ) -> Result<()> {
-        let binding = self.0.maps_bind_group(gpu, &self.1)?;
-        self.0.record_visibility(gpu, enc, &binding, target);
+        let binding = match self.2.get() {
+            Some(b) => b,
+            None => {
+                // Two threads recording at once both make it; either serves.
+                let _ = self.2.set(self.0.maps_bind_group(gpu, &self.1)?);
+                self.2.get().expect("set above")
+            }
+        };
+        self.0.record_visibility(gpu, enc, binding, target);
         Ok(())
     }
     fn recycle(self: Box<Self>, gpu: Option<&GpuContext>) {
         if let Some(gpu) = gpu {
-            let Self(t, maps) = *self;
+            let Self(t, maps, _) = *self;
             t.recycle_gpu(gpu, maps);
         }
     }
@@ -997,6 +1008,7 @@ impl<T: ShadowTechnique> DynTechnique for T {
         Ok(AnyMaps(Box::new(GpuMapsOf(
             self.clone(),
             ShadowTechnique::generate_gpu_on(self, gpu, scene, light, views, resolution)?,
+            std::sync::OnceLock::new(),
         ))))
     }
     #[cfg(feature = "gpu")]

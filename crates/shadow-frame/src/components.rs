@@ -269,6 +269,16 @@ impl FrameBackend {
         }
     }
 
+    /// Gives maps a light no longer reads back to the pool of the context that made them, for
+    /// the next generation of any light on this thread (GPU maps to this backend's GPU
+    /// context's, where it has one; CPU maps are dropped, their storage going back to the CPU
+    /// pool).
+    pub(crate) fn retire(&self, maps: Option<AnyMaps>) {
+        if let Some(maps) = maps {
+            maps.recycle(self.gpu.as_deref());
+        }
+    }
+
     /// The context a generation runs in: the CPU's, or the GPU's (an error naming the missing
     /// context when the GPU backend has none).
     pub fn context(&self) -> Result<Context<'_>, String> {

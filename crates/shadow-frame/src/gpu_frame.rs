@@ -104,6 +104,12 @@ pub fn record_visibility(
         }
     }
     let ones = world.get_resource::<Ones>().map(|o| o.buffer.clone());
+    if world
+        .get_resource::<LayerViews>()
+        .is_none_or(|v| v.texture != *texture)
+    {
+        world.insert_resource(LayerViews::new(texture));
+    }
     // Where a `GpuTiming` asks for it, every light's `V` passes write timestamps, resolved
     // after the last of them.
     let mut timing = world.remove_resource::<GpuTiming>();
@@ -157,18 +163,12 @@ fn record_layers(
 ) -> Result<usize> {
     let texture = targets.visibility;
     let size = (texture.width(), texture.height());
+    let layer_views = world.resource::<LayerViews>().views.clone();
     let mut query = world.query::<(Entity, &VisibilityLayer, &LightState)>();
     let mut recorded = 0;
     for (light, layer, state) in query.iter(world) {
         let usable = state.maps.as_ref().filter(|_| state.error.is_none());
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("light visibility layer"),
-            dimension: Some(wgpu::TextureViewDimension::D2),
-            base_array_layer: layer.0,
-            array_layer_count: Some(1),
-            mip_level_count: Some(1),
-            ..Default::default()
-        });
+        let view = &layer_views[layer.0 as usize];
         match usable {
             Some(maps) => {
                 let mut work = || {
@@ -178,7 +178,7 @@ fn record_layers(
                         &ReceiverTextures {
                             positions: targets.positions,
                             normals: targets.normals,
-                            visibility: &view,
+                            visibility: view,
                             size,
                         },
                     )
@@ -196,6 +196,38 @@ fn record_layers(
         recorded += 1;
     }
     Ok(recorded)
+}
+
+/// A view of every layer of the visibility texture, kept in the world between frames: a frame
+/// over the same texture makes none (and the maps' bind group of the receivers, which these
+/// views are part of, is kept too: [`soft_shadow_core::gpu::visibility::MapsBinding`]).
+#[derive(Resource)]
+struct LayerViews {
+    /// The texture they view.
+    texture: wgpu::Texture,
+    /// Layer `k`'s view at `k`.
+    views: Vec<wgpu::TextureView>,
+}
+
+impl LayerViews {
+    fn new(texture: &wgpu::Texture) -> Self {
+        let views = (0..texture.depth_or_array_layers())
+            .map(|layer| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("light visibility layer"),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    mip_level_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        Self {
+            texture: texture.clone(),
+            views,
+        }
+    }
 }
 
 /// A buffer of `V = 1` texels the size of the visibility texture, its rows padded to the copy

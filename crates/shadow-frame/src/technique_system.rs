@@ -348,7 +348,7 @@ pub(crate) fn run_technique_timed(
                 Ok(None) => planned = Some((g, views)),
                 Err(e) => {
                     state.error = Some(e);
-                    state.maps = None;
+                    backend.retire(state.maps.take());
                     continue;
                 }
             }
@@ -385,7 +385,7 @@ pub(crate) fn run_technique_timed(
                 let views = LightViews::plan(&light.0, &g, seen());
                 (g, views)
             });
-            state.maps = None;
+            backend.retire(state.maps.take());
             if g.casters.is_empty() {
                 state.stale = false;
                 // Nothing to cast: no shadow, and no wait it had to say.

@@ -494,7 +494,7 @@ pub fn resolve_techniques(
         match state {
             Some(mut s) => {
                 s.stale = true;
-                s.maps = None;
+                inputs.backend.retire(s.maps.take());
                 // A shared light's error is the budget's to set (it shares again after this).
                 if !shared {
                     s.error = error;

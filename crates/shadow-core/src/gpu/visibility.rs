@@ -23,7 +23,7 @@ use super::shader::{
 use crate::error::Result;
 use crate::receivers::Receivers;
 use crate::views::{LightViews, ViewSelect};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// Workgroup side of `evaluate_texels` (`@workgroup_size(8, 8)`).
 pub const TEXEL_WORKGROUP: u32 = 8;
@@ -76,9 +76,18 @@ pub fn entry_points(technique: &VisibilityShader) -> [(&'static str, [Group; 3])
 /// The bind groups of a light's maps, per view: the technique's maps (what a renderer's own
 /// shader binds to call `visibility()`) and the view's selection (what the evaluation passes
 /// read to add each receiver's share). Made by [`crate::ShadowTechnique::maps_bind_group`].
+///
+/// Keep it while the maps serve: it also keeps the bind group of the last receiver textures
+/// [`crate::ShadowTechnique::record_visibility`] recorded over (and so those views alive until
+/// other views replace them), so a renderer that records over the same G-buffer every frame
+/// makes no bind group, buffer or view after the first.
 pub struct MapsBinding {
     views: Vec<(wgpu::BindGroup, wgpu::BindGroup)>,
+    receivers: Mutex<Option<ReceiverGroup>>,
 }
+
+/// A receiver textures' bind group with the views it binds (positions, normals, visibility).
+type ReceiverGroup = ([wgpu::TextureView; 3], wgpu::BindGroup);
 
 impl MapsBinding {
     /// The maps' bind group of view `index`, laid out as the technique's
@@ -121,6 +130,7 @@ pub(crate) fn binding(
                 (m, g)
             })
             .collect(),
+        receivers: Mutex::new(None),
     }
 }
 
@@ -265,16 +275,31 @@ pub(crate) fn record_texels(
     binding: &MapsBinding,
     target: &ReceiverTextures,
 ) {
-    let recv = bind_group(
-        ctx,
-        "receiver textures",
-        &p.texels_layout,
-        &[
-            wgpu::BindingResource::TextureView(target.positions),
-            wgpu::BindingResource::TextureView(target.normals),
-            wgpu::BindingResource::TextureView(target.visibility),
-        ],
-    );
+    let views = [
+        target.positions.clone(),
+        target.normals.clone(),
+        target.visibility.clone(),
+    ];
+    let recv = {
+        let mut last = binding.receivers.lock().unwrap_or_else(|e| e.into_inner());
+        match last.as_ref() {
+            Some((bound, group)) if *bound == views => group.clone(),
+            _ => {
+                let group = bind_group(
+                    ctx,
+                    "receiver textures",
+                    &p.texels_layout,
+                    &[
+                        wgpu::BindingResource::TextureView(target.positions),
+                        wgpu::BindingResource::TextureView(target.normals),
+                        wgpu::BindingResource::TextureView(target.visibility),
+                    ],
+                );
+                *last = Some((views, group.clone()));
+                group
+            }
+        }
+    };
     let mut pass = ctx.begin_compute_pass(enc, "evaluate texels");
     pass.set_pipeline(&p.texels);
     pass.set_bind_group(1, &recv, &[]);
