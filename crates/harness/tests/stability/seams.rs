@@ -5,8 +5,10 @@
 //! line of receivers 2 mm apart across the seam:
 //!
 //! - **continuous**: the step in `V` between the two receivers either side of the seam, beyond
-//!   the reference's own step there, is at most 2/255 more than the technique's largest such
-//!   step between neighbours on the same line away from the seam (its own texel steps);
+//!   the reference's own step there, is at most 2/255, or for a technique whose own steps
+//!   between neighbours on the same line away from the seam are larger (its texel steps, which
+//!   a cascade's blend band lies over, or a rotated pattern's noise), at most its largest
+//!   such step;
 //! - **accurate**: the rms of `V * 255` on the line is within the technique's usual error: at
 //!   most 1.25 times, plus 1, its error on the same line where the occluder's shadow lies
 //!   inside the views instead of across a seam (the scene turned by 45 degrees about the lamp,
@@ -179,7 +181,10 @@ fn check(
              (inside the views {rms_usual:.2})"
         );
         checked += 1;
-        if at > elsewhere + 2.0 {
+        // No step above 2/255 beyond the reference's own; a technique whose own texel steps
+        // elsewhere on the line are larger (the blend band of cascades lies over several of
+        // them, and a rotated pattern's noise) takes no larger step at the seam.
+        if at > elsewhere.max(2.0) {
             failures.push(format!(
                 "{label}: a step of {at:.2} at the seam, at most {elsewhere:.2} elsewhere"
             ));
