@@ -581,8 +581,8 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     /// Gives every view's textures and buffers back to `gpu`'s pool ([`crate::gpu::pool`]) for
     /// the next generation of the same size: call it once the maps are no longer read (work
     /// already recorded with them still runs first). A renderer that recycles last frame's maps
-    /// before recording the next allocates nothing per frame. Dropping the maps instead frees
-    /// them.
+    /// before recording the next allocates no texture per frame (the new maps' parameter
+    /// buffers and bind groups are small). Dropping the maps instead frees them.
     #[cfg(feature = "gpu")]
     fn recycle_gpu(&self, gpu: &GpuContext, maps: ViewMaps<Self::GpuMaps>) {
         for m in maps.into_maps() {
@@ -713,10 +713,15 @@ trait ErasedMaps: Send + Sync {
 }
 
 struct CpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::CpuMaps>);
-/// GPU maps with their technique, and their bind groups once a frame has recorded `V` from them
-/// (made again after the maps change).
+/// GPU maps with their technique, their bind groups once a frame has recorded `V` from them
+/// (made again after the maps change), and the device that made them.
 #[cfg(feature = "gpu")]
-struct GpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::GpuMaps>, std::sync::OnceLock<MapsBinding>);
+struct GpuMapsOf<T: ShadowTechnique>(
+    T,
+    ViewMaps<T::GpuMaps>,
+    std::sync::OnceLock<MapsBinding>,
+    wgpu::Device,
+);
 
 #[cfg(feature = "gpu")]
 fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
@@ -810,7 +815,7 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
             })
             .map(drop);
         };
-        let Self(t, maps, _) = self;
+        let Self(t, maps, ..) = self;
         let replaced = remade(maps, planned, indices, |views| {
             let scene = GpuScene::new(gpu, geometry)?;
             t.generate_gpu_on(gpu, &scene, light, views, resolution)
@@ -841,8 +846,9 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
         Ok(())
     }
     fn recycle(self: Box<Self>, gpu: Option<&GpuContext>) {
-        if let Some(gpu) = gpu {
-            let Self(t, maps, _) = *self;
+        // Another device's pool could not serve them: they are dropped.
+        if let Some(gpu) = gpu.filter(|g| g.device == self.3) {
+            let Self(t, maps, ..) = *self;
             t.recycle_gpu(gpu, maps);
         }
     }
@@ -904,8 +910,9 @@ impl AnyMaps {
         self.0.record_visibility(gpu, enc, target)
     }
 
-    /// Gives GPU maps back to `gpu`'s pool ([`ShadowTechnique::recycle_gpu`]); CPU maps are
-    /// dropped, their storage going back to the pool of the context that made them.
+    /// Gives GPU maps back to `gpu`'s pool ([`ShadowTechnique::recycle_gpu`]) where `gpu`'s
+    /// device made them (maps of another device are dropped); CPU maps are dropped, their
+    /// storage going back to the pool of the context that made them.
     pub fn recycle(self, gpu: Option<&GpuContext>) {
         self.0.recycle(gpu);
     }
@@ -1009,6 +1016,7 @@ impl<T: ShadowTechnique> DynTechnique for T {
             self.clone(),
             ShadowTechnique::generate_gpu_on(self, gpu, scene, light, views, resolution)?,
             std::sync::OnceLock::new(),
+            gpu.device.clone(),
         ))))
     }
     #[cfg(feature = "gpu")]

@@ -279,7 +279,7 @@ pub fn share_budget(
                         .into(),
                 );
                 state.share = None;
-                inputs.backend.retire(state.maps.take());
+                state.maps = None;
                 commands.entity(e).remove::<ResolvedTechnique>();
             }
         }
@@ -591,7 +591,7 @@ pub fn share_budget(
         }) = picks.iter().find(|p| p.entity == e)
         else {
             commands.entity(e).remove::<ResolvedTechnique>();
-            inputs.backend.retire(state.maps.take());
+            state.maps = None;
             state.stale = false;
             state.error = None;
             state.share = Some(LightShare {
@@ -665,14 +665,14 @@ pub fn share_budget(
                 });
                 if !same {
                     state.stale = true;
-                    inputs.backend.retire(state.maps.take());
+                    state.maps = None;
                 }
                 state.error = None;
                 commands.entity(e).insert(next);
             }
             None if within == 0.0 => {
                 commands.entity(e).remove::<ResolvedTechnique>();
-                inputs.backend.retire(state.maps.take());
+                state.maps = None;
                 idle_visibility(&mut state);
                 state.error = Some(match over_budget {
                     Some((cheapest, needs)) => format!(
@@ -710,7 +710,7 @@ pub fn share_budget(
             }
             None => {
                 commands.entity(e).remove::<ResolvedTechnique>();
-                inputs.backend.retire(state.maps.take());
+                state.maps = None;
                 idle_visibility(&mut state);
                 state.error = Some(format!(
                     "no configuration for {} lights on {} is predicted to fit its {within:.2} ms \

@@ -270,9 +270,9 @@ impl FrameBackend {
     }
 
     /// Gives maps a light no longer reads back to the pool of the context that made them, for
-    /// the next generation of any light on this thread (GPU maps to this backend's GPU
-    /// context's, where it has one; CPU maps are dropped, their storage going back to the CPU
-    /// pool).
+    /// the next generation on this thread: GPU maps to this backend's GPU context's pool where
+    /// that context's device made them (others are dropped, [`AnyMaps::recycle`]); CPU maps
+    /// are dropped, their storage going back to the CPU pool.
     pub(crate) fn retire(&self, maps: Option<AnyMaps>) {
         if let Some(maps) = maps {
             maps.recycle(self.gpu.as_deref());

@@ -348,7 +348,7 @@ pub(crate) fn run_technique_timed(
                 Ok(None) => planned = Some((g, views)),
                 Err(e) => {
                     state.error = Some(e);
-                    backend.retire(state.maps.take());
+                    state.maps = None;
                     continue;
                 }
             }

@@ -494,7 +494,7 @@ pub fn resolve_techniques(
         match state {
             Some(mut s) => {
                 s.stale = true;
-                inputs.backend.retire(s.maps.take());
+                s.maps = None;
                 // A shared light's error is the budget's to set (it shares again after this).
                 if !shared {
                     s.error = error;

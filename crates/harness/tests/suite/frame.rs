@@ -1216,10 +1216,11 @@ fn live_objects(gpu: &soft_shadow_core::GpuContext) -> [isize; 4] {
 
 /// The GPU frame allocates nothing once it runs: a frame of a still scene (the pipeline's run
 /// without reading `V` back, then `V` recorded into the renderer's encoder) makes no buffer,
-/// texture, texture view or bind group; a frame whose moved caster remakes a light's maps takes
-/// their textures from the pool its old maps went back to (what it still makes are buffers:
-/// the casters' upload and the new maps' parameters, 3 alive at the recording here). Counted
-/// by wgpu while the frame is recorded, before its submission frees what it made. Before the
+/// texture, texture view or bind group (counted by wgpu while the frame is recorded, before
+/// its submission frees what it made); a frame whose moved caster remakes a light's maps asks
+/// the pool for their textures, and the pool has them: its old maps went back to it (what such
+/// a frame still makes are buffers: the casters' upload and the new maps' parameters, 3 alive
+/// at the recording here). Before the
 /// maps kept their bind groups and the pipeline gave replaced maps back to the pool, a still
 /// frame made 20 buffers, 9 views and 9 bind groups, and a frame remaking the segment light's
 /// maps asked the device for 2 new textures.
@@ -1268,6 +1269,13 @@ fn a_gpu_frame_allocates_nothing_after_its_first() {
     };
     let first = frame(&mut lab);
     println!("first frame: {first:?} (buffers, textures, views, bind groups; new map textures)");
+    // wgpu counts (its `counters` feature is on): the first frame makes the maps' buffers,
+    // views and bind groups (measured: 23, 27 and 11; its 11 textures come from the pool's
+    // misses, wgpu's live count of them reading 0 on lavapipe).
+    assert!(
+        first.0[0] > 0 && first.0[2] > 0 && first.0[3] > 0 && first.1 > 0,
+        "the counters count nothing: {first:?}"
+    );
     for k in 0..3 {
         let still = frame(&mut lab);
         println!("still frame {k}: {still:?}");
@@ -1283,12 +1291,9 @@ fn a_gpu_frame_allocates_nothing_after_its_first() {
         lab.scene.world.get_mut::<Transform>(lab.mover).unwrap().0 = moved;
         let (remade, new_textures) = frame(&mut lab);
         println!("frame remaking the segment light's maps {k}: {remade:?}, {new_textures}");
-        if k > 0 {
-            assert_eq!(
-                (new_textures, remade[1]),
-                (0, 0),
-                "a frame that remakes maps takes their textures from the pool"
-            );
-        }
+        assert_eq!(
+            new_textures, 0,
+            "a frame that remakes maps takes their textures from the pool"
+        );
     }
 }
