@@ -582,7 +582,7 @@ pub trait ShadowTechnique: TechniqueInfo + Clone + 'static {
     /// the next generation of the same size: call it once the maps are no longer read (work
     /// already recorded with them still runs first). A renderer that recycles last frame's maps
     /// before recording the next allocates no texture per frame (the new maps' parameter
-    /// buffers and bind groups are small). Dropping the maps instead frees them.
+    /// buffers, texture views and bind groups are small). Dropping the maps instead frees them.
     #[cfg(feature = "gpu")]
     fn recycle_gpu(&self, gpu: &GpuContext, maps: ViewMaps<Self::GpuMaps>) {
         for m in maps.into_maps() {
@@ -691,6 +691,9 @@ pub struct AnyMaps(Box<dyn ErasedMaps>);
 /// What [`AnyMaps`] can do, per technique type and backend.
 trait ErasedMaps: Send + Sync {
     fn backend(&self) -> Backend;
+    /// Whether `ctx` is where these maps were made (their backend and, for GPU maps, their
+    /// context): only there can they be made again or recycled.
+    fn made_in(&self, ctx: Context<'_>) -> bool;
     fn views(&self) -> &LightViews;
     fn remake(
         &mut self,
@@ -714,13 +717,14 @@ trait ErasedMaps: Send + Sync {
 
 struct CpuMapsOf<T: ShadowTechnique>(T, ViewMaps<T::CpuMaps>);
 /// GPU maps with their technique, their bind groups once a frame has recorded `V` from them
-/// (made again after the maps change), and the device that made them.
+/// (made again after the maps change), and the serial of the context that made them
+/// ([`GpuContext::serial`]).
 #[cfg(feature = "gpu")]
 struct GpuMapsOf<T: ShadowTechnique>(
     T,
     ViewMaps<T::GpuMaps>,
     std::sync::OnceLock<MapsBinding>,
-    wgpu::Device,
+    u64,
 );
 
 #[cfg(feature = "gpu")]
@@ -749,6 +753,9 @@ fn remade<M>(
 impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
     fn backend(&self) -> Backend {
         Backend::Cpu
+    }
+    fn made_in(&self, ctx: Context<'_>) -> bool {
+        ctx.backend() == Backend::Cpu
     }
     fn views(&self) -> &LightViews {
         self.1.views()
@@ -792,6 +799,9 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
 impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
     fn backend(&self) -> Backend {
         Backend::Gpu
+    }
+    fn made_in(&self, ctx: Context<'_>) -> bool {
+        matches!(ctx, Context::Gpu(gpu) if gpu.serial() == self.3)
     }
     fn views(&self) -> &LightViews {
         self.1.views()
@@ -846,8 +856,8 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
         Ok(())
     }
     fn recycle(self: Box<Self>, gpu: Option<&GpuContext>) {
-        // Another device's pool could not serve them: they are dropped.
-        if let Some(gpu) = gpu.filter(|g| g.device == self.3) {
+        // Another context's pool (perhaps of another device) could not serve them: dropped.
+        if let Some(gpu) = gpu.filter(|g| g.serial() == self.3) {
             let Self(t, maps, ..) = *self;
             t.recycle_gpu(gpu, maps);
         }
@@ -870,8 +880,8 @@ impl AnyMaps {
     /// same split depths): the views whose windows moved are made again over `geometry`, the
     /// others serve as they are, and the maps evaluate with `planned`'s selection from then on.
     /// Returns how many views it made again (0: the maps serve as they are), or `None` where
-    /// the plans differ more or `ctx` is of another backend than the maps, which are then left
-    /// as they were: generate anew.
+    /// the plans differ more or `ctx` is not where the maps were made (another backend, or
+    /// another GPU context), which are then left as they were: generate anew.
     pub fn follow(
         &mut self,
         ctx: Context<'_>,
@@ -880,7 +890,7 @@ impl AnyMaps {
         planned: &LightViews,
         resolution: u32,
     ) -> Result<Option<usize>> {
-        if ctx.backend() != self.backend() {
+        if !self.0.made_in(ctx) {
             return Ok(None);
         }
         let Some(moved) = self.views().moved(planned, resolution) else {
@@ -910,9 +920,9 @@ impl AnyMaps {
         self.0.record_visibility(gpu, enc, target)
     }
 
-    /// Gives GPU maps back to `gpu`'s pool ([`ShadowTechnique::recycle_gpu`]) where `gpu`'s
-    /// device made them (maps of another device are dropped); CPU maps are dropped, their
-    /// storage going back to the pool of the context that made them.
+    /// Gives GPU maps back to `gpu`'s pool ([`ShadowTechnique::recycle_gpu`]) where `gpu` made
+    /// them (maps of another context are dropped); CPU maps are dropped, their storage going
+    /// back to the pool of the context that made them.
     pub fn recycle(self, gpu: Option<&GpuContext>) {
         self.0.recycle(gpu);
     }
@@ -1016,7 +1026,7 @@ impl<T: ShadowTechnique> DynTechnique for T {
             self.clone(),
             ShadowTechnique::generate_gpu_on(self, gpu, scene, light, views, resolution)?,
             std::sync::OnceLock::new(),
-            gpu.device.clone(),
+            gpu.serial(),
         ))))
     }
     #[cfg(feature = "gpu")]

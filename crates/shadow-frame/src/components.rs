@@ -269,10 +269,10 @@ impl FrameBackend {
         }
     }
 
-    /// Gives maps a light no longer reads back to the pool of the context that made them, for
-    /// the next generation on this thread: GPU maps to this backend's GPU context's pool where
-    /// that context's device made them (others are dropped, [`AnyMaps::recycle`]); CPU maps
-    /// are dropped, their storage going back to the CPU pool.
+    /// Gives the maps a light replaces back to the pool of the context that made them, for the
+    /// next generation on this thread: GPU maps to this backend's GPU context's pool where
+    /// that context made them (others are dropped, [`AnyMaps::recycle`]); CPU maps are
+    /// dropped, their storage going back to the CPU pool.
     pub(crate) fn retire(&self, maps: Option<AnyMaps>) {
         if let Some(maps) = maps {
             maps.recycle(self.gpu.as_deref());

@@ -9,11 +9,13 @@
 //! light's influence; beyond it (`ShadowConfig::with_range`, where the light adds nothing) the
 //! texels get the maps' `V` too where the CPU path writes 1.
 //!
-//! After its first frame [`record_visibility`] makes no buffer, texture, texture view or bind
-//! group (and with `FrameSettings::evaluate_receivers` off, neither does the pipeline's run of
-//! a still frame): every light's maps keep their bind groups (with the receivers' over your
-//! G-buffer), and the world keeps a view of every layer of your visibility texture (holding
-//! the texture until a frame records into another). The maps a light replaces when it makes
+//! In a frame where no light's maps were made again, over the same visibility texture and the
+//! same G-buffer views as the frame before (keep the view objects), [`record_visibility`]
+//! makes no buffer, texture, texture view or bind group (and with
+//! `FrameSettings::evaluate_receivers` off, neither does the pipeline's run): every light's
+//! maps keep their bind groups (with the receivers' over your G-buffer), and the world keeps a
+//! view of every layer of your visibility texture (holding the texture until a frame records
+//! into another). The maps a light replaces when it makes
 //! them again go back to the GPU context's pool, so the new ones take their textures from it:
 //! submit each frame's encoder before the next [`FramePipeline::run`](crate::FramePipeline::run),
 //! which may hand the maps it reads to a new generation, submitted on its own.
@@ -51,10 +53,11 @@ pub struct FrameTextures<'a> {
 /// left it an error: see [`LightState::error`]) gets `V = 1` in its layer, a copy recorded into
 /// `enc` from a buffer of ones the world keeps between frames (made once per texture size and
 /// device).
+///
 /// Submit `enc` before the next [`FramePipeline::run`](crate::FramePipeline::run): that run
 /// may give the maps it reads to a new generation, which it submits on its own.
-/// Checked before anything is
-/// recorded: the texture's format and usage, every layer within it and no layer given to two
+///
+/// Checked before anything is recorded: the texture's format and usage, every layer within it and no layer given to two
 /// lights ([`ShadowError::InvalidParameter`]); maps made on the CPU backend are
 /// [`ShadowError::MapsMismatch`].
 pub fn record_visibility(

@@ -123,3 +123,67 @@ fn resources_recycled_on_one_thread_serve_only_that_thread() {
     let (_t, _b) = (ctx.texture(&desc), ctx.buffer(&bdesc));
     assert_eq!(counts(), (before.0 + 1, before.1 + 1), "not reused here");
 }
+
+/// Maps go back only to the pool of the context that made them, and follow only there: given
+/// another context (a renderer that made a new device; here a second headless one, whose
+/// device wgpu's ids do not tell from the first's), `recycle` drops them and `follow` leaves
+/// them for a fresh generation (`None`), where they would have put one device's textures in
+/// the other's pool (before, `follow` checked only the backend: `Some(0)`).
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn maps_serve_only_the_context_that_made_them() {
+    let test = "maps_serve_only_the_context_that_made_them";
+    let (Some(a), Some(b)) = (gpu_for_test(test), gpu_for_test(test)) else {
+        return;
+    };
+    let spec = build("torus").unwrap();
+    let r = receivers(&spec, 8);
+    let t = shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Hard);
+    let t: &dyn soft_shadow_core::DynTechnique = &t;
+    let views = soft_shadow_core::LightViews::plan(&spec.light, &r.geometry, None);
+    let scene = GpuScene::new(&a, &r.geometry).unwrap();
+    let mut maps = t
+        .generate_gpu_on(&a, &scene, &spec.light, &views, 64)
+        .unwrap();
+    let followed = maps
+        .follow(
+            soft_shadow_core::Context::Gpu(&b),
+            &r.geometry,
+            &spec.light,
+            &views,
+            64,
+        )
+        .unwrap();
+    assert_eq!(followed, None, "another device's context");
+    let same = maps
+        .follow(
+            soft_shadow_core::Context::Gpu(&a),
+            &r.geometry,
+            &spec.light,
+            &views,
+            64,
+        )
+        .unwrap();
+    assert_eq!(same, Some(0), "its own context, the same views");
+    // Given to the other device's pool, they are dropped: its next generation makes its own.
+    maps.recycle(Some(&b));
+    let made = b.textures_created();
+    let scene_b = GpuScene::new(&b, &r.geometry).unwrap();
+    t.generate_gpu_on(&b, &scene_b, &spec.light, &views, 64)
+        .unwrap()
+        .evaluate(
+            Some(&b),
+            &Recv {
+                positions: &r.positions,
+                normals: &r.normals,
+            },
+        )
+        .unwrap();
+    assert!(
+        b.textures_created() > made,
+        "the other pool served a texture"
+    );
+}

@@ -8,6 +8,9 @@ use std::sync::{Arc, Mutex};
 
 type Cache = Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>;
 
+/// The serial number the next context takes.
+static NEXT_SERIAL: AtomicU64 = AtomicU64::new(0);
+
 /// A wgpu device and queue, with the pipelines built for them.
 ///
 /// A renderer hands in its own with [`GpuContext::from_device`]. [`GpuContext::new`] makes a
@@ -29,6 +32,8 @@ pub struct GpuContext {
     buffer_maps: AtomicU64,
     memory_budget: AtomicU64,
     pub(super) pool: super::pool::GpuPool,
+    /// This context among the process's ([`GpuContext::serial`]).
+    serial: u64,
 }
 
 impl std::fmt::Debug for GpuContext {
@@ -129,7 +134,15 @@ impl GpuContext {
             buffer_maps: AtomicU64::new(0),
             memory_budget: AtomicU64::new(crate::memory::default_budget()),
             pool: Default::default(),
+            serial: NEXT_SERIAL.fetch_add(1, Ordering::Relaxed),
         })
+    }
+
+    /// This context's number among the process's, which no other context shares: what tells
+    /// two contexts apart (wgpu compares devices by their ids, which two devices of two
+    /// instances can share).
+    pub(crate) fn serial(&self) -> u64 {
+        self.serial
     }
 
     /// Bytes one GPU generation may allocate: [`crate::memory::default_budget`] until
