@@ -1220,9 +1220,9 @@ fn live_objects(gpu: &soft_shadow_core::GpuContext) -> [isize; 4] {
 /// its submission frees what it made); a frame whose moved caster remakes a light's maps asks
 /// the pool for their textures, and the pool has them: its old maps went back to it (net of
 /// what it frees, such a frame holds 3 more buffers at the recording here: the new maps'
-/// parameters). Before the maps kept their bind groups and the pipeline gave replaced maps back to the pool, a still
-/// frame made 20 buffers, 9 views and 9 bind groups, and a frame remaking the segment light's
-/// maps asked the device for 2 new textures.
+/// parameters). Before the maps kept their bind groups and the pipeline gave replaced maps
+/// back to the pool, a still frame made 20 buffers, 9 views and 9 bind groups, and a frame
+/// remaking the segment light's maps asked the device for 2 new textures.
 #[test]
 #[cfg_attr(
     no_gpu_adapter,

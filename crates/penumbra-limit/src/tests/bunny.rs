@@ -87,8 +87,8 @@ fn streaks(t: &PenumbraLimit) -> (usize, usize) {
     (dark, light)
 }
 
-/// Hair-like streaks around the bunny's shadow (the README's viewer picture, issue "what a
-/// person sees"): inner strips, as wide as the penumbra but only as long as their edge, fanned
+/// Hair-like streaks around the bunny's shadow (the README's viewer picture, as a person sees
+/// it): inner strips, as wide as the penumbra but only as long as their edge, fanned
 /// out where the outline is concave and left texels between them with no edge, umbra; and
 /// folds of the bumpy surface inside the outline drew a penumbra where the reference is umbra.
 /// Inner strips now have caps as outer strips do (kept only over a caster), and an edge whose
