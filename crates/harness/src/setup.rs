@@ -25,7 +25,7 @@ fn bits(t: &[Vec3; 3]) -> [u32; 9] {
 /// What `views` of `light` over `geometry` leave out of the scene `spec` whose camera sees
 /// `seen`, named: the caster instances that shadow a seen point ([`coverage::casting_instances`])
 /// and lie partly in no view, and the seen points outside their cascade's window.
-fn uncovered(
+pub(crate) fn uncovered(
     spec: &SceneSpec,
     light: &Light,
     geometry: &SceneGeometry,

@@ -711,3 +711,41 @@ fn skip(bar: &Progress, skipped: &mut Vec<String>, label: String, e: &ShadowErro
     bar.suspend(|| eprintln!("{line}"));
     skipped.push(line);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use soft_shadow_core::LightViews;
+
+    /// A lamp among furniture seen through one frustum (what every light had before views
+    /// were chosen for the scene) leaves casters out: the report refuses the scene, naming the
+    /// scene, the light, its views and the casters, instead of measuring a missing shadow; the
+    /// cube faces it plans hold every caster.
+    #[test]
+    fn a_scene_whose_views_leave_a_caster_out_is_refused_by_name() {
+        let settings = GroundTruthSettings {
+            strata_side: 2,
+            replicates: 1,
+            ..Default::default()
+        };
+        let mut p =
+            PreparedScene::new(catalogue::build("room-lamp").unwrap(), 24, settings).unwrap();
+        assert_eq!(p.views.kind_name(), "cube");
+        assert!(p.uncovered.is_empty(), "{:?}", p.uncovered);
+        assert!(refuse_uncovered("room-lamp", &p).is_ok());
+        p.views = LightViews::single();
+        let light = p.spec.light;
+        p.uncovered = crate::setup::uncovered(&p.spec, &light, &p.geometry, &p.views, &p.positions);
+        let err = refuse_uncovered("room-lamp", &p).unwrap_err().to_string();
+        println!("{err}");
+        for part in [
+            "room-lamp:",
+            "sphere light",
+            "single views",
+            "caster `",
+            "not measured",
+        ] {
+            assert!(err.contains(part), "{part:?} in {err}");
+        }
+    }
+}
