@@ -118,16 +118,23 @@ pub fn record_visibility(
         }
     }
     let ones = world.get_resource::<Ones>().map(|o| o.buffer.clone());
-    if world
-        .get_resource::<LayerViews>()
-        .is_none_or(|v| v.texture != *texture)
-    {
-        world.insert_resource(LayerViews::new(texture));
-    }
+    // Out of the world while the lights are recorded (they read the world), then back.
+    let layer_views = match world.remove_resource::<LayerViews>() {
+        Some(v) if v.texture == *texture => v,
+        _ => LayerViews::new(texture),
+    };
     // Where a `GpuTiming` asks for it, every light's `V` passes write timestamps, resolved
     // after the last of them.
     let mut timing = world.remove_resource::<GpuTiming>();
-    let recorded = record_layers(world, gpu, enc, targets, ones, timing.as_mut());
+    let recorded = record_layers(
+        world,
+        gpu,
+        enc,
+        targets,
+        (&layer_views.views, ones),
+        timing.as_mut(),
+    );
+    world.insert_resource(layer_views);
     if let Some(mut t) = timing {
         if recorded.is_ok() {
             t.resolve(enc, size.0 as usize * size.1 as usize);
@@ -166,18 +173,18 @@ pub fn submitted(world: &mut World) {
     }
 }
 
-/// [`record_visibility`]'s recording, every layer checked.
+/// [`record_visibility`]'s recording, every layer checked: each light into its view of
+/// `layer_views`, a light without maps copied from `ones`.
 fn record_layers(
     world: &mut World,
     gpu: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
     targets: &FrameTextures,
-    ones: Option<wgpu::Buffer>,
+    (layer_views, ones): (&[wgpu::TextureView], Option<wgpu::Buffer>),
     mut timing: Option<&mut GpuTiming>,
 ) -> Result<usize> {
     let texture = targets.visibility;
     let size = (texture.width(), texture.height());
-    let layer_views = world.resource::<LayerViews>().views.clone();
     let mut query = world.query::<(Entity, &VisibilityLayer, &LightState)>();
     let mut recorded = 0;
     for (light, layer, state) in query.iter(world) {

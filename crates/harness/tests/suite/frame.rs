@@ -963,20 +963,43 @@ fn switching_the_backend_makes_every_lights_maps_there() {
     assert_eq!(p.run(&mut lab.scene.world).maps_reused, 3);
 }
 
-/// The lab on the GPU backend with its receivers as a 60 x 40 G-buffer of textures and a
-/// visibility texture of four layers: the rect, segment and point lights at layers 0-2 and, at
-/// layer 3, a fourth light that no caster reaches (no maps, its layer all lit).
-struct GpuLab {
-    lab: Lab,
-    far: bevy_ecs::entity::Entity,
+/// The lab's receivers as a 60 x 40 G-buffer of textures, and a visibility texture of four
+/// layers.
+struct GpuTargets {
     positions: wgpu::Texture,
     position_view: wgpu::TextureView,
     normal_view: wgpu::TextureView,
     visibility: wgpu::Texture,
 }
 
-impl GpuLab {
-    fn new(gpu: &Arc<soft_shadow_core::GpuContext>) -> Self {
+impl GpuTargets {
+    fn targets(&self) -> shadow_frame::gpu_frame::FrameTextures<'_> {
+        shadow_frame::gpu_frame::FrameTextures {
+            positions: &self.position_view,
+            normals: &self.normal_view,
+            visibility: &self.visibility,
+        }
+    }
+}
+
+/// For the GPU test `test` (`None` where it skips): a context, the lab on its GPU backend with
+/// the rect, segment and point lights at visibility layers 0-2 and, at layer 3, a fourth light
+/// that no caster reaches (no maps, its layer all lit), that light, and the textures.
+fn gpu_lab(
+    test: &str,
+) -> Option<(
+    Arc<soft_shadow_core::GpuContext>,
+    Lab,
+    bevy_ecs::entity::Entity,
+    GpuTargets,
+)> {
+    let gpu = Arc::new(crate::common::gpu_for_test(test)?);
+    let (lab, far, targets) = GpuTargets::new(&gpu);
+    Some((gpu, lab, far, targets))
+}
+
+impl GpuTargets {
+    fn new(gpu: &Arc<soft_shadow_core::GpuContext>) -> (Lab, bevy_ecs::entity::Entity, Self) {
         use crate::common::upload;
         use shadow_frame::gpu_frame::VisibilityLayer;
         let mut lab = lab(5.0);
@@ -1018,14 +1041,13 @@ impl GpuLab {
             wgpu::TextureFormat::R32Float,
             wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST,
         );
-        Self {
-            lab,
-            far,
+        let targets = Self {
             position_view: positions.create_view(&Default::default()),
             normal_view: normals.create_view(&Default::default()),
             positions,
             visibility,
-        }
+        };
+        (lab, far, targets)
     }
 }
 
@@ -1043,23 +1065,10 @@ impl GpuLab {
 )]
 fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
     use shadow_frame::gpu_frame::{FrameTextures, VisibilityLayer, record_visibility};
-    let Some(ctx) = crate::common::gpu_for_test("the_gpu_frame") else {
+    let Some((gpu, mut lab, far, g)) = gpu_lab("the_gpu_frame") else {
         return;
     };
-    let gpu = Arc::new(ctx);
-    let GpuLab {
-        mut lab,
-        far,
-        positions,
-        position_view,
-        normal_view,
-        visibility: v_texture,
-    } = GpuLab::new(&gpu);
-    let targets = FrameTextures {
-        positions: &position_view,
-        normals: &normal_view,
-        visibility: &v_texture,
-    };
+    let (targets, positions, v_texture) = (g.targets(), &g.positions, &g.visibility);
     let lights = [lab.rect, lab.segment, lab.point];
     let frame = lab.scene.world.resource::<FrameReceivers>().clone();
     let mut p = pipeline();
@@ -1082,14 +1091,8 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
         "a still frame takes nothing new from the pool"
     );
     let read_layer = |k: u32| -> Vec<f32> {
-        soft_shadow_core::gpu::raster::read_texture(
-            &gpu,
-            &v_texture,
-            k,
-            wgpu::TextureAspect::All,
-            4,
-        )
-        .unwrap()
+        soft_shadow_core::gpu::raster::read_texture(&gpu, v_texture, k, wgpu::TextureAspect::All, 4)
+            .unwrap()
     };
     for (k, e) in lights.iter().enumerate() {
         let got = read_layer(k as u32);
@@ -1195,7 +1198,7 @@ fn the_gpu_frame_writes_every_lights_v_into_the_renderers_textures() {
         "{err}"
     );
     let wrong = FrameTextures {
-        visibility: &positions,
+        visibility: positions,
         ..targets
     };
     let err = record_visibility(&mut lab.scene.world, &gpu, &mut enc, &wrong).unwrap_err();
@@ -1229,23 +1232,11 @@ fn live_objects(gpu: &soft_shadow_core::GpuContext) -> [isize; 4] {
     ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
 )]
 fn a_gpu_frame_allocates_nothing_after_its_first() {
-    use shadow_frame::gpu_frame::{FrameTextures, record_visibility};
-    let Some(ctx) = crate::common::gpu_for_test("a_gpu_frame_allocates_nothing") else {
+    use shadow_frame::gpu_frame::record_visibility;
+    let Some((gpu, mut lab, _, g)) = gpu_lab("a_gpu_frame_allocates_nothing") else {
         return;
     };
-    let gpu = Arc::new(ctx);
-    let GpuLab {
-        mut lab,
-        position_view,
-        normal_view,
-        visibility,
-        ..
-    } = GpuLab::new(&gpu);
-    let targets = FrameTextures {
-        positions: &position_view,
-        normals: &normal_view,
-        visibility: &visibility,
-    };
+    let targets = g.targets();
     lab.scene
         .world
         .insert_resource(shadow_frame::FrameSettings::default().with_evaluate_receivers(false));

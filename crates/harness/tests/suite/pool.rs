@@ -148,26 +148,22 @@ fn maps_serve_only_the_context_that_made_them() {
     let mut maps = t
         .generate_gpu_on(&a, &scene, &spec.light, &views, 64)
         .unwrap();
-    let followed = maps
-        .follow(
-            soft_shadow_core::Context::Gpu(&b),
-            &r.geometry,
-            &spec.light,
-            &views,
-            64,
-        )
-        .unwrap();
-    assert_eq!(followed, None, "another device's context");
-    let same = maps
-        .follow(
-            soft_shadow_core::Context::Gpu(&a),
-            &r.geometry,
-            &spec.light,
-            &views,
-            64,
-        )
-        .unwrap();
-    assert_eq!(same, Some(0), "its own context, the same views");
+    // In the other context nothing is made (`None`); in its own, the same views serve.
+    for (ctx, want, what) in [
+        (&b, None, "another context"),
+        (&a, Some(0), "its own context"),
+    ] {
+        let followed = maps
+            .follow(
+                soft_shadow_core::Context::Gpu(ctx),
+                &r.geometry,
+                &spec.light,
+                &views,
+                64,
+            )
+            .unwrap();
+        assert_eq!(followed, want, "{what}");
+    }
     // Given to the other device's pool, they are dropped: its next generation makes its own.
     maps.recycle(Some(&b));
     let made = b.textures_created();

@@ -275,15 +275,11 @@ pub(crate) fn record_texels(
     binding: &MapsBinding,
     target: &ReceiverTextures,
 ) {
-    let views = [
-        target.positions.clone(),
-        target.normals.clone(),
-        target.visibility.clone(),
-    ];
+    let views = [target.positions, target.normals, target.visibility];
     let recv = {
         let mut last = binding.receivers.lock().unwrap_or_else(|e| e.into_inner());
         match last.as_ref() {
-            Some((bound, group)) if *bound == views => group.clone(),
+            Some((bound, group)) if bound.iter().eq(views) => group.clone(),
             _ => {
                 let group = bind_group(
                     ctx,
@@ -295,7 +291,7 @@ pub(crate) fn record_texels(
                         wgpu::BindingResource::TextureView(target.visibility),
                     ],
                 );
-                *last = Some((views, group.clone()));
+                *last = Some((views.map(Clone::clone), group.clone()));
                 group
             }
         }
