@@ -704,6 +704,20 @@ trait ErasedMaps: Send + Sync {
         resolution: u32,
         indices: &[usize],
     ) -> Result<()>;
+    /// [`remake`](Self::remake) on the GPU, recorded into `enc` (CPU maps are
+    /// [`ShadowError::MapsMismatch`]).
+    #[cfg(feature = "gpu")]
+    #[allow(clippy::too_many_arguments)]
+    fn remake_into(
+        &mut self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        geometry: &SceneGeometry,
+        light: &Light,
+        planned: &LightViews,
+        resolution: u32,
+        indices: &[usize],
+    ) -> Result<()>;
     fn evaluate(&self, gpu: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>>;
     #[cfg(feature = "gpu")]
     fn record_visibility(
@@ -726,6 +740,21 @@ struct GpuMapsOf<T: ShadowTechnique>(
     std::sync::OnceLock<MapsBinding>,
     u64,
 );
+
+/// `maps`, made by `technique` in `gpu`, as [`AnyMaps`].
+#[cfg(feature = "gpu")]
+fn gpu_maps<T: ShadowTechnique>(
+    technique: &T,
+    gpu: &GpuContext,
+    maps: ViewMaps<T::GpuMaps>,
+) -> AnyMaps {
+    AnyMaps(Box::new(GpuMapsOf(
+        technique.clone(),
+        maps,
+        std::sync::OnceLock::new(),
+        gpu.serial(),
+    )))
+}
 
 #[cfg(feature = "gpu")]
 fn need_gpu(gpu: Option<&GpuContext>) -> Result<&GpuContext> {
@@ -778,6 +807,21 @@ impl<T: ShadowTechnique> ErasedMaps for CpuMapsOf<T> {
         })?;
         Ok(())
     }
+    #[cfg(feature = "gpu")]
+    fn remake_into(
+        &mut self,
+        _: &GpuContext,
+        _: &mut wgpu::CommandEncoder,
+        _: &SceneGeometry,
+        _: &Light,
+        _: &LightViews,
+        _: u32,
+        _: &[usize],
+    ) -> Result<()> {
+        Err(ShadowError::MapsMismatch(
+            "CPU maps are made again on the CPU".into(),
+        ))
+    }
     fn evaluate(&self, _: Option<&GpuContext>, receivers: &Receivers) -> Result<Vec<f32>> {
         self.0.evaluate_cpu(&self.1, receivers)
     }
@@ -825,11 +869,36 @@ impl<T: ShadowTechnique> ErasedMaps for GpuMapsOf<T> {
             })
             .map(drop);
         };
+        if indices.is_empty() {
+            // Nothing to make: the maps serve the planned views as they are.
+            return remade(&mut self.1, planned, indices, |_| unreachable!()).map(drop);
+        }
+        let name = self.0.name();
+        gpu.checked(&format!("{name} generation"), || {
+            let mut enc = gpu.device.create_command_encoder(&Default::default());
+            self.remake_into(gpu, &mut enc, geometry, light, planned, resolution, indices)?;
+            gpu.queue.submit([enc.finish()]);
+            gpu.wait()
+        })
+    }
+    fn remake_into(
+        &mut self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        geometry: &SceneGeometry,
+        light: &Light,
+        planned: &LightViews,
+        resolution: u32,
+        indices: &[usize],
+    ) -> Result<()> {
+        // The bind groups hold the maps and views it replaces: the next frame binds anew.
+        self.2 = std::sync::OnceLock::new();
         let Self(t, maps, ..) = self;
         let replaced = remade(maps, planned, indices, |views| {
             let scene = GpuScene::new(gpu, geometry)?;
-            t.generate_gpu_on(gpu, &scene, light, views, resolution)
+            t.record_gpu_in(gpu, enc, &scene, light, views, resolution)
         })?;
+        // Work already recorded with them (the frames before) runs first.
         for old in replaced {
             t.recycle_maps(gpu, old);
         }
@@ -890,15 +959,49 @@ impl AnyMaps {
         planned: &LightViews,
         resolution: u32,
     ) -> Result<Option<usize>> {
-        if !self.0.made_in(ctx) {
-            return Ok(None);
-        }
-        let Some(moved) = self.views().moved(planned, resolution) else {
+        let Some(moved) = self.moved_views(ctx, planned, resolution) else {
             return Ok(None);
         };
         self.0
             .remake(ctx, geometry, light, planned, resolution, &moved)?;
         Ok(Some(moved.len()))
+    }
+
+    /// [`AnyMaps::follow`] in `gpu`, the views it makes again recorded into `enc` (nothing is
+    /// submitted, mapped or uploaded beyond the casters and small parameter buffers): the maps
+    /// hold their new views' contents once the caller has submitted `enc`. The views it
+    /// replaces go back to `gpu`'s pool (work already recorded with them runs first). CPU maps
+    /// are `None`, as for any context they were not made in.
+    #[cfg(feature = "gpu")]
+    pub fn follow_into(
+        &mut self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        geometry: &SceneGeometry,
+        light: &Light,
+        planned: &LightViews,
+        resolution: u32,
+    ) -> Result<Option<usize>> {
+        let Some(moved) = self.moved_views(Context::Gpu(gpu), planned, resolution) else {
+            return Ok(None);
+        };
+        self.0
+            .remake_into(gpu, enc, geometry, light, planned, resolution, &moved)?;
+        Ok(Some(moved.len()))
+    }
+
+    /// The views of `planned` whose windows moved from these maps', where `ctx` made them and
+    /// the plans allow following ([`AnyMaps::follow`]).
+    fn moved_views(
+        &self,
+        ctx: Context<'_>,
+        planned: &LightViews,
+        resolution: u32,
+    ) -> Option<Vec<usize>> {
+        if !self.0.made_in(ctx) {
+            return None;
+        }
+        self.views().moved(planned, resolution)
     }
 
     /// Visibility per receiver, on the backend that produced the maps (`gpu` is required for
@@ -964,6 +1067,21 @@ pub trait DynTechnique: TechniqueInfo {
         views: &LightViews,
         resolution: u32,
     ) -> Result<AnyMaps>;
+    /// GPU generation of `views` recorded into `enc`: uploads `geometry`, then
+    /// [`ShadowTechnique::record_gpu_in`] (nothing is submitted, mapped or uploaded beyond the
+    /// casters and small parameter buffers): the maps hold their contents once the caller has
+    /// submitted `enc`.
+    #[cfg(feature = "gpu")]
+    #[allow(clippy::too_many_arguments)]
+    fn record_in(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        geometry: &SceneGeometry,
+        light: &Light,
+        views: &LightViews,
+        resolution: u32,
+    ) -> Result<AnyMaps>;
     /// See [`ShadowTechnique::visibility_wgsl`].
     #[cfg(feature = "gpu")]
     fn visibility_wgsl(&self, group: u32) -> Result<String>;
@@ -1022,12 +1140,22 @@ impl<T: ShadowTechnique> DynTechnique for T {
         views: &LightViews,
         resolution: u32,
     ) -> Result<AnyMaps> {
-        Ok(AnyMaps(Box::new(GpuMapsOf(
-            self.clone(),
-            ShadowTechnique::generate_gpu_on(self, gpu, scene, light, views, resolution)?,
-            std::sync::OnceLock::new(),
-            gpu.serial(),
-        ))))
+        let maps = ShadowTechnique::generate_gpu_on(self, gpu, scene, light, views, resolution)?;
+        Ok(gpu_maps(self, gpu, maps))
+    }
+    #[cfg(feature = "gpu")]
+    fn record_in(
+        &self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        geometry: &SceneGeometry,
+        light: &Light,
+        views: &LightViews,
+        resolution: u32,
+    ) -> Result<AnyMaps> {
+        let scene = GpuScene::new(gpu, geometry)?;
+        let maps = self.record_gpu_in(gpu, enc, &scene, light, views, resolution)?;
+        Ok(gpu_maps(self, gpu, maps))
     }
     #[cfg(feature = "gpu")]
     fn visibility_wgsl(&self, group: u32) -> Result<String> {

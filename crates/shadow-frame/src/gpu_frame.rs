@@ -18,7 +18,10 @@
 //! into another). The maps a light replaces when it makes
 //! them again go back to the GPU context's pool, so the new ones take their textures from it:
 //! submit each frame's encoder before the next [`FramePipeline::run`](crate::FramePipeline::run),
-//! which may hand the maps it reads to a new generation, submitted on its own.
+//! which may hand the maps it reads to a new generation. `run` submits each light's generation
+//! on its own and waits for it; [`FramePipeline::run_into`](crate::FramePipeline::run_into)
+//! records them into your encoder instead, before the `V` passes this records into it: the
+//! frame's shadow work is then one encoder you submit, and nothing waits.
 //!
 //! The frame's `FrameReceivers` still bound what a light's maps cover (a few points of your
 //! G-buffer, say its corners, or none where the casters' shadows fall within the casters'
@@ -54,8 +57,9 @@ pub struct FrameTextures<'a> {
 /// `enc` from a buffer of ones the world keeps between frames (made once per texture size and
 /// device).
 ///
-/// Submit `enc` before the next [`FramePipeline::run`](crate::FramePipeline::run): that run
-/// may give the maps it reads to a new generation, which it submits on its own.
+/// Submit `enc` before the next [`FramePipeline::run`](crate::FramePipeline::run) (or
+/// [`FramePipeline::run_into`](crate::FramePipeline::run_into)): that run may give the maps it
+/// reads to a new generation.
 ///
 /// Checked before anything is recorded: the texture's format and usage, every layer within it and no layer given to two
 /// lights ([`ShadowError::InvalidParameter`]); maps made on the CPU backend are

@@ -13,6 +13,7 @@ pub mod gpu_probe;
 #[cfg(feature = "gpu")]
 pub mod gpu_timing;
 pub mod profile;
+mod recording;
 pub mod scene;
 pub mod stats;
 pub mod technique_system;
@@ -269,43 +270,52 @@ fn core_clock<const SET: usize>(clock: Option<ResMut<CoreClock>>, mut stats: Res
 /// Technique `name`'s system in its set, after the core sets, run only when used.
 fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
     schedule.configure_sets(TechniqueSet(name).after(CoreSet::Stale));
-    let system =
-        move |lights: LightQuery,
-              casters: CasterQuery,
-              index: Res<CasterIndex>,
-              frame: Res<FrameReceivers>,
-              receivers_error: Res<ReceiversError>,
-              backend: Res<FrameBackend>,
-              settings: Res<FrameSettings>,
-              stats: ResMut<FrameStats>,
-              (calibration, mut deadline): (
-            Res<Calibration>,
-            Option<ResMut<deadline::Deadline>>,
-        ),
-              #[cfg(feature = "gpu")] mut timing: Option<ResMut<GpuTiming>>| {
-            // A light's generation, its passes timed on the device where a `GpuTiming` is on.
-            #[cfg(feature = "gpu")]
-            let mut timed = |light: Entity, work: &mut dyn FnMut()| match (
-                backend.gpu.as_deref(),
-                timing.as_deref_mut(),
-            ) {
-                (Some(g), Some(t)) => t.time_generation(g, light, work),
-                _ => work(),
-            };
-            #[cfg(not(feature = "gpu"))]
-            let mut timed = |_: Entity, work: &mut dyn FnMut()| work();
-            technique_system::run_technique_timed(
-                name,
-                (lights, casters, index, frame, receivers_error),
-                (
-                    &backend,
-                    &settings,
-                    deadline.as_deref_mut().map(|d| (d, &*calibration)),
-                ),
-                stats,
-                &mut timed,
-            )
+    let system = move |lights: LightQuery,
+                       casters: CasterQuery,
+                       index: Res<CasterIndex>,
+                       frame: Res<FrameReceivers>,
+                       receivers_error: Res<ReceiversError>,
+                       backend: Res<FrameBackend>,
+                       settings: Res<FrameSettings>,
+                       stats: ResMut<FrameStats>,
+                       (calibration, mut deadline): (
+        Res<Calibration>,
+        Option<ResMut<deadline::Deadline>>,
+    ),
+                       #[cfg(feature = "gpu")] mut timing: Option<ResMut<GpuTiming>>,
+                       #[cfg(feature = "gpu")] mut encoder: Option<
+        ResMut<recording::FrameEncoder>,
+    >| {
+        // A light's generation, its passes timed on the device where a `GpuTiming` is on.
+        #[cfg(feature = "gpu")]
+        let mut timed = |light: Entity, work: &mut dyn FnMut()| match (
+            backend.gpu.as_deref(),
+            timing.as_deref_mut(),
+        ) {
+            (Some(g), Some(t)) => t.time_generation(g, light, work),
+            _ => work(),
         };
+        #[cfg(not(feature = "gpu"))]
+        let mut timed = |_: Entity, work: &mut dyn FnMut()| work();
+        // In `run_into`, the generations go into the renderer's encoder.
+        #[cfg(feature = "gpu")]
+        let recording =
+            recording::Recording::into_encoder(&backend, encoder.as_deref_mut().map(|e| &mut e.0));
+        #[cfg(not(feature = "gpu"))]
+        let recording = recording::Recording::in_context(&backend);
+        technique_system::run_technique_timed(
+            name,
+            (lights, casters, index, frame, receivers_error),
+            (
+                &backend,
+                &settings,
+                deadline.as_deref_mut().map(|d| (d, &*calibration)),
+            ),
+            stats,
+            &mut timed,
+            recording,
+        )
+    };
     let used = move |lights: Query<&ResolvedTechnique>, casters: Query<(), With<ShadowCaster>>| {
         !casters.is_empty() && lights.iter().any(|r| r.technique.name() == name)
     };

@@ -6,6 +6,7 @@ use crate::budget::worth;
 use crate::calibration::Calibration;
 use crate::components::*;
 use crate::deadline::{Deadline, Pending};
+use crate::recording::Recording;
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
 use crate::stats::{FrameStats, LightStats};
 use bevy_ecs::prelude::*;
@@ -204,6 +205,7 @@ pub fn run_technique(
         (&backend, &settings, None),
         stats,
         &mut |_, work| work(),
+        Recording::in_context(&backend),
     );
 }
 
@@ -218,9 +220,9 @@ pub(crate) type TechniqueInputs<'w, 's> = (
 );
 
 /// [`run_technique`], each light's generation on the GPU backend run through `timed` (with
-/// the light), which times its passes on the device where the frame asks for it; with a
-/// `clock`, a calibrating CPU frame's shared lights keep to the [`crate::FrameBudget`] as it
-/// runs ([`crate::deadline`]).
+/// the light), which times its passes on the device where the frame asks for it, and made as
+/// `recording` makes it; with a `clock`, a calibrating CPU frame's shared lights keep to the
+/// [`crate::FrameBudget`] as it runs ([`crate::deadline`]).
 pub(crate) fn run_technique_timed(
     name: &str,
     (mut lights, casters, index, frame, receivers_error): TechniqueInputs,
@@ -231,6 +233,7 @@ pub(crate) fn run_technique_timed(
     ),
     mut stats: ResMut<FrameStats>,
     timed: &mut dyn FnMut(Entity, &mut dyn FnMut()),
+    mut recording: Recording,
 ) {
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
@@ -338,10 +341,7 @@ pub(crate) fn run_technique_timed(
             let views = LightViews::plan(&light.0, &g, seen());
             let mut followed = Err(String::new());
             timed(entity, &mut || {
-                followed = backend.context().and_then(|ctx| {
-                    maps.follow(ctx, &g, &light.0, &views, resolved.resolution)
-                        .map_err(|e| e.to_string())
-                });
+                followed = recording.follow(maps, &g, &light.0, &views, resolved.resolution);
             });
             match followed {
                 Ok(Some(remade)) => (views_generated, views_total) = (remade, views.len()),
@@ -395,12 +395,13 @@ pub(crate) fn run_technique_timed(
             (views_generated, views_total) = (views.len(), views.len());
             let mut made = Err(String::new());
             timed(entity, &mut || {
-                made = backend.context().and_then(|ctx| {
-                    resolved
-                        .technique
-                        .generate_in(ctx, &g, &light.0, &views, resolved.resolution)
-                        .map_err(|e| e.to_string())
-                });
+                made = recording.generate(
+                    resolved.technique.as_ref(),
+                    &g,
+                    &light.0,
+                    &views,
+                    resolved.resolution,
+                );
             });
             match made {
                 Ok(m) => {

@@ -1,8 +1,8 @@
 //! The scenes of many lamps ([`soft_shadow_reference::scenes::lamps`]: the night street, the
 //! room with three lamps) in the viewer: the frame pipeline (`shadow_frame`) on the renderer's
 //! device under one frame budget, each lamp's technique and map side picked by the shared
-//! budget, every lamp's `V` over the renderer's G-buffer recorded into the frame's encoder
-//! ([`record_visibility`], a layer of one texture per lamp; nothing is read back but the
+//! budget, the lamps' maps ([`FramePipeline::run_into`]) and every lamp's `V` over the
+//! renderer's G-buffer recorded into the frame's encoder ([`record_visibility`], a layer of one texture per lamp; nothing is read back but the
 //! passes' timestamps, [`GpuTiming`]: the budget is in device milliseconds), and a shading pass
 //! that sums the lamps (`lamps.wgsl`, mirrored by [`LampShade`]).
 //!
@@ -304,7 +304,8 @@ impl LampsView {
         if let Some(f) = swing {
             self.lamps.swing(f);
         }
-        let stats = self.pipeline.run(&mut self.lamps.scene.world);
+        // The lamps' maps are recorded into this frame's encoder, before their `V`.
+        let stats = self.pipeline.run_into(&mut self.lamps.scene.world, enc)?;
         let (position, normal) = renderer.gbuffer();
         let (pv, nv) = (
             position.create_view(&Default::default()),

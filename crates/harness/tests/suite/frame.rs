@@ -785,15 +785,20 @@ impl Street {
     /// One frame with the receivers of the camera at `eye` (its view given to the pipeline or
     /// not): the statistics and the light's `V`.
     fn frame(&mut self, with_camera: bool) -> (FrameStats, Vec<f32>) {
+        self.receive(with_camera);
+        let stats = self.pipeline.run(&mut self.scene.world);
+        let state = self.scene.world.get::<LightState>(self.light).unwrap();
+        assert_eq!(state.error, None);
+        (stats, state.visibility.clone())
+    }
+
+    /// The receivers of the camera at `eye` for the next frame (its view given or not).
+    fn receive(&mut self, with_camera: bool) {
         self.scene.world.insert_resource(FrameReceivers {
             positions: self.positions.clone(),
             normals: self.normals.clone(),
             camera: with_camera.then_some(self.view),
         });
-        let stats = self.pipeline.run(&mut self.scene.world);
-        let state = self.scene.world.get::<LightState>(self.light).unwrap();
-        assert_eq!(state.error, None);
-        (stats, state.visibility.clone())
     }
 }
 
@@ -1218,12 +1223,15 @@ fn live_objects(gpu: &soft_shadow_core::GpuContext) -> [isize; 4] {
 }
 
 /// The GPU frame allocates nothing once it runs: a frame of a still scene (the pipeline's run
-/// without reading `V` back, then `V` recorded into the renderer's encoder) makes no buffer,
+/// without reading `V` back, or `run_into` recording the generations into the renderer's
+/// encoder, then `V` recorded into that encoder) makes no buffer,
 /// texture, texture view or bind group (counted by wgpu while the frame is recorded, before
 /// its submission frees what it made); a frame whose moved caster remakes a light's maps asks
 /// the pool for their textures, and the pool has them: its old maps went back to it (net of
 /// what it frees, such a frame holds 3 more buffers at the recording here: the new maps'
-/// parameters). Before the maps kept their bind groups and the pipeline gave replaced maps
+/// parameters; with `run_into`, whose generation has not run yet, also its passes' own
+/// parameters and bindings, which `run`'s wait frees: 33 buffers, 9 views, 14 bind groups in
+/// all). Before the maps kept their bind groups and the pipeline gave replaced maps
 /// back to the pool, a still frame made 20 buffers, 9 views and 9 bind groups, and a frame
 /// remaking the segment light's maps asked the device for 2 new textures.
 #[test]
@@ -1233,57 +1241,207 @@ fn live_objects(gpu: &soft_shadow_core::GpuContext) -> [isize; 4] {
 )]
 fn a_gpu_frame_allocates_nothing_after_its_first() {
     use shadow_frame::gpu_frame::record_visibility;
-    let Some((gpu, mut lab, _, g)) = gpu_lab("a_gpu_frame_allocates_nothing") else {
+    let Some((gpu, lab, _, g)) = gpu_lab("a_gpu_frame_allocates_nothing") else {
         return;
     };
-    let targets = g.targets();
-    lab.scene
-        .world
-        .insert_resource(shadow_frame::FrameSettings::default().with_evaluate_receivers(false));
-    let mut p = pipeline();
-    // What one frame made that was alive before its submission, per kind, and the map
-    // textures it asked the pool for that the pool did not have.
-    let mut frame = |lab: &mut Lab| -> ([isize; 4], u64) {
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
-        let (before, pool_misses) = (live_objects(&gpu), gpu.textures_created());
-        p.run(&mut lab.scene.world);
-        let n = record_visibility(&mut lab.scene.world, &gpu, &mut enc, &targets).unwrap();
-        let during = live_objects(&gpu);
-        gpu.queue.submit([enc.finish()]);
-        gpu.wait().unwrap();
-        assert_eq!(n, 4);
-        (
-            std::array::from_fn(|k| during[k] - before[k]),
-            gpu.textures_created() - pool_misses,
-        )
+    // The pipeline's `run`, then `run_into` (the generations recorded into the renderer's
+    // encoder), each on a lab of its own.
+    let mut labs = Some((lab, g));
+    for into in [false, true] {
+        let (mut lab, g) = labs.take().unwrap_or_else(|| {
+            let (lab, _, g) = GpuTargets::new(&gpu);
+            (lab, g)
+        });
+        let targets = g.targets();
+        lab.scene
+            .world
+            .insert_resource(shadow_frame::FrameSettings::default().with_evaluate_receivers(false));
+        let mut p = pipeline();
+        // What one frame made that was alive before its submission, per kind, and the map
+        // textures it asked the pool for that the pool did not have.
+        let mut frame = |lab: &mut Lab| -> ([isize; 4], u64) {
+            let mut enc = gpu.device.create_command_encoder(&Default::default());
+            let (before, pool_misses) = (live_objects(&gpu), gpu.textures_created());
+            if into {
+                p.run_into(&mut lab.scene.world, &mut enc).unwrap();
+            } else {
+                p.run(&mut lab.scene.world);
+            }
+            let n = record_visibility(&mut lab.scene.world, &gpu, &mut enc, &targets).unwrap();
+            let during = live_objects(&gpu);
+            gpu.queue.submit([enc.finish()]);
+            gpu.wait().unwrap();
+            assert_eq!(n, 4);
+            (
+                std::array::from_fn(|k| during[k] - before[k]),
+                gpu.textures_created() - pool_misses,
+            )
+        };
+        let first = frame(&mut lab);
+        println!(
+            "run_into {into}: first frame: {first:?} (buffers, textures, views, bind groups; \
+             new map textures)"
+        );
+        // wgpu counts (its `counters` feature is on): the first frame makes the maps'
+        // buffers, views and bind groups (measured with `run`: 23, 27 and 11). Its 11
+        // textures are the pool's misses: wgpu-hal's Vulkan backend counts no texture made by
+        // `create_texture`.
+        assert!(
+            first.0[0] > 0 && first.0[2] > 0 && first.0[3] > 0 && first.1 > 0,
+            "the counters count nothing: {first:?}"
+        );
+        for k in 0..3 {
+            let still = frame(&mut lab);
+            println!("still frame {k}: {still:?}");
+            assert_eq!(
+                still,
+                ([0; 4], 0),
+                "a still frame makes no buffer, texture, view or bind group"
+            );
+        }
+        // The box under the segment light moves every frame: that light's maps are made
+        // again.
+        for k in 0..4 {
+            let moved = Mat4::from_translation(Vec3::new(5.0 + 0.05 * k as f32, 0.8, 0.0));
+            lab.scene.world.get_mut::<Transform>(lab.mover).unwrap().0 = moved;
+            let (remade, new_textures) = frame(&mut lab);
+            println!("frame remaking the segment light's maps {k}: {remade:?}, {new_textures}");
+            assert_eq!(
+                new_textures, 0,
+                "a frame that remakes maps takes their textures from the pool"
+            );
+        }
+    }
+}
+
+/// A street's receivers as a G-buffer of textures 64 texels wide (the rows the receivers fill;
+/// texels past the last receiver are not covered), and a one-layer visibility texture.
+fn street_targets(gpu: &soft_shadow_core::GpuContext, s: &Street) -> GpuTargets {
+    let w = 64u32;
+    let h = (s.positions.len() as u32).div_ceil(w);
+    let texels = |v: &[Vec3]| -> Vec<[f32; 4]> {
+        let mut t: Vec<[f32; 4]> = v.iter().map(|p| [p.x, p.y, p.z, 1.0]).collect();
+        t.resize((w * h) as usize, [0.0; 4]);
+        t
     };
-    let first = frame(&mut lab);
-    println!("first frame: {first:?} (buffers, textures, views, bind groups; new map textures)");
-    // wgpu counts (its `counters` feature is on): the first frame makes the maps' buffers,
-    // views and bind groups (measured: 23, 27 and 11). Its 11 textures are the pool's misses:
-    // wgpu-hal's Vulkan backend counts no texture made by `create_texture`.
+    let positions = crate::common::upload(gpu, "positions", w, h, &texels(&s.positions));
+    let normals = crate::common::upload(gpu, "normals", w, h, &texels(&s.normals));
+    GpuTargets {
+        position_view: positions.create_view(&Default::default()),
+        normal_view: normals.create_view(&Default::default()),
+        positions,
+        visibility: crate::common::texture(
+            gpu,
+            "visibility",
+            (w, h, 1),
+            wgpu::TextureFormat::R32Float,
+            wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST,
+        ),
+    }
+}
+
+/// The GPU frame's shadow work goes into the renderer's encoder: `FramePipeline::run_into`
+/// records every light's generation into it, so a frame (its run and its `V` recorded after)
+/// waits for nothing and reads nothing back until the renderer submits. Over `street-sun`'s
+/// cascades (a first frame, five 1 cm steps that make some views again and keep others, and a
+/// jump of 20 m), it makes the same views as `run`, which submits each generation and waits
+/// for it (counted: it waits), and `V` is the same to the last bit. Without the GPU backend,
+/// or with the receivers evaluated (a readback of maps not yet made), it is a typed error.
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn run_into_records_every_generation_into_the_renderers_encoder() {
+    use shadow_frame::gpu_frame::{VisibilityLayer, record_visibility};
+    let Some(ctx) = crate::common::gpu_for_test("run_into_records_every_generation") else {
+        return;
+    };
+    let ctx = Arc::new(ctx);
+    let eye = Vec3::new(0.0, 1.7, 0.0);
+    let (mut submitted, mut recorded) = (street(64, eye), street(64, eye));
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    let err = recorded
+        .pipeline
+        .run_into(&mut recorded.scene.world, &mut enc)
+        .unwrap_err();
+    assert!(err.to_string().contains("GPU backend"), "{err}");
+    for s in [&mut submitted, &mut recorded] {
+        let world = &mut s.scene.world;
+        world.insert_resource(shadow_frame::FrameBackend::gpu(ctx.clone()));
+        world.entity_mut(s.light).insert(VisibilityLayer(0));
+    }
+    let err = recorded
+        .pipeline
+        .run_into(&mut recorded.scene.world, &mut enc)
+        .unwrap_err();
+    assert!(err.to_string().contains("evaluate_receivers"), "{err}");
+    for s in [&mut submitted, &mut recorded] {
+        s.scene
+            .world
+            .insert_resource(shadow_frame::FrameSettings::default().with_evaluate_receivers(false));
+    }
+    let steps = (0..6)
+        .map(|k| eye + Vec3::new(0.0, 0.0, -0.01 * k as f32))
+        .chain([eye + Vec3::new(0.0, 0.0, -20.0)]);
+    let (mut waited, mut partial) = (0, 0);
+    for (k, at) in steps.enumerate() {
+        (submitted, recorded) = (walked(submitted, at), walked(recorded, at));
+        let (ts, tr) = (
+            street_targets(&ctx, &submitted),
+            street_targets(&ctx, &recorded),
+        );
+        submitted.receive(true);
+        recorded.receive(true);
+        // `run`: each generation submitted on its own and waited for.
+        let before = ctx.waits();
+        let a = submitted.pipeline.run(&mut submitted.scene.world);
+        waited += ctx.waits() - before;
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        record_visibility(&mut submitted.scene.world, &ctx, &mut enc, &ts.targets()).unwrap();
+        ctx.queue.submit([enc.finish()]);
+        // `run_into`: the generations and `V` in one encoder, nothing waited for.
+        let (waits, maps) = (ctx.waits(), ctx.buffer_maps());
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        let b = recorded
+            .pipeline
+            .run_into(&mut recorded.scene.world, &mut enc)
+            .unwrap();
+        record_visibility(&mut recorded.scene.world, &ctx, &mut enc, &tr.targets()).unwrap();
+        assert_eq!(
+            (ctx.waits() - waits, ctx.buffer_maps() - maps),
+            (0, 0),
+            "frame {k}: run_into and the V passes wait for nothing and read nothing back"
+        );
+        ctx.queue.submit([enc.finish()]);
+        ctx.wait().unwrap();
+        let state = recorded
+            .scene
+            .world
+            .get::<LightState>(recorded.light)
+            .unwrap();
+        assert_eq!(state.error, None, "frame {k}");
+        println!(
+            "frame {k}: {} views made (run: {})",
+            b.views_generated, a.views_generated
+        );
+        assert_eq!(a.views_generated, b.views_generated, "frame {k}");
+        partial += usize::from((1..4).contains(&b.views_generated));
+        let read = |t: &wgpu::Texture| -> Vec<f32> {
+            soft_shadow_core::gpu::raster::read_texture(&ctx, t, 0, wgpu::TextureAspect::All, 4)
+                .unwrap()
+        };
+        let (va, vb) = (read(&ts.visibility), read(&tr.visibility));
+        let shadowed = vb[..recorded.positions.len()]
+            .iter()
+            .filter(|&&v| v < 0.5)
+            .count();
+        assert!(shadowed > 100, "frame {k}: {shadowed} texels in shadow");
+        assert!(va == vb, "frame {k}: V differs between run and run_into");
+    }
+    assert!(partial > 0, "no step made some views again and kept others");
     assert!(
-        first.0[0] > 0 && first.0[2] > 0 && first.0[3] > 0 && first.1 > 0,
-        "the counters count nothing: {first:?}"
+        waited > 0,
+        "run waits for its generations (the count counts)"
     );
-    for k in 0..3 {
-        let still = frame(&mut lab);
-        println!("still frame {k}: {still:?}");
-        assert_eq!(
-            still,
-            ([0; 4], 0),
-            "a still frame makes no buffer, texture, view or bind group"
-        );
-    }
-    // The box under the segment light moves every frame: that light's maps are made again.
-    for k in 0..4 {
-        let moved = Mat4::from_translation(Vec3::new(5.0 + 0.05 * k as f32, 0.8, 0.0));
-        lab.scene.world.get_mut::<Transform>(lab.mover).unwrap().0 = moved;
-        let (remade, new_textures) = frame(&mut lab);
-        println!("frame remaking the segment light's maps {k}: {remade:?}, {new_textures}");
-        assert_eq!(
-            new_textures, 0,
-            "a frame that remakes maps takes their textures from the pool"
-        );
-    }
 }

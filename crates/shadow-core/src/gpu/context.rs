@@ -30,6 +30,7 @@ pub struct GpuContext {
     pub(super) timer: Mutex<Option<Arc<super::timer::TimerState>>>,
     geometry_uploads: AtomicU64,
     buffer_maps: AtomicU64,
+    waits: AtomicU64,
     memory_budget: AtomicU64,
     pub(super) pool: super::pool::GpuPool,
     /// This context among the process's ([`GpuContext::serial`]).
@@ -132,6 +133,7 @@ impl GpuContext {
             timer: Mutex::new(None),
             geometry_uploads: AtomicU64::new(0),
             buffer_maps: AtomicU64::new(0),
+            waits: AtomicU64::new(0),
             memory_budget: AtomicU64::new(crate::memory::default_budget()),
             pool: Default::default(),
             serial: NEXT_SERIAL.fetch_add(1, Ordering::Relaxed),
@@ -226,8 +228,15 @@ impl GpuContext {
         crate::technique::DeviceLimits::from_limits(&self.device.limits())
     }
 
+    /// How many times [`GpuContext::wait`] blocked for the device (every generation that
+    /// submits its own work and every readback waits; recorded work waits for nothing).
+    pub fn waits(&self) -> u64 {
+        self.waits.load(Ordering::Relaxed)
+    }
+
     /// Blocks until all submitted work has finished.
     pub fn wait(&self) -> Result<()> {
+        self.waits.fetch_add(1, Ordering::Relaxed);
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: None,
