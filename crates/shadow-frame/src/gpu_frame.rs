@@ -127,29 +127,10 @@ pub fn record_visibility(
         Some(v) if v.texture == *texture => v,
         _ => LayerViews::new(texture),
     };
-    // Where a `GpuTiming` asks for it, every light's `V` passes write timestamps, resolved
-    // after the last of them.
-    let mut timing = world.remove_resource::<GpuTiming>();
-    let recorded = record_layers(
-        world,
-        gpu,
-        enc,
-        targets,
-        (&layer_views.views, ones),
-        timing.as_mut(),
-    );
+    let recorded = timed_lights(world, enc, size, |world, enc, timing| {
+        record_layers(world, gpu, enc, targets, (&layer_views.views, ones), timing)
+    });
     world.insert_resource(layer_views);
-    if let Some(mut t) = timing {
-        if recorded.is_ok() {
-            t.resolve(enc, size.0 as usize * size.1 as usize);
-        }
-        world.insert_resource(t);
-    }
-    let texels = RecordedTexels(size.0 as usize * size.1 as usize);
-    if recorded.is_ok() && world.get_resource::<RecordedTexels>() != Some(&texels) {
-        // A new count shares the budget again (the predictions count texels).
-        world.insert_resource(texels);
-    }
     // Where a `ShadowProbe` asks for it, every light's `V` at the frame's sampled receivers.
     if recorded.is_ok()
         && let Some(mut probe) = world.remove_resource::<ShadowProbe>()
@@ -177,6 +158,68 @@ pub fn submitted(world: &mut World) {
     }
 }
 
+/// Records the lights' passes over a G-buffer of `size` texels with `record` (given the
+/// world's [`GpuTiming`], out of the world meanwhile): where a `GpuTiming` asks for it, every
+/// light's `V` passes write timestamps, resolved into `enc` after the last of them; the
+/// texels go to [`RecordedTexels`].
+pub(crate) fn timed_lights(
+    world: &mut World,
+    enc: &mut wgpu::CommandEncoder,
+    size: (u32, u32),
+    record: impl FnOnce(&mut World, &mut wgpu::CommandEncoder, Option<&mut GpuTiming>) -> Result<usize>,
+) -> Result<usize> {
+    let mut timing = world.remove_resource::<GpuTiming>();
+    let recorded = record(world, enc, timing.as_mut());
+    let texels = size.0 as usize * size.1 as usize;
+    if let Some(mut t) = timing {
+        if recorded.is_ok() {
+            t.resolve(enc, texels);
+        }
+        world.insert_resource(t);
+    }
+    if recorded.is_ok() && world.get_resource::<RecordedTexels>() != Some(&RecordedTexels(texels)) {
+        // A new count shares the budget again (the predictions count texels).
+        world.insert_resource(RecordedTexels(texels));
+    }
+    recorded
+}
+
+/// Records light `light`'s `V` from `maps` over `positions` and `normals` into `visibility`
+/// (a texture of `size` texels), then `after` (the light's other passes), its passes timed
+/// where `timing` is given.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn record_light(
+    gpu: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    (light, maps): (Entity, &soft_shadow_core::technique::AnyMaps),
+    (positions, normals): (&wgpu::TextureView, &wgpu::TextureView),
+    (visibility, size): (&wgpu::TextureView, (u32, u32)),
+    timing: Option<&mut GpuTiming>,
+    after: impl FnOnce(&mut wgpu::CommandEncoder),
+) -> Result<()> {
+    let mut after = Some(after);
+    let mut work = || {
+        maps.record_visibility(
+            gpu,
+            enc,
+            &ReceiverTextures {
+                positions,
+                normals,
+                visibility,
+                size,
+            },
+        )?;
+        if let Some(f) = after.take() {
+            f(enc);
+        }
+        Ok(())
+    };
+    match timing {
+        Some(t) => t.time_visibility(gpu, light, work),
+        None => work(),
+    }
+}
+
 /// [`record_visibility`]'s recording, every layer checked: each light into its view of
 /// `layer_views`, a light without maps copied from `ones`.
 fn record_layers(
@@ -195,24 +238,15 @@ fn record_layers(
         let usable = state.maps.as_ref().filter(|_| state.error.is_none());
         let view = &layer_views[layer.0 as usize];
         match usable {
-            Some(maps) => {
-                let mut work = || {
-                    maps.record_visibility(
-                        gpu,
-                        enc,
-                        &ReceiverTextures {
-                            positions: targets.positions,
-                            normals: targets.normals,
-                            visibility: view,
-                            size,
-                        },
-                    )
-                };
-                match timing.as_deref_mut() {
-                    Some(t) => t.time_visibility(gpu, light, work),
-                    None => work(),
-                }?
-            }
+            Some(maps) => record_light(
+                gpu,
+                enc,
+                (light, maps),
+                (targets.positions, targets.normals),
+                (view, size),
+                timing.as_deref_mut(),
+                |_| {},
+            )?,
             None => match &ones {
                 Some(buffer) => unshadowed(enc, buffer, texture, layer.0),
                 None => unreachable!("a light without maps made the buffer of ones"),

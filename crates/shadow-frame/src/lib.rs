@@ -9,9 +9,12 @@ pub mod gltf;
 #[cfg(feature = "gpu")]
 pub mod gpu_frame;
 #[cfg(feature = "gpu")]
+pub mod gpu_irradiance;
+#[cfg(feature = "gpu")]
 pub mod gpu_probe;
 #[cfg(feature = "gpu")]
 pub mod gpu_timing;
+pub mod lighting;
 pub mod profile;
 mod recording;
 pub mod scene;
@@ -24,6 +27,8 @@ pub mod tracking;
 pub use budget::FrameBudget;
 pub use calibration::Calibration;
 pub use components::*;
+#[cfg(feature = "gpu")]
+pub use gpu_irradiance::SHADERS;
 #[cfg(feature = "gpu")]
 pub use gpu_probe::ShadowProbe;
 #[cfg(feature = "gpu")]

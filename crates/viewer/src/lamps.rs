@@ -10,9 +10,10 @@
 //! come from a small CPU G-buffer of the same camera and shape ([`receivers_size`]).
 
 use crate::renderer::{LAMPS, PassTimes, Renderer, ViewMode};
-use crate::shade::{ALBEDO, BACKGROUND, LAMP_AMBIENT, LampData, LampShade, LampsDisplay};
+use crate::shade::{ALBEDO, BACKGROUND, LAMP_AMBIENT, LampShade, LampsDisplay};
 use shadow_frame::RecordedTexels;
 use shadow_frame::gpu_frame::{FrameTextures, VisibilityLayer, record_visibility};
+use shadow_frame::lighting::LightRecord;
 use shadow_frame::scene::LightSource;
 use shadow_frame::{
     FrameBackend, FrameBudget, FramePipeline, FrameReceivers, FrameSettings, FrameStats, GpuTiming,
@@ -145,7 +146,7 @@ impl LampsView {
         })
     }
 
-    fn lamp_data(lamps: &Lamps) -> Vec<LampData> {
+    fn lamp_data(lamps: &Lamps) -> Vec<LightRecord> {
         let world = &lamps.scene.world;
         lamps
             .lamps
@@ -154,8 +155,8 @@ impl LampsView {
                 let light = world.get::<LightSource>(e).map(|l| l.0);
                 let config = world.get::<ShadowConfig>(e);
                 match (light, config) {
-                    (Some(l), Some(c)) => LampData::new(&l, c.intensity, c.range),
-                    _ => LampData::default(),
+                    (Some(l), Some(c)) => LightRecord::of(&l, c),
+                    _ => LightRecord::default(),
                 }
             })
             .collect()

@@ -6,9 +6,10 @@
 //! many lamps records the same G-buffer pass ([`Renderer::encode_gbuffer`]) and its own passes
 //! ([`crate::lamps::LampsView`]).
 
-use crate::shade::{LampData, LampsDisplay, ShadeUniform};
+use crate::shade::{LampsDisplay, ShadeUniform};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
+use shadow_frame::lighting::LightRecord;
 use soft_shadow_core::gpu::shader::{
     Group, Library, Program, ShaderModule, float_texture, storage, storage_texture, uniform,
 };
@@ -264,7 +265,10 @@ pub static SHADERS: Library = Library {
             source: include_str!("lamps.wgsl"),
         },
     ],
-    depends: &[&soft_shadow_core::gpu::shader::SHADERS],
+    depends: &[
+        &soft_shadow_core::gpu::shader::SHADERS,
+        &shadow_frame::SHADERS,
+    ],
     programs: &[&GBUFFER, &SHADE, &LAMPS],
 };
 
@@ -307,7 +311,7 @@ pub(crate) static LAMPS: Program = Program {
     module: "viewer::lamps",
     defs: &[],
     groups: &[Group::compute(&[
-        storage::<LampData>(true),
+        storage::<LightRecord>(true),
         uniform::<LampsDisplay>(),
         float_texture(wgpu::TextureViewDimension::D2),
         float_texture(wgpu::TextureViewDimension::D2),

@@ -6,11 +6,13 @@
 //!   segments along their length; points and spheres at their centre; a distant light as one
 //!   direction), each sample's term clipped to the receiver's horizon and to the light's front,
 //!   times the technique's `V`;
-//! - many lamps ([`LampShade`]): each lamp weighed as the frame pipeline's budget weighs it,
-//!   within its influence radius, times its own `V`, summed.
+//! - many lamps ([`LampShade`]): each lamp's irradiance as the frame pipeline's summed output
+//!   weighs it ([`shadow_frame::lighting::LightRecord`], `shadow_frame::lighting` in WGSL),
+//!   times its own `V`, summed.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
+use shadow_frame::lighting::LightRecord;
 use soft_shadow_core::{Light, LightPoint, Result};
 
 /// Light samples per side of the grid.
@@ -180,76 +182,6 @@ pub const LAMP_AMBIENT: f32 = 0.04;
 /// The brightness the exposure gives the 95th percentile of the unshadowed lighting.
 pub const EXPOSED: f32 = 0.85;
 
-/// One lamp as `lamps.wgsl` reads it.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct LampData {
-    /// Centre and influence radius; for a distant light the unit direction towards it and -1.
-    pub centre: [f32; 4],
-    /// Unit emission normal of a one-sided lamp (zero: every direction), and the lamp's size
-    /// squared (the least squared distance its weight takes).
-    pub front: [f32; 4],
-    /// Radiant intensity, then unused.
-    pub terms: [f32; 4],
-}
-
-impl LampData {
-    /// `light` of radiant `intensity` influencing receivers within `range` of its centre.
-    pub fn new(light: &Light, intensity: f32, range: f32) -> Self {
-        let (centre, front) = match light.center() {
-            LightPoint::Direction(d) => (d.normalize().extend(-1.0), [0.0; 4]),
-            LightPoint::Position(c) => (
-                c.extend(range),
-                light
-                    .front()
-                    .map_or(Vec3::ZERO, |(_, n)| n.normalize())
-                    .extend(light.size() * light.size())
-                    .to_array(),
-            ),
-        };
-        Self {
-            centre: centre.to_array(),
-            front,
-            terms: [intensity, 0.0, 0.0, 0.0],
-        }
-    }
-
-    /// Its unshadowed irradiance at `p` with unit normal `n` (`lamp_irradiance` in
-    /// `lamps.wgsl`): [`shadow_frame::budget::irradiance_estimate`] times [`range_window`] of
-    /// the distance over the range, 0 beyond.
-    pub fn irradiance(&self, p: Vec3, n: Vec3) -> f32 {
-        let c = Vec3::from_slice(&self.centre[..3]);
-        let intensity = self.terms[0];
-        if self.centre[3] < 0.0 {
-            return intensity * n.dot(c).max(0.0);
-        }
-        let d = c - p;
-        let d2 = d.length_squared();
-        if d2 > self.centre[3] * self.centre[3] {
-            return 0.0;
-        }
-        let r2 = d2.max(self.front[3]).max(1e-6);
-        let l = d / r2.sqrt();
-        let front = Vec3::from_slice(&self.front[..3]);
-        let at_light = if front == Vec3::ZERO {
-            1.0
-        } else {
-            (-front.dot(l)).max(0.0)
-        };
-        intensity * n.dot(l).max(0.0) * at_light / r2
-            * range_window(d2 / (self.centre[3] * self.centre[3]))
-    }
-}
-
-/// How a lamp's light fades to 0 at its range, `(1 - x²)²` of `x`, the squared distance over
-/// the squared range (engines' windowed falloff): 1 at the lamp, 0 at the range with no step,
-/// so a lamp's range draws no edge (its light is within 1% of the unwindowed within a quarter of
-/// the range).
-pub fn range_window(x: f32) -> f32 {
-    let w = (1.0 - x * x).max(0.0);
-    w * w
-}
-
 /// The lamps pass's display uniform, laid out as `LampsDisplay` in `lamps.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -268,7 +200,7 @@ pub struct LampsDisplay {
 #[derive(Clone, Debug, PartialEq)]
 pub struct LampShade {
     /// Every lamp, in layer order.
-    pub lamps: Vec<LampData>,
+    pub lamps: Vec<LightRecord>,
     /// What the summed lighting is multiplied by before albedo.
     pub exposure: f32,
 }

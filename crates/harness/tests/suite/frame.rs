@@ -1445,3 +1445,136 @@ fn run_into_records_every_generation_into_the_renderers_encoder() {
         "run waits for its generations (the count counts)"
     );
 }
+
+/// The GPU frame's summed output: `record_irradiance` writes the shadowed irradiance summed
+/// over the lab's four lights, `Σ E V`, over the renderer's G-buffer into one texture; it
+/// equals the CPU sum over the same receivers from the `V` the pipeline evaluated with the
+/// same GPU maps (relative difference under 1e-5), and the CPU backend's within the agreement
+/// every technique holds (each texel's sum over its unshadowed sum, a `V` of the lights
+/// together). The lights shadow part of the lab (texels under 90% of their unshadowed sum); a
+/// still frame's summing makes no buffer, texture, view or bind group; a texture of another
+/// format is a typed error.
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn the_gpu_frame_sums_every_lights_shadowed_irradiance() {
+    use shadow_frame::gpu_irradiance::{IrradianceTextures, record_irradiance};
+    use shadow_frame::lighting::{LightRecord, shadowed_irradiance};
+    let Some((gpu, mut lab, _, g)) = gpu_lab("the_gpu_frame_sums") else {
+        return;
+    };
+    let (w, h) = (g.visibility.width(), g.visibility.height());
+    let sum_texture = crate::common::texture(
+        &gpu,
+        "irradiance",
+        (w, h, 1),
+        wgpu::TextureFormat::R32Float,
+        wgpu::TextureUsages::STORAGE_BINDING,
+    );
+    let targets = IrradianceTextures {
+        positions: &g.position_view,
+        normals: &g.normal_view,
+        irradiance: &sum_texture,
+    };
+    let mut p = pipeline();
+    let mut frame = |lab: &mut Lab| -> [isize; 4] {
+        p.run(&mut lab.scene.world);
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let before = live_objects(&gpu);
+        let n = record_irradiance(&mut lab.scene.world, &gpu, &mut enc, &targets).unwrap();
+        let during = live_objects(&gpu);
+        gpu.queue.submit([enc.finish()]);
+        gpu.wait().unwrap();
+        assert_eq!(n, 4);
+        std::array::from_fn(|k| during[k] - before[k])
+    };
+    frame(&mut lab);
+    let got: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
+        &gpu,
+        &sum_texture,
+        0,
+        wgpu::TextureAspect::All,
+        4,
+    )
+    .unwrap();
+    let want = shadowed_irradiance(&mut lab.scene.world);
+    let frame_receivers = lab.scene.world.resource::<FrameReceivers>().clone();
+    assert_eq!(want.len(), got.len());
+    // Every light's unshadowed sum, for the ratio.
+    let records: Vec<LightRecord> = lab
+        .scene
+        .world
+        .query::<(&LightSource, &ShadowConfig)>()
+        .iter(&lab.scene.world)
+        .map(|(l, c)| LightRecord::of(&l.0, c))
+        .collect();
+    let lit: Vec<f32> = frame_receivers
+        .positions
+        .iter()
+        .zip(&frame_receivers.normals)
+        .map(|(&p, &n)| records.iter().map(|r| r.irradiance(p, n)).sum())
+        .collect();
+    let worst = got
+        .iter()
+        .zip(&want)
+        .map(|(a, b)| (a - b).abs() / b.abs().max(1e-3))
+        .fold(0.0f32, f32::max);
+    let shadowed = want
+        .iter()
+        .zip(&lit)
+        .filter(|(s, l)| **s < 0.9 * **l)
+        .count();
+    println!(
+        "{} texels, {shadowed} under 90% of their unshadowed sum; worst relative difference \
+         {worst:e}",
+        got.len()
+    );
+    assert!(shadowed > 50, "{shadowed} texels in shadow");
+    assert!(worst < 1e-5, "worst relative difference {worst}");
+    // The CPU backend's sum, as a V of the lights together.
+    let mut cpu = self::lab(5.0);
+    {
+        // The fourth light, as the GPU lab has it.
+        let far = cpu
+            .scene
+            .add_light(Light::Point {
+                position: Vec3::new(0.0, 2.5, -30.0),
+            })
+            .unwrap();
+        cpu.scene.world.entity_mut(far).insert(
+            ShadowConfig::explicit(
+                Arc::new(shadow_maps::ShadowMapBaseline::new(
+                    shadow_maps::Filter::Hard,
+                )),
+                128,
+            )
+            .with_range(3.0),
+        );
+    }
+    pipeline().run(&mut cpu.scene.world);
+    let cpu_sum = shadowed_irradiance(&mut cpu.scene.world);
+    let ratio = |s: &[f32]| -> Vec<f32> {
+        s.iter()
+            .zip(&lit)
+            .map(|(s, l)| if *l > 0.0 { s / l } else { 1.0 })
+            .collect()
+    };
+    let mut failures = crate::common::Failures::default();
+    failures.agree("the lights' V together", &ratio(&cpu_sum), &ratio(&got));
+    failures.assert_none();
+    // A still frame, nothing read back: the summing makes nothing.
+    lab.scene
+        .world
+        .insert_resource(shadow_frame::FrameSettings::default().with_evaluate_receivers(false));
+    frame(&mut lab);
+    assert_eq!(frame(&mut lab), [0; 4], "a still frame's summing allocates");
+    let wrong = IrradianceTextures {
+        irradiance: &g.visibility,
+        ..targets
+    };
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    let err = record_irradiance(&mut lab.scene.world, &gpu, &mut enc, &wrong).unwrap_err();
+    assert!(err.to_string().contains("of one layer"), "{err}");
+}

@@ -5,13 +5,13 @@
 use crate::common::gpu_for_test;
 use glam::Vec3;
 use shadow_frame::budget::irradiance_estimate;
+use shadow_frame::lighting::range_window;
 use shadow_frame::scene::LightSource;
 use shadow_frame::{LightState, ShadowConfig};
 use soft_shadow_core::gpu::raster::read_texture;
 use soft_shadow_reference::ground_truth::{GroundTruthSettings, RayTracer};
 use viewer::lamps::LampsView;
 use viewer::scene::{SceneSource, load};
-use viewer::shade::range_window;
 use viewer::{FrameSettings, Renderer, ViewMode};
 
 const SIZE: (u32, u32) = (128, 72);

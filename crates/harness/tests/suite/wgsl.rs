@@ -11,9 +11,10 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// Every library of the workspace.
-fn libraries() -> [&'static Library; 7] {
+fn libraries() -> [&'static Library; 8] {
     [
         &soft_shadow_core::gpu::shader::SHADERS,
+        &shadow_frame::SHADERS,
         &shadow_maps::SHADERS,
         &shadow_width::SHADERS,
         &penumbra_limit::SHADERS,
