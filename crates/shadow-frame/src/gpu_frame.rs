@@ -102,6 +102,7 @@ pub fn record_visibility(
             )));
         }
     }
+    gpu_maps_only(world)?;
     let needs_ones = query
         .iter(world)
         .any(|(_, s)| s.maps.is_none() || s.error.is_some());
@@ -158,6 +159,23 @@ pub fn submitted(world: &mut World) {
     }
 }
 
+/// [`ShadowError::MapsMismatch`] where a light's usable maps were made on the CPU backend
+/// (checked before anything is recorded).
+pub(crate) fn gpu_maps_only(world: &mut World) -> Result<()> {
+    let mut query = world.query::<&LightState>();
+    if query.iter(world).any(|s| {
+        s.error.is_none()
+            && s.maps
+                .as_ref()
+                .is_some_and(|m| m.backend() != soft_shadow_core::Backend::Gpu)
+    }) {
+        return Err(ShadowError::MapsMismatch(
+            "CPU maps write no GPU texture: run the frame on the GPU backend".into(),
+        ));
+    }
+    Ok(())
+}
+
 /// Records the lights' passes over a G-buffer of `size` texels with `record` (given the
 /// world's [`GpuTiming`], out of the world meanwhile): where a `GpuTiming` asks for it, every
 /// light's `V` passes write timestamps, resolved into `enc` after the last of them; the
@@ -185,9 +203,7 @@ pub(crate) fn timed_lights(
 }
 
 /// Records light `light`'s `V` from `maps` over `positions` and `normals` into `visibility`
-/// (a texture of `size` texels), then `after` (the light's other passes), its passes timed
-/// where `timing` is given.
-#[allow(clippy::too_many_arguments)]
+/// (a texture of `size` texels), its passes timed where `timing` is given.
 pub(crate) fn record_light(
     gpu: &GpuContext,
     enc: &mut wgpu::CommandEncoder,
@@ -195,9 +211,7 @@ pub(crate) fn record_light(
     (positions, normals): (&wgpu::TextureView, &wgpu::TextureView),
     (visibility, size): (&wgpu::TextureView, (u32, u32)),
     timing: Option<&mut GpuTiming>,
-    after: impl FnOnce(&mut wgpu::CommandEncoder),
 ) -> Result<()> {
-    let mut after = Some(after);
     let mut work = || {
         maps.record_visibility(
             gpu,
@@ -208,11 +222,7 @@ pub(crate) fn record_light(
                 visibility,
                 size,
             },
-        )?;
-        if let Some(f) = after.take() {
-            f(enc);
-        }
-        Ok(())
+        )
     };
     match timing {
         Some(t) => t.time_visibility(gpu, light, work),
@@ -245,7 +255,6 @@ fn record_layers(
                 (targets.positions, targets.normals),
                 (view, size),
                 timing.as_deref_mut(),
-                |_| {},
             )?,
             None => match &ones {
                 Some(buffer) => unshadowed(enc, buffer, texture, layer.0),

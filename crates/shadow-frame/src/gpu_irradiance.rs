@@ -8,15 +8,15 @@
 //! `E`). The CPU path computes the same sum for [`crate::FrameReceivers`]
 //! ([`crate::lighting::shadowed_irradiance`]).
 //!
-//! As for the layers, nothing is read back but what a [`crate::GpuTiming`] asks for (each
-//! light's `V` and adding pass are timed as its evaluation), and in a frame where no light's
+//! As for the layers, nothing is read back but what a [`crate::GpuTiming`] asks for, and in a frame where no light's
 //! maps were made again, over the same textures and views, it makes no buffer, texture, view or
 //! bind group (the lights' records are written to buffers the world keeps, where they changed).
 //! A [`crate::ShadowProbe`] probes only the layers. One encoder at a time: the records are
-//! uploaded with the queue's next submission.
+//! uploaded with the queue's next submission. Each light's `V` pass is timed as its evaluation,
+//! as for the layers; the adding passes are not timed.
 
 use crate::components::{LightState, ShadowConfig};
-use crate::gpu_frame::{record_light, timed_lights};
+use crate::gpu_frame::{gpu_maps_only, record_light, timed_lights};
 use crate::lighting::LightRecord;
 use crate::scene::LightSource;
 use bevy_ecs::prelude::*;
@@ -84,12 +84,14 @@ pub struct IrradianceTextures<'a> {
 }
 
 /// Records into `enc` the shadowed irradiance `Σ E V` of every light (an entity with a
-/// [`LightSource`], a [`ShadowConfig`] and a [`LightState`]) at every texel of `targets`'
+/// [`LightSource`] and a [`ShadowConfig`]) at every texel of `targets`'
 /// G-buffer into `targets.irradiance`, and returns how many lights it summed. A light whose
 /// maps are on the GPU records its `V` pass and adds `E V`; a light without usable maps (no
-/// caster reaches it, it lights nothing the camera sees, or the frame left it an error) adds
-/// `E`. Submit `enc` before the next frame's run, as for
-/// [`crate::gpu_frame::record_visibility`].
+/// caster reaches it, it lights nothing the camera sees, the frame left it an error, or no
+/// frame has run it yet) adds `E`. Submit `enc` before the next frame's run, as for
+/// [`crate::gpu_frame::record_visibility`]. Record one of the two outputs in a frame, the sum
+/// or the layers: each light's maps keep the bind group of one output's textures, and the
+/// budget counts the texels of the last one recorded.
 ///
 /// Checked before anything is recorded: the texture's format, usage and layers
 /// ([`ShadowError::InvalidParameter`]); maps made on the CPU backend are
@@ -117,16 +119,17 @@ pub fn record_irradiance(
             texture.depth_or_array_layers()
         )));
     }
+    gpu_maps_only(world)?;
     let size = (texture.width(), texture.height());
-    // The lights in the query's order, each with its record and its usable maps.
-    let mut query = world.query::<(Entity, &LightSource, &ShadowConfig, &LightState)>();
+    // The lights in the query's order, each with its record and whether its maps are usable.
+    let mut query = world.query::<(Entity, &LightSource, &ShadowConfig, Option<&LightState>)>();
     let mut records = vec![LightRecord {
         terms: [0.0, 0.0, CLEAR, 0.0],
         ..Default::default()
     }];
     let mut lights = Vec::new();
     for (entity, light, config, state) in query.iter(world) {
-        let shadowed = state.maps.is_some() && state.error.is_none();
+        let shadowed = state.is_some_and(|s| s.maps.is_some() && s.error.is_none());
         let mut record = LightRecord::of(&light.0, config);
         record.terms[2] = if shadowed { SHADOWED } else { UNSHADOWED };
         records.push(record);
@@ -141,21 +144,19 @@ pub fn record_irradiance(
         summing.pass(gpu, enc, 0);
         for (k, &(entity, shadowed)) in lights.iter().enumerate() {
             let state = world.get::<LightState>(entity);
-            match state.and_then(|s| s.maps.as_ref()).filter(|_| shadowed) {
-                Some(maps) => record_light(
+            // The light's `V` (timed as its evaluation, as in the layers), then its `E V`; a
+            // light without maps adds its `E`, untimed like a layer's copy of ones.
+            if let Some(maps) = state.and_then(|s| s.maps.as_ref()).filter(|_| shadowed) {
+                record_light(
                     gpu,
                     enc,
                     (entity, maps),
                     (targets.positions, targets.normals),
                     (&summing.scratch_view, size),
                     timing.as_deref_mut(),
-                    |enc| summing.pass(gpu, enc, k + 1),
-                )?,
-                None => match timing.as_deref_mut() {
-                    Some(t) => t.time_visibility(gpu, entity, || summing.pass(gpu, enc, k + 1)),
-                    None => summing.pass(gpu, enc, k + 1),
-                },
+                )?;
             }
+            summing.pass(gpu, enc, k + 1);
         }
         Ok(lights.len())
     });

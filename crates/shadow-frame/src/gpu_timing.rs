@@ -432,10 +432,17 @@ pub(crate) fn end_frame(world: &mut World) {
         .get_resource::<GpuTiming>()
         .is_some_and(GpuTiming::timing)
     {
-        let mut states = world.query::<&mut crate::LightState>();
-        for mut s in states.iter_mut(world) {
-            s.generated_ms = None;
-        }
+        forget_wall_times(world);
+    }
+}
+
+/// Forgets the wall times the frame's lights measured for their generation
+/// ([`crate::LightState::generated_ms`]): on the GPU, where the frame only recorded it, they
+/// are not what `Auto` holds to its budget.
+pub(crate) fn forget_wall_times(world: &mut World) {
+    let mut states = world.query::<&mut crate::LightState>();
+    for mut s in states.iter_mut(world) {
+        s.generated_ms = None;
     }
 }
 

@@ -140,6 +140,16 @@ impl FramePipeline {
     /// [`FrameStats`] resource). Missing resources get their defaults; a [`TechniqueProfile`]
     /// defaults to [`FramePipeline::profile_defaults`].
     pub fn run(&mut self, world: &mut World) -> FrameStats {
+        // An encoder a `run_into` that did not finish left in the world: this frame submits
+        // its generations on its own.
+        #[cfg(feature = "gpu")]
+        world.remove_resource::<recording::FrameEncoder>();
+        self.run_frame(world)
+    }
+
+    /// [`FramePipeline::run`]'s frame, its generations recorded into the world's
+    /// `FrameEncoder` where [`FramePipeline::run_into`] put one there.
+    fn run_frame(&mut self, world: &mut World) -> FrameStats {
         world
             .get_resource_or_insert_with(deadline::Deadline::default)
             .begin_frame(std::time::Instant::now());

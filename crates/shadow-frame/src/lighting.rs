@@ -37,28 +37,31 @@ pub struct LightRecord {
 
 impl LightRecord {
     /// `light` of radiant `intensity` (a distant light: irradiance at normal incidence), faded
-    /// to 0 at `range` from its centre (a distant light, or an infinite range, is not).
+    /// to 0 at `range` from its centre (a distant light, or an infinite range, is not; a local
+    /// light whose range is 0, negative or not a number reaches nothing, as in the pipeline).
     pub fn new(light: &Light, intensity: f32, range: f32) -> Self {
-        let inverse_range2 = if range.is_finite() && range > 0.0 {
-            1.0 / (range * range)
-        } else {
-            0.0
-        };
         match light.center() {
             LightPoint::Direction(d) => Self {
                 position: d.normalize().extend(0.0).to_array(),
                 front: [0.0; 4],
                 terms: [intensity, 0.0, 0.0, 0.0],
             },
-            LightPoint::Position(c) => Self {
-                position: c.extend(1.0).to_array(),
-                front: light
-                    .front()
-                    .map_or(Vec3::ZERO, |(_, n)| n.normalize())
-                    .extend(light.size() * light.size())
-                    .to_array(),
-                terms: [intensity, inverse_range2, 0.0, 0.0],
-            },
+            LightPoint::Position(c) => {
+                let (intensity, inverse_range2) = match range {
+                    r if r == f32::INFINITY => (intensity, 0.0),
+                    r if r > 0.0 => (intensity, 1.0 / (r * r)),
+                    _ => (0.0, 0.0),
+                };
+                Self {
+                    position: c.extend(1.0).to_array(),
+                    front: light
+                        .front()
+                        .map_or(Vec3::ZERO, |(_, n)| n.normalize())
+                        .extend(light.size() * light.size())
+                        .to_array(),
+                    terms: [intensity, inverse_range2, 0.0, 0.0],
+                }
+            }
         }
     }
 
@@ -192,5 +195,10 @@ mod tests {
         }
         // Lit and unlit receivers both.
         assert!(checked.0 > 2000 && checked.1 > 2000, "{checked:?}");
+        // A local light whose range reaches nothing lights nothing.
+        for range in [0.0, -1.0, f32::NAN] {
+            let record = LightRecord::new(&lights[0], 3.0, range);
+            assert_eq!(record.irradiance(Vec3::ZERO, Vec3::Y), 0.0, "range {range}");
+        }
     }
 }

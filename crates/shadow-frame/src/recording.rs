@@ -113,8 +113,17 @@ mod encoder {
         /// submission). Record the lights' `V` into the same encoder after it
         /// ([`crate::gpu_frame::record_visibility`]), submit it, and submit each frame's
         /// encoder before the next frame's `run_into` (which may give the maps it reads to a
-        /// new generation). A wgpu error in what it recorded surfaces when `enc` is finished
-        /// or submitted, not in the frame's [`crate::LightState::error`].
+        /// new generation). Until you submit `enc`, submit nothing else through the same
+        /// [`soft_shadow_core::GpuContext`] (its pool may hand textures whose work still waits
+        /// in `enc` to that submission).
+        ///
+        /// A generation that fails as it records (a texture the device cannot make) leaves
+        /// its light a [`crate::LightState::error`], but what it recorded stays in `enc`, so
+        /// `enc` fails as a whole when it is finished; a wgpu error wgpu reports only then
+        /// surfaces there, not in the light's error. (The pipeline checks each configuration
+        /// against the device's limits and the context's memory budget before it records.)
+        /// `Auto` measures a recorded generation only by its device time: with a
+        /// [`crate::GpuTiming`] its budget holds, without one it keeps its pick.
         ///
         /// Refused before anything runs ([`ShadowError::InvalidParameter`]) where the world's
         /// [`FrameBackend`] is not the GPU backend with a context, or its [`FrameSettings`]
@@ -159,11 +168,15 @@ mod encoder {
                 |s| s.0,
             );
             world.insert_resource(FrameEncoder(std::mem::replace(enc, spare)));
-            let stats = self.run(world);
-            let FrameEncoder(recorded) = world
-                .remove_resource()
-                .expect("the frame's systems leave the encoder in the world");
-            world.insert_resource(SpareEncoder(std::mem::replace(enc, recorded)));
+            let stats =
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| self.run_frame(world)));
+            // Your encoder back, whatever the frame did.
+            if let Some(FrameEncoder(recorded)) = world.remove_resource() {
+                world.insert_resource(SpareEncoder(std::mem::replace(enc, recorded)));
+            }
+            let stats = stats.unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            // The wall time of a recorded generation is its recording.
+            crate::gpu_timing::forget_wall_times(world);
             Ok(stats)
         }
     }

@@ -1345,7 +1345,8 @@ fn street_targets(gpu: &soft_shadow_core::GpuContext, s: &Street) -> GpuTargets 
 /// waits for nothing and reads nothing back until the renderer submits. Over `street-sun`'s
 /// cascades (a first frame, five 1 cm steps that make some views again and keep others, and a
 /// jump of 20 m), it makes the same views as `run`, which submits each generation and waits
-/// for it (counted: it waits), and `V` is the same to the last bit. Without the GPU backend,
+/// for it (counted: it waits), and `V` is the same to the last bit; the recorded generations
+/// leave `Auto` no wall time to hold to its budget. Without the GPU backend,
 /// or with the receivers evaluated (a readback of maps not yet made), it is a typed error.
 #[test]
 #[cfg_attr(
@@ -1421,6 +1422,9 @@ fn run_into_records_every_generation_into_the_renderers_encoder() {
             .get::<LightState>(recorded.light)
             .unwrap();
         assert_eq!(state.error, None, "frame {k}");
+        // The wall time of a recorded generation is its recording, not what `Auto` holds to
+        // its budget.
+        assert_eq!(state.generated_ms, None, "frame {k}");
         println!(
             "frame {k}: {} views made (run: {})",
             b.views_generated, a.views_generated
@@ -1447,13 +1451,14 @@ fn run_into_records_every_generation_into_the_renderers_encoder() {
 }
 
 /// The GPU frame's summed output: `record_irradiance` writes the shadowed irradiance summed
-/// over the lab's four lights, `Σ E V`, over the renderer's G-buffer into one texture; it
-/// equals the CPU sum over the same receivers from the `V` the pipeline evaluated with the
-/// same GPU maps (relative difference under 1e-5), and the CPU backend's within the agreement
-/// every technique holds (each texel's sum over its unshadowed sum, a `V` of the lights
-/// together). The lights shadow part of the lab (texels under 90% of their unshadowed sum); a
-/// still frame's summing makes no buffer, texture, view or bind group; a texture of another
-/// format is a typed error.
+/// over the lab's four lights and a fifth that no frame has run yet (it adds its unshadowed
+/// irradiance), `Σ E V`, over the renderer's G-buffer into one texture; it equals the CPU sum
+/// over the same receivers from the `V` the pipeline evaluated with the same GPU maps
+/// (relative difference under 1e-5), and the CPU backend's within the agreement every
+/// technique holds (each texel's sum over its unshadowed sum, a `V` of the lights together).
+/// The lights shadow part of the lab (texels under 90% of their unshadowed sum); a still
+/// frame's summing makes no buffer, texture, view or bind group; a texture of another format,
+/// and CPU maps, are typed errors.
 #[test]
 #[cfg_attr(
     no_gpu_adapter,
@@ -1479,18 +1484,34 @@ fn the_gpu_frame_sums_every_lights_shadowed_irradiance() {
         irradiance: &sum_texture,
     };
     let mut p = pipeline();
-    let mut frame = |lab: &mut Lab| -> [isize; 4] {
-        p.run(&mut lab.scene.world);
+    let sum = |lab: &mut Lab| -> [isize; 4] {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let before = live_objects(&gpu);
         let n = record_irradiance(&mut lab.scene.world, &gpu, &mut enc, &targets).unwrap();
         let during = live_objects(&gpu);
         gpu.queue.submit([enc.finish()]);
         gpu.wait().unwrap();
-        assert_eq!(n, 4);
+        assert_eq!(n, 5);
         std::array::from_fn(|k| during[k] - before[k])
     };
-    frame(&mut lab);
+    // A fifth light, added after the frame ran: no frame has made its maps.
+    let fifth = |lab: &mut Lab| {
+        let e = lab
+            .scene
+            .add_light(Light::Point {
+                position: Vec3::new(1.0, 4.0, 0.5),
+            })
+            .unwrap();
+        lab.scene.world.entity_mut(e).insert(ShadowConfig::explicit(
+            Arc::new(shadow_maps::ShadowMapBaseline::new(
+                shadow_maps::Filter::Hard,
+            )),
+            128,
+        ));
+    };
+    p.run(&mut lab.scene.world);
+    fifth(&mut lab);
+    sum(&mut lab);
     let got: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
         &gpu,
         &sum_texture,
@@ -1554,6 +1575,7 @@ fn the_gpu_frame_sums_every_lights_shadowed_irradiance() {
         );
     }
     pipeline().run(&mut cpu.scene.world);
+    fifth(&mut cpu);
     let cpu_sum = shadowed_irradiance(&mut cpu.scene.world);
     let ratio = |s: &[f32]| -> Vec<f32> {
         s.iter()
@@ -1568,8 +1590,10 @@ fn the_gpu_frame_sums_every_lights_shadowed_irradiance() {
     lab.scene
         .world
         .insert_resource(shadow_frame::FrameSettings::default().with_evaluate_receivers(false));
-    frame(&mut lab);
-    assert_eq!(frame(&mut lab), [0; 4], "a still frame's summing allocates");
+    p.run(&mut lab.scene.world);
+    sum(&mut lab);
+    p.run(&mut lab.scene.world);
+    assert_eq!(sum(&mut lab), [0; 4], "a still frame's summing allocates");
     let wrong = IrradianceTextures {
         irradiance: &g.visibility,
         ..targets
@@ -1577,4 +1601,7 @@ fn the_gpu_frame_sums_every_lights_shadowed_irradiance() {
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     let err = record_irradiance(&mut lab.scene.world, &gpu, &mut enc, &wrong).unwrap_err();
     assert!(err.to_string().contains("of one layer"), "{err}");
+    pipeline().run(&mut cpu.scene.world);
+    let err = record_irradiance(&mut cpu.scene.world, &gpu, &mut enc, &targets).unwrap_err();
+    assert!(err.to_string().contains("CPU maps"), "{err}");
 }
