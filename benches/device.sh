@@ -14,8 +14,10 @@
 #      and the stability suite (every technique on every catalogue scene, both backends);
 #   2. the generation benches at 2048², GPU wall and device time, every configuration;
 #   3. the evaluation benches (512² receivers, 1024² maps), GPU wall and device time;
-# each bench measured for SHADOW_BENCH_SECONDS (default 0.5) instead of the usual 2 s, and
-# writes into $OUT: gpu.txt, tests.txt, generation.txt, evaluation.txt and summary.md (every
+#   4. the GPU frame's two ways to make its lamps' maps, `run` and `run_into`
+#      (`frame/gpu-recording`, 1, 4 and 16 lamps);
+# each of 2 and 3 measured for SHADOW_BENCH_SECONDS (default 0.5) instead of the usual 2 s, and
+# writes into $OUT: gpu.txt, tests.txt, generation.txt, evaluation.txt, lights.txt and summary.md (every
 # median, and the goals: 2048² generation under 1 ms, 1080p evaluation under 0.5 ms).
 # GEN_FILTER and EVAL_FILTER (criterion regexes) narrow the benches, e.g. to rehearse `run`
 # here on lavapipe.
@@ -51,13 +53,13 @@ for line in sys.stdin:
     while read -r name path; do
         case $name in
         # Stripped: what travels to the device is at most 64 MiB, the tree included.
-        generation | evaluation | suite | stability | penumbra_limit | occlusion_slices) cp "$path" "$dir/$name" && strip "$dir/$name" ;;
+        generation | evaluation | lights | suite | stability | penumbra_limit | occlusion_slices) cp "$path" "$dir/$name" && strip "$dir/$name" ;;
         esac
     done < <(
         executables bench -p shadow-benches --no-run
         executables test --workspace --release --no-run
     )
-    for name in generation evaluation suite stability penumbra_limit occlusion_slices; do
+    for name in generation evaluation lights suite stability penumbra_limit occlusion_slices; do
         [ -x "$dir/$name" ] || { echo "stage: no $name executable was built" >&2; exit 1; }
     done
     tar cJf "$dir.txz" -C "$(dirname "$dir")" "$(basename "$dir")"
@@ -180,6 +182,8 @@ run() {
     timeout 170 "$dir/evaluation" --noplot --bench "${EVAL_FILTER:-/gpu-(device|wall)\$}" \
         >"$out/evaluation.txt" 2>&1
     echo "exit status $?" >>"$out/evaluation.txt"
+    timeout 60 "$dir/lights" --noplot --bench gpu-recording >"$out/lights.txt" 2>&1
+    echo "exit status $?" >>"$out/lights.txt"
     summary "$out"
     cat "$out/summary.md"
 }

@@ -11,6 +11,10 @@
 //! frames hold that calibration (`FrameSettings::calibrating` off), so they keep the picks and
 //! make every map they are to make: no lamp's maps wait a frame (`shadow_frame::deadline`).
 //!
+//! `frame/gpu-recording/{run,run_into}/<lamps>` (on a GPU adapter) times the GPU frame's two
+//! ways to make the maps, `FramePipeline::run` and `FramePipeline::run_into`, over the same
+//! work ([`recording`]).
+//!
 //! `cargo bench -p shadow-benches --bench lights [-- <regex>]`; see `benches/README.md`.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
@@ -114,5 +118,122 @@ fn lights(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, lights);
+/// The GPU frame's two ways to make the lamps' maps, over the same work: every lamp of the
+/// night street (1, 4, 16) with PCSS at 256² (an explicit choice, so both make the same maps),
+/// caching off (every lamp makes its maps every frame), nothing read back
+/// (`FrameSettings::evaluate_receivers` off), `V` recorded into a layer per lamp over the
+/// street's 320 x 180 G-buffer. `run`: the pipeline submits each lamp's generation and waits
+/// for it, then the frame's encoder records `V`; `run_into`: the generations and `V` in one
+/// encoder. Each frame is submitted and waited for.
+fn recording(c: &mut Criterion) {
+    use shadow_frame::gpu_frame::{FrameTextures, VisibilityLayer, record_visibility};
+    let Some(gpu) = gpu().map(Arc::new) else {
+        return;
+    };
+    let mut group = c.benchmark_group("frame/gpu-recording");
+    group.sample_size(10);
+    let pcss: Arc<dyn soft_shadow_core::DynTechnique> = Arc::new(
+        shadow_maps::ShadowMapBaseline::new(shadow_maps::Filter::Pcss),
+    );
+    for n in [1, 4, 16] {
+        for into in [false, true] {
+            let mut street =
+                soft_shadow_reference::scenes::lamps::street::street(n, 320, 180, BUDGET_MS)
+                    .expect("night street");
+            let world = &mut street.scene.world;
+            world.insert_resource(FrameBackend::gpu(Arc::clone(&gpu)));
+            world.insert_resource(
+                FrameSettings::default()
+                    .with_caching(false)
+                    .with_evaluate_receivers(false),
+            );
+            for (k, &e) in street.lamps.iter().enumerate() {
+                let range = world
+                    .get::<shadow_frame::ShadowConfig>(e)
+                    .map_or(f32::INFINITY, |c| c.range);
+                world.entity_mut(e).insert((
+                    shadow_frame::ShadowConfig::explicit(Arc::clone(&pcss), 256).with_range(range),
+                    VisibilityLayer(k as u32),
+                ));
+            }
+            let frame = world.resource::<shadow_frame::FrameReceivers>().clone();
+            let (w, h) = (320u32, 180u32);
+            let texels = |v: &[glam::Vec3]| -> Vec<[f32; 4]> {
+                let mut t: Vec<[f32; 4]> = v.iter().map(|p| [p.x, p.y, p.z, 1.0]).collect();
+                t.resize((w * h) as usize, [0.0; 4]);
+                t
+            };
+            let upload = |label: &str, data: &[[f32; 4]]| {
+                let t = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: w,
+                        height: h,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu::TextureFormat::Rgba32Float,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                    view_formats: &[],
+                });
+                gpu.queue.write_texture(
+                    t.as_image_copy(),
+                    bytemuck::cast_slice(data),
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(w * 16),
+                        rows_per_image: Some(h),
+                    },
+                    t.size(),
+                );
+                t.create_view(&Default::default())
+            };
+            let positions = upload("positions", &texels(&frame.positions));
+            let normals = upload("normals", &texels(&frame.normals));
+            let visibility = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("visibility"),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: n as u32,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R32Float,
+                usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            });
+            let targets = FrameTextures {
+                positions: &positions,
+                normals: &normals,
+                visibility: &visibility,
+            };
+            let mut p = pipeline();
+            let mut frame = || {
+                let mut enc = gpu.device.create_command_encoder(&Default::default());
+                if into {
+                    p.run_into(&mut street.scene.world, &mut enc)
+                        .expect("a GPU frame");
+                } else {
+                    p.run(&mut street.scene.world);
+                }
+                record_visibility(&mut street.scene.world, &gpu, &mut enc, &targets)
+                    .expect("the lamps' V");
+                gpu.queue.submit([enc.finish()]);
+                gpu.wait().expect("the frame");
+            };
+            for _ in 0..2 {
+                frame();
+            }
+            let id = if into { "run_into" } else { "run" };
+            group.bench_with_input(BenchmarkId::new(id, n), &n, |b, _| b.iter(&mut frame));
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, lights, recording);
 criterion_main!(benches);
