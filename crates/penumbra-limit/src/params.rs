@@ -109,6 +109,12 @@ impl PenumbraLimit {
 pub const MAX_RESOLUTION: u32 = 65535;
 
 impl TechniqueInfo for PenumbraLimit {
+    /// The depth image's faces come from their depth maps of what lies in the face; the
+    /// silhouettes' ribbons reach from edges outside a face into it.
+    fn face_local(&self) -> bool {
+        self.generator == Generator::DepthImage
+    }
+
     fn name(&self) -> &'static str {
         "penumbra-limit"
     }

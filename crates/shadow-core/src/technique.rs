@@ -248,6 +248,16 @@ pub trait TechniqueInfo: Send + Sync {
     fn cost_form(&self) -> CostForm {
         CostForm::Texels
     }
+    /// Whether a cube face's maps depend only on what lies inside the face's pyramid grown by
+    /// the light's radius (the pyramid of every light point, [`LightViews::faces_meeting`]),
+    /// given the same coverage of the whole light ([`crate::coverage::Coverage::new`]): then a
+    /// caster that changed outside a face leaves that face's maps as they are, and the frame
+    /// pipeline makes again only the faces it meets ([`AnyMaps::remake_views`]). The default,
+    /// `false`, makes every face again; a technique whose generation reads beyond the face
+    /// (silhouette ribbons, skins) keeps it.
+    fn face_local(&self) -> bool {
+        false
+    }
 }
 
 /// What bounds a map's side on a GPU ([`TechniqueInfo::max_resolution`]): the device's
@@ -988,6 +998,51 @@ impl AnyMaps {
         self.0
             .remake_into(gpu, enc, geometry, light, planned, resolution, &moved)?;
         Ok(Some(moved.len()))
+    }
+
+    /// Makes the views at `indices` of these maps (made at `resolution` in `ctx` for the same
+    /// light) again over `geometry`, keeping the others and the views as planned: for a
+    /// technique whose faces are local ([`TechniqueInfo::face_local`]), the faces a changed
+    /// caster meets ([`LightViews::faces_meeting`]). The views it replaces go back to the pool
+    /// where `ctx` made them; maps of another context are [`ShadowError::MapsMismatch`].
+    pub fn remake_views(
+        &mut self,
+        ctx: Context<'_>,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+        indices: &[usize],
+    ) -> Result<()> {
+        if !self.0.made_in(ctx) {
+            return Err(ShadowError::MapsMismatch(
+                "maps are made again only where they were made".into(),
+            ));
+        }
+        let planned = self.views().clone();
+        self.0
+            .remake(ctx, geometry, light, &planned, resolution, indices)
+    }
+
+    /// [`AnyMaps::remake_views`] in `gpu`, recorded into `enc` (nothing is submitted, mapped
+    /// or uploaded beyond the casters and small parameter buffers).
+    #[cfg(feature = "gpu")]
+    pub fn remake_views_into(
+        &mut self,
+        gpu: &GpuContext,
+        enc: &mut wgpu::CommandEncoder,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+        indices: &[usize],
+    ) -> Result<()> {
+        if !self.0.made_in(Context::Gpu(gpu)) {
+            return Err(ShadowError::MapsMismatch(
+                "maps are made again only where they were made".into(),
+            ));
+        }
+        let planned = self.views().clone();
+        self.0
+            .remake_into(gpu, enc, geometry, light, &planned, resolution, indices)
     }
 
     /// The views of `planned` whose windows moved from these maps', where `ctx` made them and

@@ -418,6 +418,41 @@ impl LightViews {
         &self.regions
     }
 
+    /// For cube faces, the views whose pyramid around the light's centre, grown by `light`'s
+    /// radius (the pyramid of every point of the light, as a face's maps hold the casters
+    /// inside it), meets one of `boxes`, in view order; `None` for other views. Conservative:
+    /// a box with a corner on the inner side of every grown plane counts.
+    pub fn faces_meeting(&self, light: &Light, boxes: &[crate::mesh::Aabb]) -> Option<Vec<usize>> {
+        let Select::Cube { center, .. } = self.select else {
+            return None;
+        };
+        let r = crate::coverage::light_radius(light, center);
+        Some(
+            self.regions
+                .iter()
+                .enumerate()
+                .filter(|(_, region)| {
+                    let Region::Face {
+                        axis,
+                        up,
+                        half_angle,
+                    } = **region
+                    else {
+                        return true;
+                    };
+                    let planes = face_planes(axis, up, half_angle);
+                    boxes.iter().filter(|b| !b.is_empty()).any(|b| {
+                        planes.iter().all(|n| {
+                            let w = center.dot(*n) - r * n.length();
+                            b.corners().iter().any(|q| q.dot(*n) >= w)
+                        })
+                    })
+                })
+                .map(|(i, _)| i)
+                .collect(),
+        )
+    }
+
     /// How many views.
     pub fn len(&self) -> usize {
         self.regions.len()

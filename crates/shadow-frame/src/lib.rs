@@ -4,6 +4,7 @@ pub mod budget;
 pub mod calibration;
 pub mod components;
 pub mod deadline;
+mod faces;
 #[cfg(feature = "gltf")]
 pub mod gltf;
 #[cfg(feature = "gpu")]
@@ -168,6 +169,7 @@ impl FramePipeline {
         world.init_resource::<FrameBackend>();
         world.init_resource::<FrameSettings>();
         world.init_resource::<Calibration>();
+        world.init_resource::<faces::FaceRefresh>();
         if !world.contains_resource::<TechniqueProfile>() {
             world.insert_resource(self.defaults.clone());
         }
@@ -248,7 +250,7 @@ fn core_schedule() -> Schedule {
         )
             .chain()
             .in_set(CoreSet::Resolve),
-        tracking::mark_stale.in_set(CoreSet::Stale),
+        tracking::mark_stale_noting.in_set(CoreSet::Stale),
     ));
     // The core sets' own wall time, in `FrameStats::core` (the pipeline's cost beyond the
     // techniques' systems).
@@ -262,7 +264,7 @@ fn core_schedule() -> Schedule {
             .after(budget::share_budget),
         core_clock::<2>
             .in_set(CoreSet::Stale)
-            .after(tracking::mark_stale),
+            .after(tracking::mark_stale_noting),
     ));
     schedule
 }
@@ -293,9 +295,10 @@ fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
                        backend: Res<FrameBackend>,
                        settings: Res<FrameSettings>,
                        stats: ResMut<FrameStats>,
-                       (calibration, mut deadline): (
+                       (calibration, mut deadline, mut faces): (
         Res<Calibration>,
         Option<ResMut<deadline::Deadline>>,
+        Option<ResMut<faces::FaceRefresh>>,
     ),
                        #[cfg(feature = "gpu")] mut timing: Option<ResMut<GpuTiming>>,
                        #[cfg(feature = "gpu")] mut encoder: Option<
@@ -328,7 +331,7 @@ fn add_technique_system(schedule: &mut Schedule, name: &'static str) {
             ),
             stats,
             &mut timed,
-            recording,
+            (recording, faces.as_deref_mut()),
         )
     };
     let used = move |lights: Query<&ResolvedTechnique>, casters: Query<(), With<ShadowCaster>>| {

@@ -64,6 +64,27 @@ impl<'a> Recording<'a> {
         })
     }
 
+    /// The views at `indices` of `maps` made again ([`AnyMaps::remake_views`]).
+    pub(crate) fn remake_views(
+        &mut self,
+        maps: &mut AnyMaps,
+        geometry: &SceneGeometry,
+        light: &Light,
+        resolution: u32,
+        indices: &[usize],
+    ) -> Result<(), String> {
+        #[cfg(feature = "gpu")]
+        if let Some((gpu, enc)) = self.recorder() {
+            return maps
+                .remake_views_into(gpu, enc, geometry, light, resolution, indices)
+                .map_err(|e| e.to_string());
+        }
+        self.backend.context().and_then(|ctx| {
+            maps.remake_views(ctx, geometry, light, resolution, indices)
+                .map_err(|e| e.to_string())
+        })
+    }
+
     /// `maps` brought to the views `planned` ([`AnyMaps::follow`]).
     pub(crate) fn follow(
         &mut self,

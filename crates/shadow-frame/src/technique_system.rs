@@ -6,6 +6,7 @@ use crate::budget::worth;
 use crate::calibration::Calibration;
 use crate::components::*;
 use crate::deadline::{Deadline, Pending};
+use crate::faces::FaceRefresh;
 use crate::recording::Recording;
 use crate::scene::{LightSource, MeshHandle, ShadowCaster, SpawnOrder, Transform};
 use crate::stats::{FrameStats, LightStats};
@@ -205,7 +206,7 @@ pub fn run_technique(
         (&backend, &settings, None),
         stats,
         &mut |_, work| work(),
-        Recording::in_context(&backend),
+        (Recording::in_context(&backend), None),
     );
 }
 
@@ -233,7 +234,7 @@ pub(crate) fn run_technique_timed(
     ),
     mut stats: ResMut<FrameStats>,
     timed: &mut dyn FnMut(Entity, &mut dyn FnMut()),
-    mut recording: Recording,
+    (mut recording, mut faces): (Recording, Option<&mut FaceRefresh>),
 ) {
     let start = Instant::now();
     let gpu = backend.gpu.as_deref();
@@ -379,42 +380,76 @@ pub(crate) fn run_technique_timed(
         }
         if generated {
             // The maps are made from the casters as they are: nothing waits any more.
-            state.unseen_changes.clear();
+            let unseen = std::mem::take(&mut state.unseen_changes);
             let (g, views) = planned.unwrap_or_else(|| {
                 let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
                 let views = LightViews::plan(&light.0, &g, seen());
                 (g, views)
             });
-            backend.retire(state.maps.take());
-            if g.casters.is_empty() {
-                state.stale = false;
-                // Nothing to cast: no shadow, and no wait it had to say.
-                state.error = None;
-                continue;
-            }
-            (views_generated, views_total) = (views.len(), views.len());
-            let mut made = Err(String::new());
-            timed(entity, &mut || {
-                made = recording.generate(
-                    resolved.technique.as_ref(),
-                    &g,
-                    &light.0,
-                    &views,
-                    resolved.resolution,
-                );
-            });
-            match made {
-                Ok(m) => {
-                    state.maps = Some(m);
-                    state.error = None;
-                }
-                Err(e) => {
+            // Only changed casters made it stale, and its faces are local: the faces they meet.
+            let only = match (faces.as_deref_mut(), state.maps.as_ref()) {
+                (Some(f), Some(maps)) => f.faces(
+                    entity,
+                    (resolved.technique.as_ref(), resolved.resolution),
+                    (&light.0, &g),
+                    (&views, maps.views()),
+                    &unseen,
+                ),
+                _ => None,
+            };
+            if let (Some(only), Some(maps)) = (only, state.maps.as_mut()) {
+                let mut made = Ok(());
+                timed(entity, &mut || {
+                    made = recording.remake_views(maps, &g, &light.0, resolved.resolution, &only);
+                });
+                if let Err(e) = made {
                     state.error = Some(e);
                     state.stale = false;
+                    backend.retire(state.maps.take());
                     continue;
                 }
+                (views_generated, views_total) = (only.len(), views.len());
+                state.error = None;
+                state.stale = false;
+            } else {
+                backend.retire(state.maps.take());
+                if g.casters.is_empty() {
+                    state.stale = false;
+                    // Nothing to cast: no shadow, and no wait it had to say.
+                    state.error = None;
+                    continue;
+                }
+                (views_generated, views_total) = (views.len(), views.len());
+                let mut made = Err(String::new());
+                timed(entity, &mut || {
+                    made = recording.generate(
+                        resolved.technique.as_ref(),
+                        &g,
+                        &light.0,
+                        &views,
+                        resolved.resolution,
+                    );
+                });
+                match made {
+                    Ok(m) => {
+                        state.maps = Some(m);
+                        state.error = None;
+                        if let Some(f) = faces.as_deref_mut() {
+                            f.made(
+                                entity,
+                                (resolved.technique.as_ref(), resolved.resolution),
+                                (&light.0, &g, &views),
+                            );
+                        }
+                    }
+                    Err(e) => {
+                        state.error = Some(e);
+                        state.stale = false;
+                        continue;
+                    }
+                }
+                state.stale = false;
             }
-            state.stale = false;
         }
         let Some(maps) = state.maps.as_ref() else {
             continue;

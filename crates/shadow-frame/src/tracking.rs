@@ -323,6 +323,7 @@ impl AutoInputs<'_, '_> {
             settings,
         )
         .1
+        .is_some()
     }
 
     /// Whether the texels `V` is recorded over changed since the last frame (their first
@@ -616,39 +617,84 @@ pub fn mark_stale(
 ) {
     let everything = !settings.caching || backend.is_changed();
     for (light, config, mut state) in &mut lights {
-        if everything {
-            state.stale = true;
-            continue;
-        }
-        let state = &mut *state;
-        let (unseen, stale) = caster_changes(
-            (&light.0, config.range),
-            &state.unseen_changes,
+        mark_one(
+            everything,
+            (light, config, &mut state),
             &index,
-            (&frame, frame.is_changed()),
+            &frame,
             &settings,
         );
-        state.unseen_changes = unseen;
-        if stale {
-            // What its shadow was missing was measured on the casters as they were.
-            state.stale = true;
-            forget_missing(state);
-        }
     }
+}
+
+/// [`mark_stale`] as the pipeline schedules it, noting which lights only changed casters made
+/// stale, and where they changed ([`crate::faces`]).
+pub(crate) fn mark_stale_noting(
+    index: Res<CasterIndex>,
+    settings: Res<FrameSettings>,
+    backend: Res<FrameBackend>,
+    frame: Res<FrameReceivers>,
+    mut lights: Query<(Entity, &LightSource, &ShadowConfig, &mut LightState)>,
+    mut faces: ResMut<crate::faces::FaceRefresh>,
+) {
+    let everything = !settings.caching || backend.is_changed();
+    let mut seen = std::collections::HashSet::new();
+    for (entity, light, config, mut state) in &mut lights {
+        let regions = mark_one(
+            everything,
+            (light, config, &mut state),
+            &index,
+            &frame,
+            &settings,
+        );
+        faces.stale_by(entity, regions);
+        seen.insert(entity);
+    }
+    faces.keep_only(&seen);
+}
+
+/// [`mark_stale`] for one light; returns the changed regions where they alone made it stale
+/// this frame (it was not stale before, and not every light is).
+fn mark_one(
+    everything: bool,
+    (light, config, state): (&LightSource, &ShadowConfig, &mut LightState),
+    index: &CasterIndex,
+    frame: &Res<FrameReceivers>,
+    settings: &FrameSettings,
+) -> Option<Vec<Aabb>> {
+    let already = state.stale;
+    if everything {
+        state.stale = true;
+        return None;
+    }
+    let (unseen, stale) = caster_changes(
+        (&light.0, config.range),
+        &state.unseen_changes,
+        index,
+        (frame, frame.is_changed()),
+        settings,
+    );
+    state.unseen_changes = unseen;
+    let regions = stale?;
+    // What its shadow was missing was measured on the casters as they were.
+    state.stale = true;
+    forget_missing(state);
+    (!already).then_some(regions)
 }
 
 /// What this frame's changed caster regions ([`CasterIndex::changed`]) do to a light (`light`
 /// with influence radius `range`) whose changes out of view wait in `unseen`
 /// ([`LightState::unseen_changes`]), as [`mark_stale`] decides it (caching on, the backend
-/// unchanged): the changes that wait after this frame, and whether its maps must be made
-/// again. `frame_changed`: the frame's receivers changed this frame.
+/// unchanged): the changes that wait after this frame, and, where its maps must be made
+/// again, the changed regions that make them (with those that waited). `frame_changed`: the
+/// frame's receivers changed this frame.
 pub(crate) fn caster_changes(
     (light, range): (&soft_shadow_core::Light, f32),
     unseen: &[Aabb],
     index: &CasterIndex,
     (frame, frame_changed): (&FrameReceivers, bool),
     settings: &FrameSettings,
-) -> (Vec<Aabb>, bool) {
+) -> (Vec<Aabb>, Option<Vec<Aabb>>) {
     let changed = index
         .changed
         .iter()
@@ -657,7 +703,8 @@ pub(crate) fn caster_changes(
     // receivers need not be what the camera sees: every change in range counts.
     let distant = matches!(light.center(), soft_shadow_core::LightPoint::Direction(_));
     if distant || !settings.evaluate_receivers {
-        return (unseen.to_vec(), changed.count() > 0);
+        let changed: Vec<Aabb> = changed.copied().collect();
+        return (unseen.to_vec(), (!changed.is_empty()).then_some(changed));
     }
     let mut waiting = unseen.to_vec();
     waiting.extend(changed);
@@ -672,13 +719,13 @@ pub(crate) fn caster_changes(
         waiting.push(all);
     }
     if waiting.is_empty() || !(fresh || frame_changed) {
-        return (waiting, false);
+        return (waiting, None);
     }
     let hull = seen_hull(light, range, &frame.positions);
     if waiting.iter().any(|b| boxes_meet(b, &hull)) {
-        (Vec::new(), true)
+        (Vec::new(), Some(waiting))
     } else {
-        (waiting, false)
+        (waiting, None)
     }
 }
 

@@ -142,6 +142,11 @@ impl ShadowMapBaseline {
 }
 
 impl TechniqueInfo for ShadowMapBaseline {
+    /// Each face's maps are depth maps of what lies in the face, seen from points of the light.
+    fn face_local(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &'static str {
         match self.filter {
             Filter::Hard => "hard-shadow-map",

@@ -195,6 +195,11 @@ impl ShadowWidth {
 }
 
 impl TechniqueInfo for ShadowWidth {
+    /// Each face's maps come from its depth maps of what lies in the face.
+    fn face_local(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &'static str {
         "shadow-width"
     }

@@ -1605,3 +1605,147 @@ fn the_gpu_frame_sums_every_lights_shadowed_irradiance() {
     let err = record_irradiance(&mut cpu.scene.world, &gpu, &mut enc, &targets).unwrap_err();
     assert!(err.to_string().contains("CPU maps"), "{err}");
 }
+
+/// `room-lamp` in the frame pipeline with `technique` at 128² on the sphere lamp, receivers
+/// from a 48² G-buffer of its camera, the crate moved by `crate_dx` along x: the scene, the
+/// lamp and the crate.
+fn room_lamp(
+    technique: &Arc<dyn DynTechnique>,
+    crate_dx: f32,
+) -> (Scene, bevy_ecs::entity::Entity, bevy_ecs::entity::Entity) {
+    let spec = soft_shadow_reference::scenes::catalogue::build("room-lamp").unwrap();
+    let mut scene = Scene::new();
+    let mut crate_entity = None;
+    for m in &spec.meshes {
+        let shadows = Shadows {
+            casts: m.caster,
+            receives: m.receiver,
+        };
+        let moved = m.mesh.name == "crate";
+        let transform = if moved {
+            Mat4::from_translation(Vec3::X * crate_dx) * m.transform
+        } else {
+            m.transform
+        };
+        let e = scene.add_mesh(m.mesh.clone(), transform, shadows).unwrap();
+        if moved {
+            crate_entity = Some(e);
+        }
+    }
+    let light = scene.add_light(spec.light).unwrap();
+    scene
+        .world
+        .entity_mut(light)
+        .insert(ShadowConfig::explicit(technique.clone(), 128));
+    let (_, positions, normals) =
+        soft_shadow_reference::scenes::scene_receivers(&spec, 48).unwrap();
+    scene.world.insert_resource(FrameReceivers {
+        positions,
+        normals,
+        camera: None,
+    });
+    (scene, light, crate_entity.expect("room-lamp has a crate"))
+}
+
+/// A lamp's cube faces are made again one by one (issue: "the frame pipeline regenerates a view
+/// only when what it holds changed"): in `room-lamp`, the crate moved by 20 cm makes again only
+/// the faces whose pyramid (grown by the lamp's radius) it meets, for every technique whose
+/// faces are local (`TechniqueInfo::face_local`), and the maps then read `V` equal to the last
+/// bit to maps made anew with the crate there; every other technique makes every face again.
+#[test]
+fn a_moved_caster_makes_again_only_the_faces_it_meets() {
+    let registry = soft_shadow_techniques::registry();
+    let mut local = 0;
+    for family in registry.families() {
+        for technique in family.variants_in(soft_shadow_core::Tier::Report) {
+            if !technique.models(LightKind::Sphere) {
+                continue;
+            }
+            let (mut scene, light, moving) = room_lamp(technique, 0.0);
+            let mut p = pipeline();
+            let first = p.run(&mut scene.world);
+            let before = scene
+                .world
+                .get::<LightState>(light)
+                .unwrap()
+                .visibility
+                .clone();
+            let moved = Mat4::from_translation(Vec3::X * 0.2)
+                * scene.world.get::<Transform>(moving).unwrap().0;
+            scene.world.get_mut::<Transform>(moving).unwrap().0 = moved;
+            let second = p.run(&mut scene.world);
+            let (mut fresh, fresh_light, _) = room_lamp(technique, 0.2);
+            pipeline().run(&mut fresh.world);
+            let v = |s: &Scene, e| s.world.get::<LightState>(e).unwrap().visibility.clone();
+            let (got, want) = (v(&scene, light), v(&fresh, fresh_light));
+            let differ = got.iter().zip(&want).filter(|(a, b)| a != b).count();
+            let moved = got.iter().zip(&before).filter(|(a, b)| a != b).count();
+            let name = format!("{} {}", technique.name(), technique.variant());
+            println!(
+                "{name}: {} of {} views made again, {moved} of {} receivers' V moved with the \
+                 crate, {differ} differ from fresh maps",
+                second.views_generated,
+                first.views_generated,
+                got.len()
+            );
+            assert!(first.views_generated > 2, "{name}: {first:?}");
+            assert!(moved > 10, "{name}: the crate's shadow did not move");
+            if technique.face_local() {
+                local += 1;
+                assert!(
+                    second.views_generated < first.views_generated,
+                    "{name}: {} of {} faces made again",
+                    second.views_generated,
+                    first.views_generated
+                );
+                assert_eq!(differ, 0, "{name}: V differs from fresh maps");
+            } else {
+                assert_eq!(second.views_generated, first.views_generated, "{name}");
+            }
+        }
+    }
+    assert!(local > 0, "no technique has local faces");
+}
+
+/// The faces made again one by one on the GPU backend as on the CPU: in `room-lamp`, the crate
+/// moved by 20 cm makes again the same 3 of 6 faces of the hard shadow map, and `V` equals that
+/// of GPU maps made anew with the crate there, to the last bit.
+#[test]
+#[cfg_attr(
+    no_gpu_adapter,
+    ignore = "needs a GPU adapter: no Vulkan driver found (apt-get install mesa-vulkan-drivers)"
+)]
+fn a_moved_caster_makes_again_only_the_faces_it_meets_on_the_gpu() {
+    let Some(ctx) = crate::common::gpu_for_test("faces_on_the_gpu") else {
+        return;
+    };
+    let ctx = Arc::new(ctx);
+    let hard: Arc<dyn DynTechnique> = Arc::new(shadow_maps::ShadowMapBaseline::new(
+        shadow_maps::Filter::Hard,
+    ));
+    let on_gpu = |(mut scene, light, moving): (Scene, _, _)| {
+        scene
+            .world
+            .insert_resource(shadow_frame::FrameBackend::gpu(ctx.clone()));
+        (scene, light, moving)
+    };
+    let (mut scene, light, moving) = on_gpu(room_lamp(&hard, 0.0));
+    let mut p = pipeline();
+    let first = p.run(&mut scene.world);
+    let moved =
+        Mat4::from_translation(Vec3::X * 0.2) * scene.world.get::<Transform>(moving).unwrap().0;
+    scene.world.get_mut::<Transform>(moving).unwrap().0 = moved;
+    let second = p.run(&mut scene.world);
+    let (mut fresh, fresh_light, _) = on_gpu(room_lamp(&hard, 0.2));
+    pipeline().run(&mut fresh.world);
+    let v = |s: &Scene, e| s.world.get::<LightState>(e).unwrap().visibility.clone();
+    assert_eq!(
+        (first.views_generated, second.views_generated),
+        (6, 3),
+        "faces made, then made again"
+    );
+    assert!(
+        v(&scene, light) == v(&fresh, fresh_light),
+        "V differs from fresh maps"
+    );
+}
