@@ -83,6 +83,9 @@ pub struct LampsView {
     /// The renderer's colour target [`LampsView::bind`] bound (a resize makes new targets).
     bound: wgpu::Texture,
     bind: wgpu::BindGroup,
+    /// Views of the renderer's G-buffer (positions, normals), made with the bound targets: the
+    /// pipeline's GPU frame keeps its bind groups while they stay the same views.
+    gbuffer: (wgpu::TextureView, wgpu::TextureView),
     shade_pipeline: wgpu::ComputePipeline,
     /// The last frame's pipeline statistics.
     pub stats: Option<FrameStats>,
@@ -141,9 +144,18 @@ impl LampsView {
             visibility,
             bound: renderer.color().clone(),
             bind,
+            gbuffer: Self::gbuffer_views(renderer),
             shade_pipeline,
             stats: None,
         })
+    }
+
+    fn gbuffer_views(renderer: &Renderer) -> (wgpu::TextureView, wgpu::TextureView) {
+        let (position, normal) = renderer.gbuffer();
+        (
+            position.create_view(&Default::default()),
+            normal.create_view(&Default::default()),
+        )
     }
 
     fn lamp_data(lamps: &Lamps) -> Vec<LightRecord> {
@@ -287,6 +299,7 @@ impl LampsView {
                 self.lamps.resize(w, h);
             }
             self.bound = renderer.color().clone();
+            self.gbuffer = Self::gbuffer_views(renderer);
             self.bind = Self::bind(
                 &self.gpu,
                 renderer,
@@ -307,18 +320,13 @@ impl LampsView {
         }
         // The lamps' maps are recorded into this frame's encoder, before their `V`.
         let stats = self.pipeline.run_into(&mut self.lamps.scene.world, enc)?;
-        let (position, normal) = renderer.gbuffer();
-        let (pv, nv) = (
-            position.create_view(&Default::default()),
-            normal.create_view(&Default::default()),
-        );
         record_visibility(
             &mut self.lamps.scene.world,
             &self.gpu,
             enc,
             &FrameTextures {
-                positions: &pv,
-                normals: &nv,
+                positions: &self.gbuffer.0,
+                normals: &self.gbuffer.1,
                 visibility: &self.visibility,
             },
         )?;
