@@ -36,18 +36,49 @@ pub(crate) struct FaceRefresh {
     /// Per light whose technique's faces are local and whose maps are cube faces: what they
     /// were last made whole with.
     made_over: HashMap<Entity, Made>,
-    /// Per light that only changed casters made stale this frame: their regions, old and new.
-    changed: HashMap<Entity, Vec<Aabb>>,
+    /// Per stale light whose maps are not made yet: the regions of the casters that changed
+    /// since they were (old and new), or `None` where something else made it stale too (every
+    /// face is made again).
+    changed: HashMap<Entity, Option<Vec<Aabb>>>,
 }
 
 impl FaceRefresh {
-    /// Light `light` was made stale this frame by the casters changed in `regions` alone
-    /// (`None`: by something else too, or not at all).
-    pub(crate) fn stale_by(&mut self, light: Entity, regions: Option<Vec<Aabb>>) {
-        match regions {
-            Some(r) => self.changed.insert(light, r),
-            None => self.changed.remove(&light),
+    /// Light `light`'s staleness after this frame's marking: `was` stale before it and `is`
+    /// after, the casters changed in `regions` making it so (`None`: none did), `everything`
+    /// where every light is (caching off, a new backend). A light stale from before keeps what
+    /// made it so, its maps waiting (a frame's clock, `deadline`), and adds this frame's
+    /// regions; a light that nothing accounts for (stale from before without a note, or made
+    /// stale by something else) makes every face again.
+    pub(crate) fn mark(
+        &mut self,
+        light: Entity,
+        (was, is, everything): (bool, bool, bool),
+        regions: Option<Vec<Aabb>>,
+    ) {
+        if !is {
+            self.changed.remove(&light);
+            return;
+        }
+        if everything {
+            self.changed.insert(light, None);
+            return;
+        }
+        let before = if was {
+            // Stale from before: what made it so, or every face where nothing says.
+            self.changed.remove(&light).unwrap_or(None)
+        } else {
+            Some(Vec::new())
         };
+        let now = match (before, regions) {
+            (Some(mut b), Some(r)) => {
+                b.extend(r);
+                Some(b)
+            }
+            // Stale from before, nothing new: what made it so stays.
+            (Some(b), None) if was => Some(b),
+            _ => None,
+        };
+        self.changed.insert(light, now);
     }
 
     /// Light `light`'s maps were made whole by `technique` at `resolution` over `geometry`, for
@@ -87,7 +118,7 @@ impl FaceRefresh {
         (planned, made): (&LightViews, &LightViews),
         unseen: &[Aabb],
     ) -> Option<Vec<usize>> {
-        let mut regions = self.changed.remove(&light)?;
+        let mut regions = self.changed.remove(&light)??;
         if !technique.face_local() || planned != made {
             return None;
         }
@@ -97,5 +128,43 @@ impl FaceRefresh {
         }
         regions.extend_from_slice(unseen);
         planned.faces_meeting(source, &regions)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn at(x: f32) -> Aabb {
+        Aabb {
+            min: Vec3::splat(x),
+            max: Vec3::splat(x + 1.0),
+        }
+    }
+
+    /// What makes a light stale adds up while its maps wait, and anything but changed casters
+    /// makes every face again until they are made.
+    #[test]
+    fn a_waiting_light_keeps_what_made_it_stale() {
+        let e = World::new().spawn_empty().id();
+        let mut f = FaceRefresh::default();
+        let note = |f: &FaceRefresh| f.changed.get(&e).cloned();
+        f.mark(e, (false, true, false), Some(vec![at(0.0)]));
+        assert_eq!(note(&f), Some(Some(vec![at(0.0)])));
+        // Its maps waited a frame: a second change adds its regions, and a frame without one
+        // keeps them.
+        f.mark(e, (true, true, false), Some(vec![at(2.0)]));
+        f.mark(e, (true, true, false), None);
+        assert_eq!(note(&f), Some(Some(vec![at(0.0), at(2.0)])));
+        // Every light made stale (caching off, a new backend): every face, while it waits too.
+        f.mark(e, (true, true, true), None);
+        f.mark(e, (true, true, false), Some(vec![at(4.0)]));
+        assert_eq!(note(&f), Some(None));
+        // Made, then stale from before without a note (a new pick marked it): every face.
+        f.mark(e, (false, false, false), None);
+        assert_eq!(note(&f), None);
+        f.mark(e, (true, true, false), Some(vec![at(0.0)]));
+        assert_eq!(note(&f), Some(None));
     }
 }

@@ -640,6 +640,7 @@ pub(crate) fn mark_stale_noting(
     let everything = !settings.caching || backend.is_changed();
     let mut seen = std::collections::HashSet::new();
     for (entity, light, config, mut state) in &mut lights {
+        let already = state.stale;
         let regions = mark_one(
             everything,
             (light, config, &mut state),
@@ -647,14 +648,14 @@ pub(crate) fn mark_stale_noting(
             &frame,
             &settings,
         );
-        faces.stale_by(entity, regions);
+        faces.mark(entity, (already, state.stale, everything), regions);
         seen.insert(entity);
     }
     faces.keep_only(&seen);
 }
 
-/// [`mark_stale`] for one light; returns the changed regions where they alone made it stale
-/// this frame (it was not stale before, and not every light is).
+/// [`mark_stale`] for one light; returns the changed regions where changed casters made it
+/// stale this frame (`None` where every light is, or none made it).
 fn mark_one(
     everything: bool,
     (light, config, state): (&LightSource, &ShadowConfig, &mut LightState),
@@ -662,7 +663,6 @@ fn mark_one(
     frame: &Res<FrameReceivers>,
     settings: &FrameSettings,
 ) -> Option<Vec<Aabb>> {
-    let already = state.stale;
     if everything {
         state.stale = true;
         return None;
@@ -679,7 +679,7 @@ fn mark_one(
     // What its shadow was missing was measured on the casters as they were.
     state.stale = true;
     forget_missing(state);
-    (!already).then_some(regions)
+    Some(regions)
 }
 
 /// What this frame's changed caster regions ([`CasterIndex::changed`]) do to a light (`light`
