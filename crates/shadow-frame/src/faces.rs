@@ -104,21 +104,27 @@ impl FaceRefresh {
         self.changed.retain(|e, _| lights.contains(e));
     }
 
+    /// What made light `light` stale, taken as its maps are made (whichever way): the regions
+    /// of the casters that changed since they were made, or `None` (every face).
+    pub(crate) fn take(&mut self, light: Entity) -> Option<Vec<Aabb>> {
+        self.changed.remove(&light).flatten()
+    }
+
     /// The faces of light `light` (`source`, its maps made for the views `made`) to make again
     /// by `technique` at `resolution` over `geometry`, planned as `planned`, instead of every
-    /// view: where the casters changed this frame (and the changes that waited out of view,
-    /// `unseen`) made it stale alone, `technique`'s faces are local, and the technique, the
-    /// side, the plan and the whole light's coverage are those the maps were made whole with.
-    /// `None`: make every view.
+    /// view: where the casters changed in `regions` (this frame's and those since its maps
+    /// were made, [`FaceRefresh::take`], and the changes that waited out of view, `unseen`)
+    /// made it stale alone, `technique`'s faces are local, and the technique, the side, the
+    /// plan and the whole light's coverage are those the maps were made whole with. `None`:
+    /// make every view.
     pub(crate) fn faces(
-        &mut self,
+        &self,
         light: Entity,
         (technique, resolution): (&dyn TechniqueInfo, u32),
         (source, geometry): (&Light, &SceneGeometry),
         (planned, made): (&LightViews, &LightViews),
-        unseen: &[Aabb],
+        (mut regions, unseen): (Vec<Aabb>, &[Aabb]),
     ) -> Option<Vec<usize>> {
-        let mut regions = self.changed.remove(&light)??;
         if !technique.face_local() || planned != made {
             return None;
         }
@@ -161,10 +167,21 @@ mod tests {
         f.mark(e, (true, true, true), None);
         f.mark(e, (true, true, false), Some(vec![at(4.0)]));
         assert_eq!(note(&f), Some(None));
-        // Made, then stale from before without a note (a new pick marked it): every face.
-        f.mark(e, (false, false, false), None);
-        assert_eq!(note(&f), None);
+        // Its maps made (the note taken, whichever way they were made), then stale again in
+        // the same frame's marking by something else first (a new pick in the Resolve set):
+        // every face.
+        assert_eq!(f.take(e), None);
         f.mark(e, (true, true, false), Some(vec![at(0.0)]));
+        assert_eq!(note(&f), Some(None));
+        // Made again; changed casters alone, a frame later: their regions.
+        assert_eq!(f.take(e), None);
+        f.mark(e, (false, false, false), None);
+        f.mark(e, (false, true, false), Some(vec![at(6.0)]));
+        assert_eq!(f.take(e), Some(vec![at(6.0)]));
+        // Made without a note read (no maps to keep): a mark from anything else then finds none.
+        f.mark(e, (false, true, false), Some(vec![at(8.0)]));
+        f.take(e);
+        f.mark(e, (true, true, false), None);
         assert_eq!(note(&f), Some(None));
     }
 }

@@ -387,13 +387,15 @@ pub(crate) fn run_technique_timed(
                 (g, views)
             });
             // Only changed casters made it stale, and its faces are local: the faces they meet.
-            let only = match (faces.as_deref_mut(), state.maps.as_ref()) {
-                (Some(f), Some(maps)) => f.faces(
+            // The note is taken however the maps are made.
+            let note = faces.as_deref_mut().and_then(|f| f.take(entity));
+            let only = match (faces.as_deref(), state.maps.as_ref(), note) {
+                (Some(f), Some(maps), Some(regions)) => f.faces(
                     entity,
                     (resolved.technique.as_ref(), resolved.resolution),
                     (&light.0, &g),
                     (&views, maps.views()),
-                    &unseen,
+                    (regions, &unseen),
                 ),
                 _ => None,
             };
