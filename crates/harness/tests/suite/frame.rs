@@ -1314,18 +1314,26 @@ fn a_gpu_frame_allocates_nothing_after_its_first() {
     }
 }
 
-/// A street's receivers as a G-buffer of textures 64 texels wide (the rows the receivers fill;
-/// texels past the last receiver are not covered), and a one-layer visibility texture.
+/// A street's receivers as a G-buffer of textures ([`receiver_targets`]).
 fn street_targets(gpu: &soft_shadow_core::GpuContext, s: &Street) -> GpuTargets {
+    receiver_targets(gpu, (&s.positions, &s.normals))
+}
+
+/// Receivers as a G-buffer of textures 64 texels wide (the rows the receivers fill; texels past
+/// the last receiver are not covered), and a one-layer visibility texture.
+fn receiver_targets(
+    gpu: &soft_shadow_core::GpuContext,
+    (positions, normals): (&[Vec3], &[Vec3]),
+) -> GpuTargets {
     let w = 64u32;
-    let h = (s.positions.len() as u32).div_ceil(w);
+    let h = (positions.len() as u32).div_ceil(w);
     let texels = |v: &[Vec3]| -> Vec<[f32; 4]> {
         let mut t: Vec<[f32; 4]> = v.iter().map(|p| [p.x, p.y, p.z, 1.0]).collect();
         t.resize((w * h) as usize, [0.0; 4]);
         t
     };
-    let positions = crate::common::upload(gpu, "positions", w, h, &texels(&s.positions));
-    let normals = crate::common::upload(gpu, "normals", w, h, &texels(&s.normals));
+    let positions = crate::common::upload(gpu, "positions", w, h, &texels(positions));
+    let normals = crate::common::upload(gpu, "normals", w, h, &texels(normals));
     GpuTargets {
         position_view: positions.create_view(&Default::default()),
         normal_view: normals.create_view(&Default::default()),
@@ -1709,7 +1717,8 @@ fn a_moved_caster_makes_again_only_the_faces_it_meets() {
 
 /// The faces made again one by one on the GPU backend as on the CPU: in `room-lamp`, the crate
 /// moved by 20 cm makes again the same 3 of 6 faces of the hard shadow map, and `V` equals that
-/// of GPU maps made anew with the crate there, to the last bit.
+/// of GPU maps made anew with the crate there, to the last bit; so does the layer `V` recorded
+/// after `run_into`, which records the faces into the renderer's encoder.
 #[test]
 #[cfg_attr(
     no_gpu_adapter,
@@ -1747,5 +1756,51 @@ fn a_moved_caster_makes_again_only_the_faces_it_meets_on_the_gpu() {
     assert!(
         v(&scene, light) == v(&fresh, fresh_light),
         "V differs from fresh maps"
+    );
+    // The same with the faces recorded into the renderer's encoder, `V` into a texture.
+    let frame = |scene: &mut Scene, p: &mut shadow_frame::FramePipeline, targets: &GpuTargets| {
+        use shadow_frame::gpu_frame::record_visibility;
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        let stats = p.run_into(&mut scene.world, &mut enc).unwrap();
+        record_visibility(&mut scene.world, &ctx, &mut enc, &targets.targets()).unwrap();
+        ctx.queue.submit([enc.finish()]);
+        ctx.wait().unwrap();
+        let v: Vec<f32> = soft_shadow_core::gpu::raster::read_texture(
+            &ctx,
+            &targets.visibility,
+            0,
+            wgpu::TextureAspect::All,
+            4,
+        )
+        .unwrap();
+        (stats.views_generated, v)
+    };
+    let recorded = |crate_dx: f32| {
+        let (mut scene, light, moving) = on_gpu(room_lamp(&hard, crate_dx));
+        let world = &mut scene.world;
+        world
+            .insert_resource(shadow_frame::FrameSettings::default().with_evaluate_receivers(false));
+        world
+            .entity_mut(light)
+            .insert(shadow_frame::gpu_frame::VisibilityLayer(0));
+        let receivers = world.resource::<FrameReceivers>().clone();
+        let targets = receiver_targets(&ctx, (&receivers.positions, &receivers.normals));
+        (scene, moving, targets)
+    };
+    let (mut scene, moving, targets) = recorded(0.0);
+    let mut p = pipeline();
+    let (made, _) = frame(&mut scene, &mut p, &targets);
+    scene.world.get_mut::<Transform>(moving).unwrap().0 = moved;
+    let (remade, got) = frame(&mut scene, &mut p, &targets);
+    let (mut fresh, _, fresh_targets) = recorded(0.2);
+    let (_, want) = frame(&mut fresh, &mut pipeline(), &fresh_targets);
+    assert_eq!(
+        (made, remade),
+        (6, 3),
+        "faces recorded, then recorded again"
+    );
+    assert!(
+        got == want,
+        "V recorded from faces made again differs from fresh maps"
     );
 }
