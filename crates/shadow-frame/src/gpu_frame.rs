@@ -71,19 +71,7 @@ pub fn record_visibility(
     targets: &FrameTextures,
 ) -> Result<usize> {
     let texture = targets.visibility;
-    if texture.format() != wgpu::TextureFormat::R32Float
-        || !texture
-            .usage()
-            .contains(wgpu::TextureUsages::STORAGE_BINDING)
-        || texture.dimension() != wgpu::TextureDimension::D2
-    {
-        return Err(ShadowError::InvalidParameter(format!(
-            "the visibility texture must be a 2D R32Float storage texture, not {:?} {:?} {:?}",
-            texture.dimension(),
-            texture.format(),
-            texture.usage()
-        )));
-    }
+    storage_target(texture, "visibility", None)?;
     let size = (texture.width(), texture.height());
     let layers = texture.depth_or_array_layers();
     let mut query = world.query::<(&VisibilityLayer, &LightState)>();
@@ -157,6 +145,38 @@ pub fn submitted(world: &mut World) {
     if let Some(mut probe) = world.get_resource_mut::<ShadowProbe>() {
         probe.ask_back();
     }
+}
+
+/// [`ShadowError::InvalidParameter`] naming `what` unless `texture` is a 2D `R32Float` texture
+/// usable as a storage binding (of `layers` layers where given), what the GPU frame's passes
+/// write.
+pub(crate) fn storage_target(
+    texture: &wgpu::Texture,
+    what: &str,
+    layers: Option<u32>,
+) -> Result<()> {
+    if texture.format() != wgpu::TextureFormat::R32Float
+        || !texture
+            .usage()
+            .contains(wgpu::TextureUsages::STORAGE_BINDING)
+        || texture.dimension() != wgpu::TextureDimension::D2
+        || layers.is_some_and(|n| texture.depth_or_array_layers() != n)
+    {
+        return Err(ShadowError::InvalidParameter(format!(
+            "the {what} texture must be a 2D R32Float storage texture{}, not {:?} {:?} {:?} of \
+             {} layers",
+            match layers {
+                None => String::new(),
+                Some(1) => " of one layer".into(),
+                Some(n) => format!(" of {n} layers"),
+            },
+            texture.dimension(),
+            texture.format(),
+            texture.usage(),
+            texture.depth_or_array_layers()
+        )));
+    }
+    Ok(())
 }
 
 /// [`ShadowError::MapsMismatch`] where a light's usable maps were made on the CPU backend

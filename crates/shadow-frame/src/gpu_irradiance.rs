@@ -16,16 +16,16 @@
 //! as for the layers; the adding passes are not timed.
 
 use crate::components::{LightState, ShadowConfig};
-use crate::gpu_frame::{gpu_maps_only, record_light, timed_lights};
+use crate::gpu_frame::{gpu_maps_only, record_light, storage_target, timed_lights};
 use crate::lighting::LightRecord;
 use crate::scene::LightSource;
 use bevy_ecs::prelude::*;
+use soft_shadow_core::Result;
 use soft_shadow_core::gpu::compute::bind_group;
 use soft_shadow_core::gpu::shader::{
     Group, Library, Program, ShaderModule, float_texture, read_write_texture, uniform,
 };
 use soft_shadow_core::gpu::{GpuContext, Kernel};
-use soft_shadow_core::{Result, ShadowError};
 
 /// The crate's WGSL: `shadow_frame::lighting`, a light's `E` (no bindings: a renderer's own
 /// shader may import it), and `shadow_frame::irradiance`, the pass that adds a light's `E V`.
@@ -94,8 +94,8 @@ pub struct IrradianceTextures<'a> {
 /// budget counts the texels of the last one recorded.
 ///
 /// Checked before anything is recorded: the texture's format, usage and layers
-/// ([`ShadowError::InvalidParameter`]); maps made on the CPU backend are
-/// [`ShadowError::MapsMismatch`].
+/// ([`soft_shadow_core::ShadowError::InvalidParameter`]); maps made on the CPU backend are
+/// [`soft_shadow_core::ShadowError::MapsMismatch`].
 pub fn record_irradiance(
     world: &mut World,
     gpu: &GpuContext,
@@ -103,22 +103,7 @@ pub fn record_irradiance(
     targets: &IrradianceTextures,
 ) -> Result<usize> {
     let texture = targets.irradiance;
-    if texture.format() != wgpu::TextureFormat::R32Float
-        || !texture
-            .usage()
-            .contains(wgpu::TextureUsages::STORAGE_BINDING)
-        || texture.dimension() != wgpu::TextureDimension::D2
-        || texture.depth_or_array_layers() != 1
-    {
-        return Err(ShadowError::InvalidParameter(format!(
-            "the irradiance texture must be a 2D R32Float storage texture of one layer, not \
-             {:?} {:?} {:?} of {} layers",
-            texture.dimension(),
-            texture.format(),
-            texture.usage(),
-            texture.depth_or_array_layers()
-        )));
-    }
+    storage_target(texture, "irradiance", Some(1))?;
     gpu_maps_only(world)?;
     let size = (texture.width(), texture.height());
     // The lights in the query's order, each with its record and whether its maps are usable.
