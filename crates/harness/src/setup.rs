@@ -66,8 +66,8 @@ pub struct PreparedScene {
     pub geometry: SceneGeometry,
     /// What the camera sees: its view and the depth range of the receivers, for cascades.
     pub seen: Option<SeenDepth>,
-    /// The light's views ([`LightViews::plan`] over `geometry` and `seen`): every technique
-    /// generates its maps for these.
+    /// The light's views ([`LightViews::plan_seen`] over `geometry`, `seen` and the G-buffer's
+    /// positions): every technique generates its maps for these.
     pub views: LightViews,
     /// What the views leave out ([`LightViews::uncovered`]): the names of the casters that
     /// shadow what the camera sees in no view, or the receivers outside their cascade's window.
@@ -198,7 +198,7 @@ impl PreparedScene {
         // reference above traced every caster).
         let geometry = scene.casting_onto(&light, &positions);
         let seen = SeenDepth::of_points(view, &positions);
-        let views = LightViews::plan(&light, &geometry, seen.as_ref());
+        let views = LightViews::plan_seen(&light, &geometry, seen.as_ref(), &positions);
         let uncovered = uncovered(&spec, &light, &geometry, &views, &positions);
         Ok(Self {
             spec,
@@ -220,9 +220,9 @@ impl PreparedScene {
     }
 
     /// The views of `light` (the scene's light moved, say) over the scene's maps' geometry and
-    /// what the camera sees.
+    /// what the camera sees (its depth range and the G-buffer's positions).
     pub fn views_for(&self, light: &Light) -> LightViews {
-        LightViews::plan(light, &self.geometry, self.seen.as_ref())
+        LightViews::plan_seen(light, &self.geometry, self.seen.as_ref(), &self.positions)
     }
 
     /// The receivers as the techniques take them.

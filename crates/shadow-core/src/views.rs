@@ -20,10 +20,13 @@
 //! - **Cascades** (every engine's sun): split along the camera's view depth over the depth range
 //!   of what it sees (the G-buffer's, the sample-distribution idea) by the practical split
 //!   between logarithmic and uniform ([`CASCADE_LAMBDA`]); each cascade is an orthographic
-//!   window around the bounding sphere of its slice of the camera frustum (its size does not
-//!   change as the camera turns), centred on whole texels in the light's basis so that a moving
-//!   camera does not make shadows shimmer; the last [`CASCADE_BLEND`] of each cascade's depth
-//!   blends into the next.
+//!   window fitted to the receivers the camera sees in its depth range where they are given
+//!   ([`LightViews::plan_seen`]: Lauritzen's sample distribution shadow maps fit each cascade to
+//!   the G-buffer's samples), else to its slice of the camera frustum within the scene's bounds
+//!   (at most the slice's bounding sphere, whose size does not change as the camera turns), its
+//!   size in steps of `2^(1/8)` and centred on whole texels in the light's basis so that a
+//!   moving camera does not make shadows shimmer; the last [`CASCADE_BLEND`] of each cascade's
+//!   depth blends into the next.
 //!
 //! The penumbra keeps its size across views: every technique sizes its penumbra from the
 //! light's world size (or angular diameter) and each view's own texel size.
@@ -202,14 +205,37 @@ impl LightViews {
     ///   logarithmic weight `max(CASCADE_LAMBDA, 1 / (1 + n r^(1/n - 1)))` (`n` cascades over
     ///   the ratio `r`), which keeps the uniform part from more than doubling the first
     ///   cascade; one view without.
+    ///
+    /// Each cascade's window is fitted to its slice of the camera frustum within the scene's
+    /// bounds; [`LightViews::plan_seen`] fits it to the receivers the camera sees there.
     pub fn plan(light: &Light, geometry: &SceneGeometry, seen: Option<&SeenDepth>) -> Self {
+        Self::plan_seen(light, geometry, seen, &[])
+    }
+
+    /// The views [`LightViews::plan`] chooses, with each cascade's window fitted to the points
+    /// of `receivers` (what the camera sees: its G-buffer's positions) whose depth along the
+    /// camera lies in the cascade's range, across the light, grown by the penumbra's reach (the
+    /// sample-distribution idea: no texel is spent on what no receiver reads), out to whole
+    /// steps of a sixteenth to an eighth of its size so that a camera that moves a little
+    /// seldom moves it (its size then in steps of `2^(1/8)`, its centre on whole texels, as
+    /// every cascade's). A cascade none of them reads where a shadow can fall is fitted as
+    /// [`LightViews::plan`] fits it; so is every cascade when `receivers` is empty.
+    ///
+    /// `V` read elsewhere than at `receivers` (at texels of a G-buffer they only sample) may
+    /// lie outside every window: give every point `V` is read at, or use [`LightViews::plan`].
+    pub fn plan_seen(
+        light: &Light,
+        geometry: &SceneGeometry,
+        seen: Option<&SeenDepth>,
+        receivers: &[Vec3],
+    ) -> Self {
         if geometry.casters.is_empty() || geometry.bounds.is_empty() {
             return Self::single();
         }
         match light.center() {
             LightPoint::Position(c) => Self::local(light, geometry, c),
             LightPoint::Direction(d) => match seen {
-                Some(seen) => Self::cascades(light, geometry, d, seen),
+                Some(seen) => Self::cascades(light, geometry, d, seen, receivers),
                 None => Self::single(),
             },
         }
@@ -282,7 +308,13 @@ impl LightViews {
         }
     }
 
-    fn cascades(light: &Light, geometry: &SceneGeometry, dir: Vec3, seen: &SeenDepth) -> Self {
+    fn cascades(
+        light: &Light,
+        geometry: &SceneGeometry,
+        dir: Vec3,
+        seen: &SeenDepth,
+        receivers: &[Vec3],
+    ) -> Self {
         let near = seen.near.max(1e-6);
         let far = seen.far.max(near);
         let count = ((far / near).ln() / CASCADE_RATIO.ln())
@@ -332,29 +364,38 @@ impl LightViews {
             shade_lo = shade_lo.min(v - Vec3::splat(grow));
             shade_hi = shade_hi.max(v + Vec3::splat(grow));
         }
+        let shade = (shade_lo, shade_hi);
+        let from = |i: usize| {
+            if i == 0 {
+                splits[0]
+            } else {
+                splits[i] - CASCADE_BLEND * (splits[i] - splits[i - 1])
+            }
+        };
+        let ranges: Vec<(f32, f32)> = (0..count).map(|i| (from(i), splits[i + 1])).collect();
+        let fits = receivers_fit(&seen.camera, &ranges, receivers, &basis, shade, grow);
         let regions = (0..count)
             .map(|i| {
-                let from = if i == 0 {
-                    splits[0]
-                } else {
-                    splits[i] - CASCADE_BLEND * (splits[i] - splits[i - 1])
-                };
+                let from = from(i);
                 let (mut center, radius) = slice_sphere(&seen.camera, from, splits[i + 1]);
                 let mut half = radius + grow;
                 let mut floor = center.dot(dir) - radius;
-                // Fitted to where the slice holds geometry that shadows can fall on, where
-                // that is smaller, its size in steps of 2^(1/8) so that a moving camera rarely
-                // changes it.
-                let shade = (shade_lo, shade_hi);
-                if let Some((c, h, low)) = slice_in_bounds(
-                    &seen.camera,
-                    from,
-                    splits[i + 1],
-                    bounds,
-                    &basis,
-                    shade,
-                    grow,
-                ) {
+                // Fitted to the seen receivers of the slice where there are any (the
+                // sample-distribution idea), else to where the slice holds geometry that
+                // shadows can fall on, where that is smaller, its size in steps of 2^(1/8) so
+                // that a moving camera rarely changes it.
+                let fit = fits[i].or_else(|| {
+                    slice_in_bounds(
+                        &seen.camera,
+                        from,
+                        splits[i + 1],
+                        bounds,
+                        &basis,
+                        shade,
+                        grow,
+                    )
+                });
+                if let Some((c, h, low)) = fit {
                     floor = floor.max(low);
                     let h = 2f32.powf((8.0 * h.max(1e-6).log2()).ceil() / 8.0);
                     if h < half {
@@ -794,7 +835,8 @@ fn up_for(axis: Vec3) -> Vec3 {
 /// across the light by `grow` (the penumbra's reach), and the rectangle `shade` (light view
 /// coordinates) where shadows can fall: the centre (world) and half-side of the square around it
 /// in the light's `basis` (world to light view), and the lowest point of the meeting box along
-/// the light (its least `-z` in the basis); `None` when they do not meet.
+/// the light (its least `z` in the basis, the height along the light); `None` when they do not
+/// meet.
 #[allow(clippy::too_many_arguments)]
 fn slice_in_bounds(
     camera: &View,
@@ -844,6 +886,68 @@ fn slice_in_bounds(
     let mid = 0.5 * (a + b);
     let center = basis.inverse().transform_point3(mid);
     Some((center, 0.5 * (b.x - a.x).max(b.y - a.y), low))
+}
+
+/// For each cascade's depth range along `camera` in `ranges` (the first open towards the
+/// camera, the last away from it, as [`LightViews::weight`] reads them; a relative 1e-4 to spare
+/// at each split, so that a receiver a split reads on either side counts), the points of
+/// `receivers` in it, in the light's `basis` (world to light view, whose `z` is the height along
+/// the light): their box grown across the light by `grow` (the penumbra's reach), out to whole
+/// steps of a power of two (a sixteenth to an eighth of its half-side, in the light's basis from
+/// the world's origin), and clipped to the rectangle `shade` (light view coordinates) where
+/// shadows can fall; the centre (world) and half-side of the square around it, and the lowest
+/// height of the points, down to a whole step. `None` for a range that holds no point within
+/// `shade`. One pass over the receivers.
+fn receivers_fit(
+    camera: &View,
+    ranges: &[(f32, f32)],
+    receivers: &[Vec3],
+    basis: &glam::Mat4,
+    shade: (Vec3, Vec3),
+    grow: f32,
+) -> Vec<Option<(Vec3, f32, f32)>> {
+    let n = ranges.len();
+    let mut boxes = vec![(Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)); n];
+    for p in receivers {
+        let z = camera.linear_depth(*p);
+        if z.is_nan() || z <= 0.0 {
+            continue;
+        }
+        let mut v = None;
+        for (i, &(from, to)) in ranges.iter().enumerate() {
+            let above = i == 0 || z >= from * (1.0 - 1e-4);
+            let below = i + 1 == n || z <= to * (1.0 + 1e-4);
+            if above && below {
+                let v = *v.get_or_insert_with(|| basis.transform_point3(*p));
+                let (a, b) = &mut boxes[i];
+                (*a, *b) = (a.min(v), b.max(v));
+            }
+        }
+    }
+    boxes
+        .into_iter()
+        .map(|(a, b)| {
+            if !(a.x <= b.x && a.y <= b.y) {
+                return None;
+            }
+            // The box, grown by the penumbra's reach, out to whole steps: a receiver at its
+            // edge that comes and goes, or a camera that moves a little, seldom moves it.
+            let g = Vec3::new(grow, grow, 0.0);
+            let (a, b) = (a - g, b + g);
+            let half = 0.5 * (b.x - a.x).max(b.y - a.y);
+            let step = 2f32.powf(half.max(1e-6).log2().floor() - 3.0);
+            let (a, b) = ((a / step).floor() * step, (b / step).ceil() * step);
+            let (a, b) = (
+                a.max(Vec3::new(shade.0.x, shade.0.y, a.z)),
+                b.min(Vec3::new(shade.1.x, shade.1.y, b.z)),
+            );
+            if a.x > b.x || a.y > b.y {
+                return None;
+            }
+            let center = basis.inverse().transform_point3(0.5 * (a + b));
+            Some((center, 0.5 * (b.x - a.x).max(b.y - a.y), a.z))
+        })
+        .collect()
 }
 
 /// The point of triangle `t` nearest to `p` (Ericson, Real-Time Collision Detection, 5.1.5).

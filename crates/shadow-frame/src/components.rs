@@ -208,8 +208,9 @@ pub struct FrameReceivers {
     pub normals: Vec<Vec3>,
     /// The view of the camera that sees them (its G-buffer's: `Camera::view(width, height)`),
     /// if any. With it a distant light's shadow is a set of cascades along the camera's depth
-    /// ([`soft_shadow_core::LightViews::plan`] with what the camera sees), which follow the
-    /// camera: those the camera moved to other texels are made again, the others kept, and all
+    /// ([`soft_shadow_core::LightViews::plan_seen`] with what the camera sees: each cascade
+    /// fitted to these positions in its depth range), which follow the camera: those the
+    /// camera moved to other texels are made again, the others kept, and all
     /// where the split depths changed ([`soft_shadow_core::AnyMaps::follow`]). Without it a
     /// distant light has one view over everything it shadows.
     pub camera: Option<soft_shadow_core::View>,
@@ -220,6 +221,17 @@ impl FrameReceivers {
     /// [`RECEIVER_SAMPLES`].
     pub fn sample_step(n: usize) -> usize {
         n.div_ceil(RECEIVER_SAMPLES).max(1)
+    }
+
+    /// The points a distant light's cascades are fitted to
+    /// ([`soft_shadow_core::LightViews::plan_seen`]) among `points` (these receivers, or some of
+    /// them): all of them where the frame evaluates its receivers (`evaluated`:
+    /// [`crate::FrameSettings::evaluate_receivers`]), so `V` is read there; none where it does
+    /// not, for a GPU frame reads `V` over your G-buffer's textures, of which these receivers may
+    /// be a few points: its cascades are fitted to the camera frustum's slices within the
+    /// scene's bounds, which hold every texel.
+    pub(crate) fn cascade_fit(points: &[Vec3], evaluated: bool) -> &[Vec3] {
+        if evaluated { points } else { &[] }
     }
 
     /// What the camera sees of these receivers (`None` without a camera or with none in front of

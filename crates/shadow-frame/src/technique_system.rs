@@ -333,13 +333,14 @@ pub(crate) fn run_technique_timed(
         // the planned cascades, making again only the views whose windows moved (to other
         // texels); others regenerate.
         let distant = matches!(light.0.center(), LightPoint::Direction(_));
+        let fit = FrameReceivers::cascade_fit(&positions, settings.evaluate_receivers);
         let seen = || if distant { seen() } else { None };
         let cascaded = distant && seen().is_some() && frame.is_changed();
         let mut planned = None;
         let (mut views_generated, mut views_total) = (0, 0);
         if let (true, false, Some(maps)) = (cascaded, state.stale, state.maps.as_mut()) {
             let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
-            let views = LightViews::plan(&light.0, &g, seen());
+            let views = LightViews::plan_seen(&light.0, &g, seen(), fit);
             let mut followed = Err(String::new());
             timed(entity, &mut || {
                 followed = recording.follow(maps, &g, &light.0, &views, resolved.resolution);
@@ -383,7 +384,7 @@ pub(crate) fn run_technique_timed(
             let unseen = std::mem::take(&mut state.unseen_changes);
             let (g, views) = planned.unwrap_or_else(|| {
                 let g = light_geometry(&casters, &index, &light.0, config.range, &positions);
-                let views = LightViews::plan(&light.0, &g, seen());
+                let views = LightViews::plan_seen(&light.0, &g, seen(), fit);
                 (g, views)
             });
             // Only changed casters made it stale, and its faces are local: the faces they meet.

@@ -81,13 +81,15 @@ pub type CasterMeshes<'w, 's> =
 /// receivers within its influence, those its views cover ([`SceneSize::with_views`], counted on
 /// the frame's every `k`-th receiver, at most [`RECEIVER_SAMPLES`] of them, and
 /// scaled to all), and the light's views as the pipeline plans them (a distant light's cascades
-/// with the frame's camera).
+/// with the frame's camera, fitted to that sample of the receivers where the frame evaluates
+/// them, `evaluated`: [`FrameReceivers::cascade_fit`]).
 fn scene_size(
     casters: &CasterMeshes,
     index: &CasterIndex,
     frame: &FrameReceivers,
     light: &soft_shadow_core::Light,
     range: f32,
+    evaluated: bool,
 ) -> SceneSize {
     let tris: Vec<[glam::Vec3; 3]> = casters
         .iter()
@@ -140,7 +142,8 @@ fn scene_size(
         soft_shadow_core::LightPoint::Direction(_) => frame.seen(),
         soft_shadow_core::LightPoint::Position(_) => None,
     };
-    let views = soft_shadow_core::LightViews::plan(light, &geometry, seen.as_ref());
+    let fit = FrameReceivers::cascade_fit(&sample, evaluated);
+    let views = soft_shadow_core::LightViews::plan_seen(light, &geometry, seen.as_ref(), fit);
     geometry.bounds = bounds;
     let size = SceneSize::with_views(&geometry, light, &sample, &views);
     let covered = if sample.len() == count {
@@ -341,8 +344,15 @@ impl AutoInputs<'_, '_> {
     /// eight lamps of one configuration (penumbra-limit silhouette-f16 128², 1000 x 720) took
     /// 180-230 ms each, whether their views covered 2% of the view or 60%.
     pub fn size(&self, light: &soft_shadow_core::Light, range: f32) -> SceneSize {
-        let size = scene_size(&self.casters, &self.index, &self.frame, light, range);
         let evaluated = self.settings.as_ref().is_none_or(|s| s.evaluate_receivers);
+        let size = scene_size(
+            &self.casters,
+            &self.index,
+            &self.frame,
+            light,
+            range,
+            evaluated,
+        );
         match &self.texels {
             Some(t) if !evaluated && size.triangles > 0 => SceneSize {
                 receivers: t.0,

@@ -40,7 +40,12 @@ impl Receivers {
 
     /// The views of `light` over the geometry and what the camera sees.
     pub fn views(&self, light: &soft_shadow_core::Light) -> soft_shadow_core::LightViews {
-        soft_shadow_core::LightViews::plan(light, &self.geometry, self.seen.as_ref())
+        soft_shadow_core::LightViews::plan_seen(
+            light,
+            &self.geometry,
+            self.seen.as_ref(),
+            &self.positions,
+        )
     }
 }
 

@@ -106,6 +106,14 @@ const PCF_16_ROOM: &str = "the fixed 5x5 kernel of a 16² cube face spans 5/16 o
       but V rms 47.82 vs 47.31; on room-lamp-corner image error 3.61 vs 2.69, V rms 87.69 vs \
       58.78 (48² G-buffer)";
 
+/// Why PCF and penumbra-limit's silhouettes lose to the hard map on `street-sun` at 16².
+const STREET_16: &str = "16² texels of 1.2 m in the nearest cascade and 2-7 m beyond, wider than \
+      a street: PCF's fixed 5x5 kernel and the silhouettes' ribbons, each a few texels wide, \
+      spread every block's shadow over the street, where the hard map keeps its edges; which wins \
+      turns on where the few texels fall: at the test's 96² G-buffer PCF reads image error 35.32 \
+      and the silhouettes 35.21 against the hard map's 31.13 (V rms 54.16 and 56.44 against \
+      50.89), at the report's 192² 36.68 and 35.78 against 41.09";
+
 /// Why occlusion-slices' `sat-8-max` fails, on each scene it names.
 const SAT_8_MAX: &str =
     "the max of the slices' occlusion ignores that the slices add up (section 3.3)";
@@ -265,6 +273,28 @@ const EXCUSED: &[Excuse] = &[
             v: 87.69,
         },
         why: PCF_16_ROOM,
+    },
+    Excuse {
+        scene: "street-sun",
+        technique: "pcf",
+        variant: "*",
+        resolution: 16,
+        worst: Worst {
+            image: 35.32,
+            v: 54.16,
+        },
+        why: STREET_16,
+    },
+    Excuse {
+        scene: "street-sun",
+        technique: "penumbra-limit",
+        variant: "silhouette-*",
+        resolution: 16,
+        worst: Worst {
+            image: 35.21,
+            v: 56.44,
+        },
+        why: STREET_16,
     },
     Excuse {
         scene: "skewed-triangle",
