@@ -219,7 +219,8 @@ impl LightViews {
     /// steps of a sixteenth to an eighth of its size so that a camera that moves a little
     /// seldom moves it (its size then in steps of `2^(1/8)`, its centre on whole texels, as
     /// every cascade's). A cascade none of them reads where a shadow can fall is fitted as
-    /// [`LightViews::plan`] fits it; so is every cascade when `receivers` is empty.
+    /// [`LightViews::plan`] fits it; so is every cascade when `receivers` is empty. Receivers
+    /// behind the camera or not finite are left out (no camera sees them).
     ///
     /// `V` read elsewhere than at `receivers` (at texels of a G-buffer they only sample) may
     /// lie outside every window: give every point `V` is read at, or use [`LightViews::plan`].
@@ -397,6 +398,9 @@ impl LightViews {
                 });
                 if let Some((c, h, low)) = fit {
                     floor = floor.max(low);
+                    // Not below a hundredth of the slice (one receiver under a sun whose
+                    // penumbra reaches nothing would fit a window of no size).
+                    let h = h.max(0.01 * radius);
                     let h = 2f32.powf((8.0 * h.max(1e-6).log2()).ceil() / 8.0);
                     if h < half {
                         (center, half) = (c, h);
@@ -910,7 +914,7 @@ fn receivers_fit(
     let mut boxes = vec![(Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)); n];
     for p in receivers {
         let z = camera.linear_depth(*p);
-        if z.is_nan() || z <= 0.0 {
+        if !p.is_finite() || z.is_nan() || z <= 0.0 {
             continue;
         }
         let mut v = None;

@@ -208,9 +208,9 @@ pub struct FrameReceivers {
     pub normals: Vec<Vec3>,
     /// The view of the camera that sees them (its G-buffer's: `Camera::view(width, height)`),
     /// if any. With it a distant light's shadow is a set of cascades along the camera's depth
-    /// ([`soft_shadow_core::LightViews::plan_seen`] with what the camera sees: each cascade
-    /// fitted to these positions in its depth range), which follow the camera: those the
-    /// camera moved to other texels are made again, the others kept, and all
+    /// ([`soft_shadow_core::LightViews::plan`] with what the camera sees, each cascade fitted
+    /// as [`FrameSettings::cascade_fit`] says), which follow the camera: those the camera
+    /// moved to other texels are made again, the others kept, and all
     /// where the split depths changed ([`soft_shadow_core::AnyMaps::follow`]). Without it a
     /// distant light has one view over everything it shadows.
     pub camera: Option<soft_shadow_core::View>,
@@ -225,13 +225,21 @@ impl FrameReceivers {
 
     /// The points a distant light's cascades are fitted to
     /// ([`soft_shadow_core::LightViews::plan_seen`]) among `points` (these receivers, or some of
-    /// them): all of them where the frame evaluates its receivers (`evaluated`:
-    /// [`crate::FrameSettings::evaluate_receivers`]), so `V` is read there; none where it does
-    /// not, for a GPU frame reads `V` over your G-buffer's textures, of which these receivers may
-    /// be a few points: its cascades are fitted to the camera frustum's slices within the
-    /// scene's bounds, which hold every texel.
-    pub(crate) fn cascade_fit(points: &[Vec3], evaluated: bool) -> &[Vec3] {
-        if evaluated { points } else { &[] }
+    /// them) on `backend` with `settings`: all of them where [`FrameSettings::cascade_fit`]
+    /// fits cascades to the receivers, none where it fits them to the camera frustum's slices.
+    pub(crate) fn cascade_fit<'a>(
+        points: &'a [Vec3],
+        backend: Backend,
+        settings: &FrameSettings,
+    ) -> &'a [Vec3] {
+        if settings
+            .cascade_fit
+            .to_receivers(backend, settings.evaluate_receivers)
+        {
+            points
+        } else {
+            &[]
+        }
     }
 
     /// What the camera sees of these receivers (`None` without a camera or with none in front of
@@ -351,6 +359,9 @@ pub struct FrameSettings {
     /// as it is, the profile as fitted unless you set it, and picks follow predictions alone:
     /// the same picks on every run).
     pub calibrating: bool,
+    /// What a distant light's cascades are fitted to across the light, where
+    /// [`FrameReceivers::camera`] names the camera ([`CascadeFit`]).
+    pub cascade_fit: CascadeFit,
 }
 
 impl Default for FrameSettings {
@@ -359,6 +370,41 @@ impl Default for FrameSettings {
             caching: true,
             evaluate_receivers: true,
             calibrating: true,
+            cascade_fit: CascadeFit::Auto,
+        }
+    }
+}
+
+/// What a distant light's cascades are fitted to across the light
+/// ([`FrameSettings::cascade_fit`]). Their depth ranges split what [`FrameReceivers`] span
+/// either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum CascadeFit {
+    /// [`CascadeFit::Receivers`] on the CPU backend where the frame evaluates its receivers
+    /// (`V` is read there and nowhere else), [`CascadeFit::Slices`] otherwise: a GPU frame
+    /// reads `V` over your G-buffer's textures ([`crate::gpu_frame`]), of which
+    /// [`FrameReceivers`] may be a few points.
+    #[default]
+    Auto,
+    /// Each cascade to the frame's receivers in its depth range
+    /// ([`soft_shadow_core::LightViews::plan_seen`], the sample-distribution idea): the finest
+    /// texels, where [`FrameReceivers`] hold every point `V` is read at (a texel of your
+    /// G-buffer outside every window reads no shadow).
+    Receivers,
+    /// Each cascade to its slice of the camera's frustum within the scene's bounds
+    /// ([`soft_shadow_core::LightViews::plan`]): every point the camera sees.
+    Slices,
+}
+
+impl CascadeFit {
+    /// Whether cascades are fitted to the frame's receivers on `backend` with `evaluated`
+    /// ([`FrameSettings::evaluate_receivers`]).
+    pub fn to_receivers(self, backend: Backend, evaluated: bool) -> bool {
+        match self {
+            CascadeFit::Auto => backend == Backend::Cpu && evaluated,
+            CascadeFit::Receivers => true,
+            CascadeFit::Slices => false,
         }
     }
 }
@@ -367,6 +413,12 @@ impl FrameSettings {
     /// With [`FrameSettings::caching`] set.
     pub fn with_caching(mut self, caching: bool) -> Self {
         self.caching = caching;
+        self
+    }
+
+    /// With [`FrameSettings::cascade_fit`] set.
+    pub fn with_cascade_fit(mut self, fit: CascadeFit) -> Self {
+        self.cascade_fit = fit;
         self
     }
 

@@ -27,9 +27,10 @@
 //! G-buffer, say its corners, or none where the casters' shadows fall within the casters'
 //! bounds): the maps are fitted to the casters and those receivers. With its camera, a distant
 //! light's cascades split the depth range those points span (give points at your G-buffer's
-//! nearest and farthest depths) and, as the frame does not evaluate them, each cascade's
-//! window holds its whole slice of the camera's frustum within the scene's bounds, not only
-//! those points.
+//! nearest and farthest depths), and each cascade's window holds its whole slice of the
+//! camera's frustum within the scene's bounds, not only those points (`CascadeFit::Auto` on
+//! the GPU backend; `CascadeFit::Receivers` fits them to the points where those are every
+//! texel `V` is read at).
 
 pub use crate::components::VisibilityLayer;
 use crate::components::{LightState, RecordedTexels};

@@ -229,7 +229,7 @@ pub(crate) fn run_technique_timed(
     (mut lights, casters, index, frame, receivers_error): TechniqueInputs,
     (backend, settings, clock): (
         &FrameBackend,
-        &FrameSettings,
+        &Res<FrameSettings>,
         Option<(&mut Deadline, &Calibration)>,
     ),
     mut stats: ResMut<FrameStats>,
@@ -333,9 +333,10 @@ pub(crate) fn run_technique_timed(
         // the planned cascades, making again only the views whose windows moved (to other
         // texels); others regenerate.
         let distant = matches!(light.0.center(), LightPoint::Direction(_));
-        let fit = FrameReceivers::cascade_fit(&positions, settings.evaluate_receivers);
+        let fit = FrameReceivers::cascade_fit(&positions, backend.backend, settings);
         let seen = || if distant { seen() } else { None };
-        let cascaded = distant && seen().is_some() && frame.is_changed();
+        // New settings may fit the cascades otherwise ([`FrameSettings::cascade_fit`]).
+        let cascaded = distant && seen().is_some() && (frame.is_changed() || settings.is_changed());
         let mut planned = None;
         let (mut views_generated, mut views_total) = (0, 0);
         if let (true, false, Some(maps)) = (cascaded, state.stale, state.maps.as_mut()) {

@@ -81,15 +81,15 @@ pub type CasterMeshes<'w, 's> =
 /// receivers within its influence, those its views cover ([`SceneSize::with_views`], counted on
 /// the frame's every `k`-th receiver, at most [`RECEIVER_SAMPLES`] of them, and
 /// scaled to all), and the light's views as the pipeline plans them (a distant light's cascades
-/// with the frame's camera, fitted to that sample of the receivers where the frame evaluates
-/// them, `evaluated`: [`FrameReceivers::cascade_fit`]).
+/// with the frame's camera, fitted to that sample of the receivers where `settings` fit them to
+/// the receivers on `backend`: [`FrameSettings::cascade_fit`]).
 fn scene_size(
     casters: &CasterMeshes,
     index: &CasterIndex,
     frame: &FrameReceivers,
     light: &soft_shadow_core::Light,
     range: f32,
-    evaluated: bool,
+    (backend, settings): (soft_shadow_core::Backend, &FrameSettings),
 ) -> SceneSize {
     let tris: Vec<[glam::Vec3; 3]> = casters
         .iter()
@@ -142,7 +142,7 @@ fn scene_size(
         soft_shadow_core::LightPoint::Direction(_) => frame.seen(),
         soft_shadow_core::LightPoint::Position(_) => None,
     };
-    let fit = FrameReceivers::cascade_fit(&sample, evaluated);
+    let fit = FrameReceivers::cascade_fit(&sample, backend, settings);
     let views = soft_shadow_core::LightViews::plan_seen(light, &geometry, seen.as_ref(), fit);
     geometry.bounds = bounds;
     let size = SceneSize::with_views(&geometry, light, &sample, &views);
@@ -344,14 +344,15 @@ impl AutoInputs<'_, '_> {
     /// eight lamps of one configuration (penumbra-limit silhouette-f16 128², 1000 x 720) took
     /// 180-230 ms each, whether their views covered 2% of the view or 60%.
     pub fn size(&self, light: &soft_shadow_core::Light, range: f32) -> SceneSize {
-        let evaluated = self.settings.as_ref().is_none_or(|s| s.evaluate_receivers);
+        let settings = self.settings.as_deref().copied().unwrap_or_default();
+        let evaluated = settings.evaluate_receivers;
         let size = scene_size(
             &self.casters,
             &self.index,
             &self.frame,
             light,
             range,
-            evaluated,
+            (self.backend.backend, &settings),
         );
         match &self.texels {
             Some(t) if !evaluated && size.triangles > 0 => SceneSize {

@@ -888,14 +888,21 @@ fn a_sun_seen_by_the_frame_camera_gets_cascades_that_follow_it() {
     assert!(after.views_generated > 1, "{after:?}");
 }
 
-/// A frame that does not evaluate its receivers (a GPU frame reads `V` over the renderer's
-/// G-buffer, of which `FrameReceivers` may be a few points) fits a sun's cascades to the
-/// camera frustum's slices: with every 500th receiver of `street-sun`'s 64² G-buffer (and the
-/// nearest and the farthest) as the frame's, no receiver of the whole G-buffer that a caster can shadow lies outside the window
-/// of a cascade it reads (`LightViews::uncovered`), where cascades fitted to those 9 points
-/// leave 57 of 3484 out; a frame that evaluates them fits its cascades to them.
+/// A sun's cascades are fitted to the frame's receivers only where `V` is read at them
+/// (`FrameSettings::cascade_fit`, `CascadeFit::Auto`): a GPU frame reads `V` over the
+/// renderer's G-buffer, of which `FrameReceivers` may be a few points. With 9 of `street-sun`'s
+/// 3484 receivers (every 500th, the nearest and the farthest) as the frame's:
+/// - a CPU frame that evaluates them fits its cascades to them, and 57 of the G-buffer's
+///   receivers that a caster can shadow lie outside the window of a cascade they read
+///   (`LightViews::uncovered`): `V` is read at the 9 alone;
+/// - the same frame with evaluation turned off, its receivers unchanged, plans its cascades
+///   again on the camera frustum's slices: none lies outside (before, a change of settings
+///   alone kept the windows);
+/// - `CascadeFit::Receivers` fits them to the 9 whatever the frame evaluates;
+/// - a GPU frame (its default settings) fits them to the slices.
 #[test]
-fn a_frame_that_does_not_evaluate_its_receivers_fits_cascades_to_every_texel() {
+fn cascades_fit_the_receivers_only_where_v_is_read_at_them() {
+    use shadow_frame::{CascadeFit, FrameSettings};
     let eye = Vec3::new(0.0, 1.7, 0.0);
     let mut s = street(64, eye);
     let spec = soft_shadow_reference::scenes::catalogue::build("street-sun").unwrap();
@@ -912,7 +919,7 @@ fn a_frame_that_does_not_evaluate_its_receivers_fits_cascades_to_every_texel() {
     );
     few.push(by_depth.max_by(|a, b| a.0.total_cmp(&b.0)).unwrap().1);
     let pick = |v: &[Vec3]| few.iter().map(|&i| v[i]).collect::<Vec<_>>();
-    let (all, sparse) = (s.positions.clone(), pick(&s.positions));
+    let all = s.positions.clone();
     let instances: Vec<Vec<[Vec3; 3]>> = spec
         .meshes
         .iter()
@@ -920,36 +927,45 @@ fn a_frame_that_does_not_evaluate_its_receivers_fits_cascades_to_every_texel() {
         .map(|m| m.mesh.world_triangles(m.transform).collect())
         .collect();
     let (geometry, ..) = soft_shadow_reference::scenes::scene_receivers(&spec, 8).unwrap();
-    let left_out = |views: &soft_shadow_core::LightViews| {
+    s.scene.world.insert_resource(FrameReceivers {
+        positions: pick(&s.positions),
+        normals: pick(&s.normals),
+        camera: Some(s.view),
+    });
+    // The G-buffer's receivers outside their cascade after a frame with `settings`.
+    let left_out = |s: &mut Street, settings: FrameSettings| {
+        s.scene.world.insert_resource(settings);
+        s.pipeline.run(&mut s.scene.world);
+        let state = s.scene.world.get::<LightState>(s.light).unwrap();
+        assert_eq!(state.error, None);
+        let views = state.maps.as_ref().unwrap().views();
         assert_eq!(views.kind_name(), "cascades");
         views
             .uncovered(&spec.light, &geometry, &instances, &all)
             .len()
     };
-    let mut views_of = |evaluate: bool| {
-        s.scene.world.insert_resource(
-            shadow_frame::FrameSettings::default().with_evaluate_receivers(evaluate),
-        );
-        s.scene.world.insert_resource(FrameReceivers {
-            positions: sparse.clone(),
-            normals: pick(&s.normals),
-            camera: Some(s.view),
-        });
-        s.pipeline.run(&mut s.scene.world);
-        let state = s.scene.world.get::<LightState>(s.light).unwrap();
-        assert_eq!(state.error, None);
-        state.maps.as_ref().unwrap().views().clone()
-    };
-    let (sliced, fitted) = (views_of(false), views_of(true));
-    let (sliced, fitted) = (left_out(&sliced), left_out(&fitted));
+    let evaluated = left_out(&mut s, FrameSettings::default());
+    let off = FrameSettings::default().with_evaluate_receivers(false);
+    let sliced = left_out(&mut s, off);
+    let forced = left_out(&mut s, off.with_cascade_fit(CascadeFit::Receivers));
     println!(
-        "{} of {} receivers as the frame's: {sliced} of the G-buffer's outside their cascade \
-         fitted to the slices, {fitted} fitted to the few",
-        sparse.len(),
+        "{} of {} receivers as the frame's; of the G-buffer's, outside their cascade: \
+         {evaluated} evaluated, {sliced} not evaluated, {forced} fitted to them by choice",
+        few.len(),
         all.len()
     );
+    assert!(evaluated > 20, "{evaluated}");
     assert_eq!(sliced, 0);
-    assert!(fitted > 20, "{fitted}");
+    assert_eq!(forced, evaluated);
+    let Some(ctx) = crate::common::gpu_for_test("cascades_fit_the_receivers_only_where") else {
+        return;
+    };
+    s.scene
+        .world
+        .insert_resource(shadow_frame::FrameBackend::gpu(Arc::new(ctx)));
+    let on_gpu = left_out(&mut s, FrameSettings::default());
+    println!("a GPU frame: {on_gpu} outside their cascade");
+    assert_eq!(on_gpu, 0);
 }
 
 /// The street's scene, pipeline and light with the receivers and view of a camera at `eye`.
@@ -963,8 +979,9 @@ fn pick_points(points: &[Vec3], indices: &[usize]) -> Vec<Vec3> {
     indices.iter().map(|&i| points[i]).collect()
 }
 
-/// The cascades follow the camera on the GPU backend as on the CPU: over five 25 cm steps down
-/// `street-sun` the same views are made again, and `V` agrees
+/// The cascades follow the camera on the GPU backend as on the CPU: over five 1 cm steps down
+/// `street-sun` (the cascades fitted to the camera frustum's slices, as a GPU frame fits
+/// them) the same views are made again, and `V` agrees
 /// ([`crate::common::Agreement`]); CPU maps on a pipeline switched to the GPU are made anew.
 #[test]
 #[cfg_attr(
@@ -982,10 +999,16 @@ fn cascades_follow_the_camera_on_the_gpu_as_on_the_cpu() {
     gpu.scene
         .world
         .insert_resource(shadow_frame::FrameBackend::gpu(ctx.clone()));
+    // The GPU frame's own fit on both (the CPU's fits the cascades to its receivers).
+    let slices =
+        shadow_frame::FrameSettings::default().with_cascade_fit(shadow_frame::CascadeFit::Slices);
+    for s in [&mut cpu, &mut gpu] {
+        s.scene.world.insert_resource(slices);
+    }
     let mut failures = crate::common::Failures::default();
     let mut partial = 0;
     for k in 0..6 {
-        let at = eye + Vec3::new(0.0, 0.0, -0.25 * k as f32);
+        let at = eye + Vec3::new(0.0, 0.0, -0.01 * k as f32);
         (cpu, gpu) = (walked(cpu, at), walked(gpu, at));
         let ((sc, vc), (sg, vg)) = (cpu.frame(true), gpu.frame(true));
         assert_eq!(sc.views_generated, sg.views_generated, "step {k}");

@@ -493,7 +493,7 @@ fn seen_ground(camera: &Camera, side: u32) -> Vec<Vec3> {
 /// and they span at
 /// least 0.7 of it across the light (the rest: the penumbra's reach, the window's steps and
 /// margin; measured 0.74-0.87), where a window fitted to the frustum's slice within the scene's
-/// bounds (what `plan` fits without receivers) leaves 48% of the nearest one to none.
+/// bounds (what `plan` fits without receivers) spans 0.52 of the nearest one.
 #[test]
 fn cascades_fit_the_receivers_the_camera_sees() {
     let (geometry, seen) = street();
