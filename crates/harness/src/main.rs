@@ -152,9 +152,11 @@ enum Command {
     /// Fit the frame pipeline's `Auto` profile (cost and error models per configuration) from a
     /// report of this machine, and write it for `TechniqueProfile::parse`.
     Profile {
-        /// The report.json to fit (a full run: two or more map sides).
+        /// The report.json to fit (a full run: two or more map sides); repeated (runs of the
+        /// same configurations on one machine), each run's times are the median over them and
+        /// its errors the last one's.
         #[arg(long, default_value = "report/report.json")]
-        report: PathBuf,
+        report: Vec<PathBuf>,
         /// The profile file to write.
         #[arg(long, default_value = "report/profile.txt")]
         out: PathBuf,

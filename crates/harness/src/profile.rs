@@ -318,18 +318,72 @@ pub fn read_report(path: &std::path::Path) -> Result<Report> {
         .map_err(|e| HarnessError::Usage(format!("{} is not a report.json: {e}", path.display())))
 }
 
-/// Reads the `report.json` at `path`, writes its fitted profile to `out`, and returns it with
-/// its leave-one-scene-out validation (where the report has two or more map sides).
+/// The last of `reports` (runs of the same configurations on the same machine), each run's
+/// generation and evaluation times the median over the reports that hold the same run (scene,
+/// technique, variant, backend and map side): a run slowed by something else on the machine
+/// moves a margin (the 95th percentile of measured over predicted time) less. Its errors are
+/// the last report's. `None` without reports.
+pub fn median_timings(mut reports: Vec<Report>) -> Option<Report> {
+    let mut last = reports.pop()?;
+    let key = |r: &crate::report::json::Run| {
+        (
+            r.scene.clone(),
+            r.technique.clone(),
+            r.variant.clone(),
+            r.backend.clone(),
+            r.resolution,
+        )
+    };
+    let others: Vec<std::collections::HashMap<_, (f64, f64)>> = reports
+        .iter()
+        .map(|r| {
+            r.runs
+                .iter()
+                .map(|run| (key(run), (run.generate_ms, run.evaluate_ms)))
+                .collect()
+        })
+        .collect();
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        }
+    };
+    for run in &mut last.runs {
+        let k = key(run);
+        let times: Vec<(f64, f64)> = others
+            .iter()
+            .filter_map(|o| o.get(&k).copied())
+            .chain([(run.generate_ms, run.evaluate_ms)])
+            .collect();
+        run.generate_ms = median(times.iter().map(|t| t.0).collect());
+        run.evaluate_ms = median(times.iter().map(|t| t.1).collect());
+    }
+    Some(last)
+}
+
+/// Reads the `report.json` files at `paths` (several: their [`median_timings`]), writes the
+/// fitted profile to `out`, and returns it with its leave-one-scene-out validation (where the
+/// report has two or more map sides).
 pub fn write(
-    path: &std::path::Path,
+    paths: &[std::path::PathBuf],
     out: &std::path::Path,
 ) -> Result<(TechniqueProfile, Option<Validation>)> {
-    let report = read_report(path)?;
+    let reports = paths
+        .iter()
+        .map(|p| read_report(p))
+        .collect::<Result<Vec<_>>>()?;
+    let report = median_timings(reports)
+        .ok_or_else(|| HarnessError::Usage("no report.json to fit".to_string()))?;
     let profile = fit(&report, None);
     if profile.entries.is_empty() {
+        let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
         return Err(HarnessError::Usage(format!(
             "{} holds no runs on catalogue scenes to fit",
-            path.display()
+            names.join(", ")
         )));
     }
     crate::files::write_text(out, &profile.to_text())?;

@@ -14,8 +14,9 @@
 //!   resolutions it was fitted over. Maps cover what casts, so the side is the resolution
 //!   relative to the casters' extent.
 //!
-//! The built-in profile ([`TechniqueProfile::builtin`]) was fitted from a full CPU report on a
-//! 2-core machine; its GPU rows are CPU stand-ins, which `Auto`'s reason says.
+//! The built-in profile ([`TechniqueProfile::builtin`]) was fitted from three full CPU reports
+//! on a 2-core machine, each run at its median time over them; its GPU rows are CPU
+//! stand-ins, which `Auto`'s reason says.
 
 pub use crate::calibration::Calibration;
 use glam::Vec3;
@@ -219,9 +220,9 @@ pub const SIDES: [u32; 5] = [128, 256, 512, 1024, 2048];
 const BUILTIN: &str = include_str!("builtin_profile.txt");
 
 impl TechniqueProfile {
-    /// The built-in profile: fitted from `harness report --backend cpu` (map sides 16 to 2048,
-    /// every catalogue scene) on a 2-core CPU by `harness profile`; occlusion-slices' chained
-    /// rows from a later report of its 8-slice variants on the same kind of machine.
+    /// The built-in profile: fitted by `harness profile` from three runs of `harness report
+    /// --backend cpu` (map sides 16 to 2048, every catalogue scene) on a 2-core CPU, each
+    /// configuration's time on each scene and side the median of the three.
     pub fn builtin() -> Self {
         Self::parse(BUILTIN).unwrap_or_default()
     }
