@@ -210,20 +210,24 @@ fn street() -> (SceneGeometry, SeenDepth) {
             Vec3::new(-50.0, 0.0, -210.0),
         ],
     ];
-    let camera = Camera {
-        eye: Vec3::new(0.0, 1.7, 0.0),
-        target: Vec3::new(0.0, 1.0, -30.0),
-        fov_y: 60f32.to_radians(),
-        near: 0.1,
-        far: 400.0,
-    }
-    .view(256, 256);
+    let camera = street_camera().view(256, 256);
     let seen = SeenDepth {
         camera,
         near: 2.5,
         far: 200.0,
     };
     (SceneGeometry::new(casters, ground), seen)
+}
+
+/// The street's camera at eye height, looking down it.
+fn street_camera() -> Camera {
+    Camera {
+        eye: Vec3::new(0.0, 1.7, 0.0),
+        target: Vec3::new(0.0, 1.0, -30.0),
+        fov_y: 60f32.to_radians(),
+        near: 0.1,
+        far: 400.0,
+    }
 }
 
 fn sun() -> Light {
@@ -497,14 +501,7 @@ fn seen_ground(camera: &Camera, side: u32) -> Vec<Vec3> {
 #[test]
 fn cascades_fit_the_receivers_the_camera_sees() {
     let (geometry, seen) = street();
-    let camera = Camera {
-        eye: Vec3::new(0.0, 1.7, 0.0),
-        target: Vec3::new(0.0, 1.0, -30.0),
-        fov_y: 60f32.to_radians(),
-        near: 0.1,
-        far: 400.0,
-    };
-    let receivers = seen_ground(&camera, 96);
+    let receivers = seen_ground(&street_camera(), 96);
     let seen = SeenDepth::of_points(seen.camera, &receivers).unwrap();
     let light = sun();
     let fitted = LightViews::plan_seen(&light, &geometry, Some(&seen), &receivers);
