@@ -910,7 +910,7 @@ fn maps_kept(
         && !inputs.backend.is_changed()
         && !light.is_changed()
         && !config.is_changed()
-        && !(distant && inputs.frame.is_changed())
+        && !(distant && (inputs.frame.is_changed() || settings.is_changed()))
         && !inputs.casters_remake((&light.0, config.range), &state.unseen_changes, settings)
 }
 

@@ -383,8 +383,8 @@ impl Default for FrameSettings {
 pub enum CascadeFit {
     /// [`CascadeFit::Receivers`] on the CPU backend where the frame evaluates its receivers
     /// (`V` is read there and nowhere else), [`CascadeFit::Slices`] otherwise: a GPU frame
-    /// reads `V` over your G-buffer's textures ([`crate::gpu_frame`]), of which
-    /// [`FrameReceivers`] may be a few points.
+    /// may record `V` over your G-buffer's textures ([`crate::gpu_frame`]), evaluating its
+    /// receivers or not, and [`FrameReceivers`] may be a few points of them.
     #[default]
     Auto,
     /// Each cascade to the frame's receivers in its depth range

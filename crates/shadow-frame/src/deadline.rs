@@ -24,7 +24,8 @@
 //! systems' clock does not measure them), nor frames that do not calibrate
 //! ([`crate::FrameSettings::calibrating`] off: picks from predictions alone) or do not evaluate
 //! the receivers ([`crate::FrameSettings::evaluate_receivers`] off). A cascade planned again
-//! for a moved camera does not wait either. The clock starts with [`crate::FramePipeline::run`],
+//! for a moved camera (or new settings: [`crate::FrameSettings::cascade_fit`]) does not wait
+//! either. The clock starts with [`crate::FramePipeline::run`],
 //! so the frame's spent time holds everything the call does before the light.
 
 use bevy_ecs::prelude::*;

@@ -329,13 +329,13 @@ pub(crate) fn run_technique_timed(
         state.evaluated = 0;
         let light_start = Instant::now();
         // A distant light seen by a camera has cascades, planned again in every frame whose
-        // receivers or camera changed: they follow the camera. Maps whose plan allows it follow
+        // receivers, camera or settings changed: they follow the camera. Maps whose plan allows
+        // it follow
         // the planned cascades, making again only the views whose windows moved (to other
         // texels); others regenerate.
         let distant = matches!(light.0.center(), LightPoint::Direction(_));
         let fit = FrameReceivers::cascade_fit(&positions, backend.backend, settings);
         let seen = || if distant { seen() } else { None };
-        // New settings may fit the cascades otherwise ([`FrameSettings::cascade_fit`]).
         let cascaded = distant && seen().is_some() && (frame.is_changed() || settings.is_changed());
         let mut planned = None;
         let (mut views_generated, mut views_total) = (0, 0);

@@ -1011,6 +1011,68 @@ fn cascades_fit_the_receivers_only_where_v_is_read_at_them() {
     assert_eq!(on_gpu, 0);
 }
 
+/// A sun whose cascades new settings will plan again (`FrameSettings::cascade_fit`) is priced
+/// in full by the shared budget in that frame, not at its evaluation alone as if its maps were
+/// kept: under a 3 ms budget that buys its maps nothing at full price and keeps them at their
+/// evaluation's, new settings leave it without a shadow, saying why (before, only a changed
+/// camera or receivers priced them in full: it kept its maps at the evaluation's price while
+/// the frame made its moved cascades again).
+#[test]
+fn new_cascade_settings_price_the_suns_maps_in_full() {
+    use shadow_frame::{CascadeFit, FrameSettings};
+    let mut s = street(64, Vec3::new(0.0, 1.7, 0.0));
+    s.scene
+        .world
+        .entity_mut(s.light)
+        .insert(ShadowConfig::shared());
+    s.scene
+        .world
+        .insert_resource(shadow_frame::FrameBudget { ms: 500.0 });
+    // Picks from predictions alone: no calibration shares the budget again by itself.
+    let settings = FrameSettings::default().with_calibrating(false);
+    s.scene.world.insert_resource(settings);
+    s.receive(true);
+    // After a frame: whether the share kept its maps at their evaluation's price, and whether
+    // it has maps.
+    let kept = |s: &mut Street| {
+        s.pipeline.run(&mut s.scene.world);
+        let state = s.scene.world.get::<LightState>(s.light).unwrap();
+        (state.share.map(|sh| sh.kept), state.maps.is_some())
+    };
+    assert_eq!(
+        kept(&mut s),
+        (Some(false), true),
+        "the first frame buys the maps"
+    );
+    // A budget that buys no maps at full price shares it again: the sun keeps its maps at
+    // its evaluation's price.
+    s.scene
+        .world
+        .insert_resource(shadow_frame::FrameBudget { ms: 3.0 });
+    assert_eq!(
+        kept(&mut s),
+        (Some(true), true),
+        "a still frame keeps the maps"
+    );
+    s.scene
+        .world
+        .insert_resource(settings.with_cascade_fit(CascadeFit::Slices));
+    assert_eq!(
+        kept(&mut s),
+        (Some(false), false),
+        "new settings price them in full"
+    );
+    let state = s.scene.world.get::<LightState>(s.light).unwrap();
+    assert!(
+        state
+            .error
+            .as_deref()
+            .is_some_and(|e| e.contains("cheapest")),
+        "{:?}",
+        state.error
+    );
+}
+
 /// The street's scene, pipeline and light with the receivers and view of a camera at `eye`.
 fn walked(s: Street, eye: Vec3) -> Street {
     let mut next = street(64, eye);
