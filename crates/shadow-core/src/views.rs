@@ -879,17 +879,26 @@ fn slice_in_bounds(
     }
     let g = Vec3::new(grow, grow, 0.0);
     // The basis looks along -direction: a point's height along the light is its view z.
-    let low = a.z;
+    square_in_shade((a - g, b + g), shade, basis).map(|(center, half)| (center, half, a.z))
+}
+
+/// The box `(a, b)` (light view coordinates of `basis`, world to light view) clipped across
+/// the light to the rectangle `shade` where shadows can fall: the centre (world) and half-side
+/// of the square around it; `None` where they do not meet.
+fn square_in_shade(
+    (a, b): (Vec3, Vec3),
+    shade: (Vec3, Vec3),
+    basis: &glam::Mat4,
+) -> Option<(Vec3, f32)> {
     let (a, b) = (
-        (a - g).max(Vec3::new(shade.0.x, shade.0.y, a.z)),
-        (b + g).min(Vec3::new(shade.1.x, shade.1.y, b.z)),
+        a.max(Vec3::new(shade.0.x, shade.0.y, a.z)),
+        b.min(Vec3::new(shade.1.x, shade.1.y, b.z)),
     );
     if a.x > b.x || a.y > b.y {
         return None;
     }
-    let mid = 0.5 * (a + b);
-    let center = basis.inverse().transform_point3(mid);
-    Some((center, 0.5 * (b.x - a.x).max(b.y - a.y), low))
+    let center = basis.inverse().transform_point3(0.5 * (a + b));
+    Some((center, 0.5 * (b.x - a.x).max(b.y - a.y)))
 }
 
 /// For each cascade's depth range along `camera` in `ranges` (the first open towards the
@@ -941,15 +950,7 @@ fn receivers_fit(
             let half = 0.5 * (b.x - a.x).max(b.y - a.y);
             let step = 2f32.powf(half.max(1e-6).log2().floor() - 3.0);
             let (a, b) = ((a / step).floor() * step, (b / step).ceil() * step);
-            let (a, b) = (
-                a.max(Vec3::new(shade.0.x, shade.0.y, a.z)),
-                b.min(Vec3::new(shade.1.x, shade.1.y, b.z)),
-            );
-            if a.x > b.x || a.y > b.y {
-                return None;
-            }
-            let center = basis.inverse().transform_point3(0.5 * (a + b));
-            Some((center, 0.5 * (b.x - a.x).max(b.y - a.y), a.z))
+            square_in_shade((a, b), shade, basis).map(|(center, half)| (center, half, a.z))
         })
         .collect()
 }
